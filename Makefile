@@ -1,0 +1,45 @@
+# contact3d: every user-visible step is one target. The first two are the README's.
+#   make pipeline [SCENE=paper_brick] [ARGS="--set friction.param=2e4"]
+#   make test
+SCENE ?= paper_brick
+BUILD ?= build
+JOBS ?= 2
+PY := /usr/bin/python3
+BIN := $(BUILD)/contact3d
+export FF_LOADPATH := /usr/lib/freefem++
+export OPENBLAS_NUM_THREADS ?= 2
+
+.PHONY: deps build pipeline test tables crosscheck figures bench stress clean
+
+deps:
+	@bash scripts/install-deps.sh
+
+build: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS)
+
+# Geometry -> mesh -> solve -> results/<scene>/ (figures when matplotlib is there).
+pipeline: build
+	$(PY) pipeline/run_scene.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --out results/runs/$(SCENE) $(if $(ARGS),--args "$(ARGS)")
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 900
+
+# Tables 1 and 2 of the paper, on the 5-tet mesh and the gmsh mesh (results/tables.md).
+tables: build
+	$(PY) pipeline/tables.py --bin $(BIN) --out results/tables.md
+
+crosscheck: build
+	$(PY) pipeline/crosscheck.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml
+
+figures: build
+	$(PY) pipeline/run_scene.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --out results/runs/$(SCENE) --figures
+
+bench: build
+	$(PY) pipeline/bench.py --bin $(BIN)
+
+stress: build
+	$(PY) pipeline/stress.py --bin $(BIN)
+
+clean:
+	rm -rf $(BUILD) results/runs meshes/generated

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages contact3d needs (run as root). Skips the install when all
+# are present, so every make target can call it cheaply.
+set -euo pipefail
+PKGS=(build-essential cmake pkg-config libeigen3-dev libsuitesparse-dev libopenblas0-pthread
+      libopenblas-pthread-dev libtomlplusplus-dev libcli11-dev libfmt-dev libgtest-dev
+      libbenchmark-dev gmsh freefem++ libfreefem++ python3-numpy python3-matplotlib python3-meshio)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then exit 0; fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

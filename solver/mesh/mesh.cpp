@@ -1,0 +1,34 @@
+#include "mesh/mesh.hpp"
+
+#include "io/errors.hpp"
+
+namespace contact3d {
+
+const PhysicalGroup* Mesh::find_group(std::string_view name, int dim) const {
+  for (const auto& g : groups)
+    if (g.dim == dim && g.name == name) return &g;
+  return nullptr;
+}
+
+std::string Mesh::describe_groups() const {
+  if (groups.empty()) return "(the mesh has no physical groups)";
+  std::string out;
+  for (const auto& g : groups) {
+    if (!out.empty()) out += ", ";
+    out += "'" + g.name + "' (dim " + std::to_string(g.dim) + ")";
+  }
+  return out;
+}
+
+std::vector<int> Mesh::triangles_of_group(std::string_view name) const {
+  const PhysicalGroup* g = find_group(name, 2);
+  if (!g)
+    throw InputError("the mesh has no surface physical group '" + std::string(name) +
+                     "'; its groups are: " + describe_groups());
+  std::vector<int> out;
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    if (triangle_group[i] == g->tag) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+}  // namespace contact3d

@@ -1,0 +1,47 @@
+// Mesh: the tetrahedral body and its tagged boundary triangles, as read from a gmsh MSH file
+// or generated in memory. Node and element indices are 0-based positions in these vectors;
+// the file's own tags are kept for messages a user can act on.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace contact3d {
+
+// A gmsh physical group: a named set of elements of one dimension (2 = boundary, 3 = body).
+struct PhysicalGroup {
+  int dim = 0;
+  int tag = 0;
+  std::string name;
+};
+
+struct Mesh {
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<std::size_t> node_tags;        // file tag of each node (for messages)
+
+  std::vector<std::array<int, 4>> tets;      // node indices
+  std::vector<std::size_t> tet_tags;         // file element tag of each tet
+  std::vector<int> tet_group;                // physical tag of each tet (0 if none)
+
+  // Boundary triangles. A triangle that belongs to several physical groups appears once per group.
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<std::size_t> triangle_tags;
+  std::vector<int> triangle_group;           // physical tag (0 if none)
+
+  std::vector<PhysicalGroup> groups;
+
+  // The group of dimension `dim` called `name`, or nullptr.
+  const PhysicalGroup* find_group(std::string_view name, int dim) const;
+  // "name (dim 2), name (dim 3), ..." for error messages.
+  std::string describe_groups() const;
+  // Indices of the triangles tagged with the named 2-D group (throws InputError naming the
+  // available groups if the mesh has no such group).
+  std::vector<int> triangles_of_group(std::string_view name) const;
+};
+
+}  // namespace contact3d
