@@ -1,0 +1,62 @@
+#include "contact/contact_face.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "io/errors.hpp"
+
+namespace contact3d {
+
+ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups,
+                              const DofMap& dofs) {
+  ContactFace face;
+  Eigen::Vector3d lo = mesh.nodes.front(), hi = mesh.nodes.front();
+  for (const auto& x : mesh.nodes) { lo = lo.cwiseMin(x); hi = hi.cwiseMax(x); }
+  const double plane_tol = 1e-8 * std::max((hi - lo).norm(), 1e-300);
+
+  std::set<std::array<int, 3>> seen;
+  for (const auto& name : contact_groups) {
+    const auto tris = mesh.triangles_of_group(name);
+    if (tris.empty()) throw InputError("contact group '" + name + "' has no triangles");
+    for (int t : tris) {
+      const auto& tri = mesh.triangles[t];
+      for (int v : tri)
+        if (std::abs(mesh.nodes[v].z()) > plane_tol)
+          throw InputError("contact group '" + name + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
+                           " has a node at z = " + std::to_string(mesh.nodes[v].z()) +
+                           "; Γc must lie in the plane z = 0");
+      std::array<int, 3> key = tri;
+      std::sort(key.begin(), key.end());
+      if (seen.insert(key).second) face.triangles.push_back(tri);
+    }
+  }
+  face.contact_index.assign(mesh.nodes.size(), -1);
+  std::vector<double> shortest;
+  face.lo = mesh.nodes[face.triangles[0][0]].head<2>();
+  face.hi = face.lo;
+  for (const auto& tri : face.triangles) {
+    double e = INFINITY;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d p = mesh.nodes[tri[k]].head<2>();
+      face.lo = face.lo.cwiseMin(p);
+      face.hi = face.hi.cwiseMax(p);
+      e = std::min(e, (p - mesh.nodes[tri[(k + 1) % 3]].head<2>()).norm());
+      if (!dofs.clamped_node[tri[k]]) face.contact_index[tri[k]] = 0;
+    }
+    shortest.push_back(e);
+    const Eigen::Vector2d a = mesh.nodes[tri[1]].head<2>() - mesh.nodes[tri[0]].head<2>();
+    const Eigen::Vector2d b = mesh.nodes[tri[2]].head<2>() - mesh.nodes[tri[0]].head<2>();
+    face.area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+  }
+  std::nth_element(shortest.begin(), shortest.begin() + shortest.size() / 2, shortest.end());
+  face.h = shortest[shortest.size() / 2];
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
+    if (face.contact_index[v] == 0) {
+      face.contact_index[v] = static_cast<int>(face.nodes.size());
+      face.nodes.push_back(static_cast<int>(v));
+    }
+  return face;
+}
+
+}  // namespace contact3d

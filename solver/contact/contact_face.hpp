@@ -1,0 +1,31 @@
+// ContactFace: the triangles of Γc (all contact groups merged), which must lie in the plane
+// z = 0, and the contact nodes: nodes of closure(Γc) that are not on closure(Γu).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fem/dof_map.hpp"
+#include "mesh/mesh.hpp"
+
+namespace contact3d {
+
+struct ContactFace {
+  std::vector<std::array<int, 3>> triangles;  // mesh node indices
+  std::vector<int> nodes;                     // contact nodes (mesh indices), ascending
+  std::vector<int> contact_index;             // mesh node -> position in `nodes`, or -1
+  Eigen::Vector2d lo, hi;                     // bounding box of the face in (x, y)
+  double h = 0;                               // typical contact edge length (median shortest edge)
+  double area = 0;
+
+  Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }
+};
+
+// Throws InputError if a group is missing, empty, or not in z = 0 (naming the triangle).
+ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups,
+                              const DofMap& dofs);
+
+}  // namespace contact3d

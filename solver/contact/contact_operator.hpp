@@ -1,0 +1,24 @@
+// The contact operator 𝔹 = [M B¹; M B²; M B³] of (5.4): row i of the normal block is the
+// functional v ↦ ∫_{R_i} v_n dS with v_n = -v_3 (Γc in z = 0, outward normal (0,0,-1)); rows of
+// the tangential blocks are v ↦ ∫_{R_i} v_1 dS and v ↦ ∫_{R_i} v_2 dS. Columns are free dofs.
+// A frictionless scene has the normal block only.
+#pragma once
+
+#include <Eigen/SparseCore>
+
+#include "contact/partition.hpp"
+#include "fem/dof_map.hpp"
+
+namespace contact3d {
+
+struct ContactOperator {
+  Eigen::SparseMatrix<double> B;   // (r or 3r) x n_free
+  int r = 0;                       // number of cells
+  bool with_friction = true;
+  int rows() const { return with_friction ? 3 * r : r; }
+};
+
+ContactOperator make_contact_operator(const ContactFace& face, const Partition& partition,
+                                      const DofMap& dofs, bool with_friction);
+
+}  // namespace contact3d

@@ -1,0 +1,28 @@
+// P1 linear elasticity on one tetrahedron: the isotropic Hooke law, the strain-displacement
+// matrix and the 12x12 element stiffness K_e = |T| Bᵀ D B (the bilinear form a(u,v) of §2).
+#pragma once
+
+#include <array>
+
+#include <Eigen/Core>
+
+namespace contact3d {
+
+struct Material {
+  double young = 1.0;    // E, Pa
+  double poisson = 0.0;  // ν
+};
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Matrix6x12d = Eigen::Matrix<double, 6, 12>;
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+using TetCoords = std::array<Eigen::Vector3d, 4>;
+
+// Voigt order (xx, yy, zz, yz, xz, xy) with engineering shear strains.
+Matrix6d hooke_matrix(const Material& m);
+double tet_volume(const TetCoords& x);  // signed
+// Strain of the P1 field with nodal displacements u (12: node-major xyz).
+Matrix6x12d strain_matrix(const TetCoords& x);
+Matrix12d element_stiffness(const TetCoords& x, const Matrix6d& D);
+
+}  // namespace contact3d

@@ -1,0 +1,29 @@
+// The coefficient of friction F(t), t = ‖u_t‖ (m): "none" (frictionless), "constant",
+// "ramp" (eq. (6.1): `high` for t <= t0, linear down to `low` over a width 2/param, `low`
+// beyond) and "table" (piecewise linear through points (t_k, F_k), constant beyond the ends;
+// a repeated t makes a jump). Every law is piecewise linear in t; breakpoints() lists where
+// its slope may change, which lets the disc radii (5.3) be integrated exactly.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace contact3d {
+
+struct FrictionLaw {
+  enum class Kind { None, Constant, Ramp, Table };
+  Kind kind = Kind::None;
+  double value = 0;                      // constant
+  double high = 0.3, low = 0.2, t0 = 1e-5, param = 6e4;  // ramp (6.1)
+  std::vector<std::pair<double, double>> points;         // table
+
+  double operator()(double t) const;
+  std::vector<double> breakpoints() const;
+  bool depends_on_slip() const { return kind == Kind::Ramp || kind == Kind::Table; }
+  std::string name() const;
+  // Throws InputError with the offending key if the parameters make no sense.
+  void validate() const;
+};
+
+}  // namespace contact3d

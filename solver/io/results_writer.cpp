@@ -1,0 +1,244 @@
+#include "io/results_writer.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#include "fem/elasticity.hpp"
+#include "io/errors.hpp"
+#include "io/json_writer.hpp"
+
+namespace contact3d {
+namespace {
+
+std::ofstream open_output(const std::filesystem::path& file) {
+  std::ofstream out(file);
+  if (!out) throw InputError("cannot write '" + file.string() + "' (is the output folder writable?)");
+  out.precision(12);
+  return out;
+}
+
+bool has_friction(const SolveResult& res) { return res.lambda.size() == 3 * res.n_cells && res.n_cells > 0; }
+
+double von_mises(const Mesh& mesh, const Matrix6d& D, const std::array<int, 4>& t, const Eigen::VectorXd& u) {
+  TetCoords x{mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]};
+  Eigen::Matrix<double, 12, 1> ue;
+  for (int a = 0; a < 4; ++a)
+    for (int c = 0; c < 3; ++c) ue[3 * a + c] = u[3 * t[a] + c];
+  const Eigen::Matrix<double, 6, 1> s = D * (strain_matrix(x) * ue);
+  return std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) + (s[2] - s[0]) * (s[2] - s[0])) +
+                   3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+}
+
+template <class Fn>
+void data_array(std::ostream& out, const std::string& name, int components, std::size_t count, Fn value,
+                const std::string& type = "Float64") {
+  out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
+      << "\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int c = 0; c < components; ++c) out << value(i, c) << ' ';
+    out << '\n';
+  }
+  out << "        </DataArray>\n";
+}
+
+void write_body_vtu(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res) {
+  std::ofstream out = open_output(file);
+  const Matrix6d D = hooke_matrix(scene.material);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << mesh.nodes.size() << "\" NumberOfCells=\"" << mesh.tets.size()
+      << "\">\n      <PointData Vectors=\"displacement\">\n";
+  data_array(out, "displacement", 3, mesh.nodes.size(), [&](std::size_t i, int c) { return res.u[3 * i + c]; });
+  out << "      </PointData>\n      <CellData Scalars=\"von_mises\">\n";
+  data_array(out, "von_mises", 1, mesh.tets.size(), [&](std::size_t e, int) { return von_mises(mesh, D, mesh.tets[e], res.u); });
+  data_array(out, "physical_group", 1, mesh.tets.size(), [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
+  out << "      </CellData>\n      <Points>\n";
+  data_array(out, "Points", 3, mesh.nodes.size(), [&](std::size_t i, int c) { return mesh.nodes[i][c]; });
+  out << "      </Points>\n      <Cells>\n";
+  data_array(out, "connectivity", 1, 4 * mesh.tets.size(), [&](std::size_t k, int) { return mesh.tets[k / 4][k % 4]; }, "Int64");
+  data_array(out, "offsets", 1, mesh.tets.size(), [&](std::size_t e, int) { return 4 * (e + 1); }, "Int64");
+  data_array(out, "types", 1, mesh.tets.size(), [](std::size_t, int) { return 10; }, "UInt8");
+  out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+}
+
+void write_contact_vtu(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
+                       const ContactNodeFields& nf) {
+  (void)scene;
+  // Local numbering of the face's nodes (including those on Γu).
+  std::vector<int> local(mesh.nodes.size(), -1), global;
+  for (const auto& tri : res.face.triangles)
+    for (int v : tri)
+      if (local[v] < 0) { local[v] = static_cast<int>(global.size()); global.push_back(v); }
+  const std::size_t n = global.size(), m = res.face.triangles.size();
+  std::ofstream out = open_output(file);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << m
+      << "\">\n      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
+  auto u = [&](std::size_t i, int c) { return res.u[3 * global[i] + c]; };
+  data_array(out, "displacement", 3, n, u);
+  data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -u(i, 2); });
+  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return u(i, 2); });
+  data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return c < 2 ? u(i, c) : 0.0; });
+  data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(u(i, 0), u(i, 1)); });
+  data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[global[i]]; });
+  data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
+    return c == 0 ? nf.traction_t1[global[i]] : c == 1 ? nf.traction_t2[global[i]] : 0.0;
+  });
+  data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[global[i]]; });
+  data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[global[i]]; }, "Int32");
+  out << "      </PointData>\n      <Points>\n";
+  data_array(out, "Points", 3, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; });
+  out << "      </Points>\n      <Cells>\n";
+  data_array(out, "connectivity", 1, 3 * m, [&](std::size_t k, int) { return local[res.face.triangles[k / 3][k % 3]]; }, "Int64");
+  data_array(out, "offsets", 1, m, [&](std::size_t e, int) { return 3 * (e + 1); }, "Int64");
+  data_array(out, "types", 1, m, [](std::size_t, int) { return 5; }, "UInt8");
+  out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+}
+
+void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) {
+  std::vector<Eigen::Vector2d> pts;
+  std::vector<std::size_t> offsets, owner;
+  for (std::size_t i = 0; i < res.partition.cells.size(); ++i)
+    for (const auto& piece : res.partition.cells[i].pieces) {
+      for (const auto& v : piece.polygon) pts.push_back(v.xy);
+      offsets.push_back(pts.size());
+      owner.push_back(i);
+    }
+  const int r = res.n_cells;
+  const bool fr = has_friction(res);
+  std::ofstream out = open_output(file);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << pts.size() << "\" NumberOfCells=\"" << owner.size()
+      << "\">\n      <CellData Scalars=\"lambda_n\">\n";
+  data_array(out, "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, "Int64");
+  data_array(out, "lambda_n", 1, owner.size(), [&](std::size_t k, int) { return res.lambda[owner[k]]; });
+  data_array(out, "lambda_t", 3, owner.size(), [&](std::size_t k, int c) {
+    return fr && c < 2 ? res.lambda[(c + 1) * r + owner[k]] : 0.0;
+  });
+  data_array(out, "radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
+  out << "      </CellData>\n      <Points>\n";
+  data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) { return c < 2 ? pts[i][c] : 0.0; });
+  out << "      </Points>\n      <Cells>\n";
+  data_array(out, "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, "Int64");
+  data_array(out, "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, "Int64");
+  data_array(out, "types", 1, owner.size(), [](std::size_t, int) { return 7; }, "UInt8");
+  out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+}
+
+}  // namespace
+
+ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res) {
+  const std::size_t nn = mesh.nodes.size();
+  ContactNodeFields nf{Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn),
+                       Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn), std::vector<int>(nn, 0)};
+  if (res.n_cells == 0) return nf;
+  const int r = res.n_cells;
+  const bool fr = has_friction(res);
+  Eigen::VectorXd weight = Eigen::VectorXd::Zero(nn);
+  const auto rows = cell_node_weights(res.face, res.partition);
+  for (int i = 0; i < r; ++i)
+    for (const auto& [node, w] : rows[i]) {
+      weight[node] += w;
+      nf.pressure[node] += w * res.lambda[i];
+      if (fr) {
+        nf.traction_t1[node] += w * res.lambda[r + i];
+        nf.traction_t2[node] += w * res.lambda[2 * r + i];
+        nf.radius[node] += w * res.radius[i];
+      }
+    }
+  const double pmax = res.lambda.head(r).maxCoeff();
+  for (std::size_t v = 0; v < nn; ++v) {
+    if (weight[v] <= 0) continue;
+    nf.pressure[v] /= weight[v];
+    nf.traction_t1[v] /= weight[v];
+    nf.traction_t2[v] /= weight[v];
+    nf.radius[v] /= weight[v];
+    const double slip = std::hypot(res.u[3 * v], res.u[3 * v + 1]);
+    nf.friction[v] = scene.frictionless() ? 0.0 : scene.law(slip);
+    if (nf.pressure[v] <= 1e-6 * pmax) nf.status[v] = 0;
+    else if (fr && std::hypot(nf.traction_t1[v], nf.traction_t2[v]) >= (1 - 1e-3) * nf.radius[v]) nf.status[v] = 2;
+    else nf.status[v] = 1;
+  }
+  return nf;
+}
+
+void write_summary_json(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
+                        const RunInfo& info) {
+  std::ofstream out = open_output(file);
+  JsonWriter j(out);
+  j.begin_object();
+  j.value("status", res.status).value("converged", res.converged);
+  j.value("mesh", info.mesh_description);
+  j.value("n_nodes", static_cast<long long>(mesh.nodes.size())).value("n_tets", static_cast<long long>(mesh.tets.size()));
+  j.value("n_primal", res.n_primal).value("n_dual", res.n_dual);
+  j.value("n_contact_nodes", static_cast<long long>(res.face.nodes.size())).value("n_cells", res.n_cells);
+  j.value("contact_h", res.face.h).value("cell_size", res.cell_size).value("cells_merged", res.partition.merged_slivers);
+  j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
+  j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
+  j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
+  j.begin_array("err_history");
+  for (const auto& s : res.fixed_point.history) j.element(s.err);
+  j.end_array();
+  j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
+  j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
+  double force_n = 0, force_t1 = 0, force_t2 = 0;
+  for (int i = 0; i < res.n_cells; ++i) {
+    const double a = res.partition.cells[i].area;
+    force_n += a * res.lambda[i];
+    if (has_friction(res)) { force_t1 += a * res.lambda[res.n_cells + i]; force_t2 += a * res.lambda[2 * res.n_cells + i]; }
+  }
+  j.begin_object("contact_force").value("normal", force_n).value("t1", force_t1).value("t2", force_t2).end_object();
+  j.begin_object("time_s");
+  j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);
+  for (const auto& [stage, sec] : res.seconds) j.value(stage, sec);
+  j.end_object();
+  j.begin_object("kkt");
+  j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
+  j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
+  j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
+  j.end_object();
+  j.value("scene", scene.echo);
+  j.end_object();
+  out << "\n";
+}
+
+void write_results(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res,
+                   const RunInfo& info) {
+  const ContactNodeFields nf = contact_node_fields(mesh, scene, res);
+  {
+    std::ofstream out = open_output(dir / "contact_nodes.csv");
+    out << "node,x,y,z,u1,u2,u3,wn,wt_norm,F,pressure,status\n";
+    for (int v : res.face.nodes) {
+      const auto& x = mesh.nodes[v];
+      const double u1 = res.u[3 * v], u2 = res.u[3 * v + 1], u3 = res.u[3 * v + 2];
+      out << mesh.node_tags[v] << ',' << x.x() << ',' << x.y() << ',' << x.z() << ',' << u1 << ',' << u2 << ',' << u3 << ','
+          << -u3 << ',' << std::hypot(u1, u2) << ',' << nf.friction[v] << ',' << nf.pressure[v] << ',' << nf.status[v] << '\n';
+    }
+  }
+  {
+    std::ofstream out = open_output(dir / "contact_cells.csv");
+    out << "cell,xmin,xmax,ymin,ymax,area,lambda_n,lambda_t1,lambda_t2,radius\n";
+    const int r = res.n_cells;
+    for (int i = 0; i < r; ++i) {
+      const auto& c = res.partition.cells[i];
+      const bool fr = has_friction(res);
+      out << i << ',' << c.lo.x() << ',' << c.hi.x() << ',' << c.lo.y() << ',' << c.hi.y() << ',' << c.area << ','
+          << res.lambda[i] << ',' << (fr ? res.lambda[r + i] : 0.0) << ',' << (fr ? res.lambda[2 * r + i] : 0.0) << ','
+          << (fr ? res.radius[i] : 0.0) << '\n';
+    }
+  }
+  {
+    std::ofstream out = open_output(dir / "history.csv");
+    out << "k,err,qp_iterations,n_mult,seconds\n";
+    for (const auto& s : res.fixed_point.history)
+      out << s.k << ',' << s.err << ',' << s.qp_iterations << ',' << s.n_mult << ',' << s.seconds << '\n';
+  }
+  write_body_vtu(dir / "body.vtu", scene, mesh, res);
+  if (res.n_cells > 0) {
+    write_contact_vtu(dir / "contact.vtu", scene, mesh, res, nf);
+    write_cells_vtu(dir / "contact_cells.vtu", res);
+  }
+  write_summary_json(dir / "summary.json", scene, mesh, res, info);
+}
+
+}  // namespace contact3d

@@ -1,0 +1,31 @@
+// Writes what every solve leaves in its output folder: summary.json, contact_nodes.csv,
+// contact_cells.csv, history.csv, body.vtu, contact.vtu and contact_cells.vtu (ParaView).
+#pragma once
+
+#include <filesystem>
+
+#include "mesh/mesh.hpp"
+#include "model/contact_solver.hpp"
+#include "model/scene.hpp"
+
+namespace contact3d {
+
+struct RunInfo {
+  std::string mesh_description;  // where the mesh came from
+  double mesh_seconds = 0;
+  double total_seconds = 0;
+};
+
+// Nodal fields on Γc derived from the cellwise multipliers (lumped L2 projection).
+struct ContactNodeFields {
+  Eigen::VectorXd pressure, traction_t1, traction_t2, radius, friction;  // per mesh node (0 off Γc)
+  std::vector<int> status;  // 0 open, 1 stick, 2 slip (per mesh node)
+};
+ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res);
+
+void write_results(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res,
+                   const RunInfo& info);
+void write_summary_json(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
+                        const RunInfo& info);
+
+}  // namespace contact3d

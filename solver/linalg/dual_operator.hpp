@@ -1,0 +1,28 @@
+// The data of the dual problem (5.5)-(5.6): Q = 𝔹 K⁻¹ 𝔹ᵀ (dense, contact-sized) and
+// h = 𝔹 K⁻¹ f, computed once per scene from one factorization of K. Forming Q explicitly
+// turns every later "multiplication by K⁻¹" of the dual solver into a dense product of
+// contact size.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "linalg/sparse_cholesky.hpp"
+
+namespace contact3d {
+
+struct DualOperator {
+  Eigen::MatrixXd Q;
+  Eigen::VectorXd h;
+  Eigen::VectorXd u_free;  // K⁻¹ f, the unconstrained solution
+  int solves = 0;          // right-hand sides solved with the factor to build this
+};
+
+// Solves K X = 𝔹ᵀ in blocks of `block_columns` right-hand sides (memory stays bounded).
+DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                const Eigen::VectorXd& f, int block_columns = 256);
+
+// Largest eigenvalue of a symmetric positive semidefinite matrix by power iteration.
+double estimate_norm(const Eigen::MatrixXd& Q, int iterations = 50);
+
+}  // namespace contact3d

@@ -1,0 +1,188 @@
+#include "model/contact_solver.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "contact/contact_operator.hpp"
+#include "fem/assembly.hpp"
+#include "friction/slip_bound.hpp"
+#include "io/errors.hpp"
+#include "linalg/dual_operator.hpp"
+#include "linalg/sparse_cholesky.hpp"
+
+namespace contact3d {
+namespace {
+
+class StageClock {
+ public:
+  explicit StageClock(std::vector<std::pair<std::string, double>>& out) : out_(out) {}
+  void lap(const std::string& stage) {
+    const auto now = std::chrono::steady_clock::now();
+    out_.emplace_back(stage, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>& out_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+// Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns the
+// estimate max pivot / min pivot of its LDLᵀ; throws naming the cells whose rows are dependent.
+double check_stability(const Eigen::MatrixXd& Q, const Partition& part, int r) {
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(Q);
+  const Eigen::VectorXd d = ldlt.vectorD();
+  const double dmax = d.cwiseAbs().maxCoeff();
+  std::vector<int> bad;
+  for (int k = 0; k < d.size(); ++k)
+    if (!(d[k] > 1e-11 * dmax)) bad.push_back(k);
+  if (bad.empty()) return dmax / d.minCoeff();
+  // Map pivots back through the LDLT permutation to rows of 𝔹, then to cells.
+  const auto& perm = ldlt.transpositionsP();
+  Eigen::VectorXi order = Eigen::VectorXi::LinSpaced(d.size(), 0, static_cast<int>(d.size()) - 1);
+  order = perm.transpose() * order;
+  std::string cells;
+  for (std::size_t k = 0; k < bad.size() && k < 8; ++k) {
+    const int row = order[bad[k]], cell = row % r;
+    const auto& c = part.cells[cell];
+    cells += "\n  cell " + std::to_string(cell) + " [" + std::to_string(c.lo.x()) + ", " + std::to_string(c.hi.x()) +
+             "] x [" + std::to_string(c.lo.y()) + ", " + std::to_string(c.hi.y()) + "], area " + std::to_string(c.area);
+  }
+  throw InputError("the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) +
+                   " rows of the contact operator are linearly dependent, e.g." + cells +
+                   "\nuse a larger contact.cell_size (H), e.g. twice the current one");
+}
+
+Eigen::VectorXd nodal_slip(const ContactFace& face, const Eigen::VectorXd& u) {
+  Eigen::VectorXd phi(face.nodes.size());
+  for (std::size_t k = 0; k < face.nodes.size(); ++k) phi[k] = std::hypot(u[3 * face.nodes[k]], u[3 * face.nodes[k] + 1]);
+  return phi;
+}
+
+}  // namespace
+
+std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u) {
+  double l2sq = 0, inf = 0;
+  for (const auto& tri : face.triangles) {
+    Polygon poly = triangle_polygon(mesh.nodes[tri[0]].head<2>(), mesh.nodes[tri[1]].head<2>(), mesh.nodes[tri[2]].head<2>());
+    const Eigen::Vector3d wn(-u[3 * tri[0] + 2], -u[3 * tri[1] + 2], -u[3 * tri[2] + 2]);
+    inf = std::max(inf, wn.maxCoeff());
+    if (wn.maxCoeff() <= 0) continue;
+    std::vector<double> levels = {-wn[0], -wn[1], -wn[2]};
+    poly = clip_by_levels(poly, levels);
+    if (poly.empty()) continue;
+    std::vector<double> values(poly.size());
+    for (std::size_t k = 0; k < poly.size(); ++k) values[k] = std::max(0.0, poly[k].bary.dot(wn));
+    l2sq += integral_linear_squared(poly, values);
+  }
+  return {std::sqrt(l2sq), std::max(inf, 0.0)};
+}
+
+SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& progress) {
+  SolveResult res;
+  StageClock clock(res.seconds);
+  check_tet_orientation(mesh);
+  res.dofs = make_dof_map(mesh, scene.clamped);
+  if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
+  res.n_primal = res.dofs.n_free;
+  const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, res.dofs, scene.material);
+  const Eigen::VectorXd f = assemble_load(mesh, res.dofs, scene.tractions, scene.body_force);
+  clock.lap("assembly");
+
+  const SparseCholesky factor(K);
+  res.factor_nonzeros = factor.factor_nonzeros();
+  clock.lap("factorization");
+
+  if (scene.contact.empty()) {  // no contact: one linear solve
+    const Eigen::VectorXd w = factor.solve(f);
+    res.u = expand_to_nodes(res.dofs, w);
+    res.kkt.equilibrium = (K * w - f).norm() / std::max(f.norm(), 1e-300);
+    res.n_mult = 1;
+    res.converged = true;
+    res.status = "converged";
+    clock.lap("solve");
+    return res;
+  }
+
+  res.face = make_contact_face(mesh, scene.contact, res.dofs);
+  res.cell_size = scene.cell_size_relative ? scene.cell_size * res.face.h : scene.cell_size;
+  res.partition = make_grid_partition(mesh, res.face, {res.cell_size});
+  const bool with_friction = !scene.frictionless();
+  const ContactOperator op = make_contact_operator(res.face, res.partition, res.dofs, with_friction);
+  res.n_cells = op.r;
+  res.n_dual = op.rows();
+  clock.lap("contact");
+
+  const DualOperator dual = make_dual_operator(factor, op.B, f);
+  clock.lap("dual");
+  res.stability_condition = check_stability(dual.Q, res.partition, op.r);
+  clock.lap("stability");
+
+  BoxDiscQP qp;
+  qp.Q = &dual.Q;
+  qp.h = dual.h;
+  qp.r = op.r;
+  qp.with_friction = with_friction;
+  qp.radius = Eigen::VectorXd::Zero(op.r);
+  qp.q_norm = 1.05 * estimate_norm(dual.Q);
+  MpgpSettings mpgp;
+  mpgp.max_iterations = scene.solver.qp_max_iterations;
+  mpgp.expansion = scene.solver.qp == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
+
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(op.rows());
+  Eigen::VectorXd w = dual.u_free;
+  int products = 0;
+  // One Tresca (or frictionless) solve for the radii of φ: warm-started λ, then w = K⁻¹(f − 𝔹ᵀλ).
+  auto tresca = [&](const Eigen::VectorXd& phi_contact, double rtol) {
+    SlipEvaluation eval;
+    if (with_friction) {
+      Eigen::VectorXd phi_nodes = Eigen::VectorXd::Zero(mesh.nodes.size());
+      for (std::size_t k = 0; k < res.face.nodes.size(); ++k) phi_nodes[res.face.nodes[k]] = phi_contact[k];
+      qp.radius = disc_radii(res.face, res.partition, scene.law, scene.slip_bound, phi_nodes);
+    }
+    mpgp.rtol = rtol;
+    res.last_qp = solve_mpgp(qp, lambda, mpgp);
+    w = dual.u_free - factor.solve(Eigen::VectorXd(op.B.transpose() * lambda));
+    eval.ok = res.last_qp.status == QpStatus::Converged && w.allFinite();
+    eval.qp_iterations = res.last_qp.iterations;
+    eval.hessian_products = res.last_qp.hessian_products + 1;  // + the solve for w
+    products += eval.hessian_products;
+    res.qp_iterations += res.last_qp.iterations;
+    eval.slip = nodal_slip(res.face, expand_to_nodes(res.dofs, w));
+    res.slip_input = phi_contact;
+    return eval;
+  };
+
+  const Eigen::VectorXd phi0 = Eigen::VectorXd::Zero(res.face.nodes.size());
+  if (scene.law.depends_on_slip() && with_friction) {
+    FixedPointSettings fp;
+    fp.tol = scene.solver.fixed_point_tol;
+    fp.max_iterations = scene.solver.fixed_point_max_iter;
+    fp.anderson = scene.solver.fixed_point == FixedPointVariant::Anderson;
+    fp.anderson_depth = scene.solver.anderson_depth;
+    res.fixed_point = solve_fixed_point(tresca, static_cast<int>(phi0.size()), fp, scene.solver.qp_rtol, progress);
+    res.status = to_string(res.fixed_point.status);
+    res.converged = res.fixed_point.status == FixedPointStatus::Converged;
+  } else {
+    const SlipEvaluation eval = tresca(phi0, scene.solver.qp_rtol);
+    res.converged = eval.ok;
+    res.status = eval.ok ? "converged" : "qp_" + to_string(res.last_qp.status);
+    if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, 0.0});
+  }
+  res.n_mult = products + dual.solves - static_cast<int>(op.rows());  // h costs one; Q's columns are not multiplications in the paper's sense
+  clock.lap("dual_solve");
+
+  res.lambda = lambda;
+  res.radius = qp.radius;
+  res.u = expand_to_nodes(res.dofs, w);
+  res.kkt = kkt_residuals(K, f, op.B, op.r, with_friction, qp.radius, w, lambda);
+  std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
+  if (!res.u.allFinite() || !res.lambda.allFinite())
+    throw std::runtime_error("the solution is not finite (numerical breakdown); residuals could not be computed");
+  clock.lap("postprocess");
+  return res;
+}
+
+}  // namespace contact3d

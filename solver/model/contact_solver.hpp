@@ -1,0 +1,62 @@
+// The whole solve of one scene, stage by stage (mesh -> fem -> contact -> factorization ->
+// dual operator -> fixed point / single QP -> displacement), skipping what the scene does not
+// need: no contact group -> one linear solve; frictionless -> normal multipliers only, one
+// QP; constant coefficient -> one Tresca QP; slip-dependent coefficient -> (5.7).
+// The result carries everything the writers and the checks need, with its history.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "contact/contact_face.hpp"
+#include "contact/partition.hpp"
+#include "fem/dof_map.hpp"
+#include "friction/fixed_point.hpp"
+#include "mesh/mesh.hpp"
+#include "model/kkt.hpp"
+#include "model/scene.hpp"
+#include "qp/mpgp.hpp"
+
+namespace contact3d {
+
+struct SolveResult {
+  // Inputs as discretised.
+  DofMap dofs;
+  ContactFace face;
+  Partition partition;
+  int n_primal = 0, n_dual = 0, n_cells = 0;
+  double cell_size = 0;              // H actually requested (m)
+
+  // Solution.
+  Eigen::VectorXd u;                 // nodal displacement, 3 per mesh node
+  Eigen::VectorXd lambda;            // [λ_n | λ_t1 | λ_t2] per cell (λ_t empty when frictionless)
+  Eigen::VectorXd radius;            // disc radii c_i of the last Tresca problem
+  Eigen::VectorXd slip_input;        // φ used for the last radii, at contact nodes
+
+  // How it went.
+  bool converged = false;
+  std::string status;                // "converged", "iteration_limit", "stagnation", ...
+  FixedPointResult fixed_point;      // empty history when no fixed point was needed
+  QpResult last_qp;
+  int n_mult = 0;                    // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
+  int qp_iterations = 0;
+  KktResiduals kkt;
+  double wn_plus_L2 = 0, wn_plus_inf = 0;
+  double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
+  std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
+  double factor_nonzeros = 0;
+};
+
+using ProgressCallback = std::function<void(const FixedPointStep&)>;
+
+SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& progress = {});
+
+// Positive part of w_n = −u_3 on Γc: (L2 norm integrated exactly over the contact triangles, max).
+std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u);
+
+}  // namespace contact3d

@@ -1,0 +1,36 @@
+#include "model/kkt.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace contact3d {
+
+double KktResiduals::max() const {
+  return std::max({equilibrium, normal_feasibility, normal_complementarity, disc_feasibility, slip_alignment});
+}
+
+KktResiduals kkt_residuals(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
+                           const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
+                           const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda) {
+  KktResiduals res;
+  auto safe_div = [](double a, double b) { return b > 0 ? a / b : a; };
+  const Eigen::VectorXd Btl = B.transpose() * lambda;
+  res.equilibrium = safe_div((K * w - f + Btl).norm(), std::max(f.norm(), Btl.norm()));
+  if (r == 0) return res;
+  const Eigen::VectorXd d = B * w;
+  const double scale = lambda.norm() * d.norm();
+  res.normal_feasibility = safe_div(d.head(r).cwiseMax(0.0).norm(), d.norm());
+  res.normal_complementarity = safe_div(std::abs(lambda.head(r).dot(d.head(r))), scale);
+  if (!with_friction) return res;
+  double excess = 0, gap = 0;
+  for (int i = 0; i < r; ++i) {
+    const Eigen::Vector2d lt(lambda[r + i], lambda[2 * r + i]), dt(d[r + i], d[2 * r + i]);
+    excess = std::max(excess, lt.norm() - radius[i]);
+    gap += radius[i] * dt.norm() - lt.dot(dt);
+  }
+  res.disc_feasibility = safe_div(std::max(0.0, excess), radius.maxCoeff());
+  res.slip_alignment = safe_div(std::abs(gap), scale);
+  return res;
+}
+
+}  // namespace contact3d

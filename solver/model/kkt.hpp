@@ -1,0 +1,25 @@
+// Residuals of the discrete optimality conditions (5.4) of a computed (w, λ), each scaled to
+// be dimensionless, so that a run reports how well it solved its own problem:
+//   equilibrium      ‖K w − f + 𝔹ᵀλ‖ / max(‖f‖, ‖𝔹ᵀλ‖)
+//   normal_feasibility      ‖max(0, (𝔹w)_n)‖ / ‖𝔹w‖          (∫_{R_i} w_n <= 0)
+//   normal_complementarity  |Σ λ_n,i (𝔹w)_n,i| / (‖λ‖ ‖𝔹w‖)
+//   disc_feasibility        max_i max(0, ‖λ_t,i‖ − c_i) / max_i c_i
+//   slip_alignment          Σ (c_i ‖(𝔹w)_t,i‖ − λ_t,iᵀ(𝔹w)_t,i) / (‖λ‖ ‖𝔹w‖)  (λ_t maximises μᵀ𝔹w on the discs)
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace contact3d {
+
+struct KktResiduals {
+  double equilibrium = 0, normal_feasibility = 0, normal_complementarity = 0;
+  double disc_feasibility = 0, slip_alignment = 0;
+  double max() const;
+};
+
+KktResiduals kkt_residuals(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
+                           const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
+                           const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda);
+
+}  // namespace contact3d

@@ -1,0 +1,281 @@
+#include "model/scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "io/errors.hpp"
+
+namespace contact3d {
+namespace {
+
+using KeySet = std::set<std::string>;
+
+void check_keys(const toml::table& t, const std::string& where, const KeySet& allowed) {
+  for (const auto& [key, node] : t) {
+    const std::string k(key.str());
+    if (!allowed.count(k)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      throw InputError("unknown key '" + (where.empty() ? k : where + "." + k) + "' in the scene (allowed here: " + list + ")");
+    }
+  }
+}
+
+const toml::table* table_at(const toml::table& root, const std::string& key) {
+  const toml::node* n = root.get(key);
+  if (!n) return nullptr;
+  if (!n->is_table()) throw InputError("scene key '" + key + "' must be a table");
+  return n->as_table();
+}
+
+double get_number(const toml::table& t, const std::string& where, const std::string& key, double fallback,
+                  bool required = false) {
+  const toml::node* n = t.get(key);
+  if (!n) {
+    if (required) throw InputError("scene key '" + where + "." + key + "' is required");
+    return fallback;
+  }
+  std::optional<double> v = n->value<double>();
+  if (!v || !(n->is_floating_point() || n->is_integer()))
+    throw InputError("scene key '" + where + "." + key + "' must be a number");
+  if (!std::isfinite(*v)) throw InputError("scene key '" + where + "." + key + "' must be finite, got " + std::to_string(*v));
+  return *v;
+}
+
+int get_int(const toml::table& t, const std::string& where, const std::string& key, int fallback, int lo, int hi) {
+  const double v = get_number(t, where, key, fallback);
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw InputError("scene key '" + where + "." + key + "' must be an integer in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "], got " + std::to_string(v));
+  return static_cast<int>(v);
+}
+
+std::string get_string(const toml::table& t, const std::string& where, const std::string& key, const std::string& fallback) {
+  const toml::node* n = t.get(key);
+  if (!n) return fallback;
+  if (!n->is_string()) throw InputError("scene key '" + where + "." + key + "' must be a string");
+  return *n->value<std::string>();
+}
+
+std::vector<std::string> get_strings(const toml::table& t, const std::string& where, const std::string& key) {
+  const toml::node* n = t.get(key);
+  if (!n) return {};
+  if (n->is_string()) return {*n->value<std::string>()};
+  if (!n->is_array()) throw InputError("scene key '" + where + "." + key + "' must be a list of group names");
+  std::vector<std::string> out;
+  for (const auto& e : *n->as_array()) {
+    if (!e.is_string()) throw InputError("scene key '" + where + "." + key + "' must list strings");
+    out.push_back(*e.value<std::string>());
+  }
+  return out;
+}
+
+Eigen::Vector3d get_vector(const toml::node* n, const std::string& name) {
+  if (!n || !n->is_array() || n->as_array()->size() != 3)
+    throw InputError("scene key '" + name + "' must be a list of three numbers");
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) {
+    const auto x = (*n->as_array())[k].value<double>();
+    if (!x) throw InputError("scene key '" + name + "' must be a list of three numbers");
+    if (!std::isfinite(*x)) throw InputError("scene key '" + name + "' must be finite");
+    v[k] = *x;
+  }
+  return v;
+}
+
+std::filesystem::path resolve(const std::filesystem::path& base, const std::string& p) {
+  std::filesystem::path path(p);
+  return path.is_absolute() ? path : (base / path).lexically_normal();
+}
+
+// Applies "a.b.c=value" to the table, creating tables on the way.
+void apply_override(toml::table& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--set expects key=value, got '" + assignment + "'");
+  const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + text);
+  } catch (const toml::parse_error&) {
+    parsed = toml::table{{"v", text}};
+  }
+  toml::table* t = &root;
+  std::stringstream ss(key);
+  std::string part, next;
+  std::getline(ss, part, '.');
+  while (std::getline(ss, next, '.')) {
+    if (!t->contains(part)) t->insert(part, toml::table{});
+    toml::node* n = t->get(part);
+    if (!n->is_table()) throw InputError("--set " + key + ": '" + part + "' is not a table");
+    t = n->as_table();
+    part = next;
+  }
+  t->insert_or_assign(part, *parsed.get("v"));
+}
+
+FrictionLaw parse_law(const toml::table& fr) {
+  FrictionLaw law;
+  const std::string kind = get_string(fr, "friction", "law", "none");
+  const std::string w = "friction";
+  if (kind == "none") {
+    law.kind = FrictionLaw::Kind::None;
+    check_keys(fr, w, {"law", "slip_bound"});
+  } else if (kind == "constant") {
+    law.kind = FrictionLaw::Kind::Constant;
+    law.value = get_number(fr, w, "value", 0, true);
+    check_keys(fr, w, {"law", "slip_bound", "value"});
+  } else if (kind == "ramp") {
+    law.kind = FrictionLaw::Kind::Ramp;
+    law.high = get_number(fr, w, "high", 0.3);
+    law.low = get_number(fr, w, "low", 0.2);
+    law.t0 = get_number(fr, w, "t0", 1e-5);
+    law.param = get_number(fr, w, "param", 6e4);
+    check_keys(fr, w, {"law", "slip_bound", "high", "low", "t0", "param"});
+  } else if (kind == "table") {
+    law.kind = FrictionLaw::Kind::Table;
+    const toml::node* pts = fr.get("points");
+    if (!pts || !pts->is_array()) throw InputError("friction.points must be a list of [t, F] pairs");
+    for (const auto& p : *pts->as_array()) {
+      if (!p.is_array() || p.as_array()->size() != 2) throw InputError("friction.points must be a list of [t, F] pairs");
+      const auto t = (*p.as_array())[0].value<double>(), f = (*p.as_array())[1].value<double>();
+      if (!t || !f) throw InputError("friction.points must hold numbers");
+      law.points.emplace_back(*t, *f);
+    }
+    check_keys(fr, w, {"law", "slip_bound", "points"});
+  } else {
+    throw InputError("friction.law must be one of none, constant, ramp, table; got '" + kind + "'");
+  }
+  law.validate();
+  return law;
+}
+
+}  // namespace
+
+Scene parse_scene_text(const std::string& text, const std::filesystem::path& base, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream msg;
+    msg << "scene is not valid TOML (line " << e.source().begin.line << "): " << e.description();
+    throw InputError(msg.str());
+  }
+  for (const auto& o : overrides) apply_override(root, o);
+  check_keys(root, "", {"mesh", "material", "boundary", "friction", "contact", "solver", "output", "crosscheck", "expect"});
+  Scene s;
+  std::ostringstream echo;
+  echo << root;
+  s.echo = echo.str();
+
+  static const toml::table empty;
+  const toml::table* mesh = table_at(root, "mesh");
+  if (!mesh) throw InputError("the scene has no [mesh] table");
+  check_keys(*mesh, "mesh", {"file", "geo", "parameters", "generator", "n"});
+  const int sources = mesh->contains("file") + mesh->contains("geo") + mesh->contains("generator");
+  if (sources != 1) throw InputError("[mesh] needs exactly one of: file, geo, generator");
+  if (mesh->contains("file")) s.mesh.file = resolve(base, get_string(*mesh, "mesh", "file", ""));
+  if (mesh->contains("geo")) s.mesh.geo = resolve(base, get_string(*mesh, "mesh", "geo", ""));
+  s.mesh.generator = get_string(*mesh, "mesh", "generator", "");
+  if (!s.mesh.generator.empty() && s.mesh.generator != "paper_brick")
+    throw InputError("mesh.generator must be 'paper_brick', got '" + s.mesh.generator + "'");
+  s.mesh.n = get_int(*mesh, "mesh", "n", 4, 1, 200);
+  if (const toml::table* params = table_at(*mesh, "parameters"))
+    for (const auto& [k, v] : *params) s.mesh.parameters[std::string(k.str())] = get_number(*params, "mesh.parameters", std::string(k.str()), 0);
+
+  const toml::table* mat = table_at(root, "material");
+  if (!mat) throw InputError("the scene has no [material] table");
+  check_keys(*mat, "material", {"young", "poisson", "body_force"});
+  s.material.young = get_number(*mat, "material", "young", 0, true);
+  s.material.poisson = get_number(*mat, "material", "poisson", 0, true);
+  if (!(s.material.young > 0)) throw InputError("material.young must be > 0 (Pa), got " + std::to_string(s.material.young));
+  if (!(s.material.poisson > -1 && s.material.poisson < 0.5))
+    throw InputError("material.poisson must lie in (-1, 0.5), got " + std::to_string(s.material.poisson));
+  if (mat->contains("body_force")) s.body_force = get_vector(mat->get("body_force"), "material.body_force");
+
+  const toml::table* bnd = table_at(root, "boundary");
+  if (!bnd) throw InputError("the scene has no [boundary] table");
+  check_keys(*bnd, "boundary", {"clamped", "contact", "traction"});
+  s.clamped = get_strings(*bnd, "boundary", "clamped");
+  s.contact = get_strings(*bnd, "boundary", "contact");
+  if (s.clamped.empty()) throw InputError("boundary.clamped must name at least one group (Γu keeps the body from rigid motions)");
+  if (const toml::node* tr = bnd->get("traction")) {
+    if (!tr->is_array_of_tables()) throw InputError("boundary.traction must be an array of tables ([[boundary.traction]])");
+    for (const auto& e : *tr->as_array()) {
+      const toml::table& t = *e.as_table();
+      check_keys(t, "boundary.traction", {"group", "value"});
+      const std::string group = get_string(t, "boundary.traction", "group", "");
+      if (group.empty()) throw InputError("boundary.traction needs a group");
+      s.tractions.push_back({group, get_vector(t.get("value"), "boundary.traction.value")});
+    }
+  }
+
+  const toml::table* fr = table_at(root, "friction");
+  s.law = parse_law(fr ? *fr : empty);
+  s.slip_bound = fr ? get_number(*fr, "friction", "slip_bound", 0) : 0;
+  if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + std::to_string(s.slip_bound));
+  if (s.law.kind != FrictionLaw::Kind::None && fr && !fr->contains("slip_bound"))
+    throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() + "'");
+
+  if (const toml::table* ct = table_at(root, "contact")) {
+    check_keys(*ct, "contact", {"cell_size"});
+    if (const toml::node* n = ct->get("cell_size")) {
+      if (n->is_string()) {
+        std::string v = *n->value<std::string>();
+        if (v.empty() || v.back() != 'h') throw InputError("contact.cell_size must be a length (m) or a multiple of h like \"2h\", got '" + v + "'");
+        v.pop_back();
+        try {
+          s.cell_size = v.empty() ? 1.0 : std::stod(v);
+        } catch (const std::exception&) {
+          throw InputError("contact.cell_size: cannot read '" + v + "h'");
+        }
+        s.cell_size_relative = true;
+      } else {
+        s.cell_size = get_number(*ct, "contact", "cell_size", 0);
+        s.cell_size_relative = false;
+      }
+      if (!(s.cell_size > 0) || !std::isfinite(s.cell_size)) throw InputError("contact.cell_size must be positive");
+    }
+  }
+
+  if (const toml::table* sv = table_at(root, "solver")) {
+    check_keys(*sv, "solver", {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp",
+                               "fixed_point", "anderson_depth"});
+    auto& o = s.solver;
+    o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
+    o.qp_max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp_max_iterations, 1, 100000000);
+    o.fixed_point_tol = get_number(*sv, "solver", "fixed_point_tol", o.fixed_point_tol);
+    o.fixed_point_max_iter = get_int(*sv, "solver", "fixed_point_max_iter", o.fixed_point_max_iter, 1, 100000);
+    o.anderson_depth = get_int(*sv, "solver", "anderson_depth", o.anderson_depth, 1, 50);
+    if (!(o.qp_rtol > 0 && o.qp_rtol < 1)) throw InputError("solver.qp_rtol must lie in (0, 1)");
+    if (!(o.fixed_point_tol > 0 && o.fixed_point_tol < 1)) throw InputError("solver.fixed_point_tol must lie in (0, 1)");
+    const std::string qp = get_string(*sv, "solver", "qp", "mpgp");
+    if (qp == "mpgp") o.qp = QpVariant::Mpgp;
+    else if (qp == "mpgp_projcg") o.qp = QpVariant::MpgpProjectedCG;
+    else throw InputError("solver.qp must be 'mpgp' or 'mpgp_projcg', got '" + qp + "'");
+    const std::string fp = get_string(*sv, "solver", "fixed_point", "plain");
+    if (fp == "plain") o.fixed_point = FixedPointVariant::Plain;
+    else if (fp == "anderson") o.fixed_point = FixedPointVariant::Anderson;
+    else throw InputError("solver.fixed_point must be 'plain' or 'anderson', got '" + fp + "'");
+  }
+  if (const toml::table* out = table_at(root, "output")) {
+    check_keys(*out, "output", {"dir"});
+    if (out->contains("dir")) s.output_dir = resolve(base, get_string(*out, "output", "dir", ""));
+  }
+  return s;
+}
+
+Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open scene file '" + path.string() + "'");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  Scene s = parse_scene_text(buf.str(), path.parent_path(), overrides);
+  s.source = path;
+  return s;
+}
+
+}  // namespace contact3d

@@ -1,0 +1,99 @@
+#include "qp/box_disc_qp.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace contact3d {
+namespace {
+constexpr double kActiveRelTol = 1e-12;
+}
+
+double BoxDiscQP::value(const Eigen::VectorXd& lambda) const {
+  return 0.5 * lambda.dot(*Q * lambda) - h.dot(lambda);
+}
+
+void project(const BoxDiscQP& qp, Eigen::VectorXd& lambda) {
+  const int r = qp.r;
+  for (int i = 0; i < r; ++i) lambda[i] = std::max(lambda[i], 0.0);
+  if (!qp.with_friction) return;
+  for (int i = 0; i < r; ++i) {
+    const double c = qp.radius[i];
+    const double norm = std::hypot(lambda[r + i], lambda[2 * r + i]);
+    if (norm > c) {
+      const double s = norm > 0 ? c / norm : 0.0;
+      lambda[r + i] *= s;
+      lambda[2 * r + i] *= s;
+    }
+  }
+}
+
+bool is_feasible(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, double rel_tol) {
+  const int r = qp.r;
+  for (int i = 0; i < r; ++i)
+    if (lambda[i] < 0) return false;
+  if (!qp.with_friction) return true;
+  for (int i = 0; i < r; ++i)
+    if (std::hypot(lambda[r + i], lambda[2 * r + i]) > qp.radius[i] * (1 + rel_tol)) return false;
+  return true;
+}
+
+GradientSplit split_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g) {
+  const int r = qp.r;
+  GradientSplit s{Eigen::VectorXd::Zero(g.size()), Eigen::VectorXd::Zero(g.size())};
+  for (int i = 0; i < r; ++i) {
+    if (lambda[i] > 0) s.free[i] = g[i];
+    else s.chopped[i] = std::min(g[i], 0.0);
+  }
+  if (!qp.with_friction) return s;
+  for (int i = 0; i < r; ++i) {
+    const int a = r + i, b = 2 * r + i;
+    const double c = qp.radius[i];
+    if (c <= 0) continue;  // the disc is a point: nothing can move
+    const double norm = std::hypot(lambda[a], lambda[b]);
+    if (norm < c * (1 - kActiveRelTol)) {
+      s.free[a] = g[a];
+      s.free[b] = g[b];
+      continue;
+    }
+    const double nu_a = lambda[a] / norm, nu_b = lambda[b] / norm;
+    const double outward = nu_a * g[a] + nu_b * g[b];  // −g points inward when this is > 0
+    if (outward > 0) {
+      s.chopped[a] = g[a];
+      s.chopped[b] = g[b];
+    } else {
+      s.chopped[a] = g[a] - outward * nu_a;
+      s.chopped[b] = g[b] - outward * nu_b;
+    }
+  }
+  return s;
+}
+
+double max_feasible_step(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& p) {
+  const int r = qp.r;
+  double step = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < r; ++i)
+    if (p[i] > 0) step = std::min(step, lambda[i] / p[i]);
+  if (!qp.with_friction) return step;
+  for (int i = 0; i < r; ++i) {
+    const int a = r + i, b = 2 * r + i;
+    const double pp = p[a] * p[a] + p[b] * p[b];
+    if (pp == 0) continue;
+    const double c = qp.radius[i];
+    const double lp = lambda[a] * p[a] + lambda[b] * p[b];
+    const double slack = std::max(0.0, c * c - (lambda[a] * lambda[a] + lambda[b] * lambda[b]));
+    // ‖λ − a p‖ = c  <=>  pp a² − 2 lp a − slack = 0; the positive root, written stably.
+    const double disc = std::sqrt(lp * lp + pp * slack);
+    const double root = lp >= 0 ? (lp + disc) / pp : slack / (disc - lp);
+    step = std::min(step, root);
+  }
+  return std::max(step, 0.0);
+}
+
+double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g, double alpha) {
+  Eigen::VectorXd y = lambda - alpha * g;
+  project(qp, y);
+  return (lambda - y).norm() / alpha;
+}
+
+}  // namespace contact3d

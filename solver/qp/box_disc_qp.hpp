@@ -1,0 +1,41 @@
+// The dual quadratic program (5.5): minimise S(λ) = ½ λᵀQλ − hᵀλ over
+//   λ_n,i >= 0 (5.2) and ‖(λ_t1,i, λ_t2,i)‖ <= c_i (5.3),   i = 1..r,
+// with λ laid out as [λ_n (r) | λ_t1 (r) | λ_t2 (r)] (normal block only when frictionless).
+// This header holds the problem and the geometry of its feasible set (projection, free and
+// chopped gradients, longest feasible step); solvers know nothing else about contact.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace contact3d {
+
+struct BoxDiscQP {
+  const Eigen::MatrixXd* Q = nullptr;
+  Eigen::VectorXd h;
+  int r = 0;
+  bool with_friction = true;
+  Eigen::VectorXd radius;  // c_i (size r; ignored when frictionless)
+  double q_norm = 0;       // ‖Q‖ (estimate from above is fine)
+
+  int size() const { return with_friction ? 3 * r : r; }
+  double value(const Eigen::VectorXd& lambda) const;
+};
+
+// Euclidean projection onto the feasible set.
+void project(const BoxDiscQP& qp, Eigen::VectorXd& lambda);
+bool is_feasible(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, double rel_tol = 1e-12);
+
+// Free gradient φ (gradient on free components, 0 on active ones) and chopped gradient β
+// (the part of the projected gradient on active components); gᴾ = φ + β.
+struct GradientSplit {
+  Eigen::VectorXd free, chopped;
+};
+GradientSplit split_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g);
+
+// Largest a >= 0 with λ − a p feasible (λ feasible).
+double max_feasible_step(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& p);
+
+// ‖(λ − P(λ − α g)) / α‖: the reduced projected gradient (continuous in λ).
+double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g, double alpha);
+
+}  // namespace contact3d

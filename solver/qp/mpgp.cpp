@@ -1,0 +1,124 @@
+#include "qp/mpgp.hpp"
+
+#include <cmath>
+
+namespace contact3d {
+
+std::string to_string(QpStatus s) {
+  switch (s) {
+    case QpStatus::Converged: return "converged";
+    case QpStatus::IterationLimit: return "iteration_limit";
+    case QpStatus::Breakdown: return "breakdown";
+  }
+  return "?";
+}
+
+namespace {
+
+// Gradient bookkeeping shared by the step kinds: g = Qλ − h and its split.
+struct State {
+  const BoxDiscQP& qp;
+  Eigen::VectorXd& lambda;
+  Eigen::VectorXd g;
+  GradientSplit split;
+  QpResult& result;
+
+  void refresh_gradient() {
+    g = *qp.Q * lambda - qp.h;
+    ++result.hessian_products;
+    split = split_gradient(qp, lambda, g);
+  }
+  void resplit() { split = split_gradient(qp, lambda, g); }
+  Eigen::VectorXd apply(const Eigen::VectorXd& v) {
+    ++result.hessian_products;
+    return *qp.Q * v;
+  }
+};
+
+}  // namespace
+
+QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSettings& settings) {
+  QpResult result;
+  if (lambda.size() != qp.size()) lambda = Eigen::VectorXd::Zero(qp.size());
+  project(qp, lambda);
+  const double h_norm = qp.h.norm();
+  if (h_norm == 0) {  // S(λ) = ½λᵀQλ: the minimiser is λ = 0
+    lambda.setZero();
+    result.status = QpStatus::Converged;
+    return result;
+  }
+  const double alpha = settings.alpha_scale / qp.q_norm;
+  const double tol = settings.rtol * h_norm;
+  State s{qp, lambda, {}, {}, result};
+  s.refresh_gradient();
+  Eigen::VectorXd p = s.split.free;
+
+  for (result.iterations = 0; result.iterations < settings.max_iterations; ++result.iterations) {
+    const double free_sq = s.split.free.squaredNorm(), chopped_sq = s.split.chopped.squaredNorm();
+    result.projected_gradient = std::sqrt(free_sq + chopped_sq) / h_norm;
+    if (!std::isfinite(result.projected_gradient)) { result.status = QpStatus::Breakdown; return result; }
+    if (std::sqrt(free_sq + chopped_sq) <= tol) { result.status = QpStatus::Converged; return result; }
+
+    if (chopped_sq <= settings.gamma * settings.gamma * free_sq) {
+      // Proportional iterate: conjugate-gradient step on the free set, or expansion.
+      const Eigen::VectorXd Qp = s.apply(p);
+      const double pQp = p.dot(Qp);
+      if (!(pQp > 0)) { result.status = QpStatus::Breakdown; return result; }
+      const double a_cg = s.g.dot(p) / pQp;
+      const double a_f = max_feasible_step(qp, lambda, p);
+      if (a_cg <= a_f) {
+        ++result.cg_steps;
+        lambda -= a_cg * p;
+        s.g -= a_cg * Qp;
+        s.resplit();
+        const double beta = s.split.free.dot(Qp) / pQp;
+        p = s.split.free - beta * p;
+        continue;
+      }
+      ++result.expansion_steps;
+      switch (settings.expansion) {
+        case ExpansionKind::ProjectedCG:
+          lambda -= a_cg * p;
+          project(qp, lambda);
+          break;
+        case ExpansionKind::FreeGradient:
+          lambda -= a_f * p;
+          s.g -= a_f * Qp;
+          project(qp, lambda);
+          lambda -= alpha * split_gradient(qp, lambda, s.g).free;
+          project(qp, lambda);
+          break;
+        case ExpansionKind::FullGradient:
+          lambda -= a_f * p;
+          s.g -= a_f * Qp;
+          project(qp, lambda);
+          lambda -= alpha * s.g;
+          project(qp, lambda);
+          break;
+      }
+      s.refresh_gradient();
+      p = s.split.free;
+      continue;
+    }
+    // Not proportional: proportioning step along the chopped gradient, exact line search.
+    ++result.proportioning_steps;
+    const Eigen::VectorXd d = s.split.chopped;
+    const Eigen::VectorXd Qd = s.apply(d);
+    const double dQd = d.dot(Qd);
+    if (!(dQd > 0)) { result.status = QpStatus::Breakdown; return result; }
+    const double a = s.g.dot(d) / dQd;
+    lambda -= a * d;
+    if (is_feasible(qp, lambda)) {
+      s.g -= a * Qd;
+      s.resplit();
+    } else {
+      project(qp, lambda);
+      s.refresh_gradient();
+    }
+    p = s.split.free;
+  }
+  result.status = QpStatus::IterationLimit;
+  return result;
+}
+
+}  // namespace contact3d

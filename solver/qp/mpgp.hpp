@@ -1,0 +1,46 @@
+// MPGP: Kučera's algorithm for (5.5) — conjugate gradients on the free set combined with
+// gradient projection onto the half-lines and discs, proportioning steps that release
+// active constraints, and expansion steps that add them (Kučera 2008, ref. [10] of the paper;
+// the paper performs proportioning and expansion "simultaneously"). Stops when the projected
+// gradient satisfies ‖gᴾ(λ)‖ <= rtol ‖h‖ (the paper's criterion).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "qp/box_disc_qp.hpp"
+
+namespace contact3d {
+
+enum class QpStatus { Converged, IterationLimit, Breakdown };
+std::string to_string(QpStatus s);
+
+// How an expansion step leaves the boundary it has just reached.
+enum class ExpansionKind {
+  FreeGradient,  // λ ← P(λ − ᾱ φ(λ)): MPRGP's fixed-step expansion
+  FullGradient,  // λ ← P(λ − ᾱ g(λ)): proportioning and expansion in one step (the paper's reading)
+  ProjectedCG,   // λ ← P(λ − a_cg p): project the full conjugate-gradient step
+};
+
+struct MpgpSettings {
+  double rtol = 1e-6;            // ‖gᴾ‖ <= rtol ‖h‖
+  int max_iterations = 100000;
+  double gamma = 1.0;            // proportioning parameter Γ
+  double alpha_scale = 1.8;      // ᾱ = alpha_scale / ‖Q‖ (must be < 2)
+  ExpansionKind expansion = ExpansionKind::FullGradient;
+};
+
+struct QpResult {
+  QpStatus status = QpStatus::Breakdown;
+  int iterations = 0;
+  int hessian_products = 0;      // products Q·v — each one is a K⁻¹ application in the paper's count
+  int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
+  double projected_gradient = 0; // final ‖gᴾ‖ / ‖h‖
+};
+
+// Solves from the warm start `lambda` (projected first); on return `lambda` holds the result.
+QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSettings& settings);
+
+}  // namespace contact3d
