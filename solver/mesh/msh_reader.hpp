@@ -2,14 +2,32 @@
 // 4-node tetrahedra, 3-node triangles and physical names/tags; other element types are
 // skipped (points, lines) or rejected (higher order, other volume types).
 // Malformed input raises InputError naming the file and line.
+//
+// Physical groups:
+//  - MSH 4.1: an element's groups are the physical tags of its entity ($Entities). A triangle
+//    whose entity has k physical tags is stored k times (all of the block with the first tag,
+//    then all of it with the second, ...); a tetrahedron is stored once with the first tag.
+//    Without $Entities, elements have group 0.
+//  - MSH 2.2: the first element tag is the physical tag (0 = none). gmsh writes an element
+//    once per physical group; consecutive tetrahedron lines with the same nodes and the same
+//    elementary tag are therefore stored once (with the first group).
+//  - Mesh::groups lists the $PhysicalNames entries in file order, then physical tags that are
+//    used but unnamed (with an empty name), in order of first use.
+// Unknown sections ($Periodic, $NodeData, $Comments, ...) are skipped; partitioned meshes
+// ($PartitionedEntities) are rejected.
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "mesh/mesh.hpp"
 
 namespace contact3d {
 
 Mesh read_msh(const std::string& path);
+
+// Parses MSH file contents already in memory; `source_name` is used in error messages in
+// place of the path.
+Mesh parse_msh(std::string_view contents, const std::string& source_name);
 
 }  // namespace contact3d

@@ -1,6 +1,8 @@
 #include "model/contact_solver.hpp"
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -150,7 +152,8 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     eval.hessian_products = res.last_qp.hessian_products + 1;  // + the solve for w
     products += eval.hessian_products;
     res.qp_iterations += res.last_qp.iterations;
-    eval.slip = nodal_slip(res.face, expand_to_nodes(res.dofs, w));
+    res.u_history.push_back(expand_to_nodes(res.dofs, w));
+    eval.slip = nodal_slip(res.face, res.u_history.back());
     res.slip_input = phi_contact;
     return eval;
   };

@@ -37,6 +37,7 @@ struct SolveResult {
   Eigen::VectorXd lambda;            // [λ_n | λ_t1 | λ_t2] per cell (λ_t empty when frictionless)
   Eigen::VectorXd radius;            // disc radii c_i of the last Tresca problem
   Eigen::VectorXd slip_input;        // φ used for the last radii, at contact nodes
+  std::vector<Eigen::VectorXd> u_history;  // nodal displacement after each Tresca solve (fixed-point steps)
 
   // How it went.
   bool converged = false;

@@ -115,6 +115,10 @@ void apply_override(toml::table& root, const std::string& assignment) {
     part = next;
   }
   t->insert_or_assign(part, *parsed.get("v"));
+  // Choosing a mesh source on the command line replaces the scene's own.
+  if (key == "mesh.file" || key == "mesh.geo" || key == "mesh.generator")
+    for (const char* other : {"file", "geo", "generator"})
+      if ("mesh." + std::string(other) != key) t->erase(other);
 }
 
 FrictionLaw parse_law(const toml::table& fr) {

@@ -100,18 +100,29 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
       p = s.split.free;
       continue;
     }
-    // Not proportional: proportioning step along the chopped gradient, exact line search.
+    // Not proportional: proportioning step. Along the chopped gradient with an exact line
+    // search when that stays feasible (always on the half-lines); otherwise — and always in
+    // the FullGradient variant, the paper's "proportioning and expansion performed
+    // simultaneously" — one gradient-projection step of fixed length ᾱ, which decreases S for
+    // ᾱ < 2/‖Q‖ (a projected line-search step on the discs can cycle).
     ++result.proportioning_steps;
-    const Eigen::VectorXd d = s.split.chopped;
-    const Eigen::VectorXd Qd = s.apply(d);
-    const double dQd = d.dot(Qd);
-    if (!(dQd > 0)) { result.status = QpStatus::Breakdown; return result; }
-    const double a = s.g.dot(d) / dQd;
-    lambda -= a * d;
-    if (is_feasible(qp, lambda)) {
-      s.g -= a * Qd;
-      s.resplit();
-    } else {
+    bool done = false;
+    if (settings.expansion != ExpansionKind::FullGradient) {
+      const Eigen::VectorXd d = s.split.chopped;
+      const Eigen::VectorXd Qd = s.apply(d);
+      const double dQd = d.dot(Qd);
+      if (!(dQd > 0)) { result.status = QpStatus::Breakdown; return result; }
+      const double a = s.g.dot(d) / dQd;
+      const Eigen::VectorXd trial = lambda - a * d;
+      if (is_feasible(qp, trial, 0.0)) {  // strict: a tangential step along a circle never is
+        lambda = trial;
+        s.g -= a * Qd;
+        s.resplit();
+        done = true;
+      }
+    }
+    if (!done) {
+      lambda -= alpha * s.g;
       project(qp, lambda);
       s.refresh_gradient();
     }

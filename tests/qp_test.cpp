@@ -1,0 +1,138 @@
+// MPGP on small random QPs with both constraint kinds, checked against the KKT conditions
+// directly and against an independent brute-force solver (projected gradient, many steps).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "linalg/dual_operator.hpp"
+#include "qp/box_disc_qp.hpp"
+#include "qp/mpgp.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+struct RandomQp {
+  Eigen::MatrixXd Q;
+  BoxDiscQP qp;
+};
+
+RandomQp make_random_qp(int r, bool friction, unsigned seed) {
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const int m = friction ? 3 * r : r;
+  Eigen::MatrixXd A(m + 3, m);
+  for (int i = 0; i < A.rows(); ++i)
+    for (int j = 0; j < A.cols(); ++j) A(i, j) = normal(gen);
+  RandomQp out;
+  out.Q = A.transpose() * A + 0.05 * Eigen::MatrixXd::Identity(m, m);
+  out.qp.r = r;
+  out.qp.with_friction = friction;
+  out.qp.h.resize(m);
+  for (int i = 0; i < m; ++i) out.qp.h[i] = 3 * normal(gen);
+  out.qp.radius.resize(r);
+  for (int i = 0; i < r; ++i) out.qp.radius[i] = i % 5 == 4 ? 0.0 : 2 * uniform(gen);
+  return out;
+}
+
+// Brute force: projected gradient with a fixed step 1/‖Q‖, run to stagnation.
+Eigen::VectorXd brute_force(const BoxDiscQP& qp) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(qp.size());
+  const double step = 1.0 / qp.Q->operatorNorm();
+  for (int k = 0; k < 400000; ++k) {
+    Eigen::VectorXd y = x - step * (*qp.Q * x - qp.h);
+    project(qp, y);
+    if ((y - x).norm() < 1e-14 * (1 + x.norm())) return y;
+    x = y;
+  }
+  return x;
+}
+
+// Largest violation of the KKT conditions, relative to ‖h‖.
+double kkt_violation(const BoxDiscQP& qp, const Eigen::VectorXd& x) {
+  const Eigen::VectorXd g = *qp.Q * x - qp.h;
+  const int r = qp.r;
+  double worst = 0;
+  for (int i = 0; i < r; ++i) {
+    worst = std::max(worst, -x[i]);
+    worst = std::max(worst, x[i] > 1e-10 ? std::abs(g[i]) : std::max(0.0, -g[i]));
+  }
+  if (qp.with_friction)
+    for (int i = 0; i < r; ++i) {
+      const Eigen::Vector2d lt(x[r + i], x[2 * r + i]), gt(g[r + i], g[2 * r + i]);
+      const double c = qp.radius[i];
+      worst = std::max(worst, lt.norm() - c);
+      if (c == 0) continue;
+      if (lt.norm() < c * (1 - 1e-9)) worst = std::max(worst, gt.norm());
+      else worst = std::max(worst, (gt + gt.norm() * lt / lt.norm()).norm());  // −g points outward along λ_t
+    }
+  return worst / qp.h.norm();
+}
+
+class MpgpRandom : public ::testing::TestWithParam<std::tuple<int, bool, ExpansionKind>> {};
+
+TEST_P(MpgpRandom, MatchesKktAndBruteForce) {
+  const auto [r, friction, expansion] = GetParam();
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    RandomQp rq = make_random_qp(r, friction, seed * 7919 + r);
+    rq.qp.Q = &rq.Q;
+    rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+    MpgpSettings settings;
+    settings.rtol = 1e-10;
+    settings.expansion = expansion;
+    Eigen::VectorXd x;
+    const QpResult res = solve_mpgp(rq.qp, x, settings);
+    ASSERT_EQ(res.status, QpStatus::Converged) << "seed " << seed;
+    EXPECT_TRUE(is_feasible(rq.qp, x, 1e-12));
+    EXPECT_LT(kkt_violation(rq.qp, x), 1e-7) << "seed " << seed;
+    const Eigen::VectorXd ref = brute_force(rq.qp);
+    EXPECT_LT((x - ref).norm(), 1e-6 * (1 + ref.norm())) << "seed " << seed;
+    EXPECT_LE(rq.qp.value(x), rq.qp.value(ref) + 1e-9 * std::abs(rq.qp.value(ref)));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, MpgpRandom,
+                         ::testing::Combine(::testing::Values(3, 8, 20), ::testing::Bool(),
+                                            ::testing::Values(ExpansionKind::FullGradient, ExpansionKind::FreeGradient,
+                                                              ExpansionKind::ProjectedCG)));
+
+TEST(BoxDiscSet, ProjectionAndSteps) {
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(3, 3);
+  BoxDiscQP qp;
+  qp.Q = &Q;
+  qp.r = 1;
+  qp.h = Eigen::VectorXd::Zero(3);
+  qp.radius = Eigen::VectorXd::Constant(1, 2.0);
+  Eigen::VectorXd x(3);
+  x << -1, 3, 4;
+  project(qp, x);
+  EXPECT_DOUBLE_EQ(x[0], 0);
+  EXPECT_NEAR(x[1], 1.2, 1e-15);
+  EXPECT_NEAR(x[2], 1.6, 1e-15);
+  Eigen::VectorXd y(3), p(3);
+  y << 1, 0, 0;
+  p << 0.5, -1, 0;  // λ − a p: normal hits 0 at a = 2, disc boundary at a = 2
+  EXPECT_NEAR(max_feasible_step(qp, y, p), 2.0, 1e-14);
+  p << 0.25, -1, 0;
+  EXPECT_NEAR(max_feasible_step(qp, y, p), 2.0, 1e-14);
+  p << 1, -1, 0;
+  EXPECT_NEAR(max_feasible_step(qp, y, p), 1.0, 1e-14);
+}
+
+TEST(Mpgp, ZeroRightHandSideGivesZero) {
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(3, 3);
+  BoxDiscQP qp;
+  qp.Q = &Q;
+  qp.r = 1;
+  qp.h = Eigen::VectorXd::Zero(3);
+  qp.radius = Eigen::VectorXd::Constant(1, 1.0);
+  qp.q_norm = 1;
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(3, 0.3);
+  EXPECT_EQ(solve_mpgp(qp, x, {}).status, QpStatus::Converged);
+  EXPECT_EQ(x.norm(), 0.0);
+}
+
+}  // namespace
