@@ -1,0 +1,823 @@
+#!/usr/bin/env python3
+"""Cross-check contact3d against an independent FreeFEM reference on the same mesh.
+
+For a scene (TOML) this script
+  1. meshes the scene's .geo with gmsh into MSH 2.2 (or uses its mesh file),
+  2. runs the FreeFEM reference pipeline/freefem/contact_ref.edp on that mesh: nodal multipliers
+     with lumped boundary mass, semi-smooth Newton iterated to a relative change <= 1e-10,
+  3. runs contact3d on the same .msh (`contact3d solve SCENE --mesh MSH --out DIR`),
+  4. matches the contact nodes by coordinates and compares displacements on the contact face,
+     the contact sets and the total contact forces, and records both run times,
+  5. writes a markdown report (plus the numbers as JSON beside it) and exits
+       0  all variants within tolerance,
+       1  a difference exceeds its tolerance (each one is printed as `CROSSCHECK FAILED: ...`),
+       2  a side failed (non-zero exit, not converged, NaN, missing output) or bad input.
+
+Variants: frictionless (friction.law = none), tresca (law = constant, value = --F, slip_bound
+from the scene: bound s = F*g), scene (the scene's own law if it is none or constant), all
+(frictionless and tresca). Both solvers get a derived copy of the scene with the [friction]
+table of the variant (written to the work directory), so that the scene's other friction keys
+(e.g. those of the ramp law) do not get in the way.
+
+Optional table in the scene (all keys optional, command-line options win):
+  [crosscheck]
+  tolerance = 0.05            # max relative L2(Gc) difference of u (vector), per variant
+  force_tolerance = 0.05      # max relative difference of the total contact force (normal;
+                              #   tangential vector when there is friction)
+  n = 8                       # mesh parameter `n` used by the cross-check (default: the scene's)
+  variants = ["frictionless", "tresca"]
+  friction_coefficient = 0.3  # F of the tresca variant
+  contact_tol = 1e-2          # a node is "in contact" when wn > -contact_tol * max|u| on Gc
+
+Norms: the L2(Gc) norms are exact integrals of the P1 interpolant over the contact triangles
+of the mesh (nodes of Gc on the clamped boundary carry u = 0 on both sides).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+FF_DIR = REPO / "pipeline" / "freefem"
+FF_CONTACT = FF_DIR / "contact_ref.edp"
+FF_LINEAR = FF_DIR / "linear_ref.edp"
+FF_LOADPATH = "/usr/lib/freefem++"
+
+DEFAULTS = {
+    "tolerance": 0.05,
+    "force_tolerance": 0.05,
+    "friction_coefficient": 0.3,
+    "contact_tol": 1e-2,
+    "variants": ["frictionless", "tresca"],
+}
+CROSSCHECK_KEYS = {"tolerance", "force_tolerance", "n", "variants", "friction_coefficient", "contact_tol"}
+
+
+class SideFailed(Exception):
+    """One of the two solvers (or the input) failed: exit 2."""
+
+
+# ----------------------------------------------------------------------------------------------
+# small helpers
+
+
+def log(msg: str) -> None:
+    print(msg, flush=True)
+
+
+def finite_or_fail(arr: np.ndarray, what: str) -> None:
+    if not np.all(np.isfinite(arr)):
+        raise SideFailed(f"{what}: non-finite values (NaN/inf)")
+
+
+def toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isnan(v):
+            return "nan"
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{json.dumps(k)} = {toml_value(x)}" for k, x in v.items()) + "}"
+    raise SideFailed(f"cannot write value {v!r} to TOML")
+
+
+def toml_dump(data: dict) -> str:
+    """Enough TOML for a scene: scalars, arrays, tables, sub-tables and arrays of tables."""
+    out: list[str] = []
+
+    def is_table_array(v):
+        return isinstance(v, list) and v and all(isinstance(x, dict) for x in v)
+
+    def emit(table: dict, prefix: str):
+        for k, v in table.items():
+            if not isinstance(v, dict) and not is_table_array(v):
+                out.append(f"{json.dumps(k)} = {toml_value(v)}")
+        for k, v in table.items():
+            name = f"{prefix}.{json.dumps(k)}" if prefix else json.dumps(k)
+            if isinstance(v, dict):
+                out.append(f"\n[{name}]")
+                emit(v, name)
+            elif is_table_array(v):
+                for item in v:
+                    out.append(f"\n[[{name}]]")
+                    emit(item, name)
+
+    emit(data, "")
+    return "\n".join(out).lstrip("\n") + "\n"
+
+
+# ----------------------------------------------------------------------------------------------
+# mesh
+
+
+def read_msh22(path: Path):
+    """ASCII MSH 2.2: node coordinates (by id), 2D physical names, boundary triangles + tags."""
+    with open(path, "r", errors="replace") as fh:
+        lines = fh.read().split("\n")
+    i = 0
+    names: dict[str, int] = {}
+    node_ids = None
+    coords = None
+    tris = []
+    tri_tags = []
+    seen_format = False
+    while i < len(lines):
+        line = lines[i].strip()
+        if line == "$MeshFormat":
+            ver, ftype = lines[i + 1].split()[:2]
+            if not ver.startswith("2"):
+                raise SideFailed(f"{path}: MSH version {ver}, expected 2.2")
+            if ftype != "0":
+                raise SideFailed(f"{path}: binary MSH, expected ASCII")
+            seen_format = True
+            i += 2
+        elif line == "$PhysicalNames":
+            n = int(lines[i + 1])
+            for j in range(n):
+                parts = lines[i + 2 + j].split(maxsplit=2)
+                dim, tag, name = int(parts[0]), int(parts[1]), parts[2].strip().strip('"')
+                if dim == 2:
+                    names[name] = tag
+            i += 2 + n
+        elif line == "$Nodes":
+            n = int(lines[i + 1])
+            data = np.array([lines[i + 2 + j].split() for j in range(n)], dtype=float)
+            node_ids = data[:, 0].astype(np.int64)
+            coords = data[:, 1:4]
+            i += 2 + n
+        elif line == "$Elements":
+            n = int(lines[i + 1])
+            for j in range(n):
+                parts = lines[i + 2 + j].split()
+                if parts[1] == "2":  # 3-node triangle
+                    ntags = int(parts[2])
+                    tri_tags.append(int(parts[3]) if ntags > 0 else 0)
+                    tris.append([int(x) for x in parts[3 + ntags:6 + ntags]])
+            i += 2 + n
+        else:
+            i += 1
+    if not seen_format or node_ids is None:
+        raise SideFailed(f"{path}: not a MSH 2.2 file (no $MeshFormat/$Nodes)")
+    index = {int(nid): k for k, nid in enumerate(node_ids)}
+    tri_idx = np.array([[index[t] for t in tri] for tri in tris], dtype=np.int64).reshape(-1, 3)
+    return {"names": names, "coords": coords, "tris": tri_idx, "tri_tags": np.array(tri_tags, dtype=np.int64)}
+
+
+def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str) -> tuple[Path, dict]:
+    m = scene.get("mesh", {})
+    if "geo" in m:
+        geo = (scene_path.parent / m["geo"]).resolve()
+        if not geo.exists():
+            raise SideFailed(f"{scene_path}: [mesh] geo = {m['geo']!r}: {geo} does not exist")
+        params = dict(m.get("parameters", {}))
+        if n is not None:
+            params["n"] = n
+        tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
+        out = work / f"{geo.stem}-{tag}.msh"
+        cmd = [gmsh, "-3", "-format", "msh22"]
+        for k, v in params.items():
+            cmd += ["-setnumber", str(k), str(v)]
+        cmd += [str(geo), "-o", str(out)]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0 or not out.exists():
+            raise SideFailed(f"gmsh failed ({' '.join(cmd)}):\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
+        return out, params
+    if "file" in m:
+        if n is not None:
+            raise SideFailed("--n needs a scene meshed from a .geo ([mesh] geo = ...)")
+        src = (scene_path.parent / m["file"]).resolve()
+        if not src.exists():
+            raise SideFailed(f"{scene_path}: [mesh] file = {m['file']!r}: {src} does not exist")
+        with open(src, errors="replace") as fh:
+            head = fh.read(200)
+        if "$MeshFormat\n2.2 0" in head or "$MeshFormat\r\n2.2 0" in head:
+            return src, {}
+        out = work / (src.stem + "-msh22.msh")
+        cmd = [gmsh, str(src), "-save", "-format", "msh22", "-o", str(out)]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0 or not out.exists():
+            raise SideFailed(f"gmsh could not convert {src} to MSH 2.2:\n{r.stderr[-2000:]}")
+        return out, {}
+    raise SideFailed(f"{scene_path}: the cross-check needs [mesh] geo or file (a gmsh mesh); "
+                     "built-in generators have no FreeFEM counterpart")
+
+
+# ----------------------------------------------------------------------------------------------
+# scene -> problem data
+
+
+def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
+    mat = scene.get("material", {})
+    bnd = scene.get("boundary", {})
+    names = mesh["names"]
+
+    def tags(groups, role):
+        out = []
+        for g in groups:
+            if g not in names:
+                raise SideFailed(f"{scene_path}: [boundary] {role}: group {g!r} is not a physical "
+                                 f"surface of the mesh (have: {', '.join(sorted(names))})")
+            out.append(names[g])
+        return out
+
+    try:
+        young = float(mat["young"])
+        poisson = float(mat["poisson"])
+    except KeyError as e:
+        raise SideFailed(f"{scene_path}: [material] needs {e}") from None
+    body = [float(x) for x in mat.get("body_force", [0.0, 0.0, 0.0])]
+    clamped = tags(bnd.get("clamped", []), "clamped")
+    contact = tags(bnd.get("contact", []), "contact")
+    if not contact:
+        raise SideFailed(f"{scene_path}: no contact groups: nothing to cross-check")
+    if not clamped:
+        raise SideFailed(f"{scene_path}: the FreeFEM reference needs a clamped boundary")
+    trac = []
+    for t in bnd.get("traction", []):
+        (tag,) = tags([t["group"]], "traction")
+        val = [float(x) for x in t["value"]]
+        if len(val) != 3:
+            raise SideFailed(f"{scene_path}: traction on {t['group']!r} must have 3 components")
+        trac.append((tag, val))
+    return {"young": young, "poisson": poisson, "body_force": body, "clamped": clamped,
+            "contact": contact, "traction": trac}
+
+
+def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> tuple[dict, float, str]:
+    """The [friction] table for the variant, the FreeFEM slip bound s = F*g, a label."""
+    fr = scene.get("friction", {})
+    g = float(fr.get("slip_bound", 0.0))
+    if variant == "frictionless":
+        return {"law": "none"}, 0.0, "frictionless"
+    if variant == "tresca":
+        if g <= 0:
+            raise SideFailed(f"{scene_path}: variant tresca needs friction.slip_bound > 0")
+        return {"law": "constant", "value": F, "slip_bound": g}, F * g, f"Tresca F={F:g}, g={g:g}"
+    if variant == "scene":
+        law = fr.get("law", "none")
+        if law == "none" or g == 0:
+            return {"law": "none"}, 0.0, "frictionless (scene)"
+        if law == "constant":
+            Fs = float(fr["value"])
+            return {"law": "constant", "value": Fs, "slip_bound": g}, Fs * g, f"Tresca F={Fs:g}, g={g:g} (scene)"
+        raise SideFailed(f"{scene_path}: friction law {law!r} has no FreeFEM reference "
+                         "(only none and constant); use --variant frictionless|tresca")
+    raise SideFailed(f"unknown variant {variant!r}")
+
+
+# ----------------------------------------------------------------------------------------------
+# FreeFEM side
+
+
+def ff_array(kind: str, name: str, values) -> str:
+    values = list(values)
+    if not values:
+        return f"{kind}[int] {name}(1); {name} = 0;\n"
+    return f"{kind}[int] {name} = [" + ", ".join(repr(float(v)) if kind == "real" else str(int(v))
+                                                 for v in values) + "];\n"
+
+
+def ff_string(s: str) -> str:
+    return '"' + str(s).replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def run_freefem(freefem: str, driver_text: str, work: Path, tag: str, timeout: float) -> tuple[float, str]:
+    driver = work / f"{tag}.edp"
+    driver.write_text(driver_text)
+    env = dict(os.environ)
+    if Path(FF_LOADPATH).is_dir():
+        env["FF_LOADPATH"] = FF_LOADPATH
+    t0 = time.perf_counter()
+    try:
+        r = subprocess.run([freefem, "-nw", "-ne", str(driver)], cwd=work, env=env, capture_output=True,
+                           text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        raise SideFailed(f"FreeFEM: timed out after {timeout:g} s ({driver})") from None
+    except FileNotFoundError:
+        raise SideFailed(f"FreeFEM: executable {freefem!r} not found") from None
+    wall = time.perf_counter() - t0
+    (work / f"{tag}.log").write_text(r.stdout + r.stderr)
+    if r.returncode != 0:
+        raise SideFailed(f"FreeFEM exited with {r.returncode} (log: {work / (tag + '.log')}):\n"
+                         + "\n".join((r.stdout + r.stderr).splitlines()[-15:]))
+    return wall, r.stdout
+
+
+def freefem_driver(prob: dict, msh: Path, s: float, out_csv: Path, out_json: Path, *, tol: float,
+                   maxit: int, perturb: float, out_field: str = "", contact: bool = True) -> str:
+    t = prob["traction"]
+    vals = [v * perturb for _, val in t for v in val]
+    txt = "// generated by pipeline/crosscheck.py\n"
+    txt += f"string meshFile = {ff_string(msh)};\n"
+    txt += f"string outCsv = {ff_string(out_csv)}, outJson = {ff_string(out_json)};\n"
+    txt += f"string outField = {ff_string(out_field)};\n"
+    txt += f"real young = {prob['young']!r}, poisson = {prob['poisson']!r};\n"
+    txt += ff_array("real", "bodyForce", prob["body_force"])
+    txt += ff_array("int", "clampedLabels", prob["clamped"])
+    txt += ff_array("int", "contactLabels", prob["contact"])
+    txt += f"int nTraction = {len(t)};\n"
+    txt += ff_array("int", "tractionLabels", [tag for tag, _ in t])
+    txt += ff_array("real", "tractionValues", vals)
+    txt += f"real slipBound = {float(s)!r};\n"
+    txt += f"real ffTol = {tol!r};\nint ffMaxIt = {maxit};\nreal cScale = 1.0;\n"
+    txt += f"include {ff_string(FF_CONTACT if contact else FF_LINEAR)}\n"
+    return txt
+
+
+def read_csv(path: Path, required: list[str]) -> dict[str, np.ndarray]:
+    if not path.exists():
+        raise SideFailed(f"missing output {path}")
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if not rows:
+        raise SideFailed(f"{path}: empty")
+    head = [h.strip() for h in rows[0]]
+    for r in required:
+        if r not in head:
+            raise SideFailed(f"{path}: no column {r!r} (have {head})")
+    body = [r for r in rows[1:] if r]
+    out = {}
+    for k, h in enumerate(head):
+        try:
+            out[h] = np.array([float(r[k]) for r in body], dtype=float)
+        except ValueError:
+            out[h] = np.array([r[k] for r in body])
+    return out
+
+
+def ff_checks(res: dict, s: float) -> list[str]:
+    """The reference's own discrete conditions; a violation means the reference is not trustworthy."""
+    bad = []
+    umax = max(res["max_abs_u"], 1e-300)
+    if not res["converged"]:
+        bad.append(f"Newton did not converge ({res['newton_iterations']} iterations, "
+                   f"last change {res['final_relative_change']:.2e})")
+    if res["max_penetration"] > 1e-10 * umax:
+        bad.append(f"penetration {res['max_penetration']:.3e} m")
+    lscale = max(abs(res["force_normal"]) / max(res["contact_area"], 1e-300), 1.0)
+    if res["min_lambda_n"] < -1e-8 * lscale:
+        bad.append(f"negative contact pressure {res['min_lambda_n']:.3e} Pa")
+    if s > 0:
+        # lambda_t comes from the residual K u - f: round-off of about 1e-12 of the pressure scale
+        ptol = 1e-8 * s + 1e-12 * lscale
+        if res["max_tresca_excess"] > ptol:
+            bad.append(f"|lambda_t| exceeds the bound by {res['max_tresca_excess']:.3e} Pa")
+        if res["max_slip_direction_error"] > 1e-6 * s + 1e-12 * lscale:
+            bad.append(f"slip not aligned with lambda_t ({res['max_slip_direction_error']:.3e} Pa)")
+        if res["max_stick_slip"] > 1e-10 * umax:
+            bad.append(f"sticking node moved by {res['max_stick_slip']:.3e} m")
+    return bad
+
+
+# ----------------------------------------------------------------------------------------------
+# comparison
+
+
+def match_points(a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:
+    """For each row of a, the index of the row of b within tol (or -1)."""
+    idx = np.full(len(a), -1, dtype=np.int64)
+    if len(b) == 0:
+        return idx
+    chunk = max(1, 2_000_000 // max(len(b), 1))
+    for s0 in range(0, len(a), chunk):
+        d = np.linalg.norm(a[s0:s0 + chunk, None, :] - b[None, :, :], axis=2)
+        j = np.argmin(d, axis=1)
+        ok = d[np.arange(len(j)), j] <= tol
+        idx[s0:s0 + chunk] = np.where(ok, j, -1)
+    return idx
+
+
+def surface_l2_sq(coords: np.ndarray, tris: np.ndarray, field: np.ndarray) -> float:
+    """Exact integral of |P1 interpolant|^2 over the triangles (field: nodes x components)."""
+    p0, p1, p2 = coords[tris[:, 0]], coords[tris[:, 1]], coords[tris[:, 2]]
+    area = 0.5 * np.linalg.norm(np.cross(p1 - p0, p2 - p0), axis=1)
+    f = field[tris]  # (ntri, 3 nodes, ncomp)
+    per = (f ** 2).sum(axis=1) + f.sum(axis=1) ** 2  # (ntri, ncomp)
+    return float((area[:, None] * per).sum() / 12.0)
+
+
+def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_tol: float) -> dict:
+    contact_tris = mesh["tris"][np.isin(mesh["tri_tags"], prob["contact"])]
+    clamped_nodes = set(np.unique(mesh["tris"][np.isin(mesh["tri_tags"], prob["clamped"])]).tolist())
+    gnodes = np.unique(contact_tris)
+    local = {int(g): k for k, g in enumerate(gnodes)}
+    ltris = np.vectorize(local.get)(contact_tris) if len(contact_tris) else contact_tris
+    xyz = mesh["coords"][gnodes]
+    area = float(0.5 * np.linalg.norm(np.cross(xyz[ltris[:, 1]] - xyz[ltris[:, 0]],
+                                               xyz[ltris[:, 2]] - xyz[ltris[:, 0]]), axis=1).sum())
+    h = math.sqrt(area / max(len(gnodes), 1))
+    tol = 1e-6 * h
+
+    def place(side: dict, who: str) -> tuple[np.ndarray, np.ndarray, int]:
+        pts = np.column_stack([side["x"], side["y"], side["z"]])
+        j = match_points(pts, xyz, tol)
+        if np.any(j < 0):
+            raise SideFailed(f"{who}: {int((j < 0).sum())} contact nodes are not nodes of the contact "
+                             "triangles of the mesh")
+        u = np.zeros((len(gnodes), 3))
+        have = np.zeros(len(gnodes), dtype=bool)
+        u[j] = np.column_stack([side["u1"], side["u2"], side["u3"]])
+        have[j] = True
+        return u, have, len(j)
+
+    uf, hf, nf = place(ff, "FreeFEM")
+    uo, ho, no = place(ours, "contact3d")
+    only_ff = int((hf & ~ho).sum())
+    only_ours = int((ho & ~hf).sum())
+    # nodes in neither list must be clamped ones (u = 0 on both sides)
+    neither = [int(gnodes[k]) for k in np.where(~hf & ~ho)[0]]
+    unclamped = [g for g in neither if g not in clamped_nodes]
+    if unclamped:
+        raise SideFailed(f"{len(unclamped)} nodes of the contact face are in neither output and not clamped")
+
+    d = uf - uo
+    nrm = lambda f: math.sqrt(surface_l2_sq(xyz, ltris, f))
+    l2_ff = nrm(uf)
+    rel = nrm(d) / max(l2_ff, 1e-300)
+    rel_n = nrm(d[:, 2:3]) / max(nrm(uf[:, 2:3]), 1e-300)
+    rel_t = nrm(d[:, :2]) / max(nrm(uf[:, :2]), 1e-300) if nrm(uf[:, :2]) > 0 else 0.0
+    both = hf & ho
+    umax_ff = float(np.linalg.norm(uf, axis=1).max())
+    maxdiff = float(np.linalg.norm(d[both], axis=1).max()) if both.any() else 0.0
+    # contact sets: wn = -u3 > -contact_tol * max|u| (same threshold for both sides)
+    thr = contact_tol * umax_ff
+    cf = (-uf[:, 2] > -thr) & both
+    co = (-uo[:, 2] > -thr) & both
+    # forces
+    Fn_ff = float((ff["mass"] * ff["lambda_n"]).sum())
+    Ft_ff = np.array([(ff["mass"] * ff["lambda_t1"]).sum(), (ff["mass"] * ff["lambda_t2"]).sum()])
+    Fn_o = float((cells["area"] * cells["lambda_n"]).sum())
+    Ft_o = np.array([(cells["area"] * cells["lambda_t1"]).sum(), (cells["area"] * cells["lambda_t2"]).sum()])
+    rel_fn = abs(Fn_o - Fn_ff) / max(abs(Fn_ff), 1e-300)
+    ft_scale = max(np.linalg.norm(Ft_ff), np.linalg.norm(Ft_o))
+    rel_ft = float(np.linalg.norm(Ft_o - Ft_ff) / ft_scale) if ft_scale > 0 else 0.0
+    return {
+        "n_face_nodes": int(len(gnodes)), "n_contact_nodes_ff": nf, "n_contact_nodes_ours": no,
+        "nodes_only_ff": only_ff, "nodes_only_ours": only_ours, "h": h, "contact_area": area,
+        "l2_u_ff": l2_ff, "l2_u_ours": nrm(uo), "rel_l2": rel, "rel_l2_normal": rel_n, "rel_l2_tangential": rel_t,
+        "max_abs_u_ff": umax_ff, "max_diff": maxdiff, "rel_max_diff": maxdiff / max(umax_ff, 1e-300),
+        "contact_threshold": thr, "in_contact_ff": int(cf.sum()), "in_contact_ours": int(co.sum()),
+        "contact_ff_only": int((cf & ~co).sum()), "contact_ours_only": int((co & ~cf).sum()),
+        "max_penetration_ours": float(max(0.0, (-uo[ho, 2]).max())) if ho.any() else 0.0,
+        "Fn_ff": Fn_ff, "Fn_ours": Fn_o, "rel_Fn": rel_fn,
+        "Ft_ff": Ft_ff.tolist(), "Ft_ours": Ft_o.tolist(), "rel_Ft": rel_ft,
+    }
+
+
+# ----------------------------------------------------------------------------------------------
+# one (mesh, variant) case
+
+
+def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, work_root: Path) -> dict:
+    name = scene_path.stem
+    F = args.F if args.F is not None else float(cfg["friction_coefficient"])
+    fr_table, s, label = variant_friction(scene, variant, F, scene_path)
+    work = work_root / f"{name}-n{n if n is not None else 'scene'}-{variant}"
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    msh, params = make_mesh(scene, scene_path, n, work, args.gmsh)
+    mesh = read_msh22(msh)
+    prob = problem_data(scene, scene_path, mesh)
+    case = {"scene": name, "n": params.get("n", n), "variant": variant, "friction": label, "slip_bound_s": s,
+            "mesh": str(msh), "n_nodes": int(len(mesh["coords"])), "work": str(work)}
+    log(f"== {name} n={case['n']} {variant}: {label}; mesh {msh.name} ({case['n_nodes']} nodes)")
+
+    # FreeFEM
+    ff_csv, ff_json = work / "freefem_contact_nodes.csv", work / "freefem_summary.json"
+    drv = freefem_driver(prob, msh, s, ff_csv, ff_json, tol=args.ff_tol, maxit=args.ff_maxit,
+                         perturb=args.perturb_freefem_traction)
+    ff_wall, _ = run_freefem(args.freefem, drv, work, "freefem", args.timeout)
+    try:
+        ffres = json.loads(ff_json.read_text())
+    except (OSError, json.JSONDecodeError) as e:
+        raise SideFailed(f"FreeFEM summary {ff_json}: {e}") from None
+    ff = read_csv(ff_csv, ["node", "x", "y", "z", "u1", "u2", "u3", "wn", "wt_norm", "lambda_n",
+                           "lambda_t1", "lambda_t2", "mass"])
+    for k in ("u1", "u2", "u3", "lambda_n", "lambda_t1", "lambda_t2", "mass"):
+        finite_or_fail(ff[k], f"FreeFEM {k}")
+    bad = ff_checks(ffres, s)
+    if bad:
+        raise SideFailed("FreeFEM reference failed its own checks: " + "; ".join(bad))
+    log(f"   FreeFEM: {ffres['newton_iterations']} Newton steps, {ffres['n_in_contact']}/{ffres['n_contact_nodes']} "
+        f"nodes in contact, {ff_wall:.2f} s wall")
+
+    # contact3d on a derived scene (same mesh file, the variant's friction table)
+    derived = {k: v for k, v in scene.items() if k not in ("crosscheck", "friction", "mesh", "output")}
+    derived["mesh"] = {"file": str(msh)}
+    derived["friction"] = fr_table
+    derived_path = work / f"{name}-{variant}.toml"
+    derived_path.write_text("# derived by pipeline/crosscheck.py from " + str(scene_path) + "\n" + toml_dump(derived))
+    out = work / "contact3d"
+    cmd = [args.bin, "solve", str(derived_path), "--mesh", str(msh), "--out", str(out)]
+    for kv in args.set or []:
+        cmd += ["--set", kv]
+    t0 = time.perf_counter()
+    try:
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
+    except subprocess.TimeoutExpired:
+        raise SideFailed(f"contact3d: timed out after {args.timeout:g} s") from None
+    except FileNotFoundError:
+        raise SideFailed(f"contact3d binary {args.bin!r} not found (build it: cmake --build build --target contact3d)") from None
+    ours_wall = time.perf_counter() - t0
+    (work / "contact3d.log").write_text(" ".join(cmd) + "\n" + r.stdout + r.stderr)
+    if r.returncode != 0:
+        raise SideFailed(f"contact3d exited with {r.returncode}:\n" + "\n".join((r.stdout + r.stderr).splitlines()[-15:]))
+    try:
+        summ = json.loads((out / "summary.json").read_text())
+    except (OSError, json.JSONDecodeError) as e:
+        raise SideFailed(f"contact3d summary.json: {e}") from None
+    if summ.get("converged") is not True:
+        raise SideFailed(f"contact3d did not converge (status {summ.get('status')!r})")
+    ours = read_csv(out / "contact_nodes.csv", ["node", "x", "y", "z", "u1", "u2", "u3", "wn", "wt_norm"])
+    cells = read_csv(out / "contact_cells.csv", ["area", "lambda_n", "lambda_t1", "lambda_t2"])
+    for k in ("u1", "u2", "u3"):
+        finite_or_fail(ours[k], f"contact3d {k}")
+    for k in ("area", "lambda_n", "lambda_t1", "lambda_t2"):
+        finite_or_fail(cells[k], f"contact3d cells {k}")
+    ours_total = float(summ.get("time_s", {}).get("total", float("nan")))
+    log(f"   contact3d: {summ.get('fixed_point_iterations', '?')} fixed-point steps, n_mult {summ.get('n_mult', '?')}, "
+        f"{ours_wall:.2f} s wall")
+
+    cmp_ = compare(mesh, prob, ff, ours, cells, float(cfg["contact_tol"]))
+    case.update(cmp_)
+    case.update({
+        "ff_newton_iterations": ffres["newton_iterations"], "ff_final_change": ffres["final_relative_change"],
+        "ff_time_wall": ff_wall, "ff_time_cpu": ffres["time_s"]["total"], "ff_time_solve": ffres["time_s"]["solve"],
+        "ours_time_wall": ours_wall, "ours_time_total": ours_total,
+        "ours_fixed_point_iterations": summ.get("fixed_point_iterations"), "ours_n_mult": summ.get("n_mult"),
+        "ours_n_cells": summ.get("n_cells"), "ours_wn_plus_inf": summ.get("wn_plus_inf"),
+        "time_ratio_wall": ff_wall / max(ours_wall, 1e-9),
+        "time_ratio_internal": ffres["time_s"]["total"] / ours_total if ours_total > 0 else float("nan"),
+        "perturb_freefem_traction": args.perturb_freefem_traction,
+    })
+    # verdict
+    tol, ftol = float(cfg["tolerance"]), float(cfg["force_tolerance"])
+    fails = []
+    if case["nodes_only_ff"] or case["nodes_only_ours"]:
+        fails.append(f"contact node sets differ ({case['nodes_only_ff']} only in FreeFEM, "
+                     f"{case['nodes_only_ours']} only in contact3d)")
+    if case["rel_l2"] > tol:
+        fails.append(f"relative L2(Gc) difference of u {case['rel_l2']:.4g} exceeds tolerance {tol:g}")
+    if case["rel_Fn"] > ftol:
+        fails.append(f"relative difference of the normal contact force {case['rel_Fn']:.4g} exceeds tolerance {ftol:g}")
+    if s > 0 and case["rel_Ft"] > ftol:
+        fails.append(f"relative difference of the tangential contact force {case['rel_Ft']:.4g} exceeds tolerance {ftol:g}")
+    case["tolerance"], case["force_tolerance"] = tol, ftol
+    case["fails"] = fails
+    case["status"] = "pass" if not fails else "FAIL"
+    log(f"   rel L2(Gc) {case['rel_l2']:.3e} (normal {case['rel_l2_normal']:.3e}, tangential "
+        f"{case['rel_l2_tangential']:.3e}), max |du| {case['max_diff']:.3e} m, contact-set mismatch "
+        f"{case['contact_ff_only'] + case['contact_ours_only']}, Fn rel {case['rel_Fn']:.3e}, Ft rel {case['rel_Ft']:.3e}"
+        f" -> {case['status']}")
+    return case
+
+
+# ----------------------------------------------------------------------------------------------
+# report
+
+
+def fmt(x, spec=".3e"):
+    if x is None:
+        return "—"
+    if isinstance(x, float) and not math.isfinite(x):
+        return "nan"
+    return format(x, spec)
+
+
+def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[str], cfg: dict, argv: list[str]):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    L = []
+    L.append(f"# Cross-check: {scene_path.stem} — contact3d vs FreeFEM reference\n")
+    L.append(f"Command: `{' '.join(argv)}`  ")
+    L.append(f"Scene: `{os.path.relpath(scene_path, REPO)}`; tolerances: rel L2(Γc) of u ≤ {cfg['tolerance']:g}, "
+             f"contact forces ≤ {cfg['force_tolerance']:g}; \"in contact\": wn > −{cfg['contact_tol']:g}·max|u_ff| on Γc.\n")
+    L.append("FreeFEM (`pipeline/freefem/contact_ref.edp`): nodal multipliers at the contact nodes with lumped "
+             "boundary mass, semi-smooth Newton (primal-dual active set) to a relative change ≤ "
+             "1e-10. contact3d: piecewise-constant multipliers on "
+             "the cells T_H, dual QP (MPGP). Same P1 mesh; the two agree only as h → 0.\n")
+    L.append("rel L2 = ‖u_ff − u_ours‖/‖u_ff‖ in L2(Γc), exact integral of the P1 interpolants over the "
+             "contact triangles; max |Δu| = max over contact nodes of the Euclidean nodal difference. "
+             "Forces: FreeFEM Σ m_p λ_p, contact3d Σ area·λ over cells (λ_n = pressure, λ_t = −tangential traction). "
+             "Times: wall clock of each process (FreeFEM includes its start-up and assembly), ratio FreeFEM/contact3d.\n")
+    L.append("| n | variant | contact nodes | rel L2 u | rel L2 u_n | rel L2 u_t | max abs du (m) | rel max du | "
+             "in contact FF/ours | mismatch | Fn FF (N) | Fn ours (N) | rel dFn | Ft FF (N) | Ft ours (N) | rel dFt | "
+             "FF Newton | FF time (s) | ours time (s) | ratio | status |")
+    L.append("|" + "---|" * 21)
+    for c in cases:
+        ft = lambda v: "(" + ", ".join(format(x, ".4g") for x in v) + ")"
+        L.append(f"| {c['n']} | {c['variant']} | {c['n_contact_nodes_ff']} | {fmt(c['rel_l2'])} | {fmt(c['rel_l2_normal'])} | "
+                 f"{fmt(c['rel_l2_tangential'])} | {fmt(c['max_diff'])} | {fmt(c['rel_max_diff'])} | "
+                 f"{c['in_contact_ff']}/{c['in_contact_ours']} | {c['contact_ff_only'] + c['contact_ours_only']} | "
+                 f"{c['Fn_ff']:.5g} | {c['Fn_ours']:.5g} | {fmt(c['rel_Fn'])} | {ft(c['Ft_ff'])} | {ft(c['Ft_ours'])} | "
+                 f"{fmt(c['rel_Ft'])} | {c['ff_newton_iterations']} | {c['ff_time_wall']:.2f} | {c['ours_time_wall']:.3f} | "
+                 f"{c['time_ratio_wall']:.1f} | {c['status']} |")
+    L.append("")
+    for c in cases:
+        for f in c["fails"]:
+            L.append(f"- FAIL n={c['n']} {c['variant']}: {f}")
+    for e in errors:
+        L.append(f"- ERROR: {e}")
+    if any(c.get("perturb_freefem_traction", 1.0) != 1.0 for c in cases):
+        L.append(f"\nNote: FreeFEM tractions were scaled by {cases[0]['perturb_freefem_traction']:g} "
+                 "(negative test of the cross-check).")
+    path.write_text("\n".join(L) + "\n")
+    path.with_suffix(".json").write_text(json.dumps({"cases": cases, "errors": errors, "config": cfg}, indent=1))
+
+
+# ----------------------------------------------------------------------------------------------
+# self-test of the FreeFEM reference (no contact3d involved)
+
+
+def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) -> int:
+    """(1) lifted body: frictionless contact solution == plain linear solve; (2) discrete conditions
+    of frictionless and Tresca solutions; (3) Tresca with a tiny bound == frictionless."""
+    work = work_root / f"{scene_path.stem}-n{n}-ffselftest"
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    msh, _ = make_mesh(scene, scene_path, n, work, args.gmsh)
+    mesh = read_msh22(msh)
+    prob = problem_data(scene, scene_path, mesh)
+    problems = []
+
+    def load_field(p):
+        d = read_csv(p, ["x", "y", "z", "u1", "u2", "u3"])
+        return np.column_stack([d["u1"], d["u2"], d["u3"]])
+
+    # (1) reverse every load: the body is pulled off the plane (checked: no node in contact)
+    lifted = dict(prob)
+    lifted["traction"] = [(t, [-v for v in val]) for t, val in prob["traction"]]
+    lifted["body_force"] = [-v for v in prob["body_force"]]
+    run_freefem(args.freefem, freefem_driver(lifted, msh, 0.0, work / "lift.csv", work / "lift.json", tol=args.ff_tol,
+                                             maxit=args.ff_maxit, perturb=1.0, out_field=str(work / "lift_field.csv")),
+                work, "lift", args.timeout)
+    run_freefem(args.freefem, freefem_driver(lifted, msh, 0.0, work / "unused.csv", work / "unused.json", tol=0, maxit=0,
+                                             perturb=1.0, out_field=str(work / "linear_field.csv"), contact=False),
+                work, "linear", args.timeout)
+    lj = json.loads((work / "lift.json").read_text())
+    a, b = load_field(work / "lift_field.csv"), load_field(work / "linear_field.csv")
+    dl = float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300))
+    msg = f"lifted load: {lj['n_in_contact']} nodes in contact, max|u_contact - u_linear|/max|u| = {dl:.2e}"
+    log("   " + msg)
+    if lj["n_in_contact"] != 0:
+        msg += " (reversed load still touches the plane: check skipped)"
+    elif dl > 1e-10:
+        problems.append(msg)
+
+    # (2) the scene's frictionless and Tresca solutions satisfy their discrete conditions
+    fr = scene.get("friction", {})
+    g = float(fr.get("slip_bound", 0.0))
+    F = args.F if args.F is not None else DEFAULTS["friction_coefficient"]
+    res = {}
+    for tag, s in (("frictionless", 0.0), ("tresca", F * g), ("tiny", 1e-6 * max(F * g, 1.0))):
+        if tag != "frictionless" and g <= 0:
+            continue
+        run_freefem(args.freefem, freefem_driver(prob, msh, s, work / f"{tag}.csv", work / f"{tag}.json",
+                                                 tol=args.ff_tol, maxit=args.ff_maxit, perturb=1.0), work, tag, args.timeout)
+        j = json.loads((work / f"{tag}.json").read_text())
+        res[tag] = (j, read_csv(work / f"{tag}.csv", ["u1", "u2", "u3", "lambda_n", "mass"]))
+        bad = ff_checks(j, s)
+        log(f"   {tag}: s = {s:g} Pa, {j['newton_iterations']} Newton steps, {j['n_in_contact']} in contact, "
+            f"{j.get('n_slip', 0)} slipping, penetration {j['max_penetration']:.1e} m, min lambda_n {j['min_lambda_n']:.1e}, "
+            f"Tresca excess {j['max_tresca_excess']:.1e} Pa -> {'ok' if not bad else '; '.join(bad)}")
+        problems += [f"{tag}: {x}" for x in bad]
+    # (3) a vanishing Tresca bound reproduces the frictionless solution
+    if "tiny" in res:
+        u0 = np.column_stack([res["frictionless"][1][k] for k in ("u1", "u2", "u3")])
+        u1 = np.column_stack([res["tiny"][1][k] for k in ("u1", "u2", "u3")])
+        dt = float(np.abs(u0 - u1).max() / np.abs(u0).max())
+        log(f"   Tresca with s = 1e-6*F*g vs frictionless: max rel difference {dt:.2e}")
+        if dt > 1e-5:
+            problems.append(f"tiny Tresca bound differs from frictionless by {dt:.2e}")
+    for p in problems:
+        log(f"FREEFEM SELFTEST FAILED: {p}")
+    if not problems:
+        log("FreeFEM self-test passed")
+    return 1 if problems else 0
+
+
+# ----------------------------------------------------------------------------------------------
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--bin", default=str(REPO / "build" / "contact3d"), help="the contact3d binary")
+    ap.add_argument("--scene", required=True, help="scene TOML")
+    ap.add_argument("--n", default=None, help="mesh parameter n (comma-separated list for a sweep)")
+    ap.add_argument("--variant", default=None,
+                    help="frictionless | tresca | scene | all (= frictionless,tresca); comma-separated list allowed")
+    ap.add_argument("--F", type=float, default=None, help="friction coefficient of the tresca variant (default 0.3)")
+    ap.add_argument("--tolerance", type=float, default=None, help="max relative L2(Gc) difference of u")
+    ap.add_argument("--force-tolerance", type=float, default=None, help="max relative difference of contact forces")
+    ap.add_argument("--contact-tol", type=float, default=None, help="'in contact' threshold relative to max|u|")
+    ap.add_argument("--report", default=None, help="markdown report (default results/crosscheck/<scene>.md)")
+    ap.add_argument("--workdir", default=None, help="scratch folder (default build/crosscheck beside --bin)")
+    ap.add_argument("--set", action="append", help="extra --set KEY=VALUE passed to contact3d")
+    ap.add_argument("--freefem", default="FreeFem++")
+    ap.add_argument("--gmsh", default="gmsh")
+    ap.add_argument("--timeout", type=float, default=3600.0, help="seconds per solver run")
+    ap.add_argument("--ff-tol", type=float, default=1e-10, help="FreeFEM Newton: relative change to stop")
+    ap.add_argument("--ff-maxit", type=int, default=100)
+    ap.add_argument("--validate-freefem", action="store_true",
+                    help="self-test the FreeFEM reference only (no contact3d run)")
+    ap.add_argument("--perturb-freefem-traction", type=float, default=1.0, help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+
+    scene_path = Path(args.scene).resolve()
+    try:
+        with open(scene_path, "rb") as fh:
+            scene = tomllib.load(fh)
+    except (OSError, tomllib.TOMLDecodeError) as e:
+        log(f"error: {scene_path}: {e}")
+        return 2
+    cc = scene.get("crosscheck", {})
+    unknown = set(cc) - CROSSCHECK_KEYS
+    if unknown:
+        log(f"error: {scene_path}: unknown key(s) in [crosscheck]: {', '.join(sorted(unknown))} "
+            f"(allowed: {', '.join(sorted(CROSSCHECK_KEYS))})")
+        return 2
+    cfg = dict(DEFAULTS)
+    cfg.update(cc)
+    for k, v in (("tolerance", args.tolerance), ("force_tolerance", args.force_tolerance),
+                 ("contact_tol", args.contact_tol)):
+        if v is not None:
+            cfg[k] = v
+    if args.F is not None:
+        cfg["friction_coefficient"] = args.F
+    if args.n is not None:
+        ns = [int(x) for x in str(args.n).split(",") if x.strip()]
+    elif "n" in cc:
+        ns = [int(cc["n"])]
+    else:
+        ns = [None]
+    if args.variant is not None:
+        variants = []
+        for v in args.variant.split(","):
+            variants += ["frictionless", "tresca"] if v.strip() == "all" else [v.strip()]
+    else:
+        variants = list(cfg["variants"])
+    for v in variants:
+        if v not in ("frictionless", "tresca", "scene"):
+            log(f"error: unknown variant {v!r} (frictionless | tresca | scene | all)")
+            return 2
+
+    bin_path = Path(args.bin).resolve()
+    args.bin = str(bin_path)
+    work_root = Path(args.workdir).resolve() if args.workdir else bin_path.parent / "crosscheck"
+    work_root.mkdir(parents=True, exist_ok=True)
+
+    if args.validate_freefem:
+        rc = 0
+        for n in ns:
+            log(f"== FreeFEM self-test: {scene_path.stem} n={n}")
+            try:
+                rc = max(rc, validate_freefem(args, scene, scene_path, n, work_root))
+            except SideFailed as e:
+                log(f"error: {e}")
+                rc = 2
+        return rc
+
+    cases, errors = [], []
+    for n in ns:
+        for v in variants:
+            try:
+                cases.append(run_case(args, scene, scene_path, n, v, cfg, work_root))
+            except SideFailed as e:
+                msg = f"n={n} {v}: {e}"
+                log(f"error: {msg}")
+                errors.append(msg)
+    report = Path(args.report) if args.report else REPO / "results" / "crosscheck" / f"{scene_path.stem}.md"
+    if cases or errors:
+        write_report(report.resolve(), scene_path, cases, errors, cfg, [Path(sys.argv[0]).name] + (argv or sys.argv[1:]))
+        log(f"report: {report}")
+    for c in cases:
+        for f in c["fails"]:
+            log(f"CROSSCHECK FAILED: {c['scene']} n={c['n']} {c['variant']}: {f}")
+    if errors:
+        return 2
+    return 1 if any(c["fails"] for c in cases) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

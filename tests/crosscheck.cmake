@@ -1,0 +1,46 @@
+# Cross-validation against the independent FreeFEM reference (pipeline/crosscheck.py,
+# pipeline/freefem/contact_ref.edp) on the paper brick at n = 4 (a few seconds in all).
+#
+# At n = 4 the two discretisations differ by design (contact3d: 2h x 2h multiplier cells,
+# FreeFEM: nodal multipliers), measured: rel L2(Gc) 0.039 frictionless, 0.071 Tresca; contact
+# forces within 2.5% / 5%. The tolerances below sit just above that, so that the negative tests
+# (FreeFEM tractions scaled by 1.1) must fail them. results/crosscheck/README.md has the sweep.
+set(CONTACT3D_CC ${CMAKE_SOURCE_DIR}/pipeline/crosscheck.py)
+set(CONTACT3D_CC_SCENE ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml)
+set(CONTACT3D_CC_WORK ${CMAKE_BINARY_DIR}/crosscheck-tests)
+set(CONTACT3D_CC_TOL_frictionless --tolerance 0.06 --force-tolerance 0.05)
+set(CONTACT3D_CC_TOL_tresca --tolerance 0.10 --force-tolerance 0.08)
+
+foreach(variant frictionless tresca)
+  # contact3d and FreeFEM agree within the n = 4 tolerance
+  add_test(NAME crosscheck_brick_n4_${variant}
+    COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_SCENE}
+            --n 4 --variant ${variant} ${CONTACT3D_CC_TOL_${variant}}
+            --workdir ${CONTACT3D_CC_WORK}/${variant} --report ${CONTACT3D_CC_WORK}/${variant}.md)
+  set_tests_properties(crosscheck_brick_n4_${variant} PROPERTIES TIMEOUT 120 LABELS crosscheck)
+
+  # negative test: the same check with the FreeFEM tractions scaled by 1.1 must report a
+  # difference beyond tolerance (exit 1 with "CROSSCHECK FAILED: ... exceeds tolerance"),
+  # not pass and not crash
+  add_test(NAME crosscheck_brick_n4_${variant}_detects_perturbation
+    COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_SCENE}
+            --n 4 --variant ${variant} ${CONTACT3D_CC_TOL_${variant}} --perturb-freefem-traction 1.1
+            --workdir ${CONTACT3D_CC_WORK}/${variant}-perturbed --report ${CONTACT3D_CC_WORK}/${variant}-perturbed.md)
+  set_tests_properties(crosscheck_brick_n4_${variant}_detects_perturbation PROPERTIES TIMEOUT 120 LABELS crosscheck
+    PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: paper_brick n=4 ${variant}: .* exceeds tolerance"
+    FAIL_REGULAR_EXPRESSION "error:")
+endforeach()
+
+# a failing solver is an error (exit 2, "error: ... contact3d exited with"), never a pass
+add_test(NAME crosscheck_reports_failed_solver
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin /bin/false --scene ${CONTACT3D_CC_SCENE}
+          --n 4 --variant frictionless --workdir ${CONTACT3D_CC_WORK}/failing --report ${CONTACT3D_CC_WORK}/failing.md)
+set_tests_properties(crosscheck_reports_failed_solver PROPERTIES TIMEOUT 120 LABELS crosscheck
+  PASS_REGULAR_EXPRESSION "error: n=4 frictionless: contact3d exited with 1")
+
+# the FreeFEM reference on its own: lifted body == plain linear solve, no penetration,
+# lambda_n >= 0, Tresca bound and slip direction, vanishing bound == frictionless
+add_test(NAME crosscheck_freefem_selftest_n4
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --scene ${CONTACT3D_CC_SCENE} --n 4 --validate-freefem
+          --workdir ${CONTACT3D_CC_WORK}/selftest)
+set_tests_properties(crosscheck_freefem_selftest_n4 PROPERTIES TIMEOUT 120 LABELS crosscheck)
