@@ -854,7 +854,19 @@ void Parser::read_elements41() {
         mesh_.triangle_group.push_back(group);
       }
     }
-    if (type == kTri3) duplicate_triangles(first_tri, mesh_.triangles.size(), phys);
+    if (type == kTri3 && phys.size() > 1) {
+      // Each extra physical tag stores the block again; bound the total by the file size so
+      // that a small crafted file cannot demand a huge allocation.
+      const std::size_t block = mesh_.triangles.size() - first_tri;
+      const std::size_t limit = static_cast<std::size_t>(end_ - begin_) + (std::size_t{1} << 20);
+      const std::size_t room = limit - std::min(limit, mesh_.triangles.size());
+      if (block > 0 && phys.size() - 1 > room / block)
+        fail(bpos, "surface entity " + std::to_string(etag) + " has " +
+                       std::to_string(phys.size()) + " physical tags; storing its " +
+                       std::to_string(block) + " triangles once per tag is more than this "
+                       "reader allows for a file of this size");
+      duplicate_triangles(first_tri, mesh_.triangles.size(), phys);
+    }
     total += n;
   }
   if (total != num_elements)

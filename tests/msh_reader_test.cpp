@@ -1,0 +1,700 @@
+// Tests of the gmsh MSH reader and writers (solver/mesh/msh_reader.*, msh_writer.*).
+// Fixtures: meshes/fixtures/brick_n2_* (geo/brick.geo, n = 2, written by gmsh).
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "io/errors.hpp"
+#include "mesh/mesh.hpp"
+#include "mesh/msh_reader.hpp"
+#include "mesh/msh_writer.hpp"
+
+namespace contact3d {
+namespace {
+
+namespace fs = std::filesystem;
+using Tet = std::array<int, 4>;
+
+const std::string kFixtures = std::string(CONTACT3D_SOURCE_DIR) + "/meshes/fixtures/";
+const std::string kAscii41 = kFixtures + "brick_n2_msh41.msh";
+const std::string kBinary41 = kFixtures + "brick_n2_msh41_bin.msh";
+const std::string kAscii22 = kFixtures + "brick_n2_msh22.msh";
+constexpr int kN = 2;  // brick.geo parameter of the fixtures
+
+// A scratch directory removed at the end of the test.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("contact3d_msh_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" +
+             info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  std::string write(const std::string& name, const std::string& contents) const {
+    const std::string p = file(name);
+    std::ofstream(p, std::ios::binary) << contents;
+    return p;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  EXPECT_TRUE(in) << path;
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Runs f, which must throw InputError; returns the message.
+std::string input_error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected InputError, got another exception: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "expected InputError, nothing was thrown";
+  return {};
+}
+
+void expect_same_mesh(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (std::size_t i = 0; i < a.nodes.size(); ++i)
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(a.nodes[i][k], b.nodes[i][k]) << "node " << i;
+  EXPECT_EQ(a.node_tags, b.node_tags);
+  EXPECT_EQ(a.tets, b.tets);
+  EXPECT_EQ(a.tet_tags, b.tet_tags);
+  EXPECT_EQ(a.tet_group, b.tet_group);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.triangle_tags, b.triangle_tags);
+  EXPECT_EQ(a.triangle_group, b.triangle_group);
+  ASSERT_EQ(a.groups.size(), b.groups.size());
+  for (std::size_t i = 0; i < a.groups.size(); ++i) {
+    EXPECT_EQ(a.groups[i].dim, b.groups[i].dim);
+    EXPECT_EQ(a.groups[i].tag, b.groups[i].tag);
+    EXPECT_EQ(a.groups[i].name, b.groups[i].name);
+  }
+}
+
+double tet_volume(const Mesh& m, const std::array<int, 4>& t) {
+  const Eigen::Vector3d& a = m.nodes[t[0]];
+  Eigen::Matrix3d d;
+  d << m.nodes[t[1]] - a, m.nodes[t[2]] - a, m.nodes[t[3]] - a;
+  return d.determinant() / 6;
+}
+
+double triangle_area(const Mesh& m, const std::array<int, 3>& t) {
+  return 0.5 * (m.nodes[t[1]] - m.nodes[t[0]]).cross(m.nodes[t[2]] - m.nodes[t[0]]).norm();
+}
+
+// The brick (0,3)x(0,1)x(0,1) of geo/brick.geo meshed with parameter n.
+void check_brick(const Mesh& m, int n) {
+  EXPECT_EQ(m.nodes.size(), static_cast<std::size_t>((3 * n + 1) * (n + 1) * (n + 1)));
+  EXPECT_EQ(m.node_tags.size(), m.nodes.size());
+  ASSERT_EQ(m.tets.size(), static_cast<std::size_t>(6 * 3 * n * n * n));
+  EXPECT_EQ(m.tet_tags.size(), m.tets.size());
+  ASSERT_EQ(m.tet_group.size(), m.tets.size());
+
+  const char* surfaces[] = {"clamped", "load_end", "load_top", "contact", "free"};
+  ASSERT_EQ(m.groups.size(), 6u) << m.describe_groups();
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(m.groups[i].name, surfaces[i]);
+    EXPECT_EQ(m.groups[i].dim, 2);
+    EXPECT_EQ(m.groups[i].tag, i + 1);
+  }
+  const PhysicalGroup* body = m.find_group("body", 3);
+  ASSERT_NE(body, nullptr);
+  for (int g : m.tet_group) ASSERT_EQ(g, body->tag);
+
+  double volume = 0;
+  for (const auto& t : m.tets) {
+    const double v = tet_volume(m, t);
+    ASSERT_GT(std::abs(v), 1e-12);
+    volume += std::abs(v);
+  }
+  EXPECT_NEAR(volume, 3.0, 1e-12);
+
+  ASSERT_EQ(m.triangle_tags.size(), m.triangles.size());
+  ASSERT_EQ(m.triangle_group.size(), m.triangles.size());
+  const std::vector<int> contact = m.triangles_of_group("contact");
+  EXPECT_EQ(contact.size(), static_cast<std::size_t>(2 * 3 * n * n));
+  double contact_area = 0;
+  for (int i : contact) {
+    for (int v : m.triangles[i]) ASSERT_EQ(m.nodes[v].z(), 0.0) << "contact triangle " << i;
+    contact_area += triangle_area(m, m.triangles[i]);
+  }
+  EXPECT_NEAR(contact_area, 3.0, 1e-12);
+  EXPECT_EQ(m.triangles_of_group("clamped").size(), static_cast<std::size_t>(2 * n * n));
+  EXPECT_EQ(m.triangles_of_group("load_end").size(), static_cast<std::size_t>(2 * n * n));
+  EXPECT_EQ(m.triangles_of_group("load_top").size(), static_cast<std::size_t>(2 * 3 * n * n));
+  EXPECT_EQ(m.triangles_of_group("free").size(), static_cast<std::size_t>(2 * 2 * 3 * n * n));
+  for (int i : m.triangles_of_group("clamped"))
+    for (int v : m.triangles[i]) ASSERT_EQ(m.nodes[v].x(), 0.0);
+  double area = 0;
+  for (const auto& t : m.triangles) area += triangle_area(m, t);
+  EXPECT_NEAR(area, 14.0, 1e-12);
+}
+
+// ---------------------------------------------------------------------------------------------
+// gmsh-generated files
+
+TEST(MshReader, Gmsh41Ascii) {
+  const Mesh m = read_msh(kAscii41);
+  check_brick(m, kN);
+  // gmsh numbers the nodes 1..N here.
+  for (std::size_t i = 0; i < m.node_tags.size(); ++i) EXPECT_EQ(m.node_tags[i], i + 1);
+}
+
+TEST(MshReader, Gmsh41BinaryMatchesAscii) {
+  const Mesh m = read_msh(kBinary41);
+  check_brick(m, kN);
+  expect_same_mesh(m, read_msh(kAscii41));
+}
+
+TEST(MshReader, Gmsh22MatchesAscii) {
+  const Mesh m = read_msh(kAscii22);
+  check_brick(m, kN);
+  expect_same_mesh(m, read_msh(kAscii41));
+}
+
+TEST(MshReader, ParseFromMemoryMatchesFile) {
+  expect_same_mesh(parse_msh(slurp(kBinary41), "brick"), read_msh(kBinary41));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writers
+
+TEST(MshWriter, RoundTripBrick) {
+  TempDir dir;
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22}) {
+    SCOPED_TRACE(fixture);
+    const Mesh m = read_msh(fixture);
+    write_msh41(m, dir.file("b41.msh"));
+    write_msh22(m, dir.file("b22.msh"));
+    expect_same_mesh(read_msh(dir.file("b41.msh")), m);
+    expect_same_mesh(read_msh(dir.file("b22.msh")), m);
+  }
+}
+
+// A mesh exercising what the writers must preserve: sparse node tags, doubles that need all 17
+// digits, a triangle in two groups, elements without a group, unnamed and lower-dim groups.
+Mesh tricky_mesh() {
+  Mesh m;
+  m.nodes = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0 / 3, 0.1 + 0.2, -1e-300),
+             Eigen::Vector3d(-0.0, std::acos(-1.0), 4.9406564584124654e-324),
+             Eigen::Vector3d(1e300, -2.5, 123456789.123456789), Eigen::Vector3d(1, 1, 1)};
+  m.node_tags = {7, 3, 1000000007, 42, 8};
+  m.tets = {{0, 1, 2, 3}, {1, 2, 3, 4}, {0, 2, 1, 4}};
+  m.tet_tags = {100, 50, 51};
+  m.tet_group = {6, 0, 6};
+  m.triangles = {{0, 1, 2}, {1, 2, 3}, {0, 1, 2}, {2, 3, 4}};
+  m.triangle_tags = {11, 12, 11, 13};
+  m.triangle_group = {4, 0, 9, 4};
+  m.groups = {{2, 4, "contact"}, {3, 6, "body with spaces"}, {2, 9, ""},
+              {1, 5, "edge \"quoted\""}, {0, 3, "pt"}};
+  return m;
+}
+
+TEST(MshWriter, RoundTripPreservesTagsGroupsAndDoubles) {
+  TempDir dir;
+  const Mesh m = tricky_mesh();
+  write_msh41(m, dir.file("t41.msh"));
+  write_msh22(m, dir.file("t22.msh"));
+  const Mesh a = read_msh(dir.file("t41.msh"));
+  const Mesh b = read_msh(dir.file("t22.msh"));
+  expect_same_mesh(a, m);
+  expect_same_mesh(b, m);
+  EXPECT_EQ(a.triangles_of_group(""), std::vector<int>({2}));
+  EXPECT_EQ(a.triangles_of_group("contact"), std::vector<int>({0, 3}));
+  // Writing what was read gives the same file.
+  write_msh41(a, dir.file("again41.msh"));
+  EXPECT_EQ(slurp(dir.file("again41.msh")), slurp(dir.file("t41.msh")));
+}
+
+TEST(MshWriter, Msh41HasOneEntityPerPhysicalGroup) {
+  TempDir dir;
+  write_msh41(read_msh(kAscii41), dir.file("b.msh"));
+  const std::string text = slurp(dir.file("b.msh"));
+  // 5 surface groups, 1 volume group; no points or curves.
+  EXPECT_NE(text.find("$Entities\n0 0 5 1\n"), std::string::npos) << text.substr(0, 400);
+  EXPECT_NE(text.find("2 4 \"contact\"\n"), std::string::npos);
+  // Element blocks follow runs of equal groups, so the triangle order is kept: "free" is one
+  // entity but two blocks (6 triangle blocks and 1 tetrahedron block).
+  EXPECT_NE(text.find("$Elements\n7 256 1 256\n"), std::string::npos);
+}
+
+TEST(MshWriter, FillsMissingTags) {
+  TempDir dir;
+  Mesh m;
+  m.nodes = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0),
+             Eigen::Vector3d(0, 0, 1)};
+  m.tets = {{0, 1, 2, 3}};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}};
+  for (auto writer : {&write_msh41, &write_msh22}) {
+    writer(m, dir.file("m.msh"));
+    const Mesh r = read_msh(dir.file("m.msh"));
+    EXPECT_EQ(r.node_tags, std::vector<std::size_t>({1, 2, 3, 4}));
+    EXPECT_EQ(r.triangle_tags, std::vector<std::size_t>({1, 2}));
+    EXPECT_EQ(r.tet_tags, std::vector<std::size_t>({3}));
+    EXPECT_EQ(r.tet_group, std::vector<int>({0}));
+    EXPECT_EQ(r.triangle_group, std::vector<int>({0, 0}));
+    EXPECT_EQ(r.tets, m.tets);
+    EXPECT_EQ(r.triangles, m.triangles);
+    EXPECT_TRUE(r.groups.empty());
+  }
+  // Nodes only, and an empty mesh.
+  Mesh nodes_only;
+  nodes_only.nodes = m.nodes;
+  write_msh41(nodes_only, dir.file("n.msh"));
+  EXPECT_EQ(read_msh(dir.file("n.msh")).nodes.size(), 4u);
+  write_msh41(Mesh{}, dir.file("e41.msh"));
+  write_msh22(Mesh{}, dir.file("e22.msh"));
+  EXPECT_TRUE(read_msh(dir.file("e41.msh")).nodes.empty());
+  EXPECT_TRUE(read_msh(dir.file("e22.msh")).tets.empty());
+}
+
+TEST(MshWriter, RejectsInconsistentMeshAndUnwritablePath) {
+  TempDir dir;
+  Mesh m = tricky_mesh();
+  m.tet_group.pop_back();
+  EXPECT_THROW(write_msh41(m, dir.file("x.msh")), std::invalid_argument);
+  m = tricky_mesh();
+  m.triangles[1][2] = 5;
+  EXPECT_THROW(write_msh22(m, dir.file("x.msh")), std::invalid_argument);
+  m = tricky_mesh();
+  m.nodes[2].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(write_msh41(m, dir.file("x.msh")), std::invalid_argument);
+  const std::string bad = dir.file("no/such/dir/out.msh");
+  const std::string msg = input_error([&] { write_msh41(tricky_mesh(), bad); });
+  EXPECT_NE(msg.find(bad), std::string::npos) << msg;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hand-written valid files
+
+TEST(MshReader, EntityWithSeveralPhysicalTags) {
+  const std::string text =
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+      "$PhysicalNames\n3\n2 4 \"contact\"\n2 7 \"also\"\n3 6 \"body\"\n$EndPhysicalNames\n"
+      "$Entities\n0 0 1 1\n"
+      "1 0 0 0 1 1 0 2 4 7 0\n"
+      "1 0 0 0 1 1 1 2 6 9 0\n"
+      "$EndEntities\n"
+      "$Nodes\n1 5 1 5\n3 1 0 5\n1\n2\n3\n4\n5\n"
+      "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n$EndNodes\n"
+      "$Elements\n2 4 1 4\n"
+      "2 1 2 2\n1 1 2 3\n2 1 3 5\n"
+      "3 1 4 2\n3 1 2 3 4\n4 2 3 4 5\n"
+      "$EndElements\n";
+  const Mesh m = parse_msh(text, "multi.msh");
+  // Triangles: the block once per physical tag, block after block.
+  using Tri = std::array<int, 3>;
+  EXPECT_EQ(m.triangles, std::vector<Tri>({{0, 1, 2}, {0, 2, 4}, {0, 1, 2}, {0, 2, 4}}));
+  EXPECT_EQ(m.triangle_tags, std::vector<std::size_t>({1, 2, 1, 2}));
+  EXPECT_EQ(m.triangle_group, std::vector<int>({4, 4, 7, 7}));
+  EXPECT_EQ(m.triangles_of_group("also"), std::vector<int>({2, 3}));
+  // Tetrahedra: once, with the first physical tag.
+  EXPECT_EQ(m.tets.size(), 2u);
+  EXPECT_EQ(m.tet_group, std::vector<int>({6, 6}));
+  EXPECT_EQ(m.tet_tags, std::vector<std::size_t>({3, 4}));
+  // Named groups in file order, then the unnamed physical tag 9.
+  ASSERT_EQ(m.groups.size(), 4u);
+  EXPECT_EQ(m.groups[3].dim, 3);
+  EXPECT_EQ(m.groups[3].tag, 9);
+  EXPECT_EQ(m.groups[3].name, "");
+}
+
+// Sparse node tags (sparse map), parametric nodes, points and lines (skipped), sections the
+// reader does not know ($Comments, $NodeData, $Periodic), no $PhysicalNames.
+const char* kSparse41 =
+    "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+    "$Comments\nanything, even $Nodes\n$EndComments\n"
+    "$Entities\n1 1 1 1\n"
+    "5 0 0 0 0\n"
+    "3 0 0 0 1 0 0 0 2 5 -5\n"
+    "2 0 0 0 1 1 0 0 0\n"
+    "1 0 0 0 1 1 1 0 0\n"
+    "$EndEntities\n"
+    "$Nodes\n3 5 7 1000000007\n"
+    "0 5 0 1\n1000000007\n0 0 0\n"
+    "2 2 1 2\n7\n42\n1 0 0 0.5 0.5\n0 1 0 0.25 0.25\n"
+    "3 1 0 2\n8\n9\n0 0 1\n1 1 1\n"
+    "$EndNodes\n"
+    "$Elements\n3 4 1 40\n"
+    "0 5 15 1\n40 1000000007\n"
+    "1 3 1 1\n30 1000000007 7\n"
+    "3 1 4 2\n10 1000000007 7 42 8\n11 7 42 8 9\n"
+    "$EndElements\n"
+    "$NodeData\n1\n\"temperature\"\n1\n0.0\n3\n0\n1\n5\n7 1.0\n42 2.0\n8 3.0\n9 4.0\n1000000007 5.0\n"
+    "$EndNodeData\n"
+    "$Periodic\n0\n$EndPeriodic\n";
+
+void check_sparse(const Mesh& m) {
+  EXPECT_EQ(m.node_tags, std::vector<std::size_t>({1000000007, 7, 42, 8, 9}));
+  EXPECT_EQ(m.nodes[2], Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(m.tets, std::vector<Tet>({{0, 1, 2, 3}, {1, 2, 3, 4}}));
+  EXPECT_EQ(m.tet_tags, std::vector<std::size_t>({10, 11}));
+  EXPECT_EQ(m.tet_group, std::vector<int>({0, 0}));
+  EXPECT_TRUE(m.triangles.empty());
+  EXPECT_TRUE(m.groups.empty());
+}
+
+TEST(MshReader, SparseTagsParametricNodesAndUnknownSections) {
+  check_sparse(parse_msh(kSparse41, "sparse.msh"));
+}
+
+TEST(MshReader, WindowsLineEndingsAndTrailingBlanks) {
+  std::string crlf;
+  for (const char* c = kSparse41; *c; ++c) {
+    if (*c == '\n') crlf += " \t\r";
+    crlf += *c;
+  }
+  check_sparse(parse_msh(crlf, "crlf.msh"));
+}
+
+TEST(MshReader, Msh22DuplicateTetLinesAreStoredOnce) {
+  const std::string text =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+      "$PhysicalNames\n3\n2 4 \"contact\"\n2 7 \"also\"\n3 6 \"body\"\n$EndPhysicalNames\n"
+      "$Nodes\n5\n10 0 0 0\n20 1 0 0\n30 0 1 0\n40 0 0 1\n50 1 1 1\n$EndNodes\n"
+      "$Elements\n8\n"
+      "1 15 2 0 1 10\n"
+      "2 1 2 0 3 10 20\n"
+      "3 2 2 4 1 10 20 30\n"
+      "4 2 2 7 1 10 20 30\n"
+      "5 4 2 6 1 10 20 30 40\n"
+      "6 4 2 9 1 10 20 30 40\n"
+      "7 4 2 6 1 20 30 40 50\n"
+      "8 2 3 4 1 0 20 30 40\n"
+      "$EndElements\n";
+  const Mesh m = parse_msh(text, "dup.msh");
+  EXPECT_EQ(m.tets, std::vector<Tet>({{0, 1, 2, 3}, {1, 2, 3, 4}}));
+  EXPECT_EQ(m.tet_tags, std::vector<std::size_t>({5, 7}));
+  EXPECT_EQ(m.tet_group, std::vector<int>({6, 6}));
+  EXPECT_EQ(m.triangle_tags, std::vector<std::size_t>({3, 4, 8}));
+  EXPECT_EQ(m.triangle_group, std::vector<int>({4, 7, 4}));
+  ASSERT_EQ(m.groups.size(), 4u);
+  EXPECT_EQ(m.groups[3].tag, 9);
+  EXPECT_EQ(m.groups[3].name, "");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Broken files: each must raise InputError naming the file and the line (or byte offset).
+
+// A valid 4.1 file, one line per entry; line i+1 is kBase41[i].
+const std::vector<std::string> kBase41 = {
+    "$MeshFormat",             // 1
+    "4.1 0 8",                 // 2
+    "$EndMeshFormat",          // 3
+    "$PhysicalNames",          // 4
+    "2",                       // 5
+    "2 1 \"contact\"",         // 6
+    "3 2 \"body\"",            // 7
+    "$EndPhysicalNames",       // 8
+    "$Entities",               // 9
+    "0 0 1 1",                 // 10
+    "1 0 0 0 1 1 0 1 1 0",     // 11
+    "1 0 0 0 1 1 1 1 2 0",     // 12
+    "$EndEntities",            // 13
+    "$Nodes",                  // 14
+    "1 4 1 4",                 // 15
+    "3 1 0 4",                 // 16
+    "1",                       // 17
+    "2",                       // 18
+    "3",                       // 19
+    "4",                       // 20
+    "0 0 0",                   // 21
+    "1 0 0",                   // 22
+    "0 1 0",                   // 23
+    "0 0 1",                   // 24
+    "$EndNodes",               // 25
+    "$Elements",               // 26
+    "2 2 1 2",                 // 27
+    "2 1 2 1",                 // 28
+    "1 1 3 2",                 // 29
+    "3 1 4 1",                 // 30
+    "2 1 2 3 4",               // 31
+    "$EndElements",            // 32
+};
+
+std::string join(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const auto& l : lines) out += l + "\n";
+  return out;
+}
+// kBase41 with lines (1-based) replaced by texts (which may hold several lines or none).
+std::string base41_with(const std::vector<std::pair<int, std::string>>& edits) {
+  std::vector<std::string> lines = kBase41;
+  for (const auto& [line, text] : edits) lines[static_cast<std::size_t>(line - 1)] = text;
+  std::string out;
+  for (const auto& l : lines)
+    if (!l.empty()) out += l + "\n";
+  return out;
+}
+std::string base41_with(int line, const std::string& text) { return base41_with({{line, text}}); }
+std::string base41_first_lines(int n) {
+  return join(std::vector<std::string>(kBase41.begin(), kBase41.begin() + n));
+}
+
+struct BrokenCase {
+  std::string name;
+  std::string contents;
+  std::vector<std::string> expected;  // substrings of the message
+};
+
+TEST(MshReader, BaseFileIsValid) {
+  const Mesh m = parse_msh(join(kBase41), "base.msh");
+  EXPECT_EQ(m.nodes.size(), 4u);
+  EXPECT_EQ(m.tets.size(), 1u);
+  EXPECT_EQ(m.triangles_of_group("contact"), std::vector<int>({0}));
+  EXPECT_EQ(m.tet_group, std::vector<int>({2}));
+}
+
+TEST(MshBroken, AsciiFilesNameFileAndLine) {
+  const std::string base22 =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"          // 1-3
+      "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"  // 4-9
+      "$Elements\n2\n1 2 2 1 1 1 2 3\n";                 // 10-12
+  const std::vector<BrokenCase> cases = {
+      {"version 3.0", base41_with(2, "3.0 0 8"), {"line 2", "3.0", "supported: 4.1, 2.2"}},
+      {"version 4.0", base41_with(2, "4 0 8"), {"line 2", "supported: 4.1, 2.2"}},
+      {"binary 2.2", base41_with(2, "2.2 1 8"), {"line 2", "binary MSH 2.2"}},
+      {"not msh", "hello world\n", {"line 1", "not a gmsh MSH file"}},
+      {"bad coordinate", base41_with(22, "1 0 abc"), {"line 22", "'abc'", "coordinate"}},
+      {"nan coordinate", base41_with(23, "0 nan 0"), {"line 23", "not a finite number"}},
+      {"inf coordinate", base41_with(24, "0 0 -inf"), {"line 24", "not a finite number"}},
+      {"huge coordinate", base41_with(23, "0 1e999 0"), {"line 23", "out of range"}},
+      {"undefined node", base41_with(31, "2 1 2 3 99"),
+       {"line 31", "element 2", "node 99", "$Nodes does not define"}},
+      {"negative count", base41_with(15, "1 -4 1 4"), {"line 15", "non-negative", "'-4'"}},
+      {"absurd count", base41_with(15, "1 4000000000000 1 4000000000000"),
+       {"line 15", "4000000000000", "larger than the rest of the file"}},
+      {"absurd element count", base41_with(30, "3 1 4 999999999999999"),
+       {"line 30", "larger than the rest of the file"}},
+      {"node count mismatch", base41_with(15, "1 5 1 5"), {"line 25", "announces 5 nodes"}},
+      {"too few elements in block", base41_with({{27, "2 3 1 3"}, {30, "3 1 4 2"}}),
+       {"line 32", "'$EndElements'", "before the count"}},
+      {"element count mismatch", base41_with(27, "2 3 1 3"), {"line 32", "announces 3 elements"}},
+      {"more elements than count", base41_with(27, "2 1 1 2"), {"line 30", "more elements"}},
+      {"missing node in element", base41_with(31, "2 1 2 3"), {"line 31", "line ends"}},
+      {"extra value in element", base41_with(29, "1 1 3 2 4"), {"line 29", "more values"}},
+      {"bad integer", base41_with(29, "1x 1 3 2"), {"line 29", "'1x'"}},
+      {"tet10", base41_with(30, "3 1 11 1"),
+       {"line 30", "element type 11 (10-node tetrahedron) is not supported",
+        "gmsh -order 1"}},
+      {"tri6", base41_with(28, "2 1 9 1"), {"line 28", "element type 9 (6-node triangle)"}},
+      {"hex", base41_with(30, "3 1 5 1"), {"line 30", "element type 5 (8-node hexahedron)"}},
+      {"unknown type", base41_with(30, "3 1 77 1"), {"line 30", "element type 77"}},
+      {"undefined entity", base41_with(28, "2 7 2 1"),
+       {"line 28", "surface entity 7", "$Entities does not define"}},
+      {"duplicate node tag", base41_with(18, "1"), {"line 14", "node tag 1 is defined twice"}},
+      {"node tag zero", base41_with(17, "0"), {"line 17", "node tag 0"}},
+      {"unterminated name", base41_with(6, "2 1 \"contact"), {"line 6", "closing quote"}},
+      {"bad group dim", base41_with(6, "7 1 \"contact\""), {"line 6", "dimension 7"}},
+      {"truncated", base41_first_lines(28), {"line 27", "element blocks 2 is larger", "truncated"}},
+      {"truncated in a block", base41_first_lines(30) + "2 1 2",
+       {"line 30", "is larger than the rest of the file", "truncated"}},
+      {"no elements", base41_first_lines(25), {"no $Elements section"}},
+      {"no nodes", base41_first_lines(13), {"no $Nodes section"}},
+      {"elements before nodes", base41_first_lines(13) + "$Elements\n0 0 0 0\n$EndElements\n",
+       {"line 14", "$Elements comes before $Nodes"}},
+      {"unclosed section", join(kBase41) + "$Comments\nhello\n", {"line 33", "not closed by $EndComments"}},
+      {"garbage between sections", base41_with(26, "garbage\n$Elements"),
+       {"line 26", "expected a section header"}},
+      {"missing section end", base41_with(25, ""), {"line 25", "expected $EndNodes, found '$Elements'"}},
+      {"partitioned", base41_with(13, "$EndEntities\n$PartitionedEntities\n$EndPartitionedEntities"),
+       {"line 14", "partitioned"}},
+      {"2.2 truncated", base22, {"line 13", "unexpected end of file"}},
+      {"2.2 truncated mid-line", base22 + "2 4 2 1 1 1 2", {"line 13", "unexpected end of file"}},
+      {"2.2 undefined node", base22 + "2 4 2 1 1 1 2 3 4\n$EndElements\n",
+       {"line 13", "node 4", "$Nodes does not define"}},
+      {"2.2 tet10", base22 + "2 11 2 1 1 1 2 3 1 2 3 1 2 3 1\n$EndElements\n",
+       {"line 13", "element type 11 (10-node tetrahedron)", "gmsh -order 1"}},
+      {"2.2 too many elements", base22 + "2 2 2 1 1 1 2 3\n3 2 2 1 1 1 2 3\n$EndElements\n",
+       {"line 14", "expected $EndElements, found '3'", "more data"}},
+      {"2.2 bad node line", std::string("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 0 0\n$EndNodes\n"),
+       {"line 7", "z coordinate", "line ends"}},
+  };
+  TempDir dir;
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const BrokenCase& c = cases[i];
+    SCOPED_TRACE(c.name);
+    const std::string path = dir.write("broken_" + std::to_string(i) + ".msh", c.contents);
+    const std::string msg = input_error([&] { read_msh(path); });
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    for (const auto& e : c.expected) EXPECT_NE(msg.find(e), std::string::npos) << "'" << e << "' not in: " << msg;
+  }
+}
+
+TEST(MshBroken, MissingFileOrDirectory) {
+  const std::string missing = "/nonexistent/contact3d/mesh.msh";
+  std::string msg = input_error([&] { read_msh(missing); });
+  EXPECT_NE(msg.find(missing), std::string::npos) << msg;
+  EXPECT_NE(msg.find("cannot open"), std::string::npos) << msg;
+  TempDir dir;
+  const std::string d = dir.file("");
+  msg = input_error([&] { read_msh(d); });
+  EXPECT_NE(msg.find(d), std::string::npos) << msg;
+}
+
+// A small file whose entity lists 100000 physical tags for a block of 3000 triangles would
+// expand to 3e8 triangle entries: refused instead of allocated.
+TEST(MshBroken, PhysicalTagAmplificationIsRefused) {
+  std::string text =
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+      "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 100000";
+  for (int i = 0; i < 100000; ++i) text += " 1";
+  text += " 0\n$EndEntities\n$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
+          "$Elements\n1 3000 1 3000\n2 1 2 3000\n";  // the block header is line 20
+  for (int i = 1; i <= 3000; ++i) text += std::to_string(i) + " 1 2 3\n";
+  text += "$EndElements\n";
+  const std::string msg = input_error([&] { parse_msh(text, "amplify.msh"); });
+  EXPECT_NE(msg.find("amplify.msh, line 20:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("100000 physical tags"), std::string::npos) << msg;
+}
+
+// Byte position just after `marker` (which must occur in data).
+std::size_t after(const std::string& data, const std::string& marker) {
+  const std::size_t pos = data.find(marker);
+  EXPECT_NE(pos, std::string::npos) << marker;
+  return pos + marker.size();
+}
+template <class T>
+void poke(std::string& data, std::size_t offset, T value) {
+  ASSERT_LE(offset + sizeof(T), data.size());
+  std::memcpy(data.data() + offset, &value, sizeof(T));
+}
+template <class T>
+T peek(const std::string& data, std::size_t offset) {
+  T v{};
+  std::memcpy(&v, data.data() + offset, sizeof(T));
+  return v;
+}
+
+TEST(MshBroken, BinaryFilesNameByteOffset) {
+  const std::string good = slurp(kBinary41);
+  const std::size_t nodes = after(good, "$Nodes\n");        // 4 x size_t header
+  const std::size_t block = nodes + 32;                      // dim, tag, parametric, count
+  const std::size_t block_count = peek<std::uint64_t>(good, block + 12);
+  const std::size_t first_coord = block + 20 + 8 * block_count;
+  const std::size_t elements = after(good, "$Elements\n");
+  const std::size_t first_element = elements + 32 + 20;      // its tag, then its nodes
+  const std::size_t format_one = after(good, "4.1 1 8\n");
+
+  struct Patch {
+    std::string name;
+    std::function<void(std::string&)> apply;
+    std::size_t offset;
+    std::string keyword;
+  };
+  const std::vector<Patch> patches = {
+      {"absurd node count", [&](std::string& d) { poke<std::uint64_t>(d, nodes + 8, 1ull << 50); },
+       nodes + 8, "larger than the rest of the file"},
+      {"absurd block count", [&](std::string& d) { poke<std::uint64_t>(d, block + 12, ~0ull); },
+       block + 12, "larger than the rest of the file"},
+      {"nan coordinate",
+       [&](std::string& d) { poke(d, first_coord, std::numeric_limits<double>::quiet_NaN()); },
+       first_coord, "non-finite"},
+      {"undefined node", [&](std::string& d) { poke<std::uint64_t>(d, first_element + 8, 9999); },
+       first_element + 8, "node 9999"},
+      {"element type", [&](std::string& d) { poke<std::int32_t>(d, elements + 32 + 8, 11); },
+       elements + 32, "element type 11"},
+      {"endianness", [&](std::string& d) { poke<std::int32_t>(d, format_one, 0x01000000); },
+       format_one, "big-endian"},
+      {"truncated in a count", [&](std::string& d) { d.resize(nodes + 4); }, nodes,
+       "unexpected end of file"},
+      {"truncated in the nodes", [&](std::string& d) { d.resize(first_coord + 4); }, nodes,
+       "larger than the rest of the file can hold (truncated"},
+  };
+  TempDir dir;
+  for (const auto& p : patches) {
+    SCOPED_TRACE(p.name);
+    std::string data = good;
+    p.apply(data);
+    const std::string path = dir.write("bin.msh", data);
+    const std::string msg = input_error([&] { read_msh(path); });
+    EXPECT_NE(msg.find(path + ", byte offset " + std::to_string(p.offset) + ":"), std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find(p.keyword), std::string::npos) << msg;
+  }
+}
+
+// Every proper prefix of a valid file is an error (never a crash, hang or other exception).
+TEST(MshBroken, EveryTruncationIsAnInputError) {
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22}) {
+    SCOPED_TRACE(fixture);
+    const std::string data = slurp(fixture);
+    ASSERT_EQ(data.back(), '\n');
+    for (std::size_t len = 0; len + 1 < data.size(); ++len) {
+      try {
+        parse_msh(std::string_view(data).substr(0, len), "prefix");
+        ADD_FAILURE() << "prefix of " << len << " bytes was accepted";
+        return;
+      } catch (const InputError&) {
+      }
+    }
+    EXPECT_EQ(parse_msh(std::string_view(data).substr(0, data.size() - 1), "p").tets.size(),
+              6u * 3 * kN * kN * kN);
+  }
+}
+
+// Random corruption: the reader either accepts the file or raises InputError.
+TEST(MshBroken, RandomCorruptionIsAcceptedOrInputError) {
+  std::mt19937 rng(12345);
+  const char alphabet[] = "0123456789 \n-.e$\"xnaif";
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22}) {
+    SCOPED_TRACE(fixture);
+    const std::string good = slurp(fixture);
+    int accepted = 0;
+    for (int iter = 0; iter < 1500; ++iter) {
+      std::string data = good;
+      const int edits = 1 + static_cast<int>(rng() % 3);
+      for (int e = 0; e < edits && !data.empty(); ++e) {
+        const std::size_t pos = rng() % data.size();
+        switch (rng() % 4) {
+          case 0: data[pos] = alphabet[rng() % (sizeof alphabet - 1)]; break;
+          case 1: data[pos] = static_cast<char>(rng() & 0xff); break;
+          case 2: data.erase(pos, 1 + rng() % 8); break;
+          default: data.insert(pos, 1, alphabet[rng() % (sizeof alphabet - 1)]); break;
+        }
+      }
+      try {
+        const Mesh m = parse_msh(data, "fuzz");
+        ++accepted;
+        for (const auto& t : m.tets)
+          for (int v : t) ASSERT_TRUE(v >= 0 && static_cast<std::size_t>(v) < m.nodes.size());
+        for (const auto& t : m.triangles)
+          for (int v : t) ASSERT_TRUE(v >= 0 && static_cast<std::size_t>(v) < m.nodes.size());
+      } catch (const InputError&) {
+      }
+    }
+    RecordProperty(fs::path(fixture).filename().string() + "_accepted", accepted);
+  }
+}
+
+}  // namespace
+}  // namespace contact3d
