@@ -1,0 +1,133 @@
+// Contact discretisation: 𝔹 on the paper's chessboard (row sums = cell areas, signs of the
+// normal and tangential blocks) and the exact disc radii (5.3) against brute-force quadrature.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "contact/contact_face.hpp"
+#include "contact/contact_operator.hpp"
+#include "contact/partition.hpp"
+#include "fem/dof_map.hpp"
+#include "friction/friction_law.hpp"
+#include "friction/slip_bound.hpp"
+#include "mesh/brick_generator.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+struct Chessboard {
+  Mesh mesh;
+  DofMap dofs;
+  ContactFace face;
+  Partition partition;
+};
+
+Chessboard chessboard(int n) {
+  Chessboard c;
+  c.mesh = make_paper_brick({n});
+  c.dofs = make_dof_map(c.mesh, {"clamped"});
+  c.face = make_contact_face(c.mesh, {"contact"}, c.dofs);
+  c.partition = make_grid_partition(c.mesh, c.face, {2 * c.face.h});
+  return c;
+}
+
+}  // namespace
+
+TEST(ContactOperator, ChessboardRowsIntegrateToCellAreas) {
+  const int n = 4;
+  const Chessboard c = chessboard(n);
+  EXPECT_DOUBLE_EQ(c.face.h, 1.0 / n);
+  ASSERT_EQ(c.partition.cells.size(), std::size_t(3 * n / 2 * (n / 2)));
+  const auto weights = cell_node_weights(c.face, c.partition);
+  for (std::size_t i = 0; i < c.partition.cells.size(); ++i) {
+    double sum = 0;
+    for (const auto& [node, w] : weights[i]) sum += w;
+    EXPECT_NEAR(sum, 4.0 / (n * n), 1e-14);
+    EXPECT_NEAR(c.partition.cells[i].area, 4.0 / (n * n), 1e-14);
+    // The chessboard cell is the 8 triangles around one (odd, odd) node: its centre node
+    // carries the largest weight, (2h)²/3 ... of the 8 triangles' hats: 8 · (h²/2)/3.
+    double centre = 0;
+    for (const auto& [node, w] : weights[i]) centre = std::max(centre, w);
+    EXPECT_NEAR(centre, 8 * (0.5 / (n * n)) / 3, 1e-14);
+  }
+  const ContactOperator op = make_contact_operator(c.face, c.partition, c.dofs, true);
+  ASSERT_EQ(op.rows(), 3 * op.r);
+  // Sums over free dofs: −area (normal) and +area (tangential) for cells away from Γu (x = 0).
+  for (int i = 0; i < op.r; ++i) {
+    double normal = 0, t1 = 0, t2 = 0;
+    for (int j = 0; j < op.B.cols(); ++j) {
+      normal += op.B.coeff(i, j);
+      t1 += op.B.coeff(op.r + i, j);
+      t2 += op.B.coeff(2 * op.r + i, j);
+    }
+    if (c.partition.cells[i].lo.x() > 0) {
+      EXPECT_NEAR(normal, -c.partition.cells[i].area, 1e-14);
+      EXPECT_NEAR(t1, c.partition.cells[i].area, 1e-14);
+      EXPECT_NEAR(t2, c.partition.cells[i].area, 1e-14);
+    } else {
+      EXPECT_GT(normal, -c.partition.cells[i].area);  // clamped nodes dropped
+    }
+  }
+  EXPECT_EQ(make_contact_operator(c.face, c.partition, c.dofs, false).rows(), op.r);
+}
+
+TEST(ContactFace, ContactNodesExcludeClampedOnes) {
+  const Chessboard c = chessboard(4);
+  EXPECT_EQ(c.face.nodes.size(), std::size_t(12 * 5));  // (3n+1)(n+1) minus the x = 0 row
+  EXPECT_NEAR(c.face.area, 3.0, 1e-13);
+}
+
+TEST(SlipBound, RadiiAreExactForPiecewiseLinearLaws) {
+  const Chessboard c = chessboard(2);
+  FrictionLaw ramp;
+  ramp.kind = FrictionLaw::Kind::Ramp;
+  ramp.param = 6e4;
+  FrictionLaw table;
+  table.kind = FrictionLaw::Kind::Table;
+  table.points = {{0, 0.5}, {2e-5, 0.4}, {2e-5, 0.1}, {5e-5, 0.3}};
+  // A slip field that crosses the breakpoints inside cells: φ = 4e-5 · x / 3 + 1e-5 · y.
+  Eigen::VectorXd phi(c.mesh.nodes.size());
+  for (std::size_t v = 0; v < c.mesh.nodes.size(); ++v)
+    phi[v] = 4e-5 * c.mesh.nodes[v].x() / 3 + 1e-5 * c.mesh.nodes[v].y();
+  for (const FrictionLaw& law : {ramp, table}) {
+    const double g = 2e7;
+    const Eigen::VectorXd radius = disc_radii(c.face, c.partition, law, g, phi);
+    // Brute force: midpoint rule on a fine grid over each cell (φ is linear in x, y here).
+    for (std::size_t i = 0; i < c.partition.cells.size(); ++i) {
+      const auto& cell = c.partition.cells[i];
+      const int m = 600;
+      double sum = 0;
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) {
+          const double x = cell.lo.x() + (a + 0.5) * (cell.hi.x() - cell.lo.x()) / m;
+          const double y = cell.lo.y() + (b + 0.5) * (cell.hi.y() - cell.lo.y()) / m;
+          sum += law(4e-5 * x / 3 + 1e-5 * y);
+        }
+      EXPECT_NEAR(radius[i], g * sum / (m * m), 2e-3 * g * 0.1) << "cell " << i << " law " << law.name();
+    }
+  }
+  FrictionLaw constant;
+  constant.kind = FrictionLaw::Kind::Constant;
+  constant.value = 0.3;
+  const Eigen::VectorXd r = disc_radii(c.face, c.partition, constant, 2e7, phi);
+  for (int i = 0; i < r.size(); ++i) EXPECT_NEAR(r[i], 0.3 * 2e7, 1e-6);
+}
+
+TEST(FrictionLaw, RampMatchesEquation61) {
+  FrictionLaw law;
+  law.kind = FrictionLaw::Kind::Ramp;
+  law.param = 6e4;
+  EXPECT_DOUBLE_EQ(law(0), 0.3);
+  EXPECT_DOUBLE_EQ(law(1e-5), 0.3);
+  EXPECT_NEAR(law(1e-5 + 1.0 / 6e4), 0.25, 1e-14);
+  EXPECT_NEAR(law(1e-5 + 2.0 / 6e4), 0.2, 1e-14);
+  EXPECT_DOUBLE_EQ(law(1), 0.2);
+  FrictionLaw table;
+  table.kind = FrictionLaw::Kind::Table;
+  table.points = {{0, 0.5}, {1, 0.3}, {1, 0.1}, {2, 0.2}};
+  EXPECT_DOUBLE_EQ(table(-1), 0.5);
+  EXPECT_DOUBLE_EQ(table(0.5), 0.4);
+  EXPECT_DOUBLE_EQ(table(1.5), 0.15);
+  EXPECT_DOUBLE_EQ(table(3), 0.2);
+}

@@ -1,0 +1,109 @@
+// End to end on the paper's brick at n = 4 (five-tet mesh): the fixed point converges in the
+// paper's number of steps, the run satisfies its own optimality conditions, and the contact
+// set is the plausible one: pressure under the part pushed down by the top load, separation
+// near the end lifted by the end load, symmetry about y = 1/2.
+#include <gtest/gtest.h>
+
+#include "mesh/brick_generator.hpp"
+#include "model/contact_solver.hpp"
+#include "model/scene.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+const char* kPaperScene = R"(
+[mesh]
+generator = "paper_brick"
+n = 4
+[material]
+young = 21.19e10
+poisson = 0.277
+[boundary]
+clamped = ["clamped"]
+contact = ["contact"]
+[[boundary.traction]]
+group = "load_end"
+value = [1e7, 0, 2e7]
+[[boundary.traction]]
+group = "load_top"
+value = [0, 0, -3e7]
+[friction]
+slip_bound = 2e7
+law = "ramp"
+param = 6e4
+)";
+
+SolveResult solve_text(const std::vector<std::string>& overrides = {}) {
+  const Scene scene = parse_scene_text(kPaperScene, ".", overrides);
+  const Mesh mesh = make_paper_brick({scene.mesh.n});
+  return solve_scene(scene, mesh);
+}
+
+}  // namespace
+
+TEST(SolvePaperBrick, ConvergesWithSmallResidualsAndPlausibleContact) {
+  const SolveResult res = solve_text();
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_EQ(res.n_primal, 900);
+  EXPECT_EQ(res.n_dual, 36);
+  EXPECT_GE(res.fixed_point.iterations(), 5);  // paper: 6
+  EXPECT_LE(res.fixed_point.iterations(), 7);
+  EXPECT_DOUBLE_EQ(res.fixed_point.history.front().err, 1.0);
+  EXPECT_LT(res.kkt.equilibrium, 1e-10);
+  EXPECT_LT(res.kkt.normal_feasibility, 1e-4);
+  EXPECT_LT(res.kkt.normal_complementarity, 1e-4);
+  EXPECT_LT(res.kkt.disc_feasibility, 1e-12);
+  EXPECT_LT(res.kkt.slip_alignment, 1e-4);
+  const int r = res.n_cells;
+  double max_pressure = 0;
+  for (int i = 0; i < r; ++i) max_pressure = std::max(max_pressure, res.lambda[i]);
+  for (int i = 0; i < r; ++i) {
+    const auto& cell = res.partition.cells[i];
+    if (cell.hi.x() <= 2.0) EXPECT_GT(res.lambda[i], 0.1 * max_pressure) << "cell " << i;   // pressed
+    if (cell.lo.x() >= 2.5) EXPECT_LT(res.lambda[i], 1e-6 * max_pressure) << "cell " << i;  // lifted off
+    EXPECT_LE(std::hypot(res.lambda[r + i], res.lambda[2 * r + i]), res.radius[i] * (1 + 1e-12));
+  }
+  // The lifted end: nodes at x = 3 separate (u3 > 0), and the violation w_n⁺ is small.
+  double max_u = res.u.cwiseAbs().maxCoeff();
+  EXPECT_LT(res.wn_plus_inf, 0.2 * max_u);
+  // Symmetry about y = 1/2: cells mirror pairwise (the chessboard has 2 rows at n = 4).
+  for (int i = 0; i < r / 2; ++i) {
+    EXPECT_NEAR(res.lambda[i], res.lambda[i + r / 2], 1e-6 * max_pressure);
+    EXPECT_NEAR(res.lambda[2 * r + i], -res.lambda[2 * r + i + r / 2], 1e-6 * max_pressure);
+  }
+}
+
+TEST(SolvePaperBrick, LiftedEndSeparates) {
+  const SolveResult res = solve_text();
+  const Mesh mesh = make_paper_brick({4});
+  int lifted = 0;
+  for (int v : res.face.nodes)
+    if (mesh.nodes[v].x() > 2.99) {
+      EXPECT_GT(res.u[3 * v + 2], 0.0) << "node " << v;
+      ++lifted;
+    }
+  EXPECT_EQ(lifted, 5);
+}
+
+TEST(SolvePaperBrick, FrictionlessAndConstantAreSingleSolves) {
+  const SolveResult frictionless = solve_text({"friction.law=\"none\""});
+  ASSERT_TRUE(frictionless.converged);
+  EXPECT_EQ(frictionless.n_dual, 12);
+  EXPECT_EQ(frictionless.fixed_point.iterations(), 0);
+  const SolveResult constant = solve_text({"friction.law=\"constant\"", "friction.value=0.3"});
+  ASSERT_TRUE(constant.converged);
+  EXPECT_EQ(constant.n_dual, 36);
+  // Less friction lets the body slide further in x than with a higher coefficient.
+  const SolveResult low = solve_text({"friction.law=\"constant\"", "friction.value=0.05"});
+  double ux_low = 0, ux_high = 0;
+  for (int v : constant.face.nodes) { ux_high += constant.u[3 * v]; ux_low += low.u[3 * v]; }
+  EXPECT_GT(ux_low, ux_high);
+}
+
+TEST(SolvePaperBrick, AndersonGivesTheSameAnswer) {
+  const SolveResult plain = solve_text();
+  const SolveResult anderson = solve_text({"solver.fixed_point=\"anderson\""});
+  ASSERT_TRUE(anderson.converged);
+  EXPECT_LT((plain.u - anderson.u).norm(), 1e-3 * plain.u.norm());
+}
