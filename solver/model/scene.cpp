@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <utility>
 #include <sstream>
 
 #include <toml++/toml.h>
@@ -123,22 +124,22 @@ void apply_override(toml::table& root, const std::string& assignment) {
 
 FrictionLaw parse_law(const toml::table& fr) {
   FrictionLaw law;
+  // Keys of every law are accepted whatever the law (so `--set friction.law=none` works on a
+  // scene written for "ramp"); the chosen law's own keys are the ones read.
+  check_keys(fr, "friction", {"law", "slip_bound", "value", "high", "low", "t0", "param", "points"});
   const std::string kind = get_string(fr, "friction", "law", "none");
   const std::string w = "friction";
   if (kind == "none") {
     law.kind = FrictionLaw::Kind::None;
-    check_keys(fr, w, {"law", "slip_bound"});
   } else if (kind == "constant") {
     law.kind = FrictionLaw::Kind::Constant;
     law.value = get_number(fr, w, "value", 0, true);
-    check_keys(fr, w, {"law", "slip_bound", "value"});
   } else if (kind == "ramp") {
     law.kind = FrictionLaw::Kind::Ramp;
     law.high = get_number(fr, w, "high", 0.3);
     law.low = get_number(fr, w, "low", 0.2);
     law.t0 = get_number(fr, w, "t0", 1e-5);
     law.param = get_number(fr, w, "param", 6e4);
-    check_keys(fr, w, {"law", "slip_bound", "high", "low", "t0", "param"});
   } else if (kind == "table") {
     law.kind = FrictionLaw::Kind::Table;
     const toml::node* pts = fr.get("points");
@@ -149,7 +150,6 @@ FrictionLaw parse_law(const toml::table& fr) {
       if (!t || !f) throw InputError("friction.points must hold numbers");
       law.points.emplace_back(*t, *f);
     }
-    check_keys(fr, w, {"law", "slip_bound", "points"});
   } else {
     throw InputError("friction.law must be one of none, constant, ramp, table; got '" + kind + "'");
   }
@@ -247,7 +247,8 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
 
   if (const toml::table* sv = table_at(root, "solver")) {
     check_keys(*sv, "solver", {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp",
-                               "fixed_point", "anderson_depth"});
+                               "fixed_point", "anderson_depth", "schur", "inexact_fixed_point",
+                               "reference_factorization"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
     o.qp_max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp_max_iterations, 1, 100000000);
@@ -259,7 +260,20 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     const std::string qp = get_string(*sv, "solver", "qp", "mpgp");
     if (qp == "mpgp") o.qp = QpVariant::Mpgp;
     else if (qp == "mpgp_projcg") o.qp = QpVariant::MpgpProjectedCG;
-    else throw InputError("solver.qp must be 'mpgp' or 'mpgp_projcg', got '" + qp + "'");
+    else if (qp == "ssn") o.qp = QpVariant::Ssn;
+    else throw InputError("solver.qp must be 'mpgp', 'mpgp_projcg' or 'ssn', got '" + qp + "'");
+    const std::string schur = get_string(*sv, "solver", "schur", "auto");
+    if (schur == "auto") o.schur = SchurMethod::Auto;
+    else if (schur == "blocksolve") o.schur = SchurMethod::BlockSolve;
+    else if (schur == "contactlast") o.schur = SchurMethod::ContactLast;
+    else throw InputError("solver.schur must be 'auto', 'blocksolve' or 'contactlast', got '" + schur + "'");
+    for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},
+                                      {"reference_factorization", &o.reference_factorization}}) {
+      if (!sv->contains(key)) continue;
+      const auto v = (*sv)[key].value<bool>();
+      if (!v || !(*sv)[key].is_boolean()) throw InputError(std::string("solver.") + key + " must be true or false");
+      *target = *v;
+    }
     const std::string fp = get_string(*sv, "solver", "fixed_point", "plain");
     if (fp == "plain") o.fixed_point = FixedPointVariant::Plain;
     else if (fp == "anderson") o.fixed_point = FixedPointVariant::Anderson;
