@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""End to end through the command line: write the paper's mesh with `contact3d mesh brick`,
+solve the paper scene on it with --mesh, and check every output file the other tools rely on
+(names, columns, sizes, finite values, convergence)."""
+import csv
+import json
+import math
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+binary, root = sys.argv[1], Path(sys.argv[2])
+scene = root / "pipeline" / "scenes" / "paper_brick.toml"
+
+
+def fail(msg):
+    print("FAIL:", msg)
+    sys.exit(1)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    tmp = Path(tmp)
+    msh = tmp / "brick4.msh"
+    p = subprocess.run([binary, "mesh", "brick", "--n", "4", "-o", str(msh)], capture_output=True, text=True)
+    if p.returncode != 0 or not msh.exists():
+        fail(f"mesh brick: {p.returncode} {p.stderr}")
+    out = tmp / "run"
+    p = subprocess.run([binary, "solve", str(scene), "--mesh", str(msh), "--out", str(out)], capture_output=True, text=True)
+    if p.returncode != 0:
+        fail(f"solve exit {p.returncode}: {p.stderr}")
+    progress = [l for l in p.stdout.splitlines() if l.startswith("k=")]
+    if len(progress) < 5:
+        fail(f"expected one progress line per fixed-point step, got {len(progress)}")
+    s = json.loads((out / "summary.json").read_text())
+    for key in ["n_primal", "n_dual", "n_contact_nodes", "n_cells", "fixed_point_iterations", "n_mult", "converged",
+                "err_history", "wn_plus_L2", "wn_plus_inf", "time_s", "kkt", "scene"]:
+        if key not in s:
+            fail(f"summary.json lacks {key}")
+    for stage in ["total", "mesh", "assembly", "factorization", "dual"]:
+        if stage not in s["time_s"]:
+            fail(f"time_s lacks {stage}")
+    if (s["n_primal"], s["n_dual"], s["n_cells"], s["n_contact_nodes"]) != (900, 36, 12, 60):
+        fail(f"sizes {s['n_primal']} {s['n_dual']} {s['n_cells']} {s['n_contact_nodes']}")
+    if not s["converged"] or len(s["err_history"]) != s["fixed_point_iterations"] or len(progress) != len(s["err_history"]):
+        fail("convergence bookkeeping inconsistent")
+    if max(v for v in s["kkt"].values()) > 1e-4:
+        fail(f"KKT residuals too large: {s['kkt']}")
+    with open(out / "contact_nodes.csv") as f:
+        rows = list(csv.DictReader(f))
+    if list(rows[0].keys())[:10] != "node,x,y,z,u1,u2,u3,wn,wt_norm,F".split(","):
+        fail(f"contact_nodes.csv columns {list(rows[0].keys())}")
+    if len(rows) != 60 or any(not math.isfinite(float(v)) for r in rows for v in r.values()):
+        fail("contact_nodes.csv rows")
+    for r in rows:
+        if abs(float(r["wn"]) + float(r["u3"])) > 1e-15 or abs(float(r["z"])) > 1e-12:
+            fail("wn must equal -u3 on z = 0")
+    with open(out / "contact_cells.csv") as f:
+        cells = list(csv.DictReader(f))
+    if list(cells[0].keys()) != "cell,xmin,xmax,ymin,ymax,area,lambda_n,lambda_t1,lambda_t2,radius".split(","):
+        fail("contact_cells.csv columns")
+    if abs(sum(float(c["area"]) for c in cells) - 3.0) > 1e-12:
+        fail("cell areas must add up to |Γc| = 3")
+    with open(out / "history.csv") as f:
+        if len(list(csv.DictReader(f))) != s["fixed_point_iterations"]:
+            fail("history.csv rows")
+    for name in ["body.vtu", "contact.vtu"]:
+        if not (out / name).exists():
+            fail(f"{name} missing")
+    print("1 passed, 0 failed")
