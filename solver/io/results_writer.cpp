@@ -1,12 +1,18 @@
 #include "io/results_writer.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <set>
 #include <fstream>
 #include <stdexcept>
 
 #include "fem/elasticity.hpp"
 #include "io/errors.hpp"
 #include "io/json_writer.hpp"
+#include "io/pvd_writer.hpp"
+#include "io/vtu_format.hpp"
 
 namespace contact3d {
 namespace {
@@ -30,69 +36,122 @@ double von_mises(const Mesh& mesh, const Matrix6d& D, const std::array<int, 4>& 
                    3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
 }
 
-template <class Fn>
-void data_array(std::ostream& out, const std::string& name, int components, std::size_t count, Fn value,
-                const std::string& type = "Float64") {
-  out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
-      << "\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < count; ++i) {
-    for (int c = 0; c < components; ++c) out << value(i, c) << ' ';
-    out << '\n';
-  }
-  out << "        </DataArray>\n";
+using vtu::data_array;
+
+// Physical tag of each contact triangle (the contact group it was taken from) and the von Mises
+// stress of the tetrahedron it bounds.
+struct FaceCellData {
+  std::vector<int> group;
+  std::vector<double> von_mises;
+};
+
+std::array<int, 3> sorted3(std::array<int, 3> t) {
+  std::sort(t.begin(), t.end());
+  return t;
 }
 
-void write_body_vtu(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res) {
+FaceCellData face_cell_data(const Scene& scene, const Mesh& mesh, const SolveResult& res, const std::vector<double>& vm) {
+  std::set<int> contact_tags;
+  for (const auto& name : scene.contact)
+    if (const auto* g = mesh.find_group(name, 2)) contact_tags.insert(g->tag);
+  std::map<std::array<int, 3>, int> tri_group;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (contact_tags.count(mesh.triangle_group[t])) tri_group.emplace(sorted3(mesh.triangles[t]), mesh.triangle_group[t]);
+  std::map<std::array<int, 3>, int> wanted;
+  for (std::size_t e = 0; e < res.face.triangles.size(); ++e) wanted.emplace(sorted3(res.face.triangles[e]), -1);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f{};
+      for (int a = 0, j = 0; a < 4; ++a)
+        if (a != skip) f[j++] = t[a];
+      auto it = wanted.find(sorted3(f));
+      if (it != wanted.end()) it->second = static_cast<int>(e);
+    }
+  }
+  FaceCellData d;
+  for (const auto& tri : res.face.triangles) {
+    const auto key = sorted3(tri);
+    const auto g = tri_group.find(key);
+    d.group.push_back(g == tri_group.end() ? 0 : g->second);
+    const int tet = wanted[key];
+    d.von_mises.push_back(tet >= 0 ? vm[tet] : 0.0);
+  }
+  return d;
+}
+
+// Point data on Γc shared by body.vtu (zero off Γc) and contact.vtu: the nodal contact fields.
+template <class Index>
+void contact_point_data(std::ostream& out, const Mesh& mesh, const SolveResult& res, const ContactNodeFields& nf,
+                        std::size_t n, Index global) {
+  auto u = [&](std::size_t i, int c) { return res.u[3 * global(i) + c]; };
+  data_array(out, "displacement", 3, n, u);
+  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[global(i)].z() + u(i, 2); });
+  data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -u(i, 2); });
+  data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return c < 2 ? u(i, c) : 0.0; });
+  data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(u(i, 0), u(i, 1)); });
+  data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[global(i)]; });
+  data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
+    return c == 0 ? nf.traction_t1[global(i)] : c == 1 ? nf.traction_t2[global(i)] : 0.0;
+  });
+  data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[global(i)]; });
+  data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[global(i)]; }, "Int32");
+}
+
+// The whole body. Contact fields are those of contact.vtu at the nodes of Γc and zero elsewhere
+// ("gap" is the distance z + u_3 to the plane at every node; "slip" is u_t on Γc only).
+void write_body_vtu(const std::filesystem::path& file, const Mesh& mesh, const SolveResult& res,
+                    const ContactNodeFields& nf, const std::vector<double>& vm) {
   std::ofstream out = open_output(file);
-  const Matrix6d D = hooke_matrix(scene.material);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << mesh.nodes.size() << "\" NumberOfCells=\"" << mesh.tets.size()
-      << "\">\n      <PointData Vectors=\"displacement\">\n";
-  data_array(out, "displacement", 3, mesh.nodes.size(), [&](std::size_t i, int c) { return res.u[3 * i + c]; });
+  const std::size_t n = mesh.nodes.size(), m = mesh.tets.size();
+  std::vector<char> on_face(n, 0);
+  for (const auto& tri : res.face.triangles)
+    for (int v : tri) on_face[v] = 1;
+  vtu::begin_piece(out, n, m);
+  out << "      <PointData Vectors=\"displacement\">\n";
+  auto u = [&](std::size_t i, int c) { return res.u[3 * i + c]; };
+  data_array(out, "displacement", 3, n, u);
+  data_array(out, "displacement_norm", 1, n, [&](std::size_t i, int) { return res.u.segment<3>(3 * i).norm(); });
+  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[i].z() + u(i, 2); });
+  data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return on_face[i] && c < 2 ? u(i, c) : 0.0; });
+  data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[i]; });
+  data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
+    return c == 0 ? nf.traction_t1[i] : c == 1 ? nf.traction_t2[i] : 0.0;
+  });
+  data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[i]; });
+  data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[i]; }, "Int32");
+  data_array(out, "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, "Int32");
   out << "      </PointData>\n      <CellData Scalars=\"von_mises\">\n";
-  data_array(out, "von_mises", 1, mesh.tets.size(), [&](std::size_t e, int) { return von_mises(mesh, D, mesh.tets[e], res.u); });
-  data_array(out, "physical_group", 1, mesh.tets.size(), [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
-  out << "      </CellData>\n      <Points>\n";
-  data_array(out, "Points", 3, mesh.nodes.size(), [&](std::size_t i, int c) { return mesh.nodes[i][c]; });
-  out << "      </Points>\n      <Cells>\n";
-  data_array(out, "connectivity", 1, 4 * mesh.tets.size(), [&](std::size_t k, int) { return mesh.tets[k / 4][k % 4]; }, "Int64");
-  data_array(out, "offsets", 1, mesh.tets.size(), [&](std::size_t e, int) { return 4 * (e + 1); }, "Int64");
-  data_array(out, "types", 1, mesh.tets.size(), [](std::size_t, int) { return 10; }, "UInt8");
-  out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  data_array(out, "von_mises", 1, m, [&](std::size_t e, int) { return vm[e]; });
+  data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
+  out << "      </CellData>\n";
+  vtu::geometry(
+      out, n, [&](std::size_t i, int c) { return mesh.nodes[i][c]; }, m, 4,
+      [&](std::size_t e, int a) { return mesh.tets[e][a]; }, 10);
+  vtu::end_piece(out);
 }
 
 void write_contact_vtu(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
-                       const ContactNodeFields& nf) {
-  (void)scene;
+                       const ContactNodeFields& nf, const std::vector<double>& vm) {
   // Local numbering of the face's nodes (including those on Γu).
   std::vector<int> local(mesh.nodes.size(), -1), global;
   for (const auto& tri : res.face.triangles)
     for (int v : tri)
       if (local[v] < 0) { local[v] = static_cast<int>(global.size()); global.push_back(v); }
   const std::size_t n = global.size(), m = res.face.triangles.size();
+  const FaceCellData cd = face_cell_data(scene, mesh, res, vm);
   std::ofstream out = open_output(file);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << m
-      << "\">\n      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
-  auto u = [&](std::size_t i, int c) { return res.u[3 * global[i] + c]; };
-  data_array(out, "displacement", 3, n, u);
-  data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -u(i, 2); });
-  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return u(i, 2); });
-  data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return c < 2 ? u(i, c) : 0.0; });
-  data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(u(i, 0), u(i, 1)); });
-  data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[global[i]]; });
-  data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
-    return c == 0 ? nf.traction_t1[global[i]] : c == 1 ? nf.traction_t2[global[i]] : 0.0;
-  });
-  data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[global[i]]; });
-  data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[global[i]]; }, "Int32");
-  out << "      </PointData>\n      <Points>\n";
-  data_array(out, "Points", 3, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; });
-  out << "      </Points>\n      <Cells>\n";
-  data_array(out, "connectivity", 1, 3 * m, [&](std::size_t k, int) { return local[res.face.triangles[k / 3][k % 3]]; }, "Int64");
-  data_array(out, "offsets", 1, m, [&](std::size_t e, int) { return 3 * (e + 1); }, "Int64");
-  data_array(out, "types", 1, m, [](std::size_t, int) { return 5; }, "UInt8");
-  out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  vtu::begin_piece(out, n, m);
+  out << "      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
+  contact_point_data(out, mesh, res, nf, n, [&](std::size_t i) { return global[i]; });
+  out << "      </PointData>\n      <CellData Scalars=\"von_mises\">\n";
+  data_array(out, "von_mises", 1, m, [&](std::size_t e, int) { return cd.von_mises[e]; });
+  data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return cd.group[e]; }, "Int32");
+  out << "      </CellData>\n";
+  vtu::geometry(
+      out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
+      [&](std::size_t e, int a) { return local[res.face.triangles[e][a]]; }, 5);
+  vtu::end_piece(out);
 }
 
 void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) {
@@ -233,10 +292,14 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
     for (const auto& s : res.fixed_point.history)
       out << s.k << ',' << s.err << ',' << s.qp_iterations << ',' << s.n_mult << ',' << s.seconds << '\n';
   }
-  write_body_vtu(dir / "body.vtu", scene, mesh, res);
+  const Matrix6d D = hooke_matrix(scene.material);
+  std::vector<double> vm(mesh.tets.size());
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) vm[e] = von_mises(mesh, D, mesh.tets[e], res.u);
+  write_body_vtu(dir / "body.vtu", mesh, res, nf, vm);
   if (res.n_cells > 0) {
-    write_contact_vtu(dir / "contact.vtu", scene, mesh, res, nf);
+    write_contact_vtu(dir / "contact.vtu", scene, mesh, res, nf, vm);
     write_cells_vtu(dir / "contact_cells.vtu", res);
+    write_solution_steps(dir, scene, mesh, res);
   }
   write_summary_json(dir / "summary.json", scene, mesh, res, info);
 }
