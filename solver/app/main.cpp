@@ -63,6 +63,17 @@ void prepare_output(const fs::path& dir) {
   fs::remove(probe, ec);
 }
 
+// Γu must hold at least one triangle (a named but empty group would leave K singular).
+void require_clamped_triangles(const Scene& scene, const Mesh& mesh) {
+  std::size_t n = 0;
+  std::string names;
+  for (const auto& g : scene.clamped) {
+    n += mesh.triangles_of_group(g).size();
+    names += (names.empty() ? "'" : ", '") + g + "'";
+  }
+  if (n == 0) throw InputError("boundary.clamped: the group(s) " + names + " hold no triangles, so Γu is empty");
+}
+
 int run_solve(const SolveArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const Scene scene = load_scene(args.scene, args.sets);
@@ -71,6 +82,7 @@ int run_solve(const SolveArgs& args) {
   RunInfo info;
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
   info.mesh_seconds = since(t0);
+  require_clamped_triangles(scene, mesh);
   if (!args.quiet)
     fmt::print("mesh: {} nodes, {} tets, {} boundary triangles ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
                mesh.triangles.size(), info.mesh_seconds);
@@ -118,7 +130,7 @@ int run_check(const SolveArgs& args) {
     worst = std::min(worst, tet_volume(x) / (h * h * h) * 6 * std::sqrt(2.0));
   }
   fmt::print("worst tet quality (volume / longest edge³, 1 = regular): {:.3g}\n", worst);
-  for (const auto& g : scene.clamped) mesh.triangles_of_group(g);
+  require_clamped_triangles(scene, mesh);
   for (const auto& tr : scene.tractions) mesh.triangles_of_group(tr.group);
   const DofMap dofs = make_dof_map(mesh, scene.clamped);
   if (!scene.contact.empty()) {
