@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <deque>
 
 #include <Eigen/Dense>
@@ -66,7 +67,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   int best_k = 0;
   for (int k = 1; k <= settings.max_iterations; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
-    const SlipEvaluation eval = G(x, qp_rtol);
+    double rtol_k = qp_rtol;
+    if (settings.inexact && k > 1) rtol_k = std::max(qp_rtol, std::min(1e-3, 1e-2 * result.history[k - 2].err));
+    if (settings.inexact && k == 1) rtol_k = std::max(qp_rtol, 1e-3);
+    const SlipEvaluation eval = G(x, rtol_k);
     n_mult += eval.hessian_products;
     FixedPointStep step;
     step.k = k;
@@ -78,7 +82,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     result.phi = x;
     if (observe) observe(step);
     if (!eval.ok) { result.status = FixedPointStatus::InnerSolverFailed; return result; }
-    if (step.err <= settings.tol) { result.status = FixedPointStatus::Converged; return result; }
+    if (step.err <= settings.tol) {
+      if (rtol_k <= qp_rtol) { result.status = FixedPointStatus::Converged; return result; }
+      continue;  // same φ again, exact QP (x unchanged; the next rtol_k is qp_rtol since err is small)
+    }
     if (step.err < best_err) { best_err = step.err; best_k = k; }
     else if (k - best_k >= settings.stagnation_window) { result.status = FixedPointStatus::Stagnation; return result; }
     if (settings.anderson) {

@@ -21,7 +21,10 @@ struct FixedPointSettings {
   int max_iterations = 50;
   bool anderson = false;
   int anderson_depth = 5;
-  int stagnation_window = 8;  // stop when err has not reached a new minimum for this many steps
+  int stagnation_window = 8;
+  // Inexact early steps: QP tolerance max(qp_rtol, min(1e-3, 1e-2·err(k−1))); a step that meets
+  // `tol` with a looser QP tolerance is repeated exactly before declaring convergence.
+  bool inexact = false;  // stop when err has not reached a new minimum for this many steps
 };
 
 // One evaluation of G: what the Tresca solve reports back.
@@ -50,7 +53,7 @@ struct FixedPointResult {
 using SlipMap = std::function<SlipEvaluation(const Eigen::VectorXd& phi, double suggested_qp_rtol)>;
 using StepObserver = std::function<void(const FixedPointStep&)>;
 
-// `qp_rtol` is passed on to G unchanged (exact steps, as in the paper).
+// `qp_rtol` is passed on to G unchanged (exact steps, as in the paper) unless settings.inexact.
 FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPointSettings& settings, double qp_rtol,
                                    const StepObserver& observe = {});
 

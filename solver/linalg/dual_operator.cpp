@@ -1,6 +1,14 @@
 #include "linalg/dual_operator.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+
+extern "C" {
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
+            const double* alpha, const double* a, const int* lda, double* b, const int* ldb);
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
+            const int* lda, const double* beta, double* c, const int* ldc);
+}
 
 namespace contact3d {
 
@@ -21,6 +29,48 @@ DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatr
     op.solves += cols;
   }
   op.Q = 0.5 * (op.Q + op.Q.transpose()).eval();
+  return op;
+}
+
+std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B) {
+  std::vector<char> used(B.cols(), 0);
+  for (int k = 0; k < B.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(B, k); it; ++it)
+      if (it.value() != 0) used[it.col()] = 1;
+  std::vector<int> dofs;
+  for (int j = 0; j < B.cols(); ++j)
+    if (used[j]) dofs.push_back(j);
+  return dofs;
+}
+
+DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                      const Eigen::VectorXd& f) {
+  DualOperator op;
+  const int m = static_cast<int>(B.rows());
+  op.u_free = K.solve(f);
+  op.h = B * op.u_free;
+  op.solves = 1;
+  std::vector<int> order;
+  const Eigen::MatrixXd Ltt = K.trailing_factor(order);
+  const int nt = static_cast<int>(order.size());
+  // X = 𝔹_tᵀ in the factor's order; every nonzero of 𝔹 must sit in a trailing column.
+  std::vector<int> pos(B.cols(), -1);
+  for (int k = 0; k < nt; ++k) pos[order[k]] = k;
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(nt, m);
+  for (int k = 0; k < B.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(B, k); it; ++it) {
+      if (it.value() == 0) continue;
+      const int p = pos[it.col()];
+      if (p < 0) throw std::logic_error("make_dual_operator_schur: 𝔹 touches a dof outside the trailing block");
+      X(p, it.row()) = it.value();
+    }
+  op.Q.resize(m, m);
+  if (nt == 0 || m == 0) { op.Q.setZero(); return op; }
+  const double one = 1, zero = 0;
+  dtrsm_("L", "L", "N", "N", &nt, &m, &one, Ltt.data(), &nt, X.data(), &nt);
+  dsyrk_("U", "T", &m, &nt, &one, X.data(), &nt, &zero, op.Q.data(), &m);
+  for (int j = 0; j < m; ++j)
+    for (int i = j + 1; i < m; ++i) op.Q(i, j) = op.Q(j, i);
   return op;
 }
 

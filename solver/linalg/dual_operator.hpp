@@ -4,6 +4,8 @@
 // contact size.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -21,6 +23,15 @@ struct DualOperator {
 // Solves K X = 𝔹ᵀ in blocks of `block_columns` right-hand sides (memory stays bounded).
 DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
                                 const Eigen::VectorXd& f, int block_columns = 256);
+
+// The same from a factor built with the dofs touched by 𝔹 ordered last (see
+// contact_dofs / SparseCholesky(K, trailing)): Q = (L_tt⁻¹𝔹_tᵀ)ᵀ(L_tt⁻¹𝔹_tᵀ) by one dense
+// triangular solve and one symmetric rank-k product (BLAS dtrsm + dsyrk); one solve for h.
+DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                      const Eigen::VectorXd& f);
+
+// The dofs (columns) on which 𝔹 has a nonzero, ascending.
+std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);
 
 // Largest eigenvalue of a symmetric positive semidefinite matrix by power iteration.
 double estimate_norm(const Eigen::MatrixXd& Q, int iterations = 50);

@@ -1,6 +1,8 @@
 #include "linalg/sparse_cholesky.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <utility>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,8 +14,6 @@ namespace contact3d {
 struct SparseCholesky::Impl {
   cholmod_common common;
   cholmod_factor* factor = nullptr;
-  std::vector<SuiteSparse_long> col_ptr, row_idx;
-  std::vector<double> values;
 };
 
 namespace {
@@ -22,57 +22,162 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+namespace {
+// Upper triangle of the symmetric matrix K restricted to `keep` (all rows/columns when empty),
+// in CSC with 64-bit indices (nnz(L) can pass 2^31 on big meshes).
+struct UpperCsc {
+  std::vector<SuiteSparse_long> col_ptr, row_idx;
+  std::vector<double> values;
+  cholmod_sparse view(SuiteSparse_long n) {
+    cholmod_sparse A{};
+    A.nrow = A.ncol = n;
+    A.nzmax = values.size();
+    A.p = col_ptr.data();
+    A.i = row_idx.data();
+    A.x = values.data();
+    A.stype = 1;
+    A.itype = CHOLMOD_LONG;
+    A.xtype = CHOLMOD_REAL;
+    A.dtype = CHOLMOD_DOUBLE;
+    A.sorted = 1;
+    A.packed = 1;
+    return A;
+  }
+};
+
+// new_index[j] = position of dof j in the submatrix, −1 if dropped.
+UpperCsc upper_csc(const Eigen::SparseMatrix<double>& K, const std::vector<int>* new_index, int n_sub) {
+  UpperCsc out;
+  out.col_ptr.assign(n_sub + 1, 0);
+  std::vector<int> old_of(n_sub);
+  for (int j = 0; j < K.cols(); ++j) {
+    const int jj = new_index ? (*new_index)[j] : j;
+    if (jj >= 0) old_of[jj] = j;
+  }
+  out.row_idx.reserve(K.nonZeros() / 2 + n_sub);
+  out.values.reserve(K.nonZeros() / 2 + n_sub);
+  std::vector<std::pair<SuiteSparse_long, double>> col;
+  for (int jj = 0; jj < n_sub; ++jj) {
+    col.clear();
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, old_of[jj]); it; ++it) {
+      const int ii = new_index ? (*new_index)[it.row()] : static_cast<int>(it.row());
+      if (ii >= 0 && ii <= jj) col.emplace_back(ii, it.value());
+    }
+    std::sort(col.begin(), col.end());
+    for (const auto& [i, v] : col) { out.row_idx.push_back(i); out.values.push_back(v); }
+    out.col_ptr[jj + 1] = static_cast<SuiteSparse_long>(out.row_idx.size());
+  }
+  return out;
+}
+}  // namespace
+
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K) : impl_(new Impl), n_(static_cast<int>(K.rows())) {
+  factor(K, nullptr);
+}
+
+SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing)
+    : impl_(new Impl), n_(static_cast<int>(K.rows())) {
+  factor(K, &trailing);
+}
+
+void SparseCholesky::factor(const Eigen::SparseMatrix<double>& K, const std::vector<int>* trailing) {
   cholmod_common* c = &impl_->common;
   cholmod_l_start(c);
   c->supernodal = CHOLMOD_SUPERNODAL;
   c->final_ll = 1;
   c->print = 0;
-  // Upper triangle of K in CSC with 64-bit indices (nnz(L) can pass 2^31 on big meshes).
   const int n = n_;
-  impl_->col_ptr.assign(n + 1, 0);
-  for (int j = 0; j < n; ++j) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it)
-      if (it.row() <= j) {
-        impl_->row_idx.push_back(it.row());
-        impl_->values.push_back(it.value());
-      }
-    impl_->col_ptr[j + 1] = static_cast<SuiteSparse_long>(impl_->row_idx.size());
-  }
-  cholmod_sparse A{};
-  A.nrow = A.ncol = n;
-  A.nzmax = impl_->values.size();
-  A.p = impl_->col_ptr.data();
-  A.i = impl_->row_idx.data();
-  A.x = impl_->values.data();
-  A.stype = 1;
-  A.itype = CHOLMOD_LONG;
-  A.xtype = CHOLMOD_REAL;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = 1;
-  A.packed = 1;
+  UpperCsc full = upper_csc(K, nullptr, n);
+  cholmod_sparse A = full.view(n);
+  auto fail = [&](const std::string& why) {
+    if (impl_->factor) cholmod_l_free_factor(&impl_->factor, c);
+    cholmod_l_finish(c);
+    delete impl_;
+    impl_ = nullptr;
+    throw std::runtime_error(why);
+  };
   auto t0 = std::chrono::steady_clock::now();
-  impl_->factor = cholmod_l_analyze(&A, c);
+  if (!trailing) {
+    impl_->factor = cholmod_l_analyze(&A, c);
+  } else {
+    // Ordering: METIS on the leading dofs, then `trailing` as given.
+    std::vector<int> is_trailing(n, -1);
+    for (std::size_t k = 0; k < trailing->size(); ++k) {
+      const int d = (*trailing)[k];
+      if (d < 0 || d >= n || is_trailing[d] >= 0) fail("trailing dof list is out of range or repeated");
+      is_trailing[d] = static_cast<int>(k);
+    }
+    n_trailing_ = static_cast<int>(trailing->size());
+    const int n_lead = n - n_trailing_;
+    std::vector<int> lead_index(n, -1), lead_dofs;
+    lead_dofs.reserve(n_lead);
+    for (int d = 0; d < n; ++d)
+      if (is_trailing[d] < 0) { lead_index[d] = static_cast<int>(lead_dofs.size()); lead_dofs.push_back(d); }
+    std::vector<SuiteSparse_long> perm(n);
+    if (n_lead > 0) {
+      UpperCsc lead = upper_csc(K, &lead_index, n_lead);
+      cholmod_sparse A_lead = lead.view(n_lead);
+      std::vector<SuiteSparse_long> lead_perm(n_lead);
+      if (!cholmod_l_metis(&A_lead, nullptr, 0, 1, lead_perm.data(), c)) {
+        // No METIS in this CHOLMOD: fall back to AMD on the leading block.
+        if (!cholmod_l_amd(&A_lead, nullptr, 0, lead_perm.data(), c)) fail("CHOLMOD could not order the stiffness matrix");
+      }
+      for (int k = 0; k < n_lead; ++k) perm[k] = lead_dofs[lead_perm[k]];
+    }
+    for (int k = 0; k < n_trailing_; ++k) perm[n_lead + k] = (*trailing)[k];
+    c->nmethods = 1;
+    c->method[0].ordering = CHOLMOD_GIVEN;
+    c->postorder = 0;  // keep the trailing block last
+    impl_->factor = cholmod_l_analyze_p(&A, perm.data(), nullptr, 0, c);
+    if (impl_->factor) {
+      const auto* P = static_cast<const SuiteSparse_long*>(impl_->factor->Perm);
+      for (int k = n_lead; k < n; ++k)
+        if (is_trailing[P[k]] < 0) fail("CHOLMOD did not keep the contact dofs last in its ordering");
+    }
+  }
   analyze_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   if (impl_->factor) cholmod_l_factorize(&A, impl_->factor, c);
   factorize_seconds = seconds_since(t0);
-  // The factor keeps no pointer to A; free the copy.
-  impl_->col_ptr = {}; impl_->row_idx = {}; impl_->values = {};
   if (!impl_->factor || c->status == CHOLMOD_NOT_POSDEF || c->status < 0) {
-    const std::string why = c->status == CHOLMOD_NOT_POSDEF
-                                ? "the stiffness matrix is not positive definite (column " +
-                                      std::to_string(impl_->factor ? impl_->factor->minor : -1) +
-                                      "): the clamped part Γu must prevent rigid motions"
-                                : "CHOLMOD failed (status " + std::to_string(c->status) + ", out of memory?)";
-    if (impl_->factor) cholmod_l_free_factor(&impl_->factor, c);
-    cholmod_l_finish(c);
-    delete impl_;
-    throw std::runtime_error(why);
+    fail(c->status == CHOLMOD_NOT_POSDEF
+             ? "the stiffness matrix is not positive definite (column " +
+                   std::to_string(impl_->factor ? impl_->factor->minor : -1) +
+                   "): the clamped part Γu must prevent rigid motions"
+             : "CHOLMOD failed (status " + std::to_string(c->status) + ", out of memory?)");
   }
 }
 
+Eigen::MatrixXd SparseCholesky::trailing_factor(std::vector<int>& order) const {
+  const cholmod_factor* L = impl_->factor;
+  const int nt = n_trailing_, first = n_ - nt;
+  if (nt == 0) { order.clear(); return {}; }
+  if (!L->is_super) throw std::logic_error("trailing_factor: factor is not supernodal");
+  const auto* P = static_cast<const SuiteSparse_long*>(L->Perm);
+  order.assign(P + first, P + n_);
+  Eigen::MatrixXd Ltt = Eigen::MatrixXd::Zero(nt, nt);
+  const auto* super = static_cast<const SuiteSparse_long*>(L->super);
+  const auto* pi = static_cast<const SuiteSparse_long*>(L->pi);
+  const auto* px = static_cast<const SuiteSparse_long*>(L->px);
+  const auto* rows = static_cast<const SuiteSparse_long*>(L->s);
+  const auto* x = static_cast<const double*>(L->x);
+  for (std::size_t s = 0; s < L->nsuper; ++s) {
+    const SuiteSparse_long k1 = super[s], k2 = super[s + 1];
+    if (k2 <= first) continue;
+    const SuiteSparse_long nrows = pi[s + 1] - pi[s];
+    for (SuiteSparse_long j = std::max<SuiteSparse_long>(k1, first); j < k2; ++j) {
+      const double* col = x + px[s] + (j - k1) * nrows;
+      for (SuiteSparse_long p = 0; p < nrows; ++p) {
+        const SuiteSparse_long i = rows[pi[s] + p];
+        if (i >= j) Ltt(i - first, j - first) = col[p];
+      }
+    }
+  }
+  return Ltt;
+}
+
 SparseCholesky::~SparseCholesky() {
+  if (!impl_) return;
   cholmod_l_free_factor(&impl_->factor, &impl_->common);
   cholmod_l_finish(&impl_->common);
   delete impl_;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
+#include <memory>
 
 #include <Eigen/Dense>
 
@@ -13,6 +14,7 @@
 #include "io/errors.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "qp/ssn.hpp"
 
 namespace contact3d {
 namespace {
@@ -57,6 +59,16 @@ double check_stability(const Eigen::MatrixXd& Q, const Partition& part, int r) {
                    "\nuse a larger contact.cell_size (H), e.g. twice the current one");
 }
 
+// "contactlast" keeps a dense nt x nt block (nt = contact dofs) and costs about nt³/3 extra
+// flops in the factorization; it beats one solve per row of 𝔹 on every brick measured
+// (pipeline/bench.py), so auto takes it unless the dense block would not fit comfortably.
+std::string choose_schur(SchurMethod m, int n_trailing, int n_dual) {
+  if (m == SchurMethod::BlockSolve || n_dual == 0) return "blocksolve";
+  if (m == SchurMethod::ContactLast) return "contactlast";
+  const double dense_bytes = 8.0 * n_trailing * (double(n_trailing) + n_dual);
+  return dense_bytes <= 6e9 ? "contactlast" : "blocksolve";
+}
+
 Eigen::VectorXd nodal_slip(const ContactFace& face, const Eigen::VectorXd& u) {
   Eigen::VectorXd phi(face.nodes.size());
   for (std::size_t k = 0; k < face.nodes.size(); ++k) phi[k] = std::hypot(u[3 * face.nodes[k]], u[3 * face.nodes[k] + 1]);
@@ -93,11 +105,10 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   const Eigen::VectorXd f = assemble_load(mesh, res.dofs, scene.tractions, scene.body_force);
   clock.lap("assembly");
 
-  const SparseCholesky factor(K);
-  res.factor_nonzeros = factor.factor_nonzeros();
-  clock.lap("factorization");
-
   if (scene.contact.empty()) {  // no contact: one linear solve
+    const SparseCholesky factor(K);
+    res.factor_nonzeros = factor.factor_nonzeros();
+    clock.lap("factorization");
     const Eigen::VectorXd w = factor.solve(f);
     res.u = expand_to_nodes(res.dofs, w);
     res.kkt.equilibrium = (K * w - f).norm() / std::max(f.norm(), 1e-300);
@@ -105,6 +116,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     res.converged = true;
     res.status = "converged";
     clock.lap("solve");
+    if (scene.solver.reference_factorization) { const SparseCholesky ref(K); clock.lap("reference_factorization"); }
     return res;
   }
 
@@ -117,7 +129,18 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   res.n_dual = op.rows();
   clock.lap("contact");
 
-  const DualOperator dual = make_dual_operator(factor, op.B, f);
+  // One factorization of K. With the contact dofs ordered last its trailing block gives Q by
+  // dense BLAS-3 (no solve per row of 𝔹); the same factor serves K⁻¹f and the final w.
+  const std::vector<int> trailing = contact_dofs(op.B);
+  res.schur_method = choose_schur(scene.solver.schur, static_cast<int>(trailing.size()), op.rows());
+  const bool contact_last = res.schur_method == "contactlast";
+  const std::unique_ptr<SparseCholesky> factor_ptr =
+      contact_last ? std::make_unique<SparseCholesky>(K, trailing) : std::make_unique<SparseCholesky>(K);
+  const SparseCholesky& factor = *factor_ptr;
+  res.factor_nonzeros = factor.factor_nonzeros();
+  clock.lap("factorization");
+
+  const DualOperator dual = contact_last ? make_dual_operator_schur(factor, op.B, f) : make_dual_operator(factor, op.B, f);
   clock.lap("dual");
   res.stability_condition = check_stability(dual.Q, res.partition, op.r);
   clock.lap("stability");
@@ -132,6 +155,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   MpgpSettings mpgp;
   mpgp.max_iterations = scene.solver.qp_max_iterations;
   mpgp.expansion = scene.solver.qp == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
+  res.qp_method = scene.solver.qp == QpVariant::Ssn ? "ssn" : scene.solver.qp == QpVariant::MpgpProjectedCG ? "mpgp_projcg" : "mpgp";
 
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(op.rows());
   Eigen::VectorXd w = dual.u_free;
@@ -144,8 +168,15 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
       for (std::size_t k = 0; k < res.face.nodes.size(); ++k) phi_nodes[res.face.nodes[k]] = phi_contact[k];
       qp.radius = disc_radii(res.face, res.partition, scene.law, scene.slip_bound, phi_nodes);
     }
-    mpgp.rtol = rtol;
-    res.last_qp = solve_mpgp(qp, lambda, mpgp);
+    if (scene.solver.qp == QpVariant::Ssn) {
+      SsnSettings ssn;
+      ssn.rtol = rtol;
+      ssn.max_iterations = scene.solver.qp_max_iterations;
+      res.last_qp = solve_ssn(qp, lambda, ssn);
+    } else {
+      mpgp.rtol = rtol;
+      res.last_qp = solve_mpgp(qp, lambda, mpgp);
+    }
     w = dual.u_free - factor.solve(Eigen::VectorXd(op.B.transpose() * lambda));
     eval.ok = res.last_qp.status == QpStatus::Converged && w.allFinite();
     eval.qp_iterations = res.last_qp.iterations;
@@ -165,6 +196,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     fp.max_iterations = scene.solver.fixed_point_max_iter;
     fp.anderson = scene.solver.fixed_point == FixedPointVariant::Anderson;
     fp.anderson_depth = scene.solver.anderson_depth;
+    fp.inexact = scene.solver.inexact_fixed_point;
     res.fixed_point = solve_fixed_point(tresca, static_cast<int>(phi0.size()), fp, scene.solver.qp_rtol, progress);
     res.status = to_string(res.fixed_point.status);
     res.converged = res.fixed_point.status == FixedPointStatus::Converged;
@@ -174,7 +206,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     res.status = eval.ok ? "converged" : "qp_" + to_string(res.last_qp.status);
     if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, 0.0});
   }
-  res.n_mult = products + dual.solves - static_cast<int>(op.rows());  // h costs one; Q's columns are not multiplications in the paper's sense
+  res.n_mult = products + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   clock.lap("dual_solve");
 
   res.lambda = lambda;
@@ -185,6 +217,10 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   if (!res.u.allFinite() || !res.lambda.allFinite())
     throw std::runtime_error("the solution is not finite (numerical breakdown); residuals could not be computed");
   clock.lap("postprocess");
+  if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
+    const SparseCholesky ref(K);
+    clock.lap("reference_factorization");
+  }
   return res;
 }
 

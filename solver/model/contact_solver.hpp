@@ -51,6 +51,8 @@ struct SolveResult {
   double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   double factor_nonzeros = 0;
+  std::string schur_method;          // how Q was formed: "blocksolve" or "contactlast"
+  std::string qp_method;             // "mpgp", "mpgp_projcg" or "ssn"
 };
 
 using ProgressCallback = std::function<void(const FixedPointStep&)>;

@@ -24,7 +24,10 @@ struct MeshSource {
   int n = 4;                                  // generator resolution
 };
 
-enum class QpVariant { Mpgp, MpgpProjectedCG };
+enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
+// How Q = 𝔹K⁻¹𝔹ᵀ is formed: one K⁻¹ solve per row of 𝔹 (reference), or from one factorization
+// with the contact dofs ordered last (trailing factor block + dense trsm/syrk); auto picks.
+enum class SchurMethod { Auto, BlockSolve, ContactLast };
 enum class FixedPointVariant { Plain, Anderson };
 
 struct SolverSettings {
@@ -35,6 +38,9 @@ struct SolverSettings {
   QpVariant qp = QpVariant::Mpgp;
   FixedPointVariant fixed_point = FixedPointVariant::Plain;
   int anderson_depth = 5;
+  SchurMethod schur = SchurMethod::Auto;
+  bool inexact_fixed_point = false;    // QP tolerance tied to err(k) in early fixed-point steps
+  bool reference_factorization = false; // also time one plain factorization of K (time_s.reference_factorization)
 };
 
 struct Scene {

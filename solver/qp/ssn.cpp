@@ -1,0 +1,121 @@
+#include "qp/ssn.hpp"
+
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace contact3d {
+namespace {
+
+// ‖gᴾ(λ)‖ for feasible λ, the MPGP stopping measure.
+double projected_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g) {
+  const GradientSplit split = split_gradient(qp, lambda, g);
+  return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm());
+}
+
+}  // namespace
+
+QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings) {
+  QpResult result;
+  const int m = qp.size(), r = qp.r;
+  if (lambda.size() != m) lambda = Eigen::VectorXd::Zero(m);
+  project(qp, lambda);
+  const double h_norm = qp.h.norm();
+  if (h_norm == 0) {
+    lambda.setZero();
+    result.status = QpStatus::Converged;
+    return result;
+  }
+  const Eigen::MatrixXd& Q = *qp.Q;
+  const double tol = settings.rtol * h_norm;
+  // ρ scales the gradient to the size of λ: 1 / (mean diagonal of Q).
+  const double rho = m / std::max(Q.diagonal().sum(), 1e-300);
+
+  Eigen::VectorXd g = Q * lambda - qp.h;
+  ++result.hessian_products;
+  auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z, Eigen::VectorXd& pz) {
+    z = lam - rho * grad;
+    pz = z;
+    project(qp, pz);
+    return (lam - pz).norm();
+  };
+  Eigen::VectorXd z, pz;
+  double F_norm = residual(lambda, g, z, pz);
+  Eigen::MatrixXd J(m, m);
+  for (int it = 0; it < settings.max_newton; ++it) {
+    // Stopping test at the feasible point P(λ) (λ itself may sit slightly off a circle).
+    Eigen::VectorXd lam_f = lambda;
+    project(qp, lam_f);
+    const Eigen::VectorXd g_f = (lam_f - lambda).isZero(0) ? g : Eigen::VectorXd(Q * lam_f - qp.h);
+    const double pg = projected_gradient_norm(qp, lam_f, g_f);
+    result.projected_gradient = pg / h_norm;
+    if (!std::isfinite(pg)) { result.status = QpStatus::Breakdown; return result; }
+    if (pg <= tol) {
+      lambda = lam_f;
+      result.status = QpStatus::Converged;
+      return result;
+    }
+    // Generalized Jacobian of F: J = I − D + ρ D Q, D block-diagonal ∂P(z).
+    // Rows with D = 0 (inactive normal, point disc) read δ = −F; D = I rows read ρ(Qδ) = −F.
+    J.setZero();
+    auto set_row = [&](int row, double d_scale) {  // row of D·(ρQ) with D = d_scale·e_row
+      J.row(row) = (d_scale * rho) * Q.row(row);
+    };
+    for (int i = 0; i < r; ++i) {
+      if (z[i] > 0) set_row(i, 1.0);
+      else J(i, i) = 1.0;
+    }
+    if (qp.with_friction) {
+      for (int i = 0; i < r; ++i) {
+        const int a = r + i, b = 2 * r + i;
+        const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
+        if (zn <= c) {  // inside the disc: D = I
+          set_row(a, 1.0);
+          set_row(b, 1.0);
+        } else {        // sliding: D = (c/‖z‖)(I − ννᵀ)
+          const double s = c / zn, na = z[a] / zn, nb = z[b] / zn;
+          const double D00 = s * (1 - na * na), D01 = -s * na * nb, D11 = s * (1 - nb * nb);
+          J.row(a) = rho * (D00 * Q.row(a) + D01 * Q.row(b));
+          J.row(b) = rho * (D01 * Q.row(a) + D11 * Q.row(b));
+          J(a, a) += 1 - D00; J(a, b) += -D01;
+          J(b, a) += -D01;    J(b, b) += 1 - D11;
+        }
+      }
+    }
+    const Eigen::VectorXd delta = J.partialPivLu().solve(-(lambda - pz));
+    ++result.iterations;
+    if (!delta.allFinite()) break;
+    // Backtracking on ‖F‖ (full steps near the solution: local superlinear convergence).
+    double t = 1;
+    bool accepted = false;
+    const Eigen::VectorXd Qd = Q * delta;
+    ++result.hessian_products;
+    Eigen::VectorXd z_try, pz_try;
+    for (int ls = 0; ls < 12; ++ls, t *= 0.5) {
+      const Eigen::VectorXd lam_try = lambda + t * delta;
+      const Eigen::VectorXd g_try = g + t * Qd;
+      const double F_try = residual(lam_try, g_try, z_try, pz_try);
+      if (F_try <= (1 - 1e-4 * t) * F_norm) {
+        lambda = lam_try;
+        g = g_try;
+        z = z_try;
+        pz = pz_try;
+        F_norm = F_try;
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) break;
+  }
+  // Newton did not finish: MPGP from the current point (same criterion, same answer).
+  MpgpSettings fallback;
+  fallback.rtol = settings.rtol;
+  fallback.max_iterations = settings.max_iterations;
+  const int newton = result.iterations, products = result.hessian_products;
+  result = solve_mpgp(qp, lambda, fallback);
+  result.iterations += newton;
+  result.hessian_products += products;
+  return result;
+}
+
+}  // namespace contact3d

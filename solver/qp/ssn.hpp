@@ -1,0 +1,28 @@
+// Semismooth Newton for the dual QP (5.5) with the dense Q (Hüeber, Stadler & Wohlmuth,
+// SIAM J. Sci. Comput. 30, 2008, in its projection form): solve
+//   F(λ) = λ − P(λ − ρ (Qλ − h)) = 0,
+// P the projection onto {λ_n >= 0, ‖λ_t,i‖ <= c_i}, by Newton steps with a generalized
+// Jacobian J = I − D (I − ρQ), D ∈ ∂P (0 / identity / sliding tangent on each block): the
+// active sets are updated every step, typically a handful of dense m x m solves. Damped by a
+// backtracking search on ‖F‖; if Newton stalls it hands the iterate to MPGP (the reference),
+// so the stopping test and the answer are those of MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "qp/box_disc_qp.hpp"
+#include "qp/mpgp.hpp"
+
+namespace contact3d {
+
+struct SsnSettings {
+  double rtol = 1e-6;          // same criterion as MpgpSettings::rtol
+  int max_newton = 40;         // Newton steps before falling back to MPGP
+  int max_iterations = 100000; // for the MPGP fallback
+};
+
+// Warm start from `lambda`; on return it holds the (feasible) solution. iterations counts
+// Newton steps (+ MPGP iterations of a fallback); hessian_products counts products Q·v.
+QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings);
+
+}  // namespace contact3d

@@ -1,0 +1,230 @@
+// Fast paths against the reference paths on small problems:
+// - Q from the contact-last factorization (trailing factor block + trsm/syrk) against one
+//   K⁻¹ solve per row of 𝔹, on the paper brick (n = 4, 6), to 1e-10 relative;
+// - the semismooth Newton QP against MPGP on small random QPs and on the brick;
+// - whole solves: contactlast/ssn/inexact fixed point against blocksolve/mpgp/exact.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "contact/contact_face.hpp"
+#include "contact/contact_operator.hpp"
+#include "contact/partition.hpp"
+#include "fem/assembly.hpp"
+#include "fem/dof_map.hpp"
+#include "linalg/dual_operator.hpp"
+#include "linalg/sparse_cholesky.hpp"
+#include "mesh/brick_generator.hpp"
+#include "model/contact_solver.hpp"
+#include "model/scene.hpp"
+#include "qp/box_disc_qp.hpp"
+#include "qp/mpgp.hpp"
+#include "qp/ssn.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+const char* kBrick = R"(
+[mesh]
+generator = "paper_brick"
+n = 4
+[material]
+young = 21.19e10
+poisson = 0.277
+[boundary]
+clamped = ["clamped"]
+contact = ["contact"]
+[[boundary.traction]]
+group = "load_end"
+value = [1e7, 0, 2e7]
+[[boundary.traction]]
+group = "load_top"
+value = [0, 0, -3e7]
+[friction]
+slip_bound = 2e7
+law = "ramp"
+param = 6e4
+)";
+
+struct BrickData {
+  Eigen::SparseMatrix<double> K, B;
+  Eigen::VectorXd f;
+  int r = 0;
+};
+
+BrickData brick_data(int n, bool friction) {
+  const Scene scene = parse_scene_text(kBrick, ".", {});
+  const Mesh mesh = make_paper_brick({n});
+  BrickData d;
+  const DofMap dofs = make_dof_map(mesh, scene.clamped);
+  d.K = assemble_stiffness(mesh, dofs, scene.material);
+  d.f = assemble_load(mesh, dofs, scene.tractions, scene.body_force);
+  const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
+  const Partition part = make_grid_partition(mesh, face, {2 * face.h});
+  const ContactOperator op = make_contact_operator(face, part, dofs, friction);
+  d.B = op.B;
+  d.r = op.r;
+  return d;
+}
+
+void expect_same_dual(int n, bool friction) {
+  const BrickData d = brick_data(n, friction);
+  const SparseCholesky plain(d.K);
+  const DualOperator ref = make_dual_operator(plain, d.B, d.f);
+  const SparseCholesky last(d.K, contact_dofs(d.B));
+  EXPECT_EQ(last.trailing_size(), static_cast<int>(contact_dofs(d.B).size()));
+  const DualOperator fast = make_dual_operator_schur(last, d.B, d.f);
+  ASSERT_EQ(fast.Q.rows(), ref.Q.rows());
+  EXPECT_LT((fast.Q - ref.Q).norm() / ref.Q.norm(), 1e-10) << "n = " << n;
+  EXPECT_LT((fast.h - ref.h).norm() / ref.h.norm(), 1e-10);
+  EXPECT_LT((fast.u_free - ref.u_free).norm() / ref.u_free.norm(), 1e-10);
+  EXPECT_EQ(fast.solves, 1);
+  // The contact-last factor is a factorization of K: residual of a solve.
+  const Eigen::VectorXd w = last.solve(d.f);
+  EXPECT_LT((d.K * w - d.f).norm() / d.f.norm(), 1e-10);
+}
+
+struct RandomQp {
+  Eigen::MatrixXd Q;
+  BoxDiscQP qp;
+};
+
+RandomQp random_qp(int r, bool friction, unsigned seed) {
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const int m = friction ? 3 * r : r;
+  Eigen::MatrixXd A(m + 4, m);
+  for (int i = 0; i < A.rows(); ++i)
+    for (int j = 0; j < A.cols(); ++j) A(i, j) = normal(gen);
+  RandomQp out;
+  out.Q = A.transpose() * A + 0.1 * Eigen::MatrixXd::Identity(m, m);
+  out.qp.r = r;
+  out.qp.with_friction = friction;
+  out.qp.h.resize(m);
+  for (int i = 0; i < m; ++i) out.qp.h[i] = 3 * normal(gen);
+  out.qp.radius.resize(r);
+  for (int i = 0; i < r; ++i) out.qp.radius[i] = i % 5 == 4 ? 0.0 : 2 * uniform(gen);
+  return out;
+}
+
+}  // namespace
+
+TEST(FastPaths, ContactLastSchurMatchesBlockSolves) {
+  expect_same_dual(4, true);
+  expect_same_dual(4, false);
+  expect_same_dual(6, true);
+}
+
+TEST(FastPaths, TrailingFactorIsTheSchurComplementFactor) {
+  const BrickData d = brick_data(2, true);
+  const std::vector<int> t = contact_dofs(d.B);
+  const SparseCholesky last(d.K, t);
+  std::vector<int> order;
+  const Eigen::MatrixXd L = last.trailing_factor(order);
+  ASSERT_EQ(order.size(), t.size());
+  // S = K_tt − K_tl K_ll⁻¹ K_lt, formed densely.
+  const Eigen::MatrixXd Kd(d.K);
+  std::vector<char> is_t(Kd.rows(), 0);
+  for (int k : order) is_t[k] = 1;
+  std::vector<int> lead;
+  for (int k = 0; k < Kd.rows(); ++k)
+    if (!is_t[k]) lead.push_back(k);
+  const int nt = static_cast<int>(order.size()), nl = static_cast<int>(lead.size());
+  Eigen::MatrixXd Ktt(nt, nt), Ktl(nt, nl), Kll(nl, nl);
+  for (int i = 0; i < nt; ++i) {
+    for (int j = 0; j < nt; ++j) Ktt(i, j) = Kd(order[i], order[j]);
+    for (int j = 0; j < nl; ++j) Ktl(i, j) = Kd(order[i], lead[j]);
+  }
+  for (int i = 0; i < nl; ++i)
+    for (int j = 0; j < nl; ++j) Kll(i, j) = Kd(lead[i], lead[j]);
+  const Eigen::MatrixXd S = Ktt - Ktl * Kll.llt().solve(Ktl.transpose());
+  EXPECT_LT((L * L.transpose() - S).norm() / S.norm(), 1e-12);
+  EXPECT_TRUE(L.isLowerTriangular());
+}
+
+TEST(FastPaths, SsnMatchesMpgpOnRandomQps) {
+  int newton_only = 0;
+  for (unsigned seed = 1; seed <= 30; ++seed) {
+    for (bool friction : {true, false}) {
+      RandomQp a = random_qp(4 + seed % 9, friction, seed);
+      a.qp.Q = &a.Q;
+      a.qp.q_norm = 1.05 * estimate_norm(a.Q);
+      Eigen::VectorXd l_mpgp, l_ssn;
+      MpgpSettings ms;
+      ms.rtol = 1e-10;
+      const QpResult rm = solve_mpgp(a.qp, l_mpgp, ms);
+      SsnSettings ss;
+      ss.rtol = 1e-10;
+      const QpResult rs = solve_ssn(a.qp, l_ssn, ss);
+      ASSERT_EQ(rm.status, QpStatus::Converged);
+      ASSERT_EQ(rs.status, QpStatus::Converged) << "seed " << seed;
+      EXPECT_TRUE(is_feasible(a.qp, l_ssn));
+      EXPECT_LT((l_ssn - l_mpgp).norm(), 1e-7 * (1 + l_mpgp.norm())) << "seed " << seed;
+      if (rs.cg_steps + rs.expansion_steps + rs.proportioning_steps == 0) ++newton_only;
+    }
+  }
+  EXPECT_GE(newton_only, 50);  // of 60: Newton itself converges, the MPGP fallback is rare
+}
+
+TEST(FastPaths, SsnMatchesMpgpOnTheBrick) {
+  const BrickData d = brick_data(4, true);
+  const SparseCholesky K(d.K);
+  const DualOperator dual = make_dual_operator(K, d.B, d.f);
+  BoxDiscQP qp;
+  qp.Q = &dual.Q;
+  qp.h = dual.h;
+  qp.r = d.r;
+  qp.radius.resize(d.r);  // radii c = F g with a mix of the two friction levels
+  for (int i = 0; i < d.r; ++i) qp.radius[i] = (i % 3 == 0 ? 0.3 : 0.2) * 2e7;
+  qp.q_norm = 1.05 * estimate_norm(dual.Q);
+  Eigen::VectorXd l_mpgp, l_ssn;
+  MpgpSettings ms;
+  ms.rtol = 1e-9;
+  ASSERT_EQ(solve_mpgp(qp, l_mpgp, ms).status, QpStatus::Converged);
+  SsnSettings ss;
+  ss.rtol = 1e-9;
+  const QpResult rs = solve_ssn(qp, l_ssn, ss);
+  ASSERT_EQ(rs.status, QpStatus::Converged);
+  EXPECT_EQ(rs.cg_steps + rs.expansion_steps + rs.proportioning_steps, 0);  // no MPGP fallback
+  EXPECT_LE(rs.iterations, 20);
+  EXPECT_LT((l_ssn - l_mpgp).norm() / l_mpgp.norm(), 1e-6);
+}
+
+TEST(FastPaths, WholeSolvesAgreeAcrossVariants) {
+  const Scene ref_scene = parse_scene_text(kBrick, ".", {"solver.schur=\"blocksolve\"", "solver.qp=\"mpgp\""});
+  const Mesh mesh = make_paper_brick({4});
+  const SolveResult ref = solve_scene(ref_scene, mesh);
+  ASSERT_TRUE(ref.converged);
+  EXPECT_EQ(ref.schur_method, "blocksolve");
+  const std::vector<std::vector<std::string>> variants = {
+      {"solver.schur=\"contactlast\""},
+      {"solver.schur=\"contactlast\"", "solver.qp=\"ssn\""},
+      {"solver.qp=\"ssn\"", "solver.inexact_fixed_point=true"},
+      {"solver.fixed_point=\"anderson\""},
+  };
+  for (const auto& v : variants) {
+    const Scene scene = parse_scene_text(kBrick, ".", v);
+    const SolveResult res = solve_scene(scene, mesh);
+    ASSERT_TRUE(res.converged) << v.back();
+    // Fixed-point tolerance 1e-4 bounds how far two converged runs can sit apart.
+    EXPECT_LT((res.u - ref.u).norm() / ref.u.norm(), 1e-4) << v.back();
+    EXPECT_LT((res.lambda - ref.lambda).norm() / ref.lambda.norm(), 1e-3) << v.back();
+  }
+  // Same fixed point and same QP: the fast dual changes nothing but rounding.
+  const SolveResult cl = solve_scene(parse_scene_text(kBrick, ".", {"solver.schur=\"contactlast\""}), mesh);
+  EXPECT_EQ(cl.schur_method, "contactlast");
+  EXPECT_EQ(cl.fixed_point.iterations(), ref.fixed_point.iterations());
+  EXPECT_LT((cl.u - ref.u).norm() / ref.u.norm(), 1e-8);
+}
+
+TEST(FastPaths, FrictionlessIsOneQpWithoutFixedPoint) {
+  const Scene scene = parse_scene_text(kBrick, ".", {"friction.slip_bound=0.0", "solver.qp=\"ssn\""});
+  const SolveResult res = solve_scene(scene, make_paper_brick({4}));
+  ASSERT_TRUE(res.converged);
+  EXPECT_EQ(res.fixed_point.iterations(), 0);
+  EXPECT_EQ(res.n_dual, res.n_cells);
+}
