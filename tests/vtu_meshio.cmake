@@ -4,3 +4,9 @@ add_test(NAME vtu_meshio_brick
   COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_vtu.py --bin $<TARGET_FILE:contact3d>
           --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --n 4)
 set_tests_properties(vtu_meshio_brick PROPERTIES TIMEOUT 120)
+
+# run_scene.py end to end with figures (brick, n = 4): every figure, report.md with its tables.
+add_test(NAME run_scene_figures_brick
+  COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_figures.py --bin $<TARGET_FILE:contact3d>
+          --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml)
+set_tests_properties(run_scene_figures_brick PROPERTIES TIMEOUT 120)

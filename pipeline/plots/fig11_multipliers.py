@@ -1,0 +1,46 @@
+#!/usr/bin/python3
+"""Fig. 11 of the paper: per cell R of T_H, a circle of radius c_R = ∫_R F(‖w_ht‖) g dS / meas(R)
+centred at the cell's centre and the segment λ_tH(R) from that centre, both drawn with one
+length scale (Pa → m), so a segment reaching its circle is a slipping cell (‖λ_t‖ = c).
+usage: fig11_multipliers.py RUN_DIR [--out DIR]"""
+import argparse
+
+import numpy as np
+from matplotlib import colors
+from matplotlib.collections import PatchCollection
+from matplotlib.patches import Circle, Rectangle
+
+from common import Run, face_axes, plt, save
+
+
+def plot(run, out_dir):
+    c = run.cells()
+    cx, cy = 0.5 * (c["xmin"] + c["xmax"]), 0.5 * (c["ymin"] + c["ymax"])
+    size = np.minimum(c["xmax"] - c["xmin"], c["ymax"] - c["ymin"])
+    rmax = max(c["radius"].max(), np.hypot(c["lambda_t1"], c["lambda_t2"]).max(), 1e-300)
+    scale = 0.48 * np.median(size) / rmax  # m per Pa
+    lt = np.hypot(c["lambda_t1"], c["lambda_t2"])
+    ratio = np.where(c["radius"] > 0, lt / np.maximum(c["radius"], 1e-300), 0.0)
+    fig, ax = plt.subplots(figsize=(10, 4.2))
+    ax.add_collection(PatchCollection(
+        [Rectangle((x0, y0), x1 - x0, y1 - y0) for x0, x1, y0, y1 in zip(c["xmin"], c["xmax"], c["ymin"], c["ymax"])],
+        facecolor="none", edgecolor="0.8", linewidth=0.5))
+    ax.add_collection(PatchCollection([Circle((x, y), scale * r) for x, y, r in zip(cx, cy, c["radius"])],
+                                      facecolor="none", edgecolor="tab:blue", linewidth=0.7))
+    norm = colors.Normalize(0, 1)
+    q = ax.quiver(cx, cy, scale * c["lambda_t1"], scale * c["lambda_t2"], ratio, cmap="plasma", norm=norm,
+                  angles="xy", scale_units="xy", scale=1, width=0.0025, headwidth=3, headlength=3, headaxislength=2.7)
+    fig.colorbar(q, ax=ax, label="‖λ_tH‖ / c_R [–]  (1 = slip)", shrink=0.85)
+    ax.set_xlim(c["xmin"].min() - 0.02, c["xmax"].max() + 0.02)
+    ax.set_ylim(c["ymin"].min() - 0.02, c["ymax"].max() + 0.02)
+    face_axes(ax)
+    ax.set_title(f"Fig. 11 — λ_tH per cell and disc radii c_R (1 m on the plot = {1 / scale / 1e6:.3g} MPa)")
+    return [save(fig, out_dir, "fig11_tangential_multiplier.png")]
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("run")
+    ap.add_argument("--out", default=None)
+    a = ap.parse_args()
+    print("\n".join(plot(Run(a.run), a.out or a.run + "/figures")))

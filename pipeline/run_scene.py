@@ -1,0 +1,119 @@
+#!/usr/bin/python3
+"""One scene end to end: solve it, then make its figures and a report.
+
+usage: run_scene.py --bin BIN --scene S.toml --out DIR [--args "--set k=v ..."] [--figures | --no-figures]
+                    [--compare RUN_DIR ...]
+
+Runs `BIN solve S.toml --out DIR <args>` with its output streamed, then (unless --no-figures)
+writes the paper-style figures into DIR/figures/ (pipeline/plots/make_figures.py) and DIR/report.md:
+scene, mesh statistics, timings per stage, the fixed-point convergence table (history.csv),
+the KKT residuals (summary.json) and the figures inline. Exit code: the solver's (figures that
+fail are reported in report.md and on stderr, and do not change it); 2 if the solver wrote no
+summary.json.
+"""
+import argparse
+import csv
+import json
+import os
+import shlex
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def read_history(out):
+    p = os.path.join(out, "history.csv")
+    if not os.path.isfile(p):
+        return []
+    with open(p) as f:
+        return list(csv.DictReader(f))
+
+
+def report(scene_path, out, cmd, rc, figures, notes):
+    s = json.load(open(os.path.join(out, "summary.json")))
+    hist = read_history(out)
+    L = [f"# Run report: {os.path.basename(scene_path)}", "",
+         f"- scene: `{scene_path}`", f"- command: `{' '.join(shlex.quote(c) for c in cmd)}`",
+         f"- solver exit code: {rc}; status: **{s.get('status')}** (converged: {s.get('converged')})", "",
+         "## Mesh and discretisation", "",
+         "| quantity | value |", "|---|---|",
+         f"| mesh | {s.get('mesh')} |",
+         f"| nodes / tetrahedra | {s.get('n_nodes')} / {s.get('n_tets')} |",
+         f"| primal unknowns n_p | {s.get('n_primal')} |",
+         f"| dual unknowns n_d | {s.get('n_dual')} |",
+         f"| contact nodes / cells of T_H | {s.get('n_contact_nodes')} / {s.get('n_cells')} |",
+         f"| contact h / cell size H [m] | {s.get('contact_h', 0):.4g} / {s.get('cell_size', 0):.4g} |",
+         f"| fixed-point iterations it | {s.get('fixed_point_iterations')} |",
+         f"| n_mult (K⁻¹ products) | {s.get('n_mult')} |",
+         f"| ‖w_hn⁺‖₀ / ‖w_hn⁺‖∞ [m] | {s.get('wn_plus_L2', 0):.2e} / {s.get('wn_plus_inf', 0):.2e} |",
+         f"| stability cond(Q) estimate | {s.get('stability_condition_estimate', 0):.3g} |"]
+    cf = s.get("contact_force", {})
+    if cf:
+        L.append(f"| contact force (normal, t1, t2) [N] | {cf.get('normal', 0):.4g}, {cf.get('t1', 0):.4g}, "
+                 f"{cf.get('t2', 0):.4g} |")
+    L += ["", "## Timings per stage", "", "| stage | seconds |", "|---|---|"]
+    L += [f"| {k} | {v:.3f} |" for k, v in s.get("time_s", {}).items()]
+    L += ["", "## Convergence of the fixed point (history.csv)", ""]
+    if hist:
+        L += ["| k | err(k) | QP iterations | n_mult (cumulative) | seconds |", "|---|---|---|---|---|"]
+        L += [f"| {r['k']} | {float(r['err']):.3e} | {r['qp_iterations']} | {r['n_mult']} | {float(r['seconds']):.3f} |"
+              for r in hist]
+    else:
+        L.append("No fixed point in this run (frictionless, constant coefficient or no contact): one solve.")
+    L += ["", "## KKT residuals of the final solution (summary.json)", "", "| residual | value |", "|---|---|"]
+    L += [f"| {k} | {v:.3e} |" for k, v in s.get("kkt", {}).items()]
+    L += ["", "## Figures", ""]
+    if figures:
+        for p in figures:
+            rel = os.path.relpath(p, out)
+            L += [f"![{os.path.basename(p)}]({rel})", ""]
+    else:
+        L.append("Figures were not made (--no-figures).")
+    for n in notes:
+        L.append(f"- note: {n}")
+    L += ["", "## Scene as solved", "", "```toml", s.get("scene", "").rstrip(), "```", ""]
+    with open(os.path.join(out, "report.md"), "w") as f:
+        f.write("\n".join(L))
+    return os.path.join(out, "report.md")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--bin", required=True)
+    ap.add_argument("--scene", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--args", default="", help="extra solver arguments, one string")
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--figures", dest="figures", action="store_true", default=True, help="make figures (default)")
+    g.add_argument("--no-figures", dest="figures", action="store_false")
+    ap.add_argument("--compare", nargs="*", default=[], help="other run folders for a combined Fig. 6")
+    a = ap.parse_args()
+
+    cmd = [a.bin, "solve", a.scene, "--out", a.out] + shlex.split(a.args)
+    print("+", " ".join(shlex.quote(c) for c in cmd), flush=True)
+    try:
+        rc = subprocess.call(cmd)  # inherits stdout/stderr: the progress lines stream as they come
+    except OSError as e:
+        print(f"error: cannot run {a.bin}: {e}", file=sys.stderr)
+        return 2
+    if not os.path.isfile(os.path.join(a.out, "summary.json")):
+        print(f"run_scene: the solver wrote no summary.json (exit code {rc}); no report", file=sys.stderr)
+        return rc if rc != 0 else 2
+    figures, notes = [], []
+    if a.figures:
+        try:
+            sys.path.insert(0, os.path.join(HERE, "plots"))
+            from make_figures import make_all
+            figures, notes = make_all(a.out, os.path.join(a.out, "figures"), a.compare)
+        except Exception as e:  # matplotlib/meshio missing or broken: still write the report
+            notes.append(f"figures failed: {e}")
+        for n in notes:
+            print("run_scene: note:", n, file=sys.stderr)
+    path = report(a.scene, a.out, cmd, rc, figures, notes)
+    print(f"report: {path}" + (f" ({len(figures)} figures in {os.path.join(a.out, 'figures')})" if figures else ""))
+    return rc
+
+
+if __name__ == "__main__":
+    sys.exit(main())
