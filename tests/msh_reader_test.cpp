@@ -13,7 +13,6 @@
 #include <iterator>
 #include <limits>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>

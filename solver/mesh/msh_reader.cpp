@@ -968,8 +968,13 @@ Mesh read_msh(const std::string& path) {
       std::fclose(f);
       throw InputError("cannot read mesh file '" + path + "': it is a directory");
     }
-    if (S_ISREG(st.st_mode) && st.st_size > 0) data.reserve(static_cast<std::size_t>(st.st_size));
+    // Regular files: one read straight into a buffer of the file's size.
+    if (S_ISREG(st.st_mode) && st.st_size > 0) {
+      data.resize(static_cast<std::size_t>(st.st_size));
+      data.resize(std::fread(data.data(), 1, data.size(), f));
+    }
   }
+  // Anything else (pipes, a file that grew meanwhile): the rest in chunks.
   char chunk[1 << 16];
   std::size_t got;
   while ((got = std::fread(chunk, 1, sizeof chunk, f)) > 0) data.append(chunk, got);
