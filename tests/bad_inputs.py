@@ -1,0 +1,379 @@
+#!/usr/bin/env python3
+"""Bad-input tests for the contact3d CLI (issue #6), driven by tests/errors.cmake.
+
+    bad_inputs.py --bin build/contact3d --source . --case NAME   # one case (a ctest each)
+    bad_inputs.py --bin build/contact3d --source . --list        # case names
+    bad_inputs.py --bin build/contact3d --source . --all         # every case, a table of messages
+
+Each case builds a broken input in a scratch folder (from the committed fixtures in
+meshes/fixtures and the stress base scene), runs the CLI and requires: exit code 2, stderr
+starting with "error:", and every listed key fact (case-insensitive substrings) in the message.
+"""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SCENE = """[mesh]
+file = "{mesh}"
+[material]
+young = {young}
+poisson = {poisson}
+body_force = {body_force}
+[boundary]
+clamped = {clamped}
+contact = {contact}
+[[boundary.traction]]
+group = "load_end"
+value = {end}
+[[boundary.traction]]
+group = "load_top"
+value = [0.0, 0.0, -3e7]
+[friction]
+slip_bound = {g}
+law = "ramp"
+param = {param}
+[contact]
+cell_size = {cell}
+"""
+
+DEFAULTS = dict(young="21.19e10", poisson="0.277", body_force="[0.0, 0.0, 0.0]", clamped='["clamped"]',
+                contact='["contact"]', end="[1e7, 0.0, 2e7]", g="2e7", param="6e4", cell='"2h"')
+
+
+class Ctx:
+    def __init__(self, binary, source, work):
+        self.bin, self.src, self.work = binary, os.path.abspath(source), work
+        self.fix = os.path.join(self.src, "meshes", "fixtures")
+
+    def path(self, name):
+        return os.path.join(self.work, name)
+
+    def fixture(self, name):
+        with open(os.path.join(self.fix, name), "rb") as f:
+            return f.read()
+
+    def write(self, name, data):
+        p = self.path(name)
+        with open(p, "wb" if isinstance(data, bytes) else "w") as f:
+            f.write(data)
+        return p
+
+    def scene(self, mesh=None, **kw):
+        v = dict(DEFAULTS)
+        v.update(kw)
+        v["mesh"] = mesh or os.path.join(self.fix, "brick_n2_msh41.msh")
+        return self.write("scene.toml", SCENE.format(**v))
+
+    def msh22_lines(self):
+        return self.fixture("brick_n2_msh22.msh").decode().split("\n")
+
+
+def edit_first_tet(lines, fn):
+    """Applies fn(list of fields) to the first 4-node tetrahedron line of an MSH 2.2 file;
+    returns (lines, element id)."""
+    out, done, eid = [], False, None
+    for line in lines:
+        t = line.split()
+        if not done and len(t) >= 9 and t[1] == "4":
+            t = fn(t)
+            done, eid = True, t[0]
+            line = " ".join(t)
+        out.append(line)
+    return out, eid
+
+
+# ---------------------------------------------------------------- cases
+# Each returns (argv after the binary, [key facts]).
+def c_msh_truncated_ascii(c):
+    data = c.fixture("brick_n2_msh41.msh")
+    p = c.write("trunc.msh", data[: len(data) // 3])
+    return ["check", c.scene(p)], ["trunc.msh"]
+
+
+def c_msh_truncated_ascii_elements(c):
+    data = c.fixture("brick_n2_msh22.msh")
+    p = c.write("trunc22.msh", data[: int(len(data) * 0.8)])
+    return ["check", c.scene(p)], ["trunc22.msh"]
+
+
+def c_msh_truncated_binary(c):
+    data = c.fixture("brick_n2_msh41_bin.msh")
+    p = c.write("truncbin.msh", data[: len(data) // 2])
+    return ["check", c.scene(p)], ["truncbin.msh"]
+
+
+def c_msh_truncated_binary_header(c):
+    data = c.fixture("brick_n2_msh41_bin.msh")
+    i = data.index(b"$Nodes") + 10
+    p = c.write("truncbin2.msh", data[:i])
+    return ["check", c.scene(p)], ["truncbin2.msh"]
+
+
+def c_msh_empty(c):
+    p = c.write("empty.msh", b"")
+    return ["check", c.scene(p)], ["empty.msh"]
+
+
+def c_msh_not_a_mesh(c):
+    p = c.write("garbage.msh", "hello\nthis is not a mesh\n")
+    return ["check", c.scene(p)], ["garbage.msh", "$MeshFormat"]
+
+
+def c_msh_missing_file(c):
+    return ["check", c.scene(c.path("nope.msh"))], ["nope.msh"]
+
+
+def c_msh_version_3(c):
+    lines = c.msh22_lines()
+    lines[1] = "3.0 0 8"
+    p = c.write("v3.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["3.0", "v3.msh"]
+
+
+def c_msh_version_4_0(c):
+    lines = c.fixture("brick_n2_msh41.msh").decode().split("\n")
+    lines[1] = "4 0 8"
+    p = c.write("v40.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["4", "v40.msh"]
+
+
+def c_msh_bad_coordinate(c):
+    lines = c.msh22_lines()
+    i = lines.index("$Nodes") + 2
+    lines[i] = "1 0 zero 0"
+    p = c.write("badnum.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["badnum.msh", "line"]
+
+
+def c_msh_nan_coordinate(c):
+    lines = c.msh22_lines()
+    i = lines.index("$Nodes") + 2
+    lines[i] = "1 0 nan 0"
+    p = c.write("nan.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["nan.msh"]
+
+
+def c_msh_unknown_node(c):
+    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: t[:5] + ["9999"] + t[6:])
+    p = c.write("unknown_node.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["9999"]
+
+
+def c_msh_quadratic_tet(c):
+    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: [t[0], "11"] + t[2:] + ["1", "2", "3", "4", "5", "6"])
+    p = c.write("tet10.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["11"]
+
+
+def c_msh_hexahedron(c):
+    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: [t[0], "5"] + t[2:] + ["1", "2", "3", "4"])
+    p = c.write("hex.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["5"]
+
+
+def c_msh_inverted_tet(c):
+    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: t[:-4] + [t[-3], t[-4], t[-2], t[-1]])
+    p = c.write("inverted.msh", "\n".join(lines))
+    return ["check", c.scene(p)], [eid]
+
+
+def c_msh_zero_volume_tet(c):
+    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: t[:-1] + [t[-2]])
+    p = c.write("flat.msh", "\n".join(lines))
+    return ["check", c.scene(p)], [eid]
+
+
+def c_msh_inverted_tet_solve(c):
+    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: t[:-4] + [t[-3], t[-4], t[-2], t[-1]])
+    p = c.write("inverted.msh", "\n".join(lines))
+    return ["solve", c.scene(p), "--out", c.path("out"), "--quiet"], [eid]
+
+
+def c_group_misspelt(c):
+    return ["check", c.scene(clamped='["clampd"]')], ["clampd", "load_top", "contact"]
+
+
+def c_group_missing_traction(c):
+    text = open(c.scene()).read().replace('group = "load_end"', 'group = "loadend"')
+    return ["check", c.write("scene.toml", text)], ["loadend", "load_end"]
+
+
+def c_group_misspelt_solve(c):
+    return ["solve", c.scene(contact='["contacts"]'), "--out", c.path("out"), "--quiet"], ["contacts", "contact"]
+
+
+def c_contact_not_in_plane(c):
+    return ["check", c.scene(contact='["load_top"]')], ["load_top", "z = 0"]
+
+
+def c_gamma_u_empty(c):
+    return ["check", c.scene(clamped="[]")], ["clamped"]
+
+
+def c_gamma_u_group_empty(c):
+    # a named group without any triangle: an MSH 2.2 file with an extra unused physical name
+    lines = c.msh22_lines()
+    i = lines.index("$PhysicalNames")
+    lines[i + 1] = str(int(lines[i + 1]) + 1)
+    lines.insert(i + 2, '2 77 "nothing"')
+    p = c.write("unused_group.msh", "\n".join(lines))
+    return ["check", c.scene(p, clamped='["nothing"]')], ["nothing"]
+
+
+def c_gamma_u_group_empty_solve(c):
+    argv, facts = c_gamma_u_group_empty(c)
+    return ["solve", argv[1], "--out", c.path("out"), "--quiet"], facts + ["clamped"]
+
+
+def c_poisson_half(c):
+    return ["check", c.scene(poisson="0.5")], ["material.poisson", "0.5"]
+
+
+def c_poisson_above(c):
+    return ["check", c.scene(poisson="0.7")], ["material.poisson"]
+
+
+def c_young_zero(c):
+    return ["check", c.scene(young="0.0")], ["material.young"]
+
+
+def c_young_negative(c):
+    return ["check", c.scene(young="-1e9")], ["material.young"]
+
+
+def c_slip_bound_negative(c):
+    return ["check", c.scene(g="-1.0")], ["slip_bound"]
+
+
+def c_nan_young(c):
+    return ["check", c.scene(young="nan")], ["material.young", "finite"]
+
+
+def c_inf_poisson(c):
+    return ["check", c.scene(poisson="inf")], ["material.poisson"]
+
+
+def c_inf_slip_bound(c):
+    return ["check", c.scene(g="inf")], ["slip_bound", "finite"]
+
+
+def c_nan_traction(c):
+    return ["check", c.scene(end="[nan, 0.0, 0.0]")], ["traction", "finite"]
+
+
+def c_nan_body_force(c):
+    return ["check", c.scene(body_force="[0.0, -inf, 0.0]")], ["body_force", "finite"]
+
+
+def c_nan_param(c):
+    return ["check", c.scene(param="nan")], ["param"]
+
+
+def c_inf_cell_size(c):
+    return ["check", c.scene(cell="inf")], ["cell_size"]
+
+
+def c_nan_table_point(c):
+    s = c.scene()
+    text = open(s).read().replace('law = "ramp"\nparam = 6e4', 'law = "table"\npoints = [[0.0, 0.3], [nan, 0.2]]')
+    return ["check", c.write("scene.toml", text)], ["friction.points"]
+
+
+def c_nan_set_override(c):
+    return ["check", c.scene(), "--set", "friction.slip_bound=nan"], ["slip_bound", "finite"]
+
+
+def c_inf_mesh_parameter(c):
+    s = c.scene()
+    text = open(s).read().replace('file = "', 'parameters = { n = inf }\nfile = "')
+    return ["check", c.write("scene.toml", text)], ["mesh.parameters", "finite"]
+
+
+def c_unknown_key(c):
+    s = c.scene()
+    text = open(s).read().replace("poisson =", "poison = 0.3\npoisson =")
+    return ["check", c.write("scene.toml", text)], ["material.poison"]
+
+
+def c_invalid_toml(c):
+    return ["check", c.write("scene.toml", "[material\nyoung = 1\n")], ["TOML", "line"]
+
+
+def c_missing_scene(c):
+    return ["check", c.path("none.toml")], ["none.toml"]
+
+
+def c_stability_violation(c):
+    return ["solve", c.scene(cell='"0.25h"'), "--out", c.path("out"), "--quiet"], ["5.1"]
+
+
+def c_out_proc(c):
+    return ["solve", c.scene(), "--out", "/proc/contact3d_x", "--quiet"], ["/proc/contact3d_x", "cannot be written"]
+
+
+def c_out_is_file(c):
+    f = c.write("a_file", "x")
+    return ["solve", c.scene(), "--out", f, "--quiet"], ["a_file", "cannot be written"]
+
+
+def c_out_under_file(c):
+    f = c.write("a_file", "x")
+    return ["solve", c.scene(), "--out", os.path.join(f, "sub"), "--quiet"], ["a_file", "cannot be written"]
+
+
+def c_mesh_n_zero(c):
+    return ["mesh", "brick", "--n", "0", "-o", c.path("b.msh")], ["n"]
+
+
+CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
+
+
+def run(binary, source, name, verbose=True):
+    work = tempfile.mkdtemp(prefix="c3d_bad_")
+    try:
+        argv, facts = CASES[name](Ctx(binary, source, work))
+        p = subprocess.run([binary] + argv, capture_output=True, text=True, timeout=120)
+        err = p.stderr
+        problems = []
+        if p.returncode != 2:
+            problems.append(f"exit code {p.returncode}, expected 2")
+        if not err.startswith("error:"):
+            problems.append("stderr does not start with 'error:'")
+        for fact in facts:
+            if fact.lower() not in err.lower():
+                problems.append(f"message lacks '{fact}'")
+        msg = err.strip().replace(work + "/", "").replace(work, "<tmp>")
+        if verbose:
+            print(f"{name}: {'ok' if not problems else 'FAIL: ' + '; '.join(problems)}\n  {msg}")
+        return not problems, msg
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--bin", required=True)
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--case")
+    ap.add_argument("--list", action="store_true")
+    ap.add_argument("--all", action="store_true")
+    a = ap.parse_args()
+    if a.list:
+        print("\n".join(CASES))
+        return 0
+    if a.case:
+        ok, _ = run(a.bin, a.source, a.case)
+        return 0 if ok else 1
+    fails = 0
+    for name in CASES:
+        ok, _ = run(a.bin, a.source, name)
+        fails += not ok
+    print(f"{len(CASES) - fails}/{len(CASES)} bad-input cases ok")
+    return 1 if fails else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

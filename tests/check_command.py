@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""Tests `contact3d check` on a good scene with the committed MSH 2.2 fixture: exit 0, every
+physical group listed with its dimension and element count (counted independently here from
+the file), the tet quality line with a number in (0, 1], the contact face summary and "ok"."""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--bin", required=True)
+ap.add_argument("--source", required=True)
+a = ap.parse_args()
+fixture = os.path.join(os.path.abspath(a.source), "meshes", "fixtures", "brick_n2_msh22.msh")
+
+# Independent count of the fixture's groups (MSH 2.2: first tag = physical tag).
+lines = open(fixture).read().split("\n")
+i = lines.index("$PhysicalNames")
+names = {}
+for k in range(int(lines[i + 1])):
+    dim, tag, name = lines[i + 2 + k].split(maxsplit=2)
+    names[int(tag)] = (int(dim), name.strip('"'))
+j = lines.index("$Elements")
+count = {t: 0 for t in names}
+seen_tets = set()
+for line in lines[j + 2: j + 2 + int(lines[j + 1])]:
+    t = line.split()
+    etype, phys = int(t[1]), int(t[3])
+    if etype == 4:
+        key = tuple(t[-4:])
+        if key in seen_tets:
+            continue
+        seen_tets.add(key)
+    if etype in (2, 4) and phys in count:
+        count[phys] += 1
+
+scene = tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False)
+scene.write(f"""[mesh]
+file = "{fixture}"
+[material]
+young = 2e11
+poisson = 0.3
+[boundary]
+clamped = ["clamped"]
+contact = ["contact"]
+[[boundary.traction]]
+group = "load_top"
+value = [0.0, 0.0, -1e7]
+[friction]
+slip_bound = 1e7
+law = "constant"
+value = 0.3
+""")
+scene.close()
+p = subprocess.run([a.bin, "check", scene.name], capture_output=True, text=True, timeout=60)
+os.unlink(scene.name)
+out = p.stdout
+print(out, p.stderr)
+problems = []
+if p.returncode != 0:
+    problems.append(f"exit {p.returncode}")
+for tag, (dim, name) in names.items():
+    m = re.search(rf"^\s*{re.escape(name)}\s+dim {dim}\s+(\d+) elements", out, re.M)
+    if not m:
+        problems.append(f"group {name} not listed")
+    elif int(m.group(1)) != count[tag]:
+        problems.append(f"group {name}: {m.group(1)} elements, file has {count[tag]}")
+m = re.search(r"worst tet quality[^:]*:\s*([0-9.eE+-]+)", out)
+if not m or not (0 < float(m.group(1)) <= 1):
+    problems.append("no tet quality in (0, 1]")
+if not re.search(r"contact face: \d+ triangles, \d+ contact nodes", out):
+    problems.append("no contact face summary")
+if "63 nodes" not in out or f"{len(seen_tets)} tets" not in out:
+    problems.append("node/tet counts missing or wrong")
+if not out.strip() or not out.rstrip().splitlines()[-1].startswith("ok"):
+    problems.append("last line is not ok")
+if problems:
+    print("FAIL:", "; ".join(problems))
+    sys.exit(1)
+print("check command ok")

@@ -1,0 +1,29 @@
+# Bad-input tests (issue #6): every case in tests/bad_inputs.py is one ctest. Each builds a
+# broken mesh/scene/command line from the committed fixtures and requires exit code 2, stderr
+# starting with "error:" and the key fact (file, group, key, element id, ...) in the message.
+set(CONTACT3D_BAD_INPUT_CASES
+  msh_truncated_ascii msh_truncated_ascii_elements msh_truncated_binary msh_truncated_binary_header
+  msh_empty msh_not_a_mesh msh_missing_file msh_version_3 msh_version_4_0 msh_bad_coordinate
+  msh_nan_coordinate msh_unknown_node msh_quadratic_tet msh_hexahedron msh_inverted_tet
+  msh_zero_volume_tet msh_inverted_tet_solve group_misspelt group_missing_traction group_misspelt_solve
+  contact_not_in_plane gamma_u_empty gamma_u_group_empty gamma_u_group_empty_solve
+  poisson_half poisson_above young_zero
+  young_negative slip_bound_negative nan_young inf_poisson inf_slip_bound nan_traction nan_body_force
+  nan_param inf_cell_size nan_table_point nan_set_override inf_mesh_parameter unknown_key invalid_toml
+  missing_scene stability_violation out_proc out_is_file out_under_file mesh_n_zero)
+foreach(case ${CONTACT3D_BAD_INPUT_CASES})
+  add_test(NAME errors.${case}
+    COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/bad_inputs.py --bin $<TARGET_FILE:contact3d>
+            --source ${CMAKE_SOURCE_DIR} --case ${case})
+  set_tests_properties(errors.${case} PROPERTIES TIMEOUT 120 LABELS errors)
+endforeach()
+# The list above must name every case the driver has (a forgotten case would go untested).
+add_test(NAME errors.case_list_complete
+  COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_case_list.py ${CMAKE_SOURCE_DIR}/tests/bad_inputs.py
+          ${CMAKE_SOURCE_DIR}/tests/errors.cmake)
+
+# `contact3d check` on a good scene: lists the groups with element counts and the tet quality.
+add_test(NAME errors.check_command_reports
+  COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_command.py --bin $<TARGET_FILE:contact3d>
+          --source ${CMAKE_SOURCE_DIR})
+set_tests_properties(errors.check_command_reports PROPERTIES TIMEOUT 120 LABELS errors)
