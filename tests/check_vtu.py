@@ -68,6 +68,7 @@ def main():
     ap.add_argument("--bin", required=True)
     ap.add_argument("--scene", required=True)
     ap.add_argument("--n", type=int, default=4)
+    ap.add_argument("--extra", default="", help="more solver arguments, one string")
     ap.add_argument("--keep", help="solve into this folder instead of a temporary one")
     args = ap.parse_args()
 
@@ -75,7 +76,7 @@ def main():
     if not args.keep:
         TMP.append(out)
     cmd = [args.bin, "solve", args.scene, "--quiet", "--out", out, "--set", "mesh.generator=paper_brick",
-           "--set", f"mesh.n={args.n}"]
+           "--set", f"mesh.n={args.n}"] + args.extra.split()
     rc = subprocess.run(cmd).returncode
     if rc != 0:
         print(f"FAIL: {' '.join(cmd)} exited {rc}")
@@ -131,6 +132,27 @@ def main():
     check(np.all(field(contact, "physical_group", "cell") > 0), "contact.vtu: triangles without their contact group")
     F = field(contact, "friction_coefficient")[:, 0][status > 0]
     check(F.size and F.min() >= 0.2 - 1e-12 and F.max() <= 0.3 + 1e-12, "friction_coefficient outside [low, high]")
+    # Node status agrees with the cells around it: where every cell of T_H touching a node has the
+    # same status (open / stick / slip from λ_n, ‖λ_t‖ and the radius), the node has it too.
+    cells = read_csv(os.path.join(out, "contact_cells.csv"))
+    lam_max = max(float(c["lambda_n"]) for c in cells)
+    def cstat(c):
+        if float(c["lambda_n"]) <= 1e-6 * lam_max:
+            return 0
+        lt = np.hypot(float(c["lambda_t1"]), float(c["lambda_t2"]))
+        return 2 if lt >= (1 - 1e-3) * float(c["radius"]) else 1
+    cst = [cstat(c) for c in cells]
+    checked = 0
+    for row in nodes:
+        x, y = float(row["x"]), float(row["y"])
+        around = {s for c, s in zip(cells, cst) if float(c["xmin"]) - 1e-12 <= x <= float(c["xmax"]) + 1e-12
+                  and float(c["ymin"]) - 1e-12 <= y <= float(c["ymax"]) + 1e-12}
+        if len(around) == 1:
+            checked += 1
+            check(int(row["status"]) == around.pop(), f"node {row['node']} at ({x}, {y}) has status {row['status']}, "
+                  "while all its cells agree on another")
+    check(checked > len(nodes) // 4, f"only {checked} nodes lie inside cells of a single status")
+    check({1, 2} <= set(cst), "the brick should have both stick and slip cells")
     # The normal force: λ_n integrated over the cells equals ∫ contact_pressure roughly (both are the same load).
     check(summary["contact_force"]["normal"] > 0, "no normal contact force")
 

@@ -175,6 +175,8 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
     return fr && c < 2 ? res.lambda[(c + 1) * r + owner[k]] : 0.0;
   });
   data_array(out, "radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
+  const std::vector<int> cs = cell_status(res);
+  data_array(out, "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, "Int32");
   out << "      </CellData>\n      <Points>\n";
   data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) { return c < 2 ? pts[i][c] : 0.0; });
   out << "      </Points>\n      <Cells>\n";
@@ -186,6 +188,20 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
 
 }  // namespace
 
+std::vector<int> cell_status(const SolveResult& res) {
+  const int r = res.n_cells;
+  std::vector<int> status(r, 0);
+  if (r == 0) return status;
+  const bool fr = has_friction(res);
+  const double pmax = res.lambda.head(r).maxCoeff();
+  for (int i = 0; i < r; ++i) {
+    if (res.lambda[i] <= 1e-6 * pmax) status[i] = 0;
+    else if (fr && std::hypot(res.lambda[r + i], res.lambda[2 * r + i]) >= (1 - 1e-3) * res.radius[i]) status[i] = 2;
+    else status[i] = 1;
+  }
+  return status;
+}
+
 ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res) {
   const std::size_t nn = mesh.nodes.size();
   ContactNodeFields nf{Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn),
@@ -193,11 +209,14 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
   if (res.n_cells == 0) return nf;
   const int r = res.n_cells;
   const bool fr = has_friction(res);
+  const std::vector<int> cs = cell_status(res);
   Eigen::VectorXd weight = Eigen::VectorXd::Zero(nn);
+  std::vector<std::array<double, 3>> status_weight(nn, {0.0, 0.0, 0.0});
   const auto rows = cell_node_weights(res.face, res.partition);
   for (int i = 0; i < r; ++i)
     for (const auto& [node, w] : rows[i]) {
       weight[node] += w;
+      status_weight[node][cs[i]] += w;
       nf.pressure[node] += w * res.lambda[i];
       if (fr) {
         nf.traction_t1[node] += w * res.lambda[r + i];
@@ -205,7 +224,6 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
         nf.radius[node] += w * res.radius[i];
       }
     }
-  const double pmax = res.lambda.head(r).maxCoeff();
   for (std::size_t v = 0; v < nn; ++v) {
     if (weight[v] <= 0) continue;
     nf.pressure[v] /= weight[v];
@@ -214,9 +232,11 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
     nf.radius[v] /= weight[v];
     const double slip = std::hypot(res.u[3 * v], res.u[3 * v + 1]);
     nf.friction[v] = scene.frictionless() ? 0.0 : scene.law(slip);
-    if (nf.pressure[v] <= 1e-6 * pmax) nf.status[v] = 0;
-    else if (fr && std::hypot(nf.traction_t1[v], nf.traction_t2[v]) >= (1 - 1e-3) * nf.radius[v]) nf.status[v] = 2;
-    else nf.status[v] = 1;
+    // The status of the cells around the node, weighted by their share of its hat function (ties
+    // go to the higher status): averaging the traction vectors instead would call a node between
+    // slipping cells whose λ_t point in different directions "stick".
+    const auto& sw = status_weight[v];
+    nf.status[v] = sw[2] >= sw[1] && sw[2] >= sw[0] ? 2 : sw[1] >= sw[0] ? 1 : 0;
   }
   return nf;
 }

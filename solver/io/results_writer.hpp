@@ -21,6 +21,9 @@ struct ContactNodeFields {
   Eigen::VectorXd pressure, traction_t1, traction_t2, radius, friction;  // per mesh node (0 off Γc)
   std::vector<int> status;  // 0 open, 1 stick, 2 slip (per mesh node)
 };
+// Status of each cell of T_H: 0 open (λ_n <= 1e-6 max λ_n), 2 slip (‖λ_t‖ >= (1 − 1e-3) c_i),
+// 1 stick. A node's status is the one its surrounding cells carry most weight for.
+std::vector<int> cell_status(const SolveResult& res);
 ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res);
 
 void write_results(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res,
