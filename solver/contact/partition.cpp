@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <numeric>
+#include <sstream>
 
 #include "io/errors.hpp"
 
@@ -30,11 +33,75 @@ void finish_cell(ContactCell& cell) {
   cell.centroid = cell.area > 0 ? Eigen::Vector2d(moment / cell.area) : cell.lo;
 }
 
+// Do two convex polygons share a boundary segment longer than tol? (Pieces come from exact
+// clipping, so a common boundary is collinear up to rounding.)
+bool share_segment(const Polygon& a, const Polygon& b, double tol) {
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Eigen::Vector2d p = a[i].xy, q = a[(i + 1) % a.size()].xy;
+    const double len = (q - p).norm();
+    if (len <= tol) continue;
+    const Eigen::Vector2d d = (q - p) / len, nrm(-d.y(), d.x());
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      const Eigen::Vector2d r = b[j].xy, s = b[(j + 1) % b.size()].xy;
+      if (std::abs(nrm.dot(r - p)) > tol || std::abs(nrm.dot(s - p)) > tol) continue;
+      const double t0 = d.dot(r - p), t1 = d.dot(s - p);
+      const double overlap = std::min(len, std::max(t0, t1)) - std::max(0.0, std::min(t0, t1));
+      if (overlap > tol) return true;
+    }
+  }
+  return false;
+}
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+};
+
+// Maximum matching of cells (rows) to columns by augmenting paths (Kuhn); returns the
+// unmatched rows.
+std::vector<int> unmatched_rows(const std::vector<std::vector<int>>& adj, int n_cols) {
+  std::vector<int> match_col(n_cols, -1);
+  std::vector<int> seen(n_cols, -1);
+  std::vector<int> unmatched;
+  std::function<bool(int, int)> augment = [&](int row, int stamp) {
+    for (int c : adj[row]) {
+      if (seen[c] == stamp) continue;
+      seen[c] = stamp;
+      if (match_col[c] < 0 || augment(match_col[c], stamp)) {
+        match_col[c] = row;
+        return true;
+      }
+    }
+    return false;
+  };
+  // Greedy first pass keeps the recursion shallow on large faces.
+  std::vector<char> done(adj.size(), 0);
+  for (std::size_t r = 0; r < adj.size(); ++r)
+    for (int c : adj[r])
+      if (match_col[c] < 0) { match_col[c] = static_cast<int>(r); done[r] = 1; break; }
+  for (std::size_t r = 0; r < adj.size(); ++r)
+    if (!done[r] && !augment(static_cast<int>(r), static_cast<int>(r))) unmatched.push_back(static_cast<int>(r));
+  return unmatched;
+}
+
 }  // namespace
+
+std::string describe_cell(const Partition& part, int i) {
+  const auto& c = part.cells[i];
+  std::ostringstream s;
+  s << "cell " << i << " [" << c.lo.x() << ", " << c.hi.x() << "] x [" << c.lo.y() << ", " << c.hi.y()
+    << "], area " << c.area;
+  return s.str();
+}
 
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt) {
   if (!(opt.cell_size > 0) || !std::isfinite(opt.cell_size))
     throw InputError("contact.cell_size must be a positive length, got " + std::to_string(opt.cell_size));
+  if (face.triangles.empty()) throw InputError("the contact face has no triangles");
   Partition part;
   const Eigen::Vector2d extent = face.hi - face.lo;
   const double max_cells = 4e6;
@@ -47,8 +114,11 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
   part.grid_ny = static_cast<int>(ny);
   part.hx = extent.x() / nx;
   part.hy = extent.y() / ny;
+  if (!(part.hx > 0) || !(part.hy > 0)) throw InputError("the contact face has zero area (it is a line)");
 
-  std::vector<ContactCell> grid(static_cast<std::size_t>(part.grid_nx) * part.grid_ny);
+  // 1. Clip every contact triangle to the rectangles its bounding box meets.
+  std::vector<CellPiece> pieces;
+  std::vector<std::vector<int>> pieces_of_triangle(face.triangles.size());
   auto cell_lo = [&](int i, int j) { return Eigen::Vector2d(face.lo.x() + i * part.hx, face.lo.y() + j * part.hy); };
   for (std::size_t t = 0; t < face.triangles.size(); ++t) {
     const auto& tri = face.triangles[t];
@@ -65,38 +135,146 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
         const Eigen::Vector2d clo = cell_lo(i, j), chi = clo + Eigen::Vector2d(part.hx, part.hy);
         Polygon piece = clip_to_box(whole, clo, chi);
         if (piece.empty() || polygon_area(piece) <= tiny) continue;
-        grid[static_cast<std::size_t>(j) * part.grid_nx + i].pieces.push_back({static_cast<int>(t), std::move(piece)});
+        pieces_of_triangle[t].push_back(static_cast<int>(pieces.size()));
+        pieces.push_back({static_cast<int>(t), std::move(piece), j * part.grid_nx + i});
       }
   }
-  for (auto& cell : grid) finish_cell(cell);
+  if (pieces.empty()) throw InputError("the contact face has zero area");
 
-  // Merge slivers into the grid neighbour (4-neighbourhood) with the largest area.
-  const double full = part.hx * part.hy;
-  std::vector<int> owner(grid.size());
-  for (std::size_t k = 0; k < grid.size(); ++k) owner[k] = static_cast<int>(k);
-  for (int j = 0; j < part.grid_ny; ++j)
-    for (int i = 0; i < part.grid_nx; ++i) {
-      const std::size_t k = static_cast<std::size_t>(j) * part.grid_nx + i;
-      if (grid[k].pieces.empty() || grid[k].area >= opt.sliver_fraction * full) continue;
-      int best = -1;
-      double best_area = 0;
-      const int di[4] = {1, -1, 0, 0}, dj[4] = {0, 0, 1, -1};
-      for (int d = 0; d < 4; ++d) {
-        const int ii = i + di[d], jj = j + dj[d];
-        if (ii < 0 || jj < 0 || ii >= part.grid_nx || jj >= part.grid_ny) continue;
-        int target = owner[static_cast<std::size_t>(jj) * part.grid_nx + ii];
-        if (grid[target].area > best_area) { best_area = grid[target].area; best = target; }
-      }
-      if (best < 0 || best_area <= grid[k].area) continue;  // no larger neighbour: keep it
-      for (auto& p : grid[k].pieces) grid[best].pieces.push_back(std::move(p));
-      grid[k].pieces.clear();
-      finish_cell(grid[best]);
-      for (auto& o : owner) if (o == static_cast<int>(k)) o = best;
-      ++part.merged_slivers;
+  // Piece adjacency: a common boundary segment; candidates are pieces of one triangle and of
+  // triangles sharing a mesh edge.
+  const double tol = 1e-9 * std::max(face.h, 1e-12 * extent.norm());
+  std::vector<std::vector<int>> adj(pieces.size());
+  auto link = [&](int a, int b) {
+    if (a == b || !share_segment(pieces[a].polygon, pieces[b].polygon, tol)) return;
+    adj[a].push_back(b);
+    adj[b].push_back(a);
+  };
+  std::map<std::pair<int, int>, std::vector<int>> triangles_of_edge;
+  for (std::size_t t = 0; t < face.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = face.triangles[t][k], b = face.triangles[t][(k + 1) % 3];
+      triangles_of_edge[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
     }
-  for (auto& cell : grid)
-    if (!cell.pieces.empty()) part.cells.push_back(std::move(cell));
-  if (part.cells.empty()) throw InputError("the contact face has zero area");
+  for (const auto& list : pieces_of_triangle)
+    for (std::size_t x = 0; x < list.size(); ++x)
+      for (std::size_t y = x + 1; y < list.size(); ++y) link(list[x], list[y]);
+  for (const auto& [edge, tris] : triangles_of_edge)
+    for (std::size_t x = 0; x < tris.size(); ++x)
+      for (std::size_t y = x + 1; y < tris.size(); ++y)
+        for (int a : pieces_of_triangle[tris[x]])
+          for (int b : pieces_of_triangle[tris[y]]) link(a, b);
+
+  // 2. Initial cells: the pieces of one rectangle, split into connected components.
+  UnionFind uf(pieces.size());
+  {
+    std::map<int, int> first_of_box;
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      if (!opt.split_disconnected) {
+        auto [it, fresh] = first_of_box.emplace(pieces[p].box, static_cast<int>(p));
+        if (!fresh) uf.parent[uf.find(static_cast<int>(p))] = uf.find(it->second);
+      } else {
+        for (int q : adj[p])
+          if (pieces[q].box == pieces[p].box) uf.parent[uf.find(static_cast<int>(p))] = uf.find(q);
+      }
+    std::map<int, std::vector<int>> roots_of_box;
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      auto& roots = roots_of_box[pieces[p].box];
+      const int r = uf.find(static_cast<int>(p));
+      if (std::find(roots.begin(), roots.end(), r) == roots.end()) roots.push_back(r);
+    }
+    for (const auto& [box, roots] : roots_of_box) part.split_cells += static_cast<int>(roots.size()) - 1;
+  }
+  std::vector<double> piece_area(pieces.size());
+  for (std::size_t p = 0; p < pieces.size(); ++p) piece_area[p] = polygon_area(pieces[p].polygon);
+  std::vector<double> area(pieces.size(), 0.0);  // by root
+  for (std::size_t p = 0; p < pieces.size(); ++p) area[uf.find(static_cast<int>(p))] += piece_area[p];
+
+  auto roots = [&] {
+    std::vector<int> out;
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      if (uf.find(static_cast<int>(p)) == static_cast<int>(p)) out.push_back(static_cast<int>(p));
+    return out;
+  };
+  // Merge cell `root` into its adjacent cell of largest area; false if it has none.
+  auto merge_into_largest_neighbour = [&](int root) {
+    int best = -1;
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      if (uf.find(static_cast<int>(p)) != root) continue;
+      for (int q : adj[p]) {
+        const int rq = uf.find(q);
+        if (rq != root && (best < 0 || area[rq] > area[best])) best = rq;
+      }
+    }
+    if (best < 0) return false;
+    uf.parent[root] = best;
+    area[best] += area[root];
+    return true;
+  };
+
+  // 3. Slivers, smallest first; a merged cell that is still small is visited again.
+  const double full = part.hx * part.hy;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<int> small;
+    for (int r : roots())
+      if (area[r] < opt.sliver_fraction * full) small.push_back(r);
+    std::sort(small.begin(), small.end(), [&](int a, int b) { return area[a] < area[b]; });
+    for (int r : small) {
+      if (uf.find(r) != r || area[r] >= opt.sliver_fraction * full) continue;
+      if (merge_into_largest_neighbour(r)) { ++part.merged_slivers; changed = true; }
+    }
+  }
+
+  // Build cells, ordered by their first rectangle (grid order), then by first piece.
+  auto build = [&] {
+    part.cells.clear();
+    std::map<int, int> cell_of_root;
+    std::vector<int> order = roots();
+    std::vector<int> first_box(pieces.size(), INT32_MAX);
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      const int r = uf.find(static_cast<int>(p));
+      first_box[r] = std::min(first_box[r], pieces[p].box);
+    }
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return first_box[a] < first_box[b]; });
+    for (int r : order) {
+      cell_of_root[r] = static_cast<int>(part.cells.size());
+      part.cells.emplace_back();
+    }
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      part.cells[cell_of_root[uf.find(static_cast<int>(p))]].pieces.push_back(pieces[p]);
+    for (auto& cell : part.cells) finish_cell(cell);
+    return order;  // root of each cell
+  };
+  std::vector<int> root_of_cell = build();
+
+  // 4. Structural (5.1): every cell needs a free contact node of its own.
+  if (opt.enforce_stability) {
+    for (int round = 0;; ++round) {
+      const std::vector<int> bad = cells_without_own_node(face, part);
+      if (bad.empty()) break;
+      const bool repairable = round < 1000 && static_cast<double>(bad.size()) <=
+                                                  std::max(1.0, opt.max_repair_fraction * part.cells.size());
+      bool merged = false;
+      if (repairable)
+        for (int c : bad)
+          if (uf.find(root_of_cell[c]) == root_of_cell[c] && merge_into_largest_neighbour(root_of_cell[c])) {
+            ++part.stability_merges;
+            merged = true;
+            break;  // re-match after each merge: one merge may fix several cells
+          }
+      if (!merged) {
+        std::string cells;
+        for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part, bad[k]);
+        throw InputError("the multiplier partition violates the stability condition (5.1): " +
+                         std::to_string(bad.size()) + " of " + std::to_string(part.cells.size()) +
+                         " cells have no free contact node of their own (rectangles H = " + std::to_string(part.hx) +
+                         " x " + std::to_string(part.hy) + " m, contact mesh size h = " + std::to_string(face.h) +
+                         " m), e.g." + cells + "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
+      }
+      root_of_cell = build();
+    }
+  }
   return part;
 }
 
@@ -112,6 +290,17 @@ std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const Contact
     rows[i].assign(acc.begin(), acc.end());
   }
   return rows;
+}
+
+std::vector<int> cells_without_own_node(const ContactFace& face, const Partition& partition) {
+  const auto rows = cell_node_weights(face, partition);
+  std::vector<std::vector<int>> adj(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (const auto& [node, w] : rows[i]) {
+      const int c = node < static_cast<int>(face.contact_index.size()) ? face.contact_index[node] : -1;
+      if (c >= 0 && w > 1e-12 * partition.cells[i].area) adj[i].push_back(c);
+    }
+  return unmatched_rows(adj, static_cast<int>(face.nodes.size()));
 }
 
 }  // namespace contact3d

@@ -1,10 +1,24 @@
 // The partition T_H of Γc into cells R_i (§5): a grid of rectangles over the face's bounding
-// box, each intersected with the contact triangles (exact polygon clipping). Empty cells are
-// dropped; slivers (area below a fraction of a full cell) are merged into a grid neighbour.
+// box, each intersected with the contact triangles (exact polygon clipping). Then, in order:
+//  1. a grid rectangle whose pieces are not connected (a hole, a gap of a non-convex face
+//     between them) is split into one cell per connected component (pieces are connected when
+//     they share a boundary segment of positive length);
+//  2. slivers (area below a fraction of a full rectangle) are merged, smallest first, into the
+//     adjacent cell of largest area (adjacent = sharing a boundary segment), repeatedly, so
+//     chains of slivers end up in one cell;
+//  3. the structural part of the stability condition (5.1) is enforced: 𝔹 (one row per cell
+//     and component) can only have full row rank if every cell can be matched to a contact
+//     node of its own (a free node whose hat function has positive integral over the cell;
+//     a bipartite matching, Hall's condition). A few unmatched cells (local defects at holes,
+//     corners, the edge of Γu) are merged into a neighbour; if more than
+//     `max_repair_fraction` of the cells are unmatched, H is too small for the mesh and
+//     make_grid_partition throws InputError naming the cells.
 // On the paper's brick with H = 2h and the five-tet mesh this is exactly the chessboard of
-// Fig. 5 (each cell is eight contact triangles around an odd-odd node).
+// Fig. 5 (each cell is eight contact triangles around an odd-odd node; nothing is split or
+// merged). The numerical rank of 𝔹 is still checked on Q = 𝔹K⁻¹𝔹ᵀ by the solver.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -17,6 +31,7 @@ namespace contact3d {
 struct CellPiece {
   int triangle;     // index into ContactFace::triangles
   Polygon polygon;  // triangle ∩ rectangle, with barycentrics in that triangle
+  int box = -1;     // grid rectangle j * grid_nx + i it was cut by
 };
 
 struct ContactCell {
@@ -27,15 +42,20 @@ struct ContactCell {
 };
 
 struct PartitionOptions {
-  double cell_size = 0;          // H in m; the grid uses ceil(L/H) cells per direction
-  double sliver_fraction = 0.2;  // cells below this fraction of a full rectangle are merged
+  double cell_size = 0;              // H in m; the grid uses ceil(L/H) cells per direction
+  double sliver_fraction = 0.2;      // cells below this fraction of a full rectangle are merged
+  bool split_disconnected = true;    // one cell per connected component of a rectangle ∩ Γc
+  bool enforce_stability = true;     // repair or reject partitions failing the matching test
+  double max_repair_fraction = 0.1;  // repair (5.1) by merging when at most this many cells fail
 };
 
 struct Partition {
   std::vector<ContactCell> cells;
   int grid_nx = 0, grid_ny = 0;
   double hx = 0, hy = 0;         // actual rectangle sides (<= H)
-  int merged_slivers = 0;
+  int merged_slivers = 0;        // cells merged into a neighbour because they were small
+  int split_cells = 0;           // extra cells created by splitting disconnected rectangles
+  int stability_merges = 0;      // cells merged into a neighbour to satisfy the matching test
 };
 
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& options);
@@ -44,5 +64,13 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
 // the component and the sign are applied. Nodes on Γu are included.
 std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face,
                                                                    const Partition& partition);
+
+// The structural test of (5.1): cells that a maximum matching of cells to free contact nodes
+// (face.contact_index >= 0, positive hat integral over the cell) leaves unmatched. Empty iff
+// Hall's condition holds; non-empty means 𝔹 is rank deficient whatever the weights.
+std::vector<int> cells_without_own_node(const ContactFace& face, const Partition& partition);
+
+// "cell i [x0, x1] x [y0, y1], area a" for messages.
+std::string describe_cell(const Partition& partition, int cell);
 
 }  // namespace contact3d

@@ -1,0 +1,249 @@
+// Partition T_H (solver/contact/partition.*): exact clipping and hat integrals against
+// hand-computed polygons, a cell cut by a hole, rectangles split by a non-convex face, the
+// paper's chessboard, 𝔹 row sums = cell areas, and the structural stability test (5.1).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "contact/contact_face.hpp"
+#include "contact/partition.hpp"
+#include "fem/dof_map.hpp"
+#include "io/errors.hpp"
+#include "mesh/brick_generator.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+// A flat mesh in z = 0 made of unit squares [i, i+1] x [j, j+1] (for each (i, j) in `squares`),
+// each split by the diagonal (i, j)-(i+1, j+1). Group "contact" (tag 1); no tets are needed.
+struct Flat {
+  Mesh mesh;
+  DofMap dofs;
+  ContactFace face;
+};
+
+Flat flat(const std::vector<std::pair<int, int>>& squares) {
+  Flat f;
+  std::map<std::pair<int, int>, int> id;
+  auto node = [&](int x, int y) {
+    auto [it, fresh] = id.emplace(std::make_pair(x, y), static_cast<int>(f.mesh.nodes.size()));
+    if (fresh) {
+      f.mesh.nodes.emplace_back(x, y, 0.0);
+      f.mesh.node_tags.push_back(f.mesh.nodes.size());
+    }
+    return it->second;
+  };
+  f.mesh.groups.push_back({2, 1, "contact"});
+  for (auto [i, j] : squares) {
+    const int a = node(i, j), b = node(i + 1, j), c = node(i + 1, j + 1), d = node(i, j + 1);
+    for (const std::array<int, 3>& t : {std::array<int, 3>{a, b, c}, std::array<int, 3>{a, c, d}}) {
+      f.mesh.triangles.push_back(t);
+      f.mesh.triangle_tags.push_back(f.mesh.triangles.size());
+      f.mesh.triangle_group.push_back(1);
+    }
+  }
+  f.dofs = make_dof_map(f.mesh, {});
+  f.face = make_contact_face(f.mesh, {"contact"}, f.dofs);
+  return f;
+}
+
+int node_at(const Mesh& m, double x, double y) {
+  for (std::size_t k = 0; k < m.nodes.size(); ++k)
+    if (m.nodes[k].x() == x && m.nodes[k].y() == y) return static_cast<int>(k);
+  return -1;
+}
+
+double weight_of(const std::vector<std::pair<int, double>>& row, int node) {
+  for (auto [n, w] : row)
+    if (n == node) return w;
+  return 0;
+}
+
+const ContactCell* cell_containing(const Partition& p, double x, double y) {
+  for (const auto& c : p.cells)
+    if (c.lo.x() <= x && x <= c.hi.x() && c.lo.y() <= y && y <= c.hi.y()) return &c;
+  return nullptr;
+}
+
+void expect_row_sums_are_areas(const Flat& f, const Partition& p) {
+  const auto rows = cell_node_weights(f.face, p);
+  double total = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    double s = 0;
+    for (auto [n, w] : rows[i]) s += w;
+    EXPECT_NEAR(s, p.cells[i].area, 1e-13) << "cell " << i;
+    total += p.cells[i].area;
+  }
+  EXPECT_NEAR(total, f.face.area, 1e-12);
+}
+
+}  // namespace
+
+TEST(Partition, UnitSquareClippingAndHatIntegrals) {
+  const Flat f = flat({{0, 0}});
+  const Partition p = make_grid_partition(f.mesh, f.face, {0.5});
+  ASSERT_EQ(p.cells.size(), 4u);
+  for (const auto& c : p.cells) EXPECT_NEAR(c.area, 0.25, 1e-15);
+  // The diagonal (0,0)-(1,1) cuts the lower-left and upper-right cells into two pieces each.
+  EXPECT_EQ(cell_containing(p, 0.25, 0.25)->pieces.size(), 2u);
+  EXPECT_EQ(cell_containing(p, 0.75, 0.25)->pieces.size(), 1u);
+  // Cell [0.5,1] x [0,0.5] lies in the triangle (0,0),(1,0),(1,1) with hats 1-x, x-y, y:
+  // integrals 0.25*(1-0.75), 0.25*(0.75-0.25), 0.25*0.25.
+  const auto rows = cell_node_weights(f.face, p);
+  const int k = static_cast<int>(cell_containing(p, 0.75, 0.25) - p.cells.data());
+  EXPECT_NEAR(weight_of(rows[k], node_at(f.mesh, 0, 0)), 0.0625, 1e-15);
+  EXPECT_NEAR(weight_of(rows[k], node_at(f.mesh, 1, 0)), 0.125, 1e-15);
+  EXPECT_NEAR(weight_of(rows[k], node_at(f.mesh, 1, 1)), 0.0625, 1e-15);
+  EXPECT_EQ(weight_of(rows[k], node_at(f.mesh, 0, 1)), 0.0);
+  // Cell [0,0.5]^2: hat of (1,1) is y on the lower triangle and x on the upper one:
+  // ∫ over {y<x} of y + ∫ over {y>x} of x = 2 * (0.5^3 / 6) = 1/24.
+  const int l = static_cast<int>(cell_containing(p, 0.25, 0.25) - p.cells.data());
+  EXPECT_NEAR(weight_of(rows[l], node_at(f.mesh, 1, 1)), 1.0 / 24.0, 1e-15);
+  expect_row_sums_are_areas(f, p);
+  EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
+}
+
+TEST(Partition, CellCutByAHole) {
+  // 3 x 3 unit squares without the middle one: Γc has a square hole [1,2]^2.
+  std::vector<std::pair<int, int>> sq;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      if (i != 1 || j != 1) sq.push_back({i, j});
+  const Flat f = flat(sq);
+  EXPECT_NEAR(f.face.area, 8.0, 1e-14);
+  const Partition p = make_grid_partition(f.mesh, f.face, {1.5});
+  ASSERT_EQ(p.cells.size(), 4u);  // each 1.5 x 1.5 rectangle minus a 0.5 x 0.5 corner of the hole
+  for (const auto& c : p.cells) EXPECT_NEAR(c.area, 2.0, 1e-14);
+  EXPECT_EQ(p.split_cells, 0);
+  EXPECT_EQ(p.merged_slivers, 0);
+  // Hat of the hole's corner (1,1) over cell [0,1.5]^2: the whole square [0,1]^2 (1/3) plus
+  // two strips of width 0.5 of the neighbouring triangles, each ∫_1^1.5 (2-x)^2/2 dx = 0.875/6.
+  const auto rows = cell_node_weights(f.face, p);
+  const int k = static_cast<int>(cell_containing(p, 0.2, 0.2) - p.cells.data());
+  EXPECT_NEAR(weight_of(rows[k], node_at(f.mesh, 1, 1)), 1.0 / 3.0 + 2 * 0.875 / 6.0, 1e-14);
+  expect_row_sums_are_areas(f, p);
+}
+
+TEST(Partition, NonConvexFaceSplitsDisconnectedRectangles) {
+  // Two legs [0,1]x[0,3] and [2,3]x[0,3] joined by a bridge [0,3]x[3,4]. With H = 3 the grid is
+  // 1 x 2 (hy = 2): the lower rectangle holds two disconnected leg pieces and is split.
+  std::vector<std::pair<int, int>> sq;
+  for (int j = 0; j < 3; ++j) { sq.push_back({0, j}); sq.push_back({2, j}); }
+  for (int i = 0; i < 3; ++i) sq.push_back({i, 3});
+  const Flat f = flat(sq);
+  const Partition p = make_grid_partition(f.mesh, f.face, {3.0});
+  ASSERT_EQ(p.cells.size(), 3u);
+  EXPECT_EQ(p.split_cells, 1);
+  std::vector<double> areas;
+  for (const auto& c : p.cells) areas.push_back(c.area);
+  std::sort(areas.begin(), areas.end());
+  EXPECT_NEAR(areas[0], 2.0, 1e-14);
+  EXPECT_NEAR(areas[1], 2.0, 1e-14);
+  EXPECT_NEAR(areas[2], 5.0, 1e-14);
+  // The split cells' bounding boxes are their legs, not the rectangle.
+  const ContactCell* left = cell_containing(p, 0.5, 1.0);
+  ASSERT_NE(left, nullptr);
+  EXPECT_NEAR(left->hi.x(), 1.0, 1e-14);
+  expect_row_sums_are_areas(f, p);
+
+  PartitionOptions whole{3.0};
+  whole.split_disconnected = false;
+  const Partition q = make_grid_partition(f.mesh, f.face, whole);
+  ASSERT_EQ(q.cells.size(), 2u);
+  EXPECT_NEAR(q.cells[0].area, 4.0, 1e-14);
+}
+
+TEST(Partition, SliverChainsMergeIntoOneNeighbour) {
+  // An L: [0,4]x[0,1] plus [0,1]x[1,4]. H = 2.5 -> 2 x 2 grid with hx = hy = 2; the upper-right
+  // rectangle is empty; every rectangle has area >= 2 -> nothing merged. With sliver_fraction 0.6
+  // (threshold 2.4) the three rectangles of areas 3, 2, 2 merge: both arms into the corner.
+  std::vector<std::pair<int, int>> sq;
+  for (int i = 0; i < 4; ++i) sq.push_back({i, 0});
+  for (int j = 1; j < 4; ++j) sq.push_back({0, j});
+  const Flat f = flat(sq);
+  const Partition p = make_grid_partition(f.mesh, f.face, {2.5});
+  EXPECT_EQ(p.cells.size(), 3u);
+  EXPECT_EQ(p.merged_slivers, 0);
+  PartitionOptions o{2.5};
+  o.sliver_fraction = 0.6;
+  const Partition q = make_grid_partition(f.mesh, f.face, o);
+  ASSERT_EQ(q.cells.size(), 1u);
+  EXPECT_EQ(q.merged_slivers, 2);
+  EXPECT_NEAR(q.cells[0].area, 7.0, 1e-14);
+  EXPECT_NEAR(q.cells[0].hi.x(), 4.0, 1e-14);  // bounding box of the merged cell
+  EXPECT_NEAR(q.cells[0].hi.y(), 4.0, 1e-14);
+}
+
+TEST(Partition, PaperChessboard) {
+  const int n = 4;
+  const Mesh mesh = make_paper_brick({n});
+  const DofMap dofs = make_dof_map(mesh, {"clamped"});
+  const ContactFace face = make_contact_face(mesh, {"contact"}, dofs);
+  EXPECT_NEAR(face.h, 1.0 / n, 1e-14);
+  const Partition p = make_grid_partition(mesh, face, {2 * face.h});
+  ASSERT_EQ(static_cast<int>(p.cells.size()), (3 * n / 2) * (n / 2));
+  const auto rows = cell_node_weights(face, p);
+  for (std::size_t i = 0; i < p.cells.size(); ++i) {
+    EXPECT_NEAR(p.cells[i].area, std::pow(2.0 / n, 2), 1e-14);
+    EXPECT_EQ(p.cells[i].pieces.size(), 8u) << "cell " << i;
+    double s = 0;
+    for (auto [node, w] : rows[i]) s += w;
+    EXPECT_NEAR(s, p.cells[i].area, 1e-14);
+  }
+  EXPECT_EQ(p.merged_slivers + p.split_cells + p.stability_merges, 0);
+  EXPECT_TRUE(cells_without_own_node(face, p).empty());
+}
+
+TEST(Partition, StabilityViolationIsDetected) {
+  const Mesh mesh = make_paper_brick({4});
+  const DofMap dofs = make_dof_map(mesh, {"clamped"});
+  const ContactFace face = make_contact_face(mesh, {"contact"}, dofs);
+  // H = h/4: 16 cells per contact square but only one node per square: far beyond repair.
+  PartitionOptions unchecked{0.25 * face.h};
+  unchecked.enforce_stability = false;
+  const Partition p = make_grid_partition(mesh, face, unchecked);
+  const auto bad = cells_without_own_node(face, p);
+  EXPECT_GE(bad.size(), p.cells.size() - face.nodes.size());
+  try {
+    make_grid_partition(mesh, face, {0.25 * face.h});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("(5.1)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("cell "), std::string::npos) << msg;
+  }
+}
+
+TEST(Partition, LocalStabilityDefectIsRepaired) {
+  // A strip of 3 unit squares whose nodes at x = 0 and x = 1 are clamped (not contact nodes).
+  // With H = 1 the cell [0,1] x [0,1] meets no free node: (5.1) fails structurally. One
+  // unmatched cell out of three is a local defect: it is merged into its neighbour.
+  Flat f = flat({{0, 0}, {1, 0}, {2, 0}});
+  f.mesh.groups.push_back({2, 2, "clamped"});
+  const int a = node_at(f.mesh, 0, 0), b = node_at(f.mesh, 0, 1), c = node_at(f.mesh, 1, 0), d = node_at(f.mesh, 1, 1);
+  for (auto t : {std::array<int, 3>{a, b, c}, std::array<int, 3>{b, c, d}}) {
+    f.mesh.triangles.push_back(t);
+    f.mesh.triangle_tags.push_back(f.mesh.triangles.size());
+    f.mesh.triangle_group.push_back(2);
+  }
+  f.dofs = make_dof_map(f.mesh, {"clamped"});
+  f.face = make_contact_face(f.mesh, {"contact"}, f.dofs);
+  ASSERT_EQ(f.face.nodes.size(), 4u);
+  PartitionOptions o{1.0};
+  o.enforce_stability = false;
+  const auto bad = cells_without_own_node(f.face, make_grid_partition(f.mesh, f.face, o));
+  ASSERT_EQ(bad.size(), 1u);
+  o.enforce_stability = true;
+  const Partition p = make_grid_partition(f.mesh, f.face, o);
+  ASSERT_EQ(p.cells.size(), 2u);
+  EXPECT_EQ(p.stability_merges, 1);
+  EXPECT_NEAR(p.cells[0].area, 2.0, 1e-14);  // [0,2] x [0,1]
+  EXPECT_NEAR(p.cells[0].lo.x(), 0.0, 1e-14);
+  EXPECT_NEAR(p.cells[0].hi.x(), 2.0, 1e-14);
+  EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
+  expect_row_sums_are_areas(f, p);
+}
