@@ -85,6 +85,14 @@ void expect_same_dual(int n, bool friction) {
   // The contact-last factor is a factorization of K: residual of a solve.
   const Eigen::VectorXd w = last.solve(d.f);
   EXPECT_LT((d.K * w - d.f).norm() / d.f.norm(), 1e-10);
+  // Augmented [K 𝔹ᵀ; 𝔹 σI]: Q = L21 L21ᵀ, and K⁻¹ through the leading block.
+  const SparseCholesky aug(d.K, d.B);
+  EXPECT_TRUE(aug.augmented());
+  const DualOperator fa = make_dual_operator_augmented(aug, d.B, d.f);
+  EXPECT_LT((fa.Q - ref.Q).norm() / ref.Q.norm(), 1e-10) << "augmented, n = " << n;
+  EXPECT_LT((fa.h - ref.h).norm() / ref.h.norm(), 1e-10);
+  const Eigen::VectorXd wa = aug.solve(d.f);
+  EXPECT_LT((d.K * wa - d.f).norm() / d.f.norm(), 1e-10);
 }
 
 struct RandomQp {
@@ -203,6 +211,7 @@ TEST(FastPaths, WholeSolvesAgreeAcrossVariants) {
   const std::vector<std::vector<std::string>> variants = {
       {"solver.schur=\"contactlast\""},
       {"solver.schur=\"contactlast\"", "solver.qp=\"ssn\""},
+      {"solver.schur=\"augmented\""},
       {"solver.qp=\"ssn\"", "solver.inexact_fixed_point=true"},
       {"solver.fixed_point=\"anderson\""},
   };

@@ -74,6 +74,26 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
   return op;
 }
 
+DualOperator make_dual_operator_augmented(const SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
+                                          const Eigen::VectorXd& f) {
+  if (!K_aug.augmented() || K_aug.trailing_size() != B.rows())
+    throw std::logic_error("make_dual_operator_augmented: not the augmented factor of this 𝔹");
+  DualOperator op;
+  op.u_free = K_aug.solve(f);
+  op.h = B * op.u_free;
+  op.solves = 1;
+  const Eigen::MatrixXd G = K_aug.trailing_gram();
+  const std::vector<int> order = K_aug.trailing_order();  // n + (row of 𝔹), in the factor's order
+  const int m = static_cast<int>(B.rows()), n = K_aug.size();
+  std::vector<int> row(m);
+  for (int k = 0; k < m; ++k) row[k] = order[k] - n;
+  op.Q.resize(m, m);
+  for (int b = 0; b < m; ++b)
+    for (int a = 0; a < m; ++a) op.Q(row[a], row[b]) = G(a, b);
+  op.Q = 0.5 * (op.Q + op.Q.transpose()).eval();
+  return op;
+}
+
 double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {
   if (Q.rows() == 0) return 0;
   Eigen::VectorXd x = Eigen::VectorXd::Ones(Q.rows()).normalized();

@@ -72,11 +72,43 @@ UpperCsc upper_csc(const Eigen::SparseMatrix<double>& K, const std::vector<int>*
 }  // namespace
 
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K) : impl_(new Impl), n_(static_cast<int>(K.rows())) {
+  n_aug_ = n_;
   factor(K, nullptr);
+}
+
+SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma)
+    : impl_(new Impl), n_(static_cast<int>(K.rows())) {
+  const int n = n_, m = static_cast<int>(B.rows());
+  if (B.cols() != n) throw std::invalid_argument("augmented factor: 𝔹 and K sizes differ");
+  if (!(sigma > 0)) {
+    // λmax(𝔹K⁻¹𝔹ᵀ) <= ‖𝔹‖_F² / λmin(K) and λmin(K) >= max diag(K) / cond(K); a K with
+    // cond(K) > 1e20 is beyond double precision anyway.
+    const double dmax = K.diagonal().cwiseAbs().maxCoeff();
+    sigma = std::max(1.0, B.squaredNorm()) * 1e20 / std::max(dmax, 1e-300);
+  }
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(K.nonZeros() + 2 * B.nonZeros() + m);
+  for (int j = 0; j < K.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
+  for (int j = 0; j < B.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(B, j); it; ++it) {
+      t.emplace_back(n + it.row(), it.col(), it.value());
+      t.emplace_back(it.col(), n + it.row(), it.value());
+    }
+  for (int i = 0; i < m; ++i) t.emplace_back(n + i, n + i, sigma);
+  Eigen::SparseMatrix<double> A(n + m, n + m);
+  A.setFromTriplets(t.begin(), t.end());
+  std::vector<int> trailing(m);
+  for (int i = 0; i < m; ++i) trailing[i] = n + i;
+  n_ = n + m;
+  n_aug_ = n + m;
+  factor(A, &trailing);
+  n_ = n;
 }
 
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing)
     : impl_(new Impl), n_(static_cast<int>(K.rows())) {
+  n_aug_ = n_;
   factor(K, &trailing);
 }
 
@@ -150,11 +182,11 @@ void SparseCholesky::factor(const Eigen::SparseMatrix<double>& K, const std::vec
 
 Eigen::MatrixXd SparseCholesky::trailing_factor(std::vector<int>& order) const {
   const cholmod_factor* L = impl_->factor;
-  const int nt = n_trailing_, first = n_ - nt;
+  const int nt = n_trailing_, first = n_aug_ - nt;
   if (nt == 0) { order.clear(); return {}; }
   if (!L->is_super) throw std::logic_error("trailing_factor: factor is not supernodal");
   const auto* P = static_cast<const SuiteSparse_long*>(L->Perm);
-  order.assign(P + first, P + n_);
+  order.assign(P + first, P + n_aug_);
   Eigen::MatrixXd Ltt = Eigen::MatrixXd::Zero(nt, nt);
   const auto* super = static_cast<const SuiteSparse_long*>(L->super);
   const auto* pi = static_cast<const SuiteSparse_long*>(L->pi);
@@ -198,8 +230,71 @@ double SparseCholesky::factor_nonzeros() const {
   return double(impl_->common.lnz);
 }
 
+std::vector<int> SparseCholesky::trailing_order() const {
+  const auto* P = static_cast<const SuiteSparse_long*>(impl_->factor->Perm);
+  return std::vector<int>(P + (n_aug_ - n_trailing_), P + n_aug_);
+}
+
+Eigen::MatrixXd SparseCholesky::trailing_gram() const {
+  const cholmod_factor* L = impl_->factor;
+  const int nt = n_trailing_, first = n_aug_ - nt;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(nt, nt);
+  if (nt == 0) return G;
+  if (!L->is_super) throw std::logic_error("trailing_gram: factor is not supernodal");
+  const auto* super = static_cast<const SuiteSparse_long*>(L->super);
+  const auto* pi = static_cast<const SuiteSparse_long*>(L->pi);
+  const auto* px = static_cast<const SuiteSparse_long*>(L->px);
+  const auto* rows = static_cast<const SuiteSparse_long*>(L->s);
+  const auto* x = static_cast<const double*>(L->x);
+  Eigen::MatrixXd block, gram;
+  std::vector<int> idx;
+  for (std::size_t s = 0; s < L->nsuper; ++s) {
+    const SuiteSparse_long k1 = super[s], k2 = std::min<SuiteSparse_long>(super[s + 1], first);
+    if (k1 >= k2) continue;  // a supernode of trailing columns only
+    const SuiteSparse_long nrows = pi[s + 1] - pi[s];
+    idx.clear();
+    std::vector<SuiteSparse_long> pos;
+    for (SuiteSparse_long p = 0; p < nrows; ++p)
+      if (rows[pi[s] + p] >= first) { idx.push_back(static_cast<int>(rows[pi[s] + p] - first)); pos.push_back(p); }
+    if (idx.empty()) continue;
+    const int nr = static_cast<int>(idx.size()), nc = static_cast<int>(k2 - k1);
+    block.resize(nr, nc);
+    for (int j = 0; j < nc; ++j) {
+      const double* col = x + px[s] + j * nrows;
+      for (int q = 0; q < nr; ++q) block(q, j) = col[pos[q]];
+    }
+    gram.noalias() = block * block.transpose();
+    for (int b = 0; b < nr; ++b)
+      for (int a = 0; a < nr; ++a) G(idx[a], idx[b]) += gram(a, b);
+  }
+  return G;
+}
+
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   cholmod_common* c = &impl_->common;
+  if (augmented()) {
+    // K⁻¹ through the leading block: with L = [L11 0; L21 L22] (permuted), forward solve,
+    // drop the trailing part, back solve: Lᵀ[x1; 0] = [z1; 0] gives x1 = L11⁻ᵀ z1.
+    const int n = n_, na = n_aug_, first = n_aug_ - n_trailing_;
+    Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(na, B.cols());
+    padded.topRows(n) = B;
+    auto apply = [&](int sys, const Eigen::MatrixXd& in) {
+      cholmod_dense rhs{};
+      rhs.nrow = in.rows(); rhs.ncol = in.cols(); rhs.nzmax = in.size(); rhs.d = in.rows();
+      rhs.x = const_cast<double*>(in.data());
+      rhs.xtype = CHOLMOD_REAL;
+      rhs.dtype = CHOLMOD_DOUBLE;
+      cholmod_dense* x = cholmod_l_solve(sys, impl_->factor, &rhs, c);
+      if (!x) throw std::runtime_error("CHOLMOD solve failed (out of memory?)");
+      Eigen::MatrixXd out = Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(x->x), in.rows(), in.cols());
+      cholmod_l_free_dense(&x, c);
+      return out;
+    };
+    Eigen::MatrixXd z = apply(CHOLMOD_L, apply(CHOLMOD_P, padded));
+    z.bottomRows(na - first).setZero();
+    const Eigen::MatrixXd out = apply(CHOLMOD_Pt, apply(CHOLMOD_Lt, z));
+    return out.topRows(n);
+  }
   cholmod_dense rhs{};
   rhs.nrow = B.rows();
   rhs.ncol = B.cols();

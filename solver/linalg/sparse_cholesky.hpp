@@ -20,6 +20,12 @@ class SparseCholesky {
   // postorder): the trailing diagonal block L_tt of the factor then satisfies
   // L_tt L_ttᵀ = S, the Schur complement of K onto those dofs, and (K⁻¹)_tt = S⁻¹.
   SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing);
+  // Factor of the augmented SPD matrix [K 𝔹ᵀ; 𝔹 σI] with the rows of 𝔹 ordered last (METIS on
+  // K's dofs). Its leading block is a Cholesky factor of K — solve() applies K⁻¹ through it —
+  // and its off-diagonal block L_21 = 𝔹 (L_11)⁻ᵀ gives 𝔹K⁻¹𝔹ᵀ = L_21 L_21ᵀ (trailing_gram()).
+  // σ only has to make the trailing block positive definite and never enters L_21, so a huge
+  // σ (the default, from ‖𝔹‖_F² / max diag K · 1e20) costs no accuracy.
+  SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma = 0);
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;
@@ -32,6 +38,11 @@ class SparseCholesky {
   // (row of K) of row/column k of L_tt.
   Eigen::MatrixXd trailing_factor(std::vector<int>& order) const;
   int trailing_size() const { return n_trailing_; }
+  // G = L_t,lead L_t,leadᵀ: the rows of the factor in the trailing block, over the leading
+  // columns, times their transpose (dense, trailing order). For the augmented factor G = 𝔹K⁻¹𝔹ᵀ.
+  Eigen::MatrixXd trailing_gram() const;
+  std::vector<int> trailing_order() const;  // the `order` of trailing_factor, without the block
+  bool augmented() const { return n_aug_ > n_; }
 
   int size() const { return n_; }
   double factor_nonzeros() const;  // nnz(L)
@@ -42,6 +53,7 @@ class SparseCholesky {
   Impl* impl_;
   int n_;
   int n_trailing_ = 0;
+  int n_aug_ = 0;  // size of the factored matrix (n_ + rows of 𝔹 for the augmented factor)
   void factor(const Eigen::SparseMatrix<double>& K, const std::vector<int>* trailing);
 };
 

@@ -65,6 +65,7 @@ double check_stability(const Eigen::MatrixXd& Q, const Partition& part, int r) {
 std::string choose_schur(SchurMethod m, int n_trailing, int n_dual) {
   if (m == SchurMethod::BlockSolve || n_dual == 0) return "blocksolve";
   if (m == SchurMethod::ContactLast) return "contactlast";
+  if (m == SchurMethod::Augmented) return "augmented";
   const double dense_bytes = 8.0 * n_trailing * (double(n_trailing) + n_dual);
   return dense_bytes <= 6e9 ? "contactlast" : "blocksolve";
 }
@@ -133,14 +134,18 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   // dense BLAS-3 (no solve per row of 𝔹); the same factor serves K⁻¹f and the final w.
   const std::vector<int> trailing = contact_dofs(op.B);
   res.schur_method = choose_schur(scene.solver.schur, static_cast<int>(trailing.size()), op.rows());
-  const bool contact_last = res.schur_method == "contactlast";
+  const bool contact_last = res.schur_method == "contactlast", augmented = res.schur_method == "augmented";
   const std::unique_ptr<SparseCholesky> factor_ptr =
-      contact_last ? std::make_unique<SparseCholesky>(K, trailing) : std::make_unique<SparseCholesky>(K);
+      contact_last ? std::make_unique<SparseCholesky>(K, trailing)
+      : augmented  ? std::make_unique<SparseCholesky>(K, op.B)
+                   : std::make_unique<SparseCholesky>(K);
   const SparseCholesky& factor = *factor_ptr;
   res.factor_nonzeros = factor.factor_nonzeros();
   clock.lap("factorization");
 
-  const DualOperator dual = contact_last ? make_dual_operator_schur(factor, op.B, f) : make_dual_operator(factor, op.B, f);
+  const DualOperator dual = contact_last ? make_dual_operator_schur(factor, op.B, f)
+                            : augmented  ? make_dual_operator_augmented(factor, op.B, f)
+                                         : make_dual_operator(factor, op.B, f);
   clock.lap("dual");
   res.stability_condition = check_stability(dual.Q, res.partition, op.r);
   clock.lap("stability");

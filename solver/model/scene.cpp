@@ -266,7 +266,8 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     if (schur == "auto") o.schur = SchurMethod::Auto;
     else if (schur == "blocksolve") o.schur = SchurMethod::BlockSolve;
     else if (schur == "contactlast") o.schur = SchurMethod::ContactLast;
-    else throw InputError("solver.schur must be 'auto', 'blocksolve' or 'contactlast', got '" + schur + "'");
+    else if (schur == "augmented") o.schur = SchurMethod::Augmented;
+    else throw InputError("solver.schur must be 'auto', 'blocksolve', 'contactlast' or 'augmented', got '" + schur + "'");
     for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},
                                       {"reference_factorization", &o.reference_factorization}}) {
       if (!sv->contains(key)) continue;

@@ -27,7 +27,8 @@ struct MeshSource {
 enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
 // How Q = 𝔹K⁻¹𝔹ᵀ is formed: one K⁻¹ solve per row of 𝔹 (reference), or from one factorization
 // with the contact dofs ordered last (trailing factor block + dense trsm/syrk); auto picks.
-enum class SchurMethod { Auto, BlockSolve, ContactLast };
+// or from the factor of [K 𝔹ᵀ; 𝔹 σI] (multipliers last, Q = L_21 L_21ᵀ).
+enum class SchurMethod { Auto, BlockSolve, ContactLast, Augmented };
 enum class FixedPointVariant { Plain, Anderson };
 
 struct SolverSettings {

@@ -55,14 +55,15 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       result.status = QpStatus::Converged;
       return result;
     }
-    // Generalized Jacobian of F: J = I − D + ρ D Q, D block-diagonal ∂P(z).
-    // Rows with D = 0 (inactive normal, point disc) read δ = −F; D = I rows read ρ(Qδ) = −F.
+    // Generalized Jacobian of F: J = I − D + ρ D Q, D block-diagonal ∂P(z) (0 for an inactive
+    // normal or a point disc, I inside, (c/‖z‖)(I − ννᵀ) sliding). Built as Jᵀ = I − D + ρ Q D
+    // column by column (Q symmetric, column-major) and solved transposed.
     J.setZero();
-    auto set_row = [&](int row, double d_scale) {  // row of D·(ρQ) with D = d_scale·e_row
-      J.row(row) = (d_scale * rho) * Q.row(row);
+    auto add_col = [&](int col, int from, double d) {  // Jᵀ(:, col) += ρ d Q(:, from)
+      J.col(col) += (rho * d) * Q.col(from);
     };
     for (int i = 0; i < r; ++i) {
-      if (z[i] > 0) set_row(i, 1.0);
+      if (z[i] > 0) add_col(i, i, 1.0);
       else J(i, i) = 1.0;
     }
     if (qp.with_friction) {
@@ -70,19 +71,21 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
         const int a = r + i, b = 2 * r + i;
         const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
         if (zn <= c) {  // inside the disc: D = I
-          set_row(a, 1.0);
-          set_row(b, 1.0);
-        } else {        // sliding: D = (c/‖z‖)(I − ννᵀ)
-          const double s = c / zn, na = z[a] / zn, nb = z[b] / zn;
-          const double D00 = s * (1 - na * na), D01 = -s * na * nb, D11 = s * (1 - nb * nb);
-          J.row(a) = rho * (D00 * Q.row(a) + D01 * Q.row(b));
-          J.row(b) = rho * (D01 * Q.row(a) + D11 * Q.row(b));
-          J(a, a) += 1 - D00; J(a, b) += -D01;
-          J(b, a) += -D01;    J(b, b) += 1 - D11;
+          add_col(a, a, 1.0);
+          add_col(b, b, 1.0);
+        } else {        // sliding
+          const double sc = c / zn, na = z[a] / zn, nb = z[b] / zn;
+          const double D00 = sc * (1 - na * na), D01 = -sc * na * nb, D11 = sc * (1 - nb * nb);
+          if (sc > 0) {
+            add_col(a, a, D00); add_col(a, b, D01);
+            add_col(b, a, D01); add_col(b, b, D11);
+          }
+          J(a, a) += 1 - D00; J(b, a) += -D01;
+          J(a, b) += -D01;    J(b, b) += 1 - D11;
         }
       }
     }
-    const Eigen::VectorXd delta = J.partialPivLu().solve(-(lambda - pz));
+    const Eigen::VectorXd delta = J.partialPivLu().transpose().solve(Eigen::VectorXd(-(lambda - pz)));
     ++result.iterations;
     if (!delta.allFinite()) break;
     // Backtracking on ‖F‖ (full steps near the solution: local superlinear convergence).
