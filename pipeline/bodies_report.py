@@ -1,0 +1,256 @@
+#!/usr/bin/python3
+"""Bodies report (issue #4): solve every body scene, plot its contact face, run a refinement
+study, and write results/bodies/README.md. Also the checks used by tests/bodies.cmake.
+
+  bodies_report.py report --bin build/contact3d [--out results/bodies]
+  bodies_report.py check --bin B --scene S --out DIR [--set k=v ...]   # converged, KKT small
+  bodies_report.py stability --bin B --scene S --out DIR               # H = h/4 must be rejected
+"""
+import argparse
+import json
+import math
+import pathlib
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+SCENES = ["lblock", "wedge", "holed", "ufoot", "punch", "brick_unstructured"]
+REFINE = {"holed": [0.2, 0.1, 0.05], "wedge": [0.2, 0.1, 0.05]}
+KKT_TOL = 1e-3
+
+
+def run(binary, scene, out, sets=()):
+    cmd = [str(binary), "solve", str(scene), "--out", str(out), "--quiet"]
+    for s in sets:
+        cmd += ["--set", s]
+    t = time.time()
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    return p, time.time() - t
+
+
+def load(out):
+    return json.loads((pathlib.Path(out) / "summary.json").read_text())
+
+
+def contact_max_u(out):
+    import csv
+    with open(pathlib.Path(out) / "contact_nodes.csv") as f:
+        return max(math.sqrt(float(r["u1"]) ** 2 + float(r["u2"]) ** 2 + float(r["u3"]) ** 2) for r in csv.DictReader(f))
+
+
+def verdict(out):
+    """List of failures (empty = fine): converged, KKT residuals and w_hn+ small."""
+    s = load(out)
+    bad = []
+    if not s.get("converged") or s.get("status") != "converged":
+        bad.append(f"status {s.get('status')}")
+    kkt = s.get("kkt", {})
+    for k, v in kkt.items():
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v <= KKT_TOL):
+            bad.append(f"kkt.{k} = {v} > {KKT_TOL}")
+    umax = contact_max_u(out)
+    if not (s["wn_plus_inf"] <= 0.1 * umax):
+        bad.append(f"|w_hn+|_inf = {s['wn_plus_inf']} > 0.1 max|u| on Γc = {0.1 * umax}")
+    return bad
+
+
+def cmd_check(a):
+    p, _ = run(a.bin, a.scene, a.out, a.set or [])
+    if p.returncode != 0:
+        print(p.stdout, p.stderr)
+        sys.exit(f"FAIL: exit code {p.returncode}")
+    bad = verdict(a.out)
+    s = load(a.out)
+    print(f"{a.scene}: status={s['status']} it={s['fixed_point_iterations']} n_cells={s['n_cells']} "
+          f"kkt_max={max(s['kkt'].values()):.2e} wn+_inf={s['wn_plus_inf']:.2e}")
+    if bad:
+        sys.exit("FAIL: " + "; ".join(bad))
+
+
+def cmd_stability(a):
+    p, _ = run(a.bin, a.scene, a.out, ['contact.cell_size="0.25h"'])
+    if p.returncode != 2 or "(5.1)" not in p.stderr or "cell " not in p.stderr:
+        print(p.stdout, p.stderr)
+        sys.exit(f"FAIL: expected exit 2 naming (5.1) and cells, got {p.returncode}")
+    print("rejected as expected:", p.stderr.splitlines()[0][:160])
+
+
+def plot_face(out, png, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.tri as mtri
+    import meshio
+    m = meshio.read(pathlib.Path(out) / "contact.vtu")
+    tri = mtri.Triangulation(m.points[:, 0], m.points[:, 1], m.cells_dict["triangle"])
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, key, label in [(axes[0], "contact_pressure", "contact pressure (Pa)"),
+                           (axes[1], "slip_norm", "slip |u_t| (m)")]:
+        v = m.point_data[key]
+        v = v if v.ndim == 1 else v.reshape(len(v), -1)[:, 0]
+        h = ax.tripcolor(tri, v, shading="gouraud", cmap="viridis")
+        ax.triplot(tri, lw=0.15, color="w", alpha=0.5)
+        ax.set_aspect("equal")
+        ax.set_title(label)
+        fig.colorbar(h, ax=ax, shrink=0.8)
+    # cell outlines
+    import csv
+    with open(pathlib.Path(out) / "contact_cells.csv") as f:
+        for r in csv.DictReader(f):
+            x0, x1, y0, y1 = (float(r[k]) for k in ("xmin", "xmax", "ymin", "ymax"))
+            for ax in axes:
+                ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], "r-", lw=0.3, alpha=0.6)
+    fig.suptitle(title + " (red: bounding boxes of the cells of T_H)")
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+
+
+def face_field(out):
+    import matplotlib.tri as mtri
+    import meshio
+    m = meshio.read(pathlib.Path(out) / "contact.vtu")
+    tri = mtri.Triangulation(m.points[:, 0], m.points[:, 1], m.cells_dict["triangle"])
+    return m, tri
+
+
+def face_error(coarse, fine):
+    """RMS over the finest contact nodes of |u_coarse - u_fine| (P1 interpolation of the coarse
+    trace on its own triangles), relative to the RMS of |u_fine|."""
+    import matplotlib.tri as mtri
+    import numpy as np
+    mc, tc = face_field(coarse)
+    mf, _ = face_field(fine)
+    uc, uf = mc.point_data["displacement"], mf.point_data["displacement"]
+    x, y = mf.points[:, 0], mf.points[:, 1]
+    diff = []
+    for k in range(3):
+        vals = mtri.LinearTriInterpolator(tc, uc[:, k])(x, y)
+        diff.append(np.ma.filled(vals, np.nan) - uf[:, k])
+    d = np.sqrt(np.sum(np.array(diff) ** 2, axis=0))
+    ok = np.isfinite(d)  # points outside the coarse polygonal face (curved hole) are skipped
+    return float(np.sqrt(np.mean(d[ok] ** 2)) / np.sqrt(np.mean(np.sum(uf[ok] ** 2, axis=1))))
+
+
+def cmd_report(a):
+    out = pathlib.Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    work = pathlib.Path(a.work)
+    rows, fails = [], []
+    for name in SCENES:
+        run_dir = work / name
+        p, wall = run(a.bin, ROOT / "pipeline/scenes" / f"{name}.toml", run_dir)
+        if p.returncode != 0:
+            fails.append(f"{name}: exit {p.returncode}: {p.stderr.strip()[:300]}")
+            continue
+        s = load(run_dir)
+        bad = verdict(run_dir)
+        if bad:
+            fails.append(f"{name}: " + "; ".join(bad))
+        import csv
+        with open(run_dir / "contact_nodes.csv") as f:
+            status = [int(r["status"]) for r in csv.DictReader(f)]
+        plot_face(run_dir, out / f"{name}.png", name)
+        rows.append((name, s, status))
+        print(f"{name}: {s['status']} it={s['fixed_point_iterations']} ({wall:.1f} s)", flush=True)
+
+    ref = {}
+    for name, hs in REFINE.items():
+        res = []
+        for h in hs:
+            d = work / f"{name}_h{h}"
+            p, _ = run(a.bin, ROOT / "pipeline/scenes" / f"{name}.toml", d, [f"mesh.parameters.h={h}"])
+            if p.returncode != 0:
+                fails.append(f"{name} h={h}: exit {p.returncode}: {p.stderr.strip()[:300]}")
+                break
+            res.append((h, d, load(d)))
+            print(f"{name} h={h}: {load(d)['status']}", flush=True)
+        ref[name] = res
+
+    L = ["# Bodies (issue #4): general polyhedral bodies and the partition of their contact faces", "",
+         "Made by `pipeline/bodies_report.py report --bin build/contact3d` (every number below is read",
+         "from the runs' summary.json; figures from contact.vtu and contact_cells.csv).",
+         "All scenes: steel-like E = 2.1e11 Pa, ν = 0.3, g = 2e7 Pa, H = 2h, clamped at x = 0.", ""]
+    L += ["| scene | law | n_nodes | n_p | n_d | cells (merged) | it | n_mult | time (s) | max KKT | ‖w_hn⁺‖₀ | ‖w_hn⁺‖∞ (m) | max\\|u\\| on Γc (m) | F_n (N) | F_t1 (N) | status counts |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for name, s, status in rows:
+        law = s["scene"]["friction"]["law"] if isinstance(s.get("scene"), dict) and "friction" in s["scene"] else ""
+        counts = {v: status.count(v) for v in sorted(set(status))}
+        L.append(f"| {name} | {law} | {s['n_nodes']} | {s['n_primal']} | {s['n_dual']} | {s['n_cells']} ({s['cells_merged']}) | "
+                 f"{s['fixed_point_iterations']} | {s['n_mult']} | {s['time_s']['total']:.2f} | {max(s['kkt'].values()):.1e} | "
+                 f"{s['wn_plus_L2']:.2e} | {s['wn_plus_inf']:.2e} | {contact_max_u(work / name):.2e} | "
+                 f"{s['contact_force']['normal']:.4e} | {s['contact_force']['t1']:.4e} | {counts} |")
+    L += ["", "`status counts`: the contact_nodes.csv status codes and how many contact nodes have each "
+          "(see the results writer; codes differ for separated / stick / slip).", ""]
+    L += ["KKT residuals per scene (relative, from summary.json):", "",
+          "| scene | " + " | ".join(rows[0][1]["kkt"].keys()) + " |" if rows else "",
+          "|---|" + "---|" * (len(rows[0][1]["kkt"]) if rows else 0)]
+    for name, s, _ in rows:
+        L.append(f"| {name} | " + " | ".join(f"{v:.1e}" for v in s["kkt"].values()) + " |")
+    L += ["", "## Contact faces", ""]
+    for name, _, _ in rows:
+        L += [f"### {name}", "", f"![{name}]({name}.png)", ""]
+
+    L += ["## Refinement study", "",
+          "Three mesh sizes per body (`--set mesh.parameters.h=...`, H = 2h). Errors against the finest run:",
+          "e_u = relative RMS over the finest contact nodes of the difference of the contact-face displacement",
+          "(coarse P1 trace interpolated on its own triangles; points of the finest face outside a coarse",
+          "polygonal face are skipped), e_F = relative difference of the total contact force",
+          "(summary.json contact_force, normal and tangential). Observed rate between the two coarse levels:",
+          "log(e(h1)/e(h2)) / log(h1/h2).", ""]
+    rates = {}
+    for name, res in ref.items():
+        if len(res) < 3:
+            continue
+        hf, df, sf = res[-1]
+        L += [f"### {name}", "", "| h | n_p | n_d | it | F_n (N) | F_t1 (N) | e_u | e_Fn | e_Ft |", "|---|---|---|---|---|---|---|---|---|"]
+        errs = []
+        for h, d, s in res:
+            cf, ff = s["contact_force"], sf["contact_force"]
+            eu = face_error(d, df) if d != df else 0.0
+            en = abs(cf["normal"] - ff["normal"]) / abs(ff["normal"])
+            ft = math.hypot(ff["t1"], ff["t2"])
+            et = math.hypot(cf["t1"] - ff["t1"], cf["t2"] - ff["t2"]) / ft
+            errs.append((h, eu, en, et))
+            L.append(f"| {h} | {s['n_primal']} | {s['n_dual']} | {s['fixed_point_iterations']} | {cf['normal']:.5e} | {cf['t1']:.5e} | "
+                     + (f"{eu:.2e} | {en:.2e} | {et:.2e} |" if d != df else "(reference) | | |"))
+        (h1, u1, n1, t1), (h2, u2, n2, t2) = errs[0], errs[1]
+        rate = lambda e1, e2: math.log(e1 / e2) / math.log(h1 / h2) if e1 > 0 and e2 > 0 else float("nan")
+        rates[name] = (rate(u1, u2), rate(n1, n2), rate(t1, t2))
+        L += ["", f"Observed rates ({h1} → {h2}, against h = {hf}): displacement {rates[name][0]:.2f}, "
+              f"normal force {rates[name][1]:.2f}, tangential force {rates[name][2]:.2f}.", ""]
+    L += ["Comparing against the finest run rather than an exact solution overestimates the rate when the",
+          "middle level is already close to the finest one; on these geometries the contact pressure has edge",
+          "singularities (clamped edge, punch corners), so rates below 2 for the trace are expected.", ""]
+    if fails:
+        L += ["## Failures", ""] + [f"- {f}" for f in fails] + [""]
+    (out / "README.md").write_text("\n".join(L))
+    print("\n".join(L))
+    if fails:
+        sys.exit("FAIL: " + "; ".join(fails))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("report")
+    r.add_argument("--bin", default=str(ROOT / "build/contact3d"))
+    r.add_argument("--out", default=str(ROOT / "results/bodies"))
+    r.add_argument("--work", default="/tmp/contact3d_bodies")
+    c = sub.add_parser("check")
+    c.add_argument("--bin", required=True)
+    c.add_argument("--scene", required=True)
+    c.add_argument("--out", required=True)
+    c.add_argument("--set", action="append")
+    s = sub.add_parser("stability")
+    s.add_argument("--bin", required=True)
+    s.add_argument("--scene", required=True)
+    s.add_argument("--out", required=True)
+    a = ap.parse_args()
+    {"report": cmd_report, "check": cmd_check, "stability": cmd_stability}[a.cmd](a)
+
+
+if __name__ == "__main__":
+    main()
