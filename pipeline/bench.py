@@ -1,0 +1,178 @@
+#!/usr/bin/python3
+"""Benchmark of the solver variants on the paper's brick (five-tet mesh, `mesh.generator =
+paper_brick`), n = 4 ... 32. `make bench` runs it.
+
+For every (n, variant) one CLI run with `solver.reference_factorization = true`, so the ratio
+    total / one factorization = (sum of the solve stages) / time_s.reference_factorization
+is taken inside one process (mesh generation and file writing excluded; the reference
+factorization itself excluded from the sum). Peak memory is the child's ru_maxrss (os.wait4).
+
+Accuracy: the meshes n, 2n, ... are nested (node (i,j,k) of n is node (2i,2j,2k) of 2n), so the
+error of a run is the relative discrete L2 difference of the contact-node displacements (u1, u2,
+u3 at the nodes of the coarse contact face) against the finest run of the reference variant.
+
+Writes results/bench/bench.csv, results/bench/threads.csv, results/bench/error_vs_time.png.
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENE = ROOT / "pipeline" / "scenes" / "paper_brick.toml"
+
+# name -> --set overrides; "paper" is the reference path (one solve per row of 𝔹, MPGP).
+VARIANTS = {
+    "blocksolve+mpgp": ["solver.schur=blocksolve", "solver.qp=mpgp"],
+    "augmented+mpgp": ["solver.schur=augmented", "solver.qp=mpgp"],
+    "augmented+ssn": ["solver.schur=augmented", "solver.qp=ssn"],
+    "contactlast+ssn": ["solver.schur=contactlast", "solver.qp=ssn"],
+}
+# The reference path forms Q with 3r solves (2-5 factorizations): only where it is affordable.
+MAX_N = {"blocksolve+mpgp": 16, "contactlast+ssn": 24}
+STAGES = ["assembly", "contact", "factorization", "dual", "stability", "dual_solve", "postprocess"]
+
+
+def run(binary, n, overrides, out, threads=2, extra=()):
+    args = [binary, "solve", str(SCENE), "--out", str(out),
+            "--set", "mesh.generator=paper_brick", "--set", f"mesh.n={n}",
+            "--set", "solver.reference_factorization=true"]
+    for o in list(overrides) + list(extra):
+        args += ["--set", o]
+    env = dict(os.environ, OPENBLAS_NUM_THREADS=str(threads), OMP_NUM_THREADS=str(threads))
+    t0 = time.monotonic()
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env)
+    output = proc.stdout.read()
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    wall = time.monotonic() - t0
+    if proc.returncode != 0:
+        raise RuntimeError(f"run failed ({proc.returncode}): {' '.join(args)}\n{output.decode()[-2000:]}")
+    summary = json.loads((out / "summary.json").read_text())
+    return summary, usage.ru_maxrss / 1024.0, wall  # MiB
+
+
+def contact_displacements(out):
+    """{(x, y): (u1, u2, u3)} at the contact nodes, coordinates rounded for matching."""
+    table = {}
+    with open(out / "contact_nodes.csv") as f:
+        for row in csv.DictReader(f):
+            key = (round(float(row["x"]), 9), round(float(row["y"]), 9))
+            table[key] = (float(row["u1"]), float(row["u2"]), float(row["u3"]))
+    return table
+
+
+def relative_error(coarse, fine):
+    num = den = 0.0
+    for key, u in coarse.items():
+        if key not in fine:
+            raise RuntimeError(f"contact node {key} has no match on the reference mesh (not nested?)")
+        v = fine[key]
+        num += sum((a - b) ** 2 for a, b in zip(u, v))
+        den += sum(b * b for b in v)
+    return (num / den) ** 0.5 if den > 0 else float("nan")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--bin", default=str(ROOT / "build" / "contact3d"))
+    ap.add_argument("--sizes", default="4,8,12,16,24,32")
+    ap.add_argument("--variants", default=",".join(VARIANTS))
+    ap.add_argument("--out", default=str(ROOT / "results" / "bench"))
+    ap.add_argument("--work", default="/tmp/contact3d_bench")
+    ap.add_argument("--threads-n", type=int, default=16, help="mesh size of the 1 vs 2 thread runs (0: skip)")
+    args = ap.parse_args()
+    sizes = [int(s) for s in args.sizes.split(",")]
+    variants = args.variants.split(",")
+    out_dir, work = Path(args.out), Path(args.work)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    work.mkdir(parents=True, exist_ok=True)
+
+    rows, solutions = [], {}
+    for n in sizes:
+        for v in variants:
+            if n > MAX_N.get(v, 10**9):
+                print(f"skip n={n} {v} (beyond MAX_N: the reference path costs minutes there)", flush=True)
+                continue
+            d = work / f"n{n}_{v}"
+            s, rss, wall = run(args.bin, n, VARIANTS[v], d)
+            t = s["time_s"]
+            solve = sum(t.get(k, 0.0) for k in STAGES)
+            ref = t.get("reference_factorization", float("nan"))
+            row = {"n": n, "variant": v, "n_p": s["n_primal"], "n_d": s["n_dual"],
+                   "converged": s["converged"], "fp_iterations": s["fixed_point_iterations"],
+                   "qp_iterations": s["qp_iterations"], "n_mult": s["n_mult"],
+                   "solve_s": round(solve, 4), "reference_factorization_s": round(ref, 4),
+                   "ratio_total_over_factorization": round(solve / ref, 3),
+                   "peak_rss_mib": round(rss, 1), "wall_s": round(wall, 3),
+                   "wn_plus_L2": s["wn_plus_L2"], "wn_plus_inf": s["wn_plus_inf"]}
+            for k in STAGES + ["mesh"]:
+                row[f"t_{k}"] = round(t.get(k, 0.0), 4)
+            rows.append(row)
+            solutions[(n, v)] = contact_displacements(d)
+            print(f"n={n:3d} {v:18s} solve {solve:8.3f} s  ratio {solve / ref:5.2f}  it {row['fp_iterations']}"
+                  f"  n_mult {row['n_mult']}  qp_it {row['qp_iterations']}  rss {rss:7.0f} MiB", flush=True)
+
+    # Error against the finest solution of the reference-quality variant (all variants agree to
+    # the solver tolerance; the finest mesh is what matters).
+    finest = max(n for n, _ in solutions)
+    ref_key = next(k for k in [(finest, "augmented+mpgp"), (finest, "augmented+ssn")] + list(solutions) if k in solutions)
+    for row in rows:
+        row["reference_n"] = ref_key[0]
+        row["error_vs_finest"] = (relative_error(solutions[(row["n"], row["variant"])], solutions[ref_key])
+                                  if row["n"] < ref_key[0] else "")
+
+    with open(out_dir / "bench.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {out_dir / 'bench.csv'}")
+
+    if args.threads_n:
+        trows = []
+        for threads in (1, 2):
+            s, rss, wall = run(args.bin, args.threads_n, VARIANTS["augmented+ssn"], work / f"threads{threads}", threads)
+            t = s["time_s"]
+            trows.append({"n": args.threads_n, "threads": threads, "solve_s": round(sum(t.get(k, 0.0) for k in STAGES), 4),
+                          "factorization_s": round(t["factorization"], 4),
+                          "reference_factorization_s": round(t["reference_factorization"], 4), "wall_s": round(wall, 3)})
+        for r in trows:
+            r["speedup_solve"] = round(trows[0]["solve_s"] / r["solve_s"], 3)
+            r["speedup_factorization"] = round(trows[0]["factorization_s"] / r["factorization_s"], 3)
+        with open(out_dir / "threads.csv", "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(trows[0].keys()))
+            w.writeheader()
+            w.writerows(trows)
+        print("threads:", trows)
+
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib missing: no plot", file=sys.stderr)
+        return
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    for v in variants:
+        pts = [(r["solve_s"], r["error_vs_finest"], r["n"]) for r in rows if r["variant"] == v and r["error_vs_finest"] != ""]
+        if not pts:
+            continue
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=v)
+        for x, y, n in pts:
+            ax.annotate(f"n={n}", (x, y), fontsize=7, textcoords="offset points", xytext=(3, 3))
+    ax.set_xlabel("solve time (s), assembly to displacement")
+    ax.set_ylabel(f"contact displacement error vs n={ref_key[0]}")
+    ax.set_title("paper brick: error vs time per solver variant")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out_dir / "error_vs_time.png", dpi=120)
+    print(f"wrote {out_dir / 'error_vs_time.png'}")
+
+
+if __name__ == "__main__":
+    main()
