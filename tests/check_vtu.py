@@ -173,7 +173,25 @@ def main():
               "the last step's displacement is not the final displacement")
         check(not np.allclose(first.point_data["displacement"], last.point_data["displacement"], rtol=1e-6, atol=0),
               "the first and last fixed-point steps have identical displacements")
+    check_single_solve(args, out)
     return report(out)
+
+
+def check_single_solve(args, out):
+    """A constant coefficient needs one Tresca solve: history.csv, err_history and solution.pvd
+    then all have exactly one step."""
+    single = os.path.join(out, "constant")
+    cmd = [args.bin, "solve", args.scene, "--quiet", "--out", single, "--set", "mesh.generator=paper_brick",
+           "--set", "mesh.n=2", "--set", "friction.law=constant", "--set", "friction.value=0.3"] + args.extra.split()
+    if not check(subprocess.run(cmd).returncode == 0, "constant-law solve failed"):
+        return
+    s = json.load(open(os.path.join(single, "summary.json")))
+    rows = read_csv(os.path.join(single, "history.csv"))
+    steps = [d for d in ET.parse(os.path.join(single, "solution.pvd")).getroot().findall("./Collection/DataSet")
+             if d.get("part", "0") == "0"]
+    check(len(rows) == len(steps) == len(s["err_history"]) == s["fixed_point_iterations"] == 1,
+          f"constant law: history rows {len(rows)}, pvd steps {len(steps)}, err_history {len(s['err_history'])}, "
+          f"fixed_point_iterations {s['fixed_point_iterations']} (all should be 1)")
 
 
 def report(out):

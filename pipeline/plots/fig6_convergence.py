@@ -13,7 +13,7 @@ def plot(runs, out_dir, name="fig06_convergence.png"):
     drew = False
     for run in runs:
         h = run.history()
-        if not h:
+        if not h or len(h["k"]) < 2:  # a single solve (constant or no friction): err is 0, nothing to plot
             continue
         ax.semilogy(h["k"], h["err"], "o-", label=f"{run.label()} ({len(h['k'])} steps)")
         tol = run.scene.get("solver", {}).get("fixed_point_tol", tol)

@@ -24,6 +24,18 @@ std::ofstream open_output(const std::filesystem::path& file) {
   return out;
 }
 
+// One entry per Tresca (or frictionless) solve: the fixed-point history, or, when the scene needed
+// a single solve (constant or no friction), that solve as step 1 with err = 0 (nothing depends on
+// φ, so the first solve is the fixed point). Keeps history.csv, err_history, the progress lines,
+// fixed_point_iterations and the steps of solution.pvd the same length.
+std::vector<FixedPointStep> solve_history(const SolveResult& res) {
+  if (!res.fixed_point.history.empty() || res.u_history.empty()) return res.fixed_point.history;
+  double seconds = 0;
+  for (const auto& [stage, sec] : res.seconds)
+    if (stage == "dual_solve") seconds = sec;
+  return {FixedPointStep{1, 0.0, res.qp_iterations, res.n_mult, seconds}};
+}
+
 bool has_friction(const SolveResult& res) { return res.lambda.size() == 3 * res.n_cells && res.n_cells > 0; }
 
 double von_mises(const Mesh& mesh, const Matrix6d& D, const std::array<int, 4>& t, const Eigen::VectorXd& u) {
@@ -256,7 +268,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
   j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
   j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
   j.begin_array("err_history");
-  for (const auto& s : res.fixed_point.history) j.element(s.err);
+  for (const auto& s : solve_history(res)) j.element(s.err);
   j.end_array();
   j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
   j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
@@ -309,7 +321,7 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
   {
     std::ofstream out = open_output(dir / "history.csv");
     out << "k,err,qp_iterations,n_mult,seconds\n";
-    for (const auto& s : res.fixed_point.history)
+    for (const auto& s : solve_history(res))
       out << s.k << ',' << s.err << ',' << s.qp_iterations << ',' << s.n_mult << ',' << s.seconds << '\n';
   }
   const Matrix6d D = hooke_matrix(scene.material);
