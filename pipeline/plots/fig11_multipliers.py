@@ -17,7 +17,9 @@ def plot(run, out_dir):
     c = run.cells()
     cx, cy = 0.5 * (c["xmin"] + c["xmax"]), 0.5 * (c["ymin"] + c["ymax"])
     size = np.minimum(c["xmax"] - c["xmin"], c["ymax"] - c["ymin"])
-    rmax = max(c["radius"].max(), np.hypot(c["lambda_t1"], c["lambda_t2"]).max(), 1e-300)
+    rmax = max(c["radius"].max(), np.hypot(c["lambda_t1"], c["lambda_t2"]).max())
+    frictionless = rmax <= 0
+    rmax = rmax if not frictionless else 1.0
     scale = 0.48 * np.median(size) / rmax  # m per Pa
     lt = np.hypot(c["lambda_t1"], c["lambda_t2"])
     ratio = np.where(c["radius"] > 0, lt / np.maximum(c["radius"], 1e-300), 0.0)
@@ -34,7 +36,10 @@ def plot(run, out_dir):
     ax.set_xlim(c["xmin"].min() - 0.02, c["xmax"].max() + 0.02)
     ax.set_ylim(c["ymin"].min() - 0.02, c["ymax"].max() + 0.02)
     face_axes(ax)
-    ax.set_title(f"Fig. 11 — λ_tH per cell and disc radii c_R (1 m on the plot = {1 / scale / 1e6:.3g} MPa)")
+    if frictionless:
+        ax.set_title("Fig. 11 — λ_tH per cell: frictionless scene, no tangential multipliers")
+    else:
+        ax.set_title(f"Fig. 11 — λ_tH per cell and disc radii c_R (1 m on the plot = {1 / scale / 1e6:.3g} MPa)")
     return [save(fig, out_dir, "fig11_tangential_multiplier.png")]
 
 

@@ -26,7 +26,7 @@ def plot(run, out_dir):
             ax.plot(t * 1e6, law(t), lw=2.4 if own else 1.4, ls="-" if own else "--",
                     label=f"param = {p:.0e} 1/m" + (" (this scene)" if own else ""))
         ax.axvline(t0 * 1e6, color="0.6", lw=0.8)
-        ax.text(t0 * 1e6, ax.get_ylim()[0] if False else float(fr.get("low", 0.2)), " t0", color="0.4", va="bottom")
+        ax.text(t0 * 1e6, float(fr.get("low", 0.2)), " t0", color="0.4", va="bottom")
     else:
         law = friction_law(fr)
         nodes = run.nodes()
