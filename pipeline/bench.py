@@ -84,6 +84,7 @@ def main():
     ap.add_argument("--variants", default=",".join(VARIANTS))
     ap.add_argument("--out", default=str(ROOT / "results" / "bench"))
     ap.add_argument("--work", default="/tmp/contact3d_bench")
+    ap.add_argument("--repeat", type=int, default=3, help="runs per case for n <= 16 (min is kept)")
     ap.add_argument("--threads-n", type=int, default=16, help="mesh size of the 1 vs 2 thread runs (0: skip)")
     args = ap.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
@@ -99,16 +100,26 @@ def main():
                 print(f"skip n={n} {v} (beyond MAX_N: the reference path costs minutes there)", flush=True)
                 continue
             d = work / f"n{n}_{v}"
-            s, rss, wall = run(args.bin, n, VARIANTS[v], d)
+            # The machine is shared: repeat small cases, keep the fastest run's stages and the
+            # fastest reference factorization (ratio of minima).
+            repeats = args.repeat if n <= 16 else 1
+            best = None
+            ref = float("inf")
+            for _ in range(repeats):
+                s, rss, wall = run(args.bin, n, VARIANTS[v], d)
+                t = s["time_s"]
+                solve = sum(t.get(k, 0.0) for k in STAGES)
+                ref = min(ref, t.get("reference_factorization", float("nan")))
+                if best is None or solve < best[0]:
+                    best = (solve, s, rss, wall)
+            solve, s, rss, wall = best
             t = s["time_s"]
-            solve = sum(t.get(k, 0.0) for k in STAGES)
-            ref = t.get("reference_factorization", float("nan"))
             row = {"n": n, "variant": v, "n_p": s["n_primal"], "n_d": s["n_dual"],
                    "converged": s["converged"], "fp_iterations": s["fixed_point_iterations"],
                    "qp_iterations": s["qp_iterations"], "n_mult": s["n_mult"],
                    "solve_s": round(solve, 4), "reference_factorization_s": round(ref, 4),
                    "ratio_total_over_factorization": round(solve / ref, 3),
-                   "peak_rss_mib": round(rss, 1), "wall_s": round(wall, 3),
+                   "peak_rss_mib": round(rss, 1), "wall_s": round(wall, 3), "repeats": repeats,
                    "wn_plus_L2": s["wn_plus_L2"], "wn_plus_inf": s["wn_plus_inf"]}
             for k in STAGES + ["mesh"]:
                 row[f"t_{k}"] = round(t.get(k, 0.0), 4)
@@ -135,7 +146,9 @@ def main():
     if args.threads_n:
         trows = []
         for threads in (1, 2):
-            s, rss, wall = run(args.bin, args.threads_n, VARIANTS["augmented+ssn"], work / f"threads{threads}", threads)
+            runs = [run(args.bin, args.threads_n, VARIANTS["augmented+ssn"], work / f"threads{threads}", threads)
+                    for _ in range(args.repeat)]
+            s, rss, wall = min(runs, key=lambda x: sum(x[0]["time_s"].get(k, 0.0) for k in STAGES))
             t = s["time_s"]
             trows.append({"n": args.threads_n, "threads": threads, "solve_s": round(sum(t.get(k, 0.0) for k in STAGES), 4),
                           "factorization_s": round(t["factorization"], 4),

@@ -237,3 +237,21 @@ TEST(FastPaths, FrictionlessIsOneQpWithoutFixedPoint) {
   EXPECT_EQ(res.fixed_point.iterations(), 0);
   EXPECT_EQ(res.n_dual, res.n_cells);
 }
+
+TEST(FastPaths, ConstantLawIsOneTrescaSolve) {
+  const Scene scene = parse_scene_text(kBrick, ".", {"friction.law=\"constant\"", "friction.value=0.3"});
+  const SolveResult res = solve_scene(scene, make_paper_brick({4}));
+  ASSERT_TRUE(res.converged);
+  EXPECT_EQ(res.fixed_point.iterations(), 0);
+  EXPECT_EQ(res.u_history.size(), 1u);
+  EXPECT_EQ(res.n_dual, 3 * res.n_cells);
+}
+
+TEST(FastPaths, NoContactIsOneLinearSolve) {
+  const Scene scene = parse_scene_text(kBrick, ".", {"boundary.contact=[]"});
+  const SolveResult res = solve_scene(scene, make_paper_brick({4}));
+  ASSERT_TRUE(res.converged);
+  EXPECT_EQ(res.n_mult, 1);
+  EXPECT_EQ(res.n_dual, 0);
+  EXPECT_LT(res.kkt.equilibrium, 1e-10);
+}

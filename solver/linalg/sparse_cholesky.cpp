@@ -9,6 +9,9 @@
 
 #include <cholmod.h>
 
+extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+                       const double* a, const int* lda, const double* beta, double* c, const int* ldc);
+
 namespace contact3d {
 
 struct SparseCholesky::Impl {
@@ -258,14 +261,26 @@ Eigen::MatrixXd SparseCholesky::trailing_gram() const {
       if (rows[pi[s] + p] >= first) { idx.push_back(static_cast<int>(rows[pi[s] + p] - first)); pos.push_back(p); }
     if (idx.empty()) continue;
     const int nr = static_cast<int>(idx.size()), nc = static_cast<int>(k2 - k1);
-    block.resize(nr, nc);
-    for (int j = 0; j < nc; ++j) {
-      const double* col = x + px[s] + j * nrows;
-      for (int q = 0; q < nr; ++q) block(q, j) = col[pos[q]];
+    const bool tail = pos.front() == nrows - nr;  // trailing rows are the supernode's last rows (sorted)
+    const double* a = x + px[s];
+    int lda = static_cast<int>(nrows);
+    if (tail) {
+      a += pos.front();
+    } else {
+      block.resize(nr, nc);
+      for (int j = 0; j < nc; ++j)
+        for (int q = 0; q < nr; ++q) block(q, j) = x[px[s] + j * nrows + pos[q]];
+      a = block.data();
+      lda = nr;
     }
-    gram.noalias() = block * block.transpose();
+    gram.resize(nr, nr);
+    const double one = 1, zero = 0;
+    dsyrk_("U", "N", &nr, &nc, &one, a, &lda, &zero, gram.data(), &nr);  // upper triangle of A Aᵀ
     for (int b = 0; b < nr; ++b)
-      for (int a = 0; a < nr; ++a) G(idx[a], idx[b]) += gram(a, b);
+      for (int q = 0; q <= b; ++q) {
+        G(idx[q], idx[b]) += gram(q, b);
+        if (q != b) G(idx[b], idx[q]) += gram(q, b);
+      }
   }
   return G;
 }
