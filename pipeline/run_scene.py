@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """One scene end to end: solve it, then make its figures and a report.
 
-usage: run_scene.py --bin BIN --scene S.toml --out DIR [--args "--set k=v ..."] [--figures | --no-figures]
-                    [--compare RUN_DIR ...]
+usage: run_scene.py --bin BIN --scene S.toml --out DIR [--args "--set k=v ..."] [--figures [COPY_DIR] | --no-figures]
+                    [--compare RUN_DIR ...] [--compare-params 2e4,3e5]
 
 Runs `BIN solve S.toml --out DIR <args>` with its output streamed, then (unless --no-figures)
 writes the paper-style figures into DIR/figures/ (pipeline/plots/make_figures.py) and DIR/report.md:
@@ -10,12 +10,16 @@ scene, mesh statistics, timings per stage, the fixed-point convergence table (hi
 the KKT residuals (summary.json) and the figures inline. Exit code: the solver's (figures that
 fail are reported in report.md and on stderr, and do not change it); 2 if the solver wrote no
 summary.json.
+--figures COPY_DIR also copies the figures and report.md (links adjusted) into COPY_DIR (e.g.
+results/figures). --compare-params P1,P2 solves the scene again with friction.param = P1, P2 (into
+DIR/compare/param_P) for the combined convergence plot, as in the paper's Table 2 / Fig. 6.
 """
 import argparse
 import csv
 import json
 import os
 import shlex
+import shutil
 import subprocess
 import sys
 
@@ -85,9 +89,11 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--args", default="", help="extra solver arguments, one string")
     g = ap.add_mutually_exclusive_group()
-    g.add_argument("--figures", dest="figures", action="store_true", default=True, help="make figures (default)")
+    g.add_argument("--figures", nargs="?", const=True, default=True, metavar="COPY_DIR",
+                   help="make figures (default); with a folder, also copy them and report.md there")
     g.add_argument("--no-figures", dest="figures", action="store_false")
     ap.add_argument("--compare", nargs="*", default=[], help="other run folders for a combined Fig. 6")
+    ap.add_argument("--compare-params", default="", help="comma-separated friction.param values to solve too")
     a = ap.parse_args()
 
     cmd = [a.bin, "solve", a.scene, "--out", a.out] + shlex.split(a.args)
@@ -100,17 +106,36 @@ def main():
     if not os.path.isfile(os.path.join(a.out, "summary.json")):
         print(f"run_scene: the solver wrote no summary.json (exit code {rc}); no report", file=sys.stderr)
         return rc if rc != 0 else 2
+    compare = list(a.compare)
+    for p in [x for x in a.compare_params.split(",") if x.strip()]:
+        d = os.path.join(a.out, "compare", f"param_{p.strip()}")
+        c = [a.bin, "solve", a.scene, "--quiet", "--out", d] + shlex.split(a.args) + ["--set", f"friction.param={p.strip()}"]
+        print("+", " ".join(shlex.quote(x) for x in c), flush=True)
+        if subprocess.call(c) in (0, 1) and os.path.isfile(os.path.join(d, "summary.json")):
+            compare.append(d)
+        else:
+            print(f"run_scene: the comparison run with param {p} failed; left out", file=sys.stderr)
     figures, notes = [], []
     if a.figures:
         try:
             sys.path.insert(0, os.path.join(HERE, "plots"))
             from make_figures import make_all
-            figures, notes = make_all(a.out, os.path.join(a.out, "figures"), a.compare)
+            figures, notes = make_all(a.out, os.path.join(a.out, "figures"), compare)
         except Exception as e:  # matplotlib/meshio missing or broken: still write the report
             notes.append(f"figures failed: {e}")
         for n in notes:
             print("run_scene: note:", n, file=sys.stderr)
     path = report(a.scene, a.out, cmd, rc, figures, notes)
+    if isinstance(a.figures, str) and figures:
+        os.makedirs(a.figures, exist_ok=True)
+        for f in figures:
+            shutil.copy2(f, a.figures)
+        with open(path) as f:
+            text = f.read().replace("](figures/", "](")
+        name = f"report_{os.path.splitext(os.path.basename(a.scene))[0]}.md"
+        with open(os.path.join(a.figures, name), "w") as f:
+            f.write(text)
+        print(f"copied {len(figures)} figures and {name} to {a.figures}")
     print(f"report: {path}" + (f" ({len(figures)} figures in {os.path.join(a.out, 'figures')})" if figures else ""))
     return rc
 
