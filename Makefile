@@ -32,8 +32,9 @@ tables: build
 crosscheck: build
 	$(PY) pipeline/crosscheck.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml
 
+# The paper's figures for a run (Fig. 3, 6-11), copied into results/figures with the report.
 figures: build
-	$(PY) pipeline/run_scene.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --out results/runs/$(SCENE) --figures
+	$(PY) pipeline/run_scene.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --out results/runs/$(SCENE) --figures results/figures --compare-params 2e4,3e5
 
 bench: build
 	$(PY) pipeline/bench.py --bin $(BIN)
