@@ -247,3 +247,16 @@ TEST(Partition, LocalStabilityDefectIsRepaired) {
   EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
   expect_row_sums_are_areas(f, p);
 }
+
+TEST(Partition, FaceWithoutContactNodesIsAnInputError) {
+  // Γc entirely on Γu: no contact node, no row of 𝔹 can be stable.
+  Flat f = flat({{0, 0}});
+  f.mesh.groups.push_back({2, 2, "clamped"});
+  for (int k = 0; k < 2; ++k) {
+    f.mesh.triangles.push_back(f.mesh.triangles[k]);
+    f.mesh.triangle_tags.push_back(f.mesh.triangles.size());
+    f.mesh.triangle_group.push_back(2);
+  }
+  const DofMap dofs = make_dof_map(f.mesh, {"clamped"});
+  EXPECT_THROW(make_contact_face(f.mesh, {"contact"}, dofs), InputError);
+}

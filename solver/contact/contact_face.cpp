@@ -11,6 +11,7 @@ namespace contact3d {
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups,
                               const DofMap& dofs) {
   ContactFace face;
+  if (mesh.nodes.empty()) throw InputError("the mesh has no nodes");
   Eigen::Vector3d lo = mesh.nodes.front(), hi = mesh.nodes.front();
   for (const auto& x : mesh.nodes) { lo = lo.cwiseMin(x); hi = hi.cwiseMax(x); }
   const double plane_tol = 1e-8 * std::max((hi - lo).norm(), 1e-300);
@@ -51,11 +52,14 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   }
   std::nth_element(shortest.begin(), shortest.begin() + shortest.size() / 2, shortest.end());
   face.h = shortest[shortest.size() / 2];
+  if (!(face.area > 0)) throw InputError("the contact groups have zero total area (degenerate triangles)");
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
     if (face.contact_index[v] == 0) {
       face.contact_index[v] = static_cast<int>(face.nodes.size());
       face.nodes.push_back(static_cast<int>(v));
     }
+  if (face.nodes.empty())
+    throw InputError("every node of the contact groups lies on the clamped boundary Γu: Γc has no contact node");
   return face;
 }
 
