@@ -200,7 +200,7 @@ def cmd_report(a):
 
     L = ["# Bodies (issue #4): general polyhedral bodies and the partition of their contact faces", "",
          "Made by `pipeline/bodies_report.py report --bin build/contact3d` (every number below is read",
-         "from the runs' summary.json; figures from contact.vtu and contact_cells.csv).",
+         "from the runs' summary.json; figures from contact.vtu and contact_cells.vtu).",
          "All scenes: steel-like E = 2.1e11 Pa, ν = 0.3, H = 2h, clamped at x = 0; law and g per row.", ""]
     L += ["| scene | law | n_nodes | n_p | n_d | cells (merged) | it | n_mult | time (s) | max KKT | ‖w_hn⁺‖₀ | ‖w_hn⁺‖∞ (m) | max\\|u\\| on Γc (m) | F_n (N) | F_t1 (N) | status counts |",
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -217,7 +217,9 @@ def cmd_report(a):
                  f"{s['contact_force']['normal']:.4e} | {s['contact_force']['t1']:.4e} | {counts} |")
     L += ["", "`status counts`: contact nodes per contact_nodes.csv status (0 separated, 1 stick, 2 slip).",
           "Every scene has both sticking and slipping nodes. `cells (merged)`: cells of T_H and how many",
-          "rectangles were merged into a neighbour (slivers at slanted edges and around the hole).", ""]
+          "rectangles were merged into a neighbour (slivers at slanted edges and around the hole).",
+          "F_t1 < 0 on the punch is physical: the cantilevered block bends under the top load, its lower",
+          "fibres shorten towards the clamp and drag the foot's sole towards -x.", ""]
     L += ["KKT residuals per scene (relative, from summary.json):", "",
           "| scene | " + " | ".join(rows[0][1]["kkt"].keys()) + " |" if rows else "",
           "|---|" + "---|" * (len(rows[0][1]["kkt"]) if rows else 0)]
