@@ -39,6 +39,7 @@ import csv
 import json
 import math
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -70,6 +71,11 @@ class SideFailed(Exception):
 
 # ----------------------------------------------------------------------------------------------
 # small helpers
+
+
+def children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def log(msg: str) -> None:
@@ -183,7 +189,7 @@ def read_msh22(path: Path):
     return {"names": names, "coords": coords, "tris": tri_idx, "tri_tags": np.array(tri_tags, dtype=np.int64)}
 
 
-def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str) -> tuple[Path, dict]:
+def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bool = False) -> tuple[Path, dict]:
     m = scene.get("mesh", {})
     if "geo" in m:
         geo = (scene_path.parent / m["geo"]).resolve()
@@ -194,6 +200,8 @@ def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str) -> tuple[
             params["n"] = n
         tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
         out = work / f"{geo.stem}-{tag}.msh"
+        if reuse and out.exists():
+            return out, params
         cmd = [gmsh, "-3", "-format", "msh22"]
         for k, v in params.items():
             cmd += ["-setnumber", str(k), str(v)]
@@ -301,13 +309,14 @@ def ff_string(s: str) -> str:
     return '"' + str(s).replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
-def run_freefem(freefem: str, driver_text: str, work: Path, tag: str, timeout: float) -> tuple[float, str]:
+def run_freefem(freefem: str, driver_text: str, work: Path, tag: str, timeout: float) -> tuple[float, float]:
+    """Runs a generated driver; returns (wall seconds, CPU seconds of the process)."""
     driver = work / f"{tag}.edp"
     driver.write_text(driver_text)
     env = dict(os.environ)
     if Path(FF_LOADPATH).is_dir():
         env["FF_LOADPATH"] = FF_LOADPATH
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), children_cpu()
     try:
         r = subprocess.run([freefem, "-nw", "-ne", str(driver)], cwd=work, env=env, capture_output=True,
                            text=True, timeout=timeout)
@@ -315,12 +324,12 @@ def run_freefem(freefem: str, driver_text: str, work: Path, tag: str, timeout: f
         raise SideFailed(f"FreeFEM: timed out after {timeout:g} s ({driver})") from None
     except FileNotFoundError:
         raise SideFailed(f"FreeFEM: executable {freefem!r} not found") from None
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, children_cpu() - c0
     (work / f"{tag}.log").write_text(r.stdout + r.stderr)
     if r.returncode != 0:
         raise SideFailed(f"FreeFEM exited with {r.returncode} (log: {work / (tag + '.log')}):\n"
                          + "\n".join((r.stdout + r.stderr).splitlines()[-15:]))
-    return wall, r.stdout
+    return wall, cpu
 
 
 def freefem_driver(prob: dict, msh: Path, s: float, out_csv: Path, out_json: Path, *, tol: float,
@@ -493,10 +502,10 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     F = args.F if args.F is not None else float(cfg["friction_coefficient"])
     fr_table, s, label = variant_friction(scene, variant, F, scene_path)
     work = work_root / f"{name}-n{n if n is not None else 'scene'}-{variant}"
-    if work.exists():
+    if work.exists() and not args.reuse_freefem:
         shutil.rmtree(work)
-    work.mkdir(parents=True)
-    msh, params = make_mesh(scene, scene_path, n, work, args.gmsh)
+    work.mkdir(parents=True, exist_ok=True)
+    msh, params = make_mesh(scene, scene_path, n, work, args.gmsh, reuse=args.reuse_freefem)
     mesh = read_msh22(msh)
     prob = problem_data(scene, scene_path, mesh)
     case = {"scene": name, "n": params.get("n", n), "variant": variant, "friction": label, "slip_bound_s": s,
@@ -507,7 +516,18 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     ff_csv, ff_json = work / "freefem_contact_nodes.csv", work / "freefem_summary.json"
     drv = freefem_driver(prob, msh, s, ff_csv, ff_json, tol=args.ff_tol, maxit=args.ff_maxit,
                          perturb=args.perturb_freefem_traction)
-    ff_wall, _ = run_freefem(args.freefem, drv, work, "freefem", args.timeout)
+    timing = work / "freefem_time.json"
+    old_drv = work / "freefem.edp"
+    if (args.reuse_freefem and old_drv.exists() and old_drv.read_text() == drv and timing.exists()
+            and ff_json.exists() and ff_csv.exists()):
+        t = json.loads(timing.read_text())
+        ff_wall, ff_cpu = t["wall"], t["cpu"]
+        log("   FreeFEM: reusing the previous run in " + str(work))
+    else:
+        for f in (timing, ff_json, ff_csv):
+            f.unlink(missing_ok=True)
+        ff_wall, ff_cpu = run_freefem(args.freefem, drv, work, "freefem", args.timeout)
+        timing.write_text(json.dumps({"wall": ff_wall, "cpu": ff_cpu}))
     try:
         ffres = json.loads(ff_json.read_text())
     except (OSError, json.JSONDecodeError) as e:
@@ -520,7 +540,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     if bad:
         raise SideFailed("FreeFEM reference failed its own checks: " + "; ".join(bad))
     log(f"   FreeFEM: {ffres['newton_iterations']} Newton steps, {ffres['n_in_contact']}/{ffres['n_contact_nodes']} "
-        f"nodes in contact, {ff_wall:.2f} s wall")
+        f"nodes in contact, {ff_wall:.2f} s wall, {ff_cpu:.2f} s CPU")
 
     # contact3d on a derived scene (same mesh file, the variant's friction table)
     derived = {k: v for k, v in scene.items() if k not in ("crosscheck", "friction", "mesh", "output")}
@@ -529,17 +549,18 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     derived_path = work / f"{name}-{variant}.toml"
     derived_path.write_text("# derived by pipeline/crosscheck.py from " + str(scene_path) + "\n" + toml_dump(derived))
     out = work / "contact3d"
+    shutil.rmtree(out, ignore_errors=True)
     cmd = [args.bin, "solve", str(derived_path), "--mesh", str(msh), "--out", str(out)]
     for kv in args.set or []:
         cmd += ["--set", kv]
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), children_cpu()
     try:
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
     except subprocess.TimeoutExpired:
         raise SideFailed(f"contact3d: timed out after {args.timeout:g} s") from None
     except FileNotFoundError:
         raise SideFailed(f"contact3d binary {args.bin!r} not found (build it: cmake --build build --target contact3d)") from None
-    ours_wall = time.perf_counter() - t0
+    ours_wall, ours_cpu = time.perf_counter() - t0, children_cpu() - c0
     (work / "contact3d.log").write_text(" ".join(cmd) + "\n" + r.stdout + r.stderr)
     if r.returncode != 0:
         raise SideFailed(f"contact3d exited with {r.returncode}:\n" + "\n".join((r.stdout + r.stderr).splitlines()[-15:]))
@@ -557,17 +578,19 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
         finite_or_fail(cells[k], f"contact3d cells {k}")
     ours_total = float(summ.get("time_s", {}).get("total", float("nan")))
     log(f"   contact3d: {summ.get('fixed_point_iterations', '?')} fixed-point steps, n_mult {summ.get('n_mult', '?')}, "
-        f"{ours_wall:.2f} s wall")
+        f"{ours_wall:.2f} s wall, {ours_cpu:.2f} s CPU")
 
     cmp_ = compare(mesh, prob, ff, ours, cells, float(cfg["contact_tol"]))
     case.update(cmp_)
     case.update({
         "ff_newton_iterations": ffres["newton_iterations"], "ff_final_change": ffres["final_relative_change"],
         "ff_time_wall": ff_wall, "ff_time_cpu": ffres["time_s"]["total"], "ff_time_solve": ffres["time_s"]["solve"],
+        "ff_time_process_cpu": ff_cpu, "ours_time_process_cpu": ours_cpu,
         "ours_time_wall": ours_wall, "ours_time_total": ours_total,
         "ours_fixed_point_iterations": summ.get("fixed_point_iterations"), "ours_n_mult": summ.get("n_mult"),
         "ours_n_cells": summ.get("n_cells"), "ours_wn_plus_inf": summ.get("wn_plus_inf"),
         "time_ratio_wall": ff_wall / max(ours_wall, 1e-9),
+        "time_ratio_cpu": ff_cpu / max(ours_cpu, 1e-9),
         "time_ratio_internal": ffres["time_s"]["total"] / ours_total if ours_total > 0 else float("nan"),
         "perturb_freefem_traction": args.perturb_freefem_traction,
     })
@@ -619,19 +642,30 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
     L.append("rel L2 = ‖u_ff − u_ours‖/‖u_ff‖ in L2(Γc), exact integral of the P1 interpolants over the "
              "contact triangles; max |Δu| = max over contact nodes of the Euclidean nodal difference. "
              "Forces: FreeFEM Σ m_p λ_p, contact3d Σ area·λ over cells (λ_n = pressure, λ_t = −tangential traction). "
-             "Times: wall clock of each process (FreeFEM includes its start-up and assembly), ratio FreeFEM/contact3d.\n")
-    L.append("| n | variant | contact nodes | rel L2 u | rel L2 u_n | rel L2 u_t | max abs du (m) | rel max du | "
-             "in contact FF/ours | mismatch | Fn FF (N) | Fn ours (N) | rel dFn | Ft FF (N) | Ft ours (N) | rel dFt | "
-             "FF Newton | FF time (s) | ours time (s) | ratio | status |")
-    L.append("|" + "---|" * 21)
+             "Both processes include mesh reading and assembly.\n")
+    ft = lambda v: "(" + ", ".join(format(x, ".4g") for x in v) + ")"
+    L.append("Displacements on Γc and contact sets:\n")
+    L.append("| n | variant | contact nodes | rel L2 u | rel L2 u_n | rel L2 u_t | max abs du (m) | max du / max u "
+             "| in contact FF/ours | mismatch | status |")
+    L.append("|" + "---|" * 11)
     for c in cases:
-        ft = lambda v: "(" + ", ".join(format(x, ".4g") for x in v) + ")"
         L.append(f"| {c['n']} | {c['variant']} | {c['n_contact_nodes_ff']} | {fmt(c['rel_l2'])} | {fmt(c['rel_l2_normal'])} | "
                  f"{fmt(c['rel_l2_tangential'])} | {fmt(c['max_diff'])} | {fmt(c['rel_max_diff'])} | "
-                 f"{c['in_contact_ff']}/{c['in_contact_ours']} | {c['contact_ff_only'] + c['contact_ours_only']} | "
-                 f"{c['Fn_ff']:.5g} | {c['Fn_ours']:.5g} | {fmt(c['rel_Fn'])} | {ft(c['Ft_ff'])} | {ft(c['Ft_ours'])} | "
-                 f"{fmt(c['rel_Ft'])} | {c['ff_newton_iterations']} | {c['ff_time_wall']:.2f} | {c['ours_time_wall']:.3f} | "
-                 f"{c['time_ratio_wall']:.1f} | {c['status']} |")
+                 f"{c['in_contact_ff']}/{c['in_contact_ours']} | {c['contact_ff_only'] + c['contact_ours_only']} | {c['status']} |")
+    L.append("\nTotal contact forces (N):\n")
+    L.append("| n | variant | Fn FreeFEM | Fn contact3d | rel diff | Ft FreeFEM | Ft contact3d | rel diff |")
+    L.append("|" + "---|" * 8)
+    for c in cases:
+        L.append(f"| {c['n']} | {c['variant']} | {c['Fn_ff']:.6g} | {c['Fn_ours']:.6g} | {fmt(c['rel_Fn'])} | "
+                 f"{ft(c['Ft_ff'])} | {ft(c['Ft_ours'])} | {fmt(c['rel_Ft']) if c['slip_bound_s'] > 0 else '—'} |")
+    L.append("\nCost (wall = elapsed time of the process; CPU = user+system time of the process; ratio = FreeFEM/contact3d):\n")
+    L.append("| n | variant | FF Newton steps | contact3d steps / n_mult | FF wall (s) | FF CPU (s) | contact3d wall (s) "
+             "| contact3d CPU (s) | ratio wall | ratio CPU |")
+    L.append("|" + "---|" * 10)
+    for c in cases:
+        L.append(f"| {c['n']} | {c['variant']} | {c['ff_newton_iterations']} | {c['ours_fixed_point_iterations']} / "
+                 f"{c['ours_n_mult']} | {c['ff_time_wall']:.2f} | {c['ff_time_process_cpu']:.2f} | {c['ours_time_wall']:.3f} | "
+                 f"{c['ours_time_process_cpu']:.3f} | {c['time_ratio_wall']:.1f} | {c['time_ratio_cpu']:.1f} |")
     L.append("")
     for c in cases:
         for f in c["fails"]:
@@ -739,6 +773,8 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=3600.0, help="seconds per solver run")
     ap.add_argument("--ff-tol", type=float, default=1e-10, help="FreeFEM Newton: relative change to stop")
     ap.add_argument("--ff-maxit", type=int, default=100)
+    ap.add_argument("--reuse-freefem", action="store_true",
+                    help="reuse a FreeFEM result of the same driver and mesh left in the work folder")
     ap.add_argument("--validate-freefem", action="store_true",
                     help="self-test the FreeFEM reference only (no contact3d run)")
     ap.add_argument("--perturb-freefem-traction", type=float, default=1.0, help=argparse.SUPPRESS)
