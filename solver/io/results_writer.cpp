@@ -264,6 +264,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
   j.value("n_primal", res.n_primal).value("n_dual", res.n_dual);
   j.value("n_contact_nodes", static_cast<long long>(res.face.nodes.size())).value("n_cells", res.n_cells);
   j.value("contact_h", res.face.h).value("cell_size", res.cell_size).value("cells_merged", res.partition.merged_slivers);
+  j.value("cells_split", res.partition.split_cells).value("cells_merged_for_stability", res.partition.stability_merges);
   j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
   j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
   j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
