@@ -75,6 +75,21 @@ void BM_Q_Augmented(benchmark::State& st) {
   }
 }
 
+void BM_AugmentedFactorOnly(benchmark::State& st) {
+  const Problem& p = cached(static_cast<int>(st.range(0)));
+  for (auto _ : st) benchmark::DoNotOptimize(SparseCholesky(p.K, p.B).factor_nonzeros());
+}
+void BM_AugmentedGramOnly(benchmark::State& st) {
+  const Problem& p = cached(static_cast<int>(st.range(0)));
+  const SparseCholesky F(p.K, p.B);
+  for (auto _ : st) benchmark::DoNotOptimize(F.trailing_gram().data());
+}
+void BM_Solve(benchmark::State& st) {
+  const Problem& p = cached(static_cast<int>(st.range(0)));
+  const SparseCholesky F(p.K);
+  for (auto _ : st) benchmark::DoNotOptimize(F.solve(p.f).data());
+}
+
 template <bool Ssn>
 void BM_Qp(benchmark::State& st) {
   const Problem& p = cached(static_cast<int>(st.range(0)));
@@ -106,6 +121,9 @@ BENCHMARK(BM_Factorization)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisec
 BENCHMARK(BM_Q_BlockSolve)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Q_ContactLast)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Q_Augmented)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AugmentedFactorOnly)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AugmentedGramOnly)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Solve)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Qp<false>)->Name("BM_Qp_Mpgp")->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Qp<true>)->Name("BM_Qp_Ssn")->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <memory>
 
+#include <sys/resource.h>
+
 #include <Eigen/Dense>
 
 #include "contact/contact_operator.hpp"
@@ -19,18 +21,32 @@
 namespace contact3d {
 namespace {
 
+// Wall time per stage; with `cpu` also the process CPU time (all threads, getrusage) as
+// "cpu_<stage>": on a shared machine the CPU ratios are the steadier measure (benchmarks).
 class StageClock {
  public:
-  explicit StageClock(std::vector<std::pair<std::string, double>>& out) : out_(out) {}
+  explicit StageClock(std::vector<std::pair<std::string, double>>& out, bool cpu = false) : out_(out), cpu_(cpu) {}
   void lap(const std::string& stage) {
     const auto now = std::chrono::steady_clock::now();
     out_.emplace_back(stage, std::chrono::duration<double>(now - last_).count());
     last_ = now;
+    if (cpu_) {
+      const double c = cpu_seconds();
+      out_.emplace_back("cpu_" + stage, c - last_cpu_);
+      last_cpu_ = c;
+    }
   }
 
  private:
+  static double cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
   std::vector<std::pair<std::string, double>>& out_;
+  bool cpu_;
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+  double last_cpu_ = cpu_ ? cpu_seconds() : 0;
 };
 
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns the
@@ -96,7 +112,7 @@ std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& 
 
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& progress) {
   SolveResult res;
-  StageClock clock(res.seconds);
+  StageClock clock(res.seconds, scene.solver.reference_factorization);
   check_tet_orientation(mesh);
   res.dofs = make_dof_map(mesh, scene.clamped);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
