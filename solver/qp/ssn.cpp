@@ -1,8 +1,15 @@
 #include "qp/ssn.hpp"
 
 #include <cmath>
+#include <vector>
 
 #include <Eigen/Dense>
+
+extern "C" {
+void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
+void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda, const int* ipiv,
+             double* b, const int* ldb, int* info);
+}
 
 namespace contact3d {
 namespace {
@@ -42,6 +49,8 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   Eigen::VectorXd z, pz;
   double F_norm = residual(lambda, g, z, pz);
   Eigen::MatrixXd J(m, m);
+  std::vector<int> ipiv(m);
+  int m_int = m;
   for (int it = 0; it < settings.max_newton; ++it) {
     // Stopping test at the feasible point P(λ) (λ itself may sit slightly off a circle).
     Eigen::VectorXd lam_f = lambda;
@@ -85,7 +94,14 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
         }
       }
     }
-    const Eigen::VectorXd delta = J.partialPivLu().transpose().solve(Eigen::VectorXd(-(lambda - pz)));
+    // LAPACK LU of Jᵀ (blocked, threaded BLAS), then solve J δ = −F with the transposed factor.
+    Eigen::VectorXd delta = -(lambda - pz);
+    {
+      int info = 0, one = 1;
+      dgetrf_(&m_int, &m_int, J.data(), &m_int, ipiv.data(), &info);
+      if (info == 0) dgetrs_("T", &m_int, &one, J.data(), &m_int, ipiv.data(), delta.data(), &m_int, &info);
+      if (info != 0) break;  // singular Jacobian: hand over to MPGP
+    }
     ++result.iterations;
     if (!delta.allFinite()) break;
     // Backtracking on ‖F‖ (full steps near the solution: local superlinear convergence).
