@@ -86,6 +86,8 @@ def main():
     ap.add_argument("--out", default=str(ROOT / "results" / "bench"))
     ap.add_argument("--work", default="/tmp/contact3d_bench")
     ap.add_argument("--repeat", type=int, default=3, help="runs per case for n <= 16 (min is kept)")
+    ap.add_argument("--reuse-from", type=int, default=0,
+                    help="reuse the runs already in --work for n >= this (big cases are run once)")
     ap.add_argument("--threads-n", type=int, default=16, help="mesh size of the 1 vs 2 thread runs (0: skip)")
     args = ap.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
@@ -98,7 +100,7 @@ def main():
     for n in sizes:
         for v in variants:
             if n > MAX_N.get(v, 10**9):
-                print(f"skip n={n} {v} (beyond MAX_N: the reference path costs minutes there)", flush=True)
+                print(f"skip n={n} {v} (beyond MAX_N[{v}] = {MAX_N[v]}: minutes per run on a shared 2-core machine)", flush=True)
                 continue
             d = work / f"n{n}_{v}"
             # The machine is shared: repeat small cases, keep the fastest run's stages and the
@@ -107,7 +109,12 @@ def main():
             best = None
             ref = ref_cpu = cpu_best = float("inf")
             for _ in range(repeats):
-                s, rss, wall = run(args.bin, n, VARIANTS[v], d)
+                if args.reuse_from and n >= args.reuse_from and (d / "run.json").exists():
+                    s = json.loads((d / "summary.json").read_text())  # an earlier run of this script
+                    rss, wall = json.loads((d / "run.json").read_text())
+                else:
+                    s, rss, wall = run(args.bin, n, VARIANTS[v], d)
+                    (d / "run.json").write_text(json.dumps([rss, wall]))
                 t = s["time_s"]
                 solve = sum(t.get(k, 0.0) for k in STAGES)
                 ref = min(ref, t.get("reference_factorization", float("nan")))
@@ -133,14 +140,22 @@ def main():
             print(f"n={n:3d} {v:18s} solve {solve:8.3f} s  ratio {solve / ref:5.2f}  it {row['fp_iterations']}"
                   f"  cpu ratio {row['ratio_cpu']:5.2f}  n_mult {row['n_mult']}  qp_it {row['qp_iterations']}  rss {rss:7.0f} MiB", flush=True)
 
-    # Error against the finest solution of the reference-quality variant (all variants agree to
-    # the solver tolerance; the finest mesh is what matters).
-    finest = max(n for n, _ in solutions)
-    ref_key = next(k for k in [(finest, "augmented+mpgp"), (finest, "augmented+ssn")] + list(solutions) if k in solutions)
+    # Error against the finest nested solution (mesh m with m % n == 0) of the best variant
+    # available there (all variants agree to the solver tolerance).
+    def reference_for(n):
+        finer = sorted((m for m, _ in solutions if m > n and m % n == 0), reverse=True)
+        for m in finer:
+            for v in ["augmented+mpgp", "augmented+ssn"] + variants:
+                if (m, v) in solutions:
+                    return (m, v)
+        return None
     for row in rows:
-        row["reference_n"] = ref_key[0]
+        ref_key = reference_for(row["n"])
+        row["reference_n"] = ref_key[0] if ref_key else ""
         row["error_vs_finest"] = (relative_error(solutions[(row["n"], row["variant"])], solutions[ref_key])
-                                  if row["n"] < ref_key[0] else "")
+                                  if ref_key else "")
+    finest = max(n for n, _ in solutions)
+    ref_key = (finest, "")
 
     with open(out_dir / "bench.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
@@ -176,7 +191,8 @@ def main():
         return
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for v in variants:
-        pts = [(r["solve_s"], r["error_vs_finest"], r["n"]) for r in rows if r["variant"] == v and r["error_vs_finest"] != ""]
+        pts = [(r["solve_s"], r["error_vs_finest"], r["n"]) for r in rows
+               if r["variant"] == v and r["error_vs_finest"] != "" and r["reference_n"] == finest]
         if not pts:
             continue
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=v)

@@ -178,6 +178,22 @@ TEST(FastPaths, SsnMatchesMpgpOnRandomQps) {
   EXPECT_GE(newton_only, 50);  // of 60: Newton itself converges, the MPGP fallback is rare
 }
 
+TEST(FastPaths, SsnLapackPathMatchesMpgp) {  // m >= 400 takes the LAPACK branch
+  RandomQp a = random_qp(150, true, 7);
+  a.qp.Q = &a.Q;
+  a.qp.q_norm = 1.05 * estimate_norm(a.Q);
+  Eigen::VectorXd l_mpgp, l_ssn;
+  MpgpSettings ms;
+  ms.rtol = 1e-10;
+  ASSERT_EQ(solve_mpgp(a.qp, l_mpgp, ms).status, QpStatus::Converged);
+  SsnSettings ss;
+  ss.rtol = 1e-10;
+  const QpResult rs = solve_ssn(a.qp, l_ssn, ss);
+  ASSERT_EQ(rs.status, QpStatus::Converged);
+  EXPECT_EQ(rs.cg_steps + rs.expansion_steps + rs.proportioning_steps, 0);
+  EXPECT_LT((l_ssn - l_mpgp).norm(), 1e-7 * (1 + l_mpgp.norm()));
+}
+
 TEST(FastPaths, SsnMatchesMpgpOnTheBrick) {
   const BrickData d = brick_data(4, true);
   const SparseCholesky K(d.K);

@@ -14,6 +14,8 @@ void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, 
 namespace contact3d {
 namespace {
 
+constexpr int kLapackMin = 400;
+
 // ‖gᴾ(λ)‖ for feasible λ, the MPGP stopping measure.
 double projected_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g) {
   const GradientSplit split = split_gradient(qp, lambda, g);
@@ -94,9 +96,13 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
         }
       }
     }
-    // LAPACK LU of Jᵀ (blocked, threaded BLAS), then solve J δ = −F with the transposed factor.
+    // LU of Jᵀ, then J δ = −F with the transposed factor: LAPACK (blocked, threaded BLAS) for
+    // large m; Eigen below, where waking BLAS threads costs more than the factorization
+    // (measured: n = 8, m = 144, 20x slower with 2 OpenBLAS threads on a busy machine).
     Eigen::VectorXd delta = -(lambda - pz);
-    {
+    if (m < kLapackMin) {
+      delta = J.partialPivLu().transpose().solve(delta);
+    } else {
       int info = 0, one = 1;
       dgetrf_(&m_int, &m_int, J.data(), &m_int, ipiv.data(), &info);
       if (info == 0) dgetrs_("T", &m_int, &one, J.data(), &m_int, ipiv.data(), delta.data(), &m_int, &info);
