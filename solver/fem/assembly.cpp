@@ -79,6 +79,10 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
       const double vol = std::abs(tet_volume(coords(mesh, t)));
       for (int v : t) add(v, body_force * (vol / 4.0));
     }
+  // Loads so large that |f|² overflows would turn every norm in the dual QP into inf/NaN.
+  if (!std::isfinite(f.squaredNorm()))
+    throw InputError("the load vector overflows double precision (|f|² is not finite): tractions or body force too "
+                     "large; rescale the units");
   return f;
 }
 
