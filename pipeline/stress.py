@@ -163,6 +163,10 @@ def cases(meshes):
     for nu in (0.0, 0.25, 0.45, 0.49, 0.4999):
         add(f"poisson_{nu:g}", f"nu = {nu:g} (P1 locks near 0.5)", "converged, KKT max <= 1e-4, finite",
             b4, [f"material.poisson={nu!r}"], expect_converged(kkt=1e-4))
+    for E in (1e300, 1e-300):
+        add(f"extreme_E{E:g}", f"E = {E:g} Pa, loads unchanged (u underflows/overflows)",
+            "converged with finite output, or exit 2 with an `error:` message (never NaN)", b4,
+            [f"material.young={E!r}"], expect_converged_or_error())
     add("g_zero", "g = 0 (frictionless)", "converged in one QP solve, n_dual = n_cells", b4,
         ["friction.slip_bound=0.0"], expect_converged(frictionless=True))
     add("g_huge", "g = 1e13 Pa (full stick)", "converged; max slip < 10% of the reference's", b4,
@@ -302,6 +306,15 @@ def expect_stability_error():
     return check
 
 
+def expect_converged_or_error():
+    def check(r, runs):
+        if r["rc"] == 2:
+            err = r.get("stderr", "")
+            return err.startswith("error:"), err.strip().splitlines()[0][:160] if err.strip() else "no message"
+        return expect_converged()(r, runs)
+    return check
+
+
 def expect_converged_or_stability():
     def check(r, runs):
         if r["rc"] == 2:
@@ -416,7 +429,9 @@ def write_report(path, rows, binary):
         lines.append(f"| {c['name']} | {c['n']} | {c['what']} | {c['expect']} | {status} | "
                      f"{r.get('fixed_point_iterations', '–')} | {r.get('n_mult', '–')} | {fmt_num(r.get('kkt_max'))} | "
                      f"{fmt_num(r.get('wn_plus_inf'))} | {fmt_num(r.get('time_s'), '{:.2f}')} | {note} |")
-    lines += ["", f"**{npass} / {len(rows)} cases pass.**", ""]
+    lines += ["", f"**{npass} / {len(rows)} cases pass.**", "",
+              "See also: [findings.md](findings.md) (what the failures and odd rows mean, fuzzing, sanitizers),",
+              "[bad_inputs.md](bad_inputs.md) (every rejected input with its message, `tests/bad_inputs.py --all`).", ""]
     with open(path, "w") as f:
         f.write("\n".join(lines))
     return npass

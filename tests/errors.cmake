@@ -9,7 +9,7 @@ set(CONTACT3D_BAD_INPUT_CASES
   contact_not_in_plane gamma_u_empty gamma_u_group_empty gamma_u_group_empty_solve
   poisson_half poisson_above young_zero
   young_negative slip_bound_negative nan_young inf_poisson inf_slip_bound nan_traction nan_body_force
-  nan_param inf_cell_size nan_table_point nan_set_override inf_mesh_parameter unknown_key invalid_toml
+  nan_param overflowing_body_force overflowing_traction inf_cell_size nan_table_point nan_set_override inf_mesh_parameter unknown_key invalid_toml
   missing_scene stability_violation out_proc out_is_file out_under_file mesh_n_zero)
 foreach(case ${CONTACT3D_BAD_INPUT_CASES})
   add_test(NAME errors.${case}
