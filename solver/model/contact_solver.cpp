@@ -14,6 +14,7 @@
 #include "fem/assembly.hpp"
 #include "friction/slip_bound.hpp"
 #include "io/errors.hpp"
+#include "linalg/blas_threads.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "qp/ssn.hpp"
@@ -209,6 +210,8 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     return eval;
   };
 
+  // The loop below is single right-hand-side solves and small dense LUs: one BLAS thread.
+  auto single_blas_thread = std::make_unique<ScopedBlasThreads>(1);
   const Eigen::VectorXd phi0 = Eigen::VectorXd::Zero(res.face.nodes.size());
   if (scene.law.depends_on_slip() && with_friction) {
     FixedPointSettings fp;
@@ -226,6 +229,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     res.status = eval.ok ? "converged" : "qp_" + to_string(res.last_qp.status);
     if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, 0.0});
   }
+  single_blas_thread.reset();  // back to the configured BLAS threads (final solve excluded: one RHS)
   res.n_mult = products + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   clock.lap("dual_solve");
 
