@@ -361,8 +361,10 @@ def read_results(out, r):
         for row in csv.DictReader(f):
             lam.append(float(row["lambda_n"]))
     r["lambda_n"] = lam
-    bad = [n for n in sorted(os.listdir(out)) if n.endswith((".json", ".csv", ".vtu", ".pvd"))
-           and nonfinite_in(os.path.join(out, n))]
+    bad = []
+    for d, _, files in os.walk(out):  # also the per-step files under steps/
+        bad += [os.path.relpath(os.path.join(d, n), out) for n in sorted(files)
+                if n.endswith((".json", ".csv", ".vtu", ".vtp", ".pvd")) and nonfinite_in(os.path.join(d, n))]
     r["nonfinite_files"] = bad
 
 
