@@ -267,6 +267,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
   j.value("cells_split", res.partition.split_cells).value("cells_merged_for_stability", res.partition.stability_merges);
   j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
   j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
+  j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
   j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
   j.begin_array("err_history");
   for (const auto& s : solve_history(res)) j.element(s.err);
