@@ -120,3 +120,16 @@ TEST(Assembly, RejectsInvertedTets) {
     EXPECT_NE(std::string(e.what()).find(std::to_string(mesh.tet_tags[2])), std::string::npos);
   }
 }
+
+TEST(Assembly, BlockPatternAssemblyEqualsTripletAssembly) {
+  for (int n : {1, 3}) {
+    const Mesh mesh = make_paper_brick({n});
+    const DofMap dofs = make_dof_map(mesh, {"clamped"});
+    const Material mat{2e11, 0.3};
+    const Eigen::SparseMatrix<double> fast = assemble_stiffness(mesh, dofs, mat);
+    const Eigen::SparseMatrix<double> ref = assemble_stiffness_triplets(mesh, dofs, mat);
+    ASSERT_EQ(fast.rows(), ref.rows());
+    EXPECT_LT((fast - ref).norm(), 1e-13 * ref.norm()) << "n = " << n;
+    EXPECT_LT((Eigen::SparseMatrix<double>(fast.transpose()) - fast).norm(), 1e-13 * ref.norm());
+  }
+}

@@ -1,6 +1,9 @@
 #include "fem/assembly.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <thread>
 
 #include "io/errors.hpp"
 
@@ -38,8 +41,8 @@ void check_tet_orientation(const Mesh& mesh) {
     throw InputError("inverted tetrahedra (negative volume), element tags: " + list_tags(inverted));
 }
 
-Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
-                                               const Material& material) {
+Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const DofMap& dofs,
+                                                        const Material& material) {
   const Matrix6d D = hooke_matrix(material);
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(mesh.tets.size() * 144);
@@ -56,6 +59,123 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
   }
   Eigen::SparseMatrix<double> K(dofs.n_free, dofs.n_free);
   K.setFromTriplets(entries.begin(), entries.end());
+  return K;
+}
+
+namespace {
+
+// True when every node has either no free dof or three consecutive ones, ascending with the
+// node index (what make_dof_map produces): then K has a 3x3-block pattern known in advance.
+bool has_node_block_layout(const DofMap& dofs) {
+  int next = 0;
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    const int d0 = dofs.free_index[3 * v], d1 = dofs.free_index[3 * v + 1], d2 = dofs.free_index[3 * v + 2];
+    if (d0 < 0 && d1 < 0 && d2 < 0) continue;
+    if (d0 != next || d1 != next + 1 || d2 != next + 2) return false;
+    next += 3;
+  }
+  return next == dofs.n_free;
+}
+
+// Greedy colouring: tets of one colour share no node, so they can be scattered in parallel.
+std::vector<std::vector<int>> colour_tets(const Mesh& mesh) {
+  std::vector<std::uint64_t> used(mesh.nodes.size(), 0);
+  std::vector<std::vector<int>> colours;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    std::uint64_t taken = 0;
+    for (int v : mesh.tets[e]) taken |= used[v];
+    int c = 0;
+    while (c < 64 && (taken >> c & 1u)) ++c;
+    if (c == 64) c = 63;  // more than 63 colours never happens on a tet mesh; keep it safe anyway
+    if (static_cast<int>(colours.size()) <= c) colours.resize(c + 1);
+    colours[c].push_back(static_cast<int>(e));
+    for (int v : mesh.tets[e]) used[v] |= std::uint64_t(1) << c;
+  }
+  // Colour 63 may hold tets that share nodes: run it serially (see below).
+  return colours;
+}
+
+template <class Fn>
+void parallel_for(std::size_t count, Fn fn) {
+  const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  if (threads == 1 || count < 2048) { fn(std::size_t(0), count); return; }
+  std::vector<std::thread> pool;
+  const std::size_t chunk = (count + threads - 1) / threads;
+  for (unsigned t = 0; t < threads; ++t) {
+    const std::size_t lo = t * chunk, hi = std::min(count, lo + chunk);
+    if (lo < hi) pool.emplace_back(fn, lo, hi);
+  }
+  for (auto& th : pool) th.join();
+}
+
+}  // namespace
+
+// Builds the compressed pattern from the node graph (each free node pair -> a dense 3x3
+// block), then scatters the element matrices straight into it, colour by colour on all cores.
+Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
+                                               const Material& material) {
+  if (!has_node_block_layout(dofs)) return assemble_stiffness_triplets(mesh, dofs, material);
+  const int n_nodes = dofs.n_nodes;
+  // Free neighbours of every free node (itself included), sorted.
+  std::vector<std::vector<int>> nbr(n_nodes);
+  for (const auto& t : mesh.tets)
+    for (int a : t)
+      if (dofs.dof(a, 0) >= 0)
+        for (int b : t)
+          if (dofs.dof(b, 0) >= 0) nbr[a].push_back(b);
+  std::vector<Eigen::Index> col_ptr(dofs.n_free + 1, 0);
+  for (int v = 0; v < n_nodes; ++v) {
+    auto& list = nbr[v];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    if (const int d = dofs.dof(v, 0); d >= 0)
+      for (int c = 0; c < 3; ++c) col_ptr[d + c + 1] = static_cast<Eigen::Index>(3 * list.size());
+  }
+  for (int j = 0; j < dofs.n_free; ++j) col_ptr[j + 1] += col_ptr[j];
+  std::vector<int> row_idx(col_ptr.back());
+  for (int v = 0; v < n_nodes; ++v) {
+    const int d = dofs.dof(v, 0);
+    if (d < 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      Eigen::Index k = col_ptr[d + c];
+      for (int a : nbr[v])
+        for (int r = 0; r < 3; ++r) row_idx[k++] = dofs.dof(a, r);
+    }
+  }
+  std::vector<double> values(row_idx.size(), 0.0);
+  const Matrix6d D = hooke_matrix(material);
+  auto scatter = [&](const std::array<int, 4>& t) {
+    const Matrix12d Ke = element_stiffness(coords(mesh, t), D);
+    for (int b = 0; b < 4; ++b) {
+      const int db = dofs.dof(t[b], 0);
+      if (db < 0) continue;
+      const auto& list = nbr[t[b]];
+      for (int a = 0; a < 4; ++a) {
+        if (dofs.dof(t[a], 0) < 0) continue;
+        const auto offset = 3 * (std::lower_bound(list.begin(), list.end(), t[a]) - list.begin());
+        for (int cb = 0; cb < 3; ++cb) {
+          double* column = values.data() + col_ptr[db + cb] + offset;
+          for (int ca = 0; ca < 3; ++ca) column[ca] += Ke(3 * a + ca, 3 * b + cb);
+        }
+      }
+    }
+  };
+  const auto colours = colour_tets(mesh);
+  for (std::size_t c = 0; c < colours.size(); ++c) {
+    const auto& tets = colours[c];
+    if (c == 63) {  // the overflow colour is not conflict-free
+      for (int e : tets) scatter(mesh.tets[e]);
+      continue;
+    }
+    parallel_for(tets.size(), [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t k = lo; k < hi; ++k) scatter(mesh.tets[tets[k]]);
+    });
+  }
+  Eigen::SparseMatrix<double> K(dofs.n_free, dofs.n_free);
+  K.resizeNonZeros(static_cast<Eigen::Index>(values.size()));
+  std::copy(col_ptr.begin(), col_ptr.end(), K.outerIndexPtr());
+  std::copy(row_idx.begin(), row_idx.end(), K.innerIndexPtr());
+  std::copy(values.begin(), values.end(), K.valuePtr());
   return K;
 }
 

@@ -29,6 +29,10 @@ void check_tet_orientation(const Mesh& mesh);
 
 Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
                                                const Material& material);
+// The same matrix by plain triplet assembly (the reference the fast path is tested against,
+// and the fallback for dof maps without the node-block layout of make_dof_map).
+Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const DofMap& dofs,
+                                                        const Material& material);
 Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
                               const std::vector<Traction>& tractions,
                               const Eigen::Vector3d& body_force);
