@@ -22,32 +22,13 @@
 #include "qp/box_disc_qp.hpp"
 #include "qp/mpgp.hpp"
 #include "qp/ssn.hpp"
+#include "test_support.hpp"
 
 using namespace contact3d;
 
 namespace {
 
-const char* kBrick = R"(
-[mesh]
-generator = "paper_brick"
-n = 4
-[material]
-young = 21.19e10
-poisson = 0.277
-[boundary]
-clamped = ["clamped"]
-contact = ["contact"]
-[[boundary.traction]]
-group = "load_end"
-value = [1e7, 0, 2e7]
-[[boundary.traction]]
-group = "load_top"
-value = [0, 0, -3e7]
-[friction]
-slip_bound = 2e7
-law = "ramp"
-param = 6e4
-)";
+const char* const kBrick = contact3d::testing::paper_scene_text();
 
 struct BrickData {
   Eigen::SparseMatrix<double> K, B;
@@ -95,28 +76,10 @@ void expect_same_dual(int n, bool friction) {
   EXPECT_LT((d.K * wa - d.f).norm() / d.f.norm(), 1e-10);
 }
 
-struct RandomQp {
-  Eigen::MatrixXd Q;
-  BoxDiscQP qp;
-};
+using contact3d::testing::RandomQp;
 
 RandomQp random_qp(int r, bool friction, unsigned seed) {
-  std::mt19937 gen(seed);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const int m = friction ? 3 * r : r;
-  Eigen::MatrixXd A(m + 4, m);
-  for (int i = 0; i < A.rows(); ++i)
-    for (int j = 0; j < A.cols(); ++j) A(i, j) = normal(gen);
-  RandomQp out;
-  out.Q = A.transpose() * A + 0.1 * Eigen::MatrixXd::Identity(m, m);
-  out.qp.r = r;
-  out.qp.with_friction = friction;
-  out.qp.h.resize(m);
-  for (int i = 0; i < m; ++i) out.qp.h[i] = 3 * normal(gen);
-  out.qp.radius.resize(r);
-  for (int i = 0; i < r; ++i) out.qp.radius[i] = i % 5 == 4 ? 0.0 : 2 * uniform(gen);
-  return out;
+  return contact3d::testing::make_random_qp(r, friction, seed, 4, 0.1);
 }
 
 }  // namespace

@@ -9,34 +9,14 @@
 #include "linalg/dual_operator.hpp"
 #include "qp/box_disc_qp.hpp"
 #include "qp/mpgp.hpp"
+#include "test_support.hpp"
 
 using namespace contact3d;
 
 namespace {
 
-struct RandomQp {
-  Eigen::MatrixXd Q;
-  BoxDiscQP qp;
-};
-
-RandomQp make_random_qp(int r, bool friction, unsigned seed) {
-  std::mt19937 gen(seed);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const int m = friction ? 3 * r : r;
-  Eigen::MatrixXd A(m + 3, m);
-  for (int i = 0; i < A.rows(); ++i)
-    for (int j = 0; j < A.cols(); ++j) A(i, j) = normal(gen);
-  RandomQp out;
-  out.Q = A.transpose() * A + 0.05 * Eigen::MatrixXd::Identity(m, m);
-  out.qp.r = r;
-  out.qp.with_friction = friction;
-  out.qp.h.resize(m);
-  for (int i = 0; i < m; ++i) out.qp.h[i] = 3 * normal(gen);
-  out.qp.radius.resize(r);
-  for (int i = 0; i < r; ++i) out.qp.radius[i] = i % 5 == 4 ? 0.0 : 2 * uniform(gen);
-  return out;
-}
+using contact3d::testing::make_random_qp;
+using contact3d::testing::RandomQp;
 
 // Brute force: projected gradient with a fixed step 1/‖Q‖, run to stagnation.
 Eigen::VectorXd brute_force(const BoxDiscQP& qp) {

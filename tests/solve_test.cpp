@@ -7,32 +7,13 @@
 #include "mesh/brick_generator.hpp"
 #include "model/contact_solver.hpp"
 #include "model/scene.hpp"
+#include "test_support.hpp"
 
 using namespace contact3d;
 
 namespace {
 
-const char* kPaperScene = R"(
-[mesh]
-generator = "paper_brick"
-n = 4
-[material]
-young = 21.19e10
-poisson = 0.277
-[boundary]
-clamped = ["clamped"]
-contact = ["contact"]
-[[boundary.traction]]
-group = "load_end"
-value = [1e7, 0, 2e7]
-[[boundary.traction]]
-group = "load_top"
-value = [0, 0, -3e7]
-[friction]
-slip_bound = 2e7
-law = "ramp"
-param = 6e4
-)";
+const char* const kPaperScene = contact3d::testing::paper_scene_text();
 
 SolveResult solve_text(const std::vector<std::string>& overrides = {}) {
   const Scene scene = parse_scene_text(kPaperScene, ".", overrides);

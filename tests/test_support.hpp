@@ -1,0 +1,64 @@
+// Shared fixtures of the unit tests: the paper's scene as TOML text, and small random QPs of
+// the form (5.5) with both constraint kinds.
+#pragma once
+
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "qp/box_disc_qp.hpp"
+
+namespace contact3d::testing {
+
+// Section 6 of the paper on the built-in five-tet brick at n = 4 (override with mesh.n).
+inline const char* paper_scene_text() {
+  return R"(
+[mesh]
+generator = "paper_brick"
+n = 4
+[material]
+young = 21.19e10
+poisson = 0.277
+[boundary]
+clamped = ["clamped"]
+contact = ["contact"]
+[[boundary.traction]]
+group = "load_end"
+value = [1e7, 0, 2e7]
+[[boundary.traction]]
+group = "load_top"
+value = [0, 0, -3e7]
+[friction]
+slip_bound = 2e7
+law = "ramp"
+param = 6e4
+)";
+}
+
+struct RandomQp {
+  Eigen::MatrixXd Q;
+  BoxDiscQP qp;  // qp.Q is left null: point it at Q where the object will live
+};
+
+// Q = AᵀA + shift·I with A Gaussian (m+extra_rows) x m, h Gaussian, radii uniform in [0, 2)
+// with every fifth disc a point (c = 0).
+inline RandomQp make_random_qp(int r, bool friction, unsigned seed, int extra_rows = 3, double shift = 0.05) {
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const int m = friction ? 3 * r : r;
+  Eigen::MatrixXd A(m + extra_rows, m);
+  for (int i = 0; i < A.rows(); ++i)
+    for (int j = 0; j < A.cols(); ++j) A(i, j) = normal(gen);
+  RandomQp out;
+  out.Q = A.transpose() * A + shift * Eigen::MatrixXd::Identity(m, m);
+  out.qp.r = r;
+  out.qp.with_friction = friction;
+  out.qp.h.resize(m);
+  for (int i = 0; i < m; ++i) out.qp.h[i] = 3 * normal(gen);
+  out.qp.radius.resize(r);
+  for (int i = 0; i < r; ++i) out.qp.radius[i] = i % 5 == 4 ? 0.0 : 2 * uniform(gen);
+  return out;
+}
+
+}  // namespace contact3d::testing
