@@ -236,7 +236,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   res.lambda = lambda;
   res.radius = qp.radius;
   res.u = expand_to_nodes(res.dofs, w);
-  res.kkt = kkt_residuals(K, f, op.B, op.r, with_friction, qp.radius, w, lambda);
+  res.kkt = kkt_residuals(K, f, op.B, op.r, with_friction, qp.radius, w, lambda, dual.h);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   if (!res.u.allFinite() || !res.lambda.allFinite())
     throw std::runtime_error("the solution is not finite (numerical breakdown); residuals could not be computed");

@@ -1,10 +1,12 @@
 // Residuals of the discrete optimality conditions (5.4) of a computed (w, λ), each scaled to
-// be dimensionless, so that a run reports how well it solved its own problem:
-//   equilibrium      ‖K w − f + 𝔹ᵀλ‖ / max(‖f‖, ‖𝔹ᵀλ‖)
-//   normal_feasibility      ‖max(0, (𝔹w)_n)‖ / ‖𝔹w‖          (∫_{R_i} w_n <= 0)
-//   normal_complementarity  |Σ λ_n,i (𝔹w)_n,i| / (‖λ‖ ‖𝔹w‖)
+// be dimensionless, so that a run reports how well it solved its own problem. With d = 𝔹w,
+// s_d = max(‖d‖, ‖h‖) (h = 𝔹K⁻¹f, the unconstrained d: never ~0 when the body is loaded, unlike
+// ‖d‖ in a fully stuck contact) and s_λ = max(‖λ‖, ‖c‖):
+//   equilibrium             ‖K w − f + 𝔹ᵀλ‖ / max(‖f‖, ‖𝔹ᵀλ‖)
+//   normal_feasibility      ‖max(0, d_n)‖ / s_d                     (∫_{R_i} w_n <= 0)
+//   normal_complementarity  |Σ λ_n,i d_n,i| / (s_λ s_d)
 //   disc_feasibility        max_i max(0, ‖λ_t,i‖ − c_i) / max_i c_i
-//   slip_alignment          Σ (c_i ‖(𝔹w)_t,i‖ − λ_t,iᵀ(𝔹w)_t,i) / (‖λ‖ ‖𝔹w‖)  (λ_t maximises μᵀ𝔹w on the discs)
+//   slip_alignment          Σ (c_i ‖d_t,i‖ − λ_t,iᵀ d_t,i) / (s_λ s_d)   (λ_t maximises μᵀd on the discs)
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +22,7 @@ struct KktResiduals {
 
 KktResiduals kkt_residuals(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
                            const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
-                           const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda);
+                           const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda,
+                           const Eigen::VectorXd& h);
 
 }  // namespace contact3d
