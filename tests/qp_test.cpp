@@ -8,6 +8,7 @@
 
 #include "linalg/dual_operator.hpp"
 #include "qp/box_disc_qp.hpp"
+#include "qp/jacobi_scaling.hpp"
 #include "qp/mpgp.hpp"
 #include "test_support.hpp"
 
@@ -116,3 +117,26 @@ TEST(Mpgp, ZeroRightHandSideGivesZero) {
 }
 
 }  // namespace
+
+// The Jacobi-scaled problem has the same minimiser (mapped back), with badly scaled cells.
+TEST(JacobiScaling, SameMinimiserOnBadlyScaledQps) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    RandomQp rq = make_random_qp(6, true, seed);
+    // Scale cell sizes over four orders of magnitude: Q → D Q D, h → D h, radii stay.
+    Eigen::VectorXd d(18);
+    for (int i = 0; i < 6; ++i) d[i] = d[6 + i] = d[12 + i] = std::pow(10.0, i % 4 - 2);
+    rq.Q = d.asDiagonal() * rq.Q * d.asDiagonal();
+    rq.qp.h = d.cwiseProduct(rq.qp.h);
+    rq.qp.Q = &rq.Q;
+    rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 300);
+    JacobiScaledQP scaled(rq.qp);
+    const BoxDiscQP& sq = scaled.scaled(rq.qp.radius);
+    MpgpSettings settings;
+    settings.rtol = 1e-12;
+    Eigen::VectorXd mu;
+    ASSERT_EQ(solve_mpgp(sq, mu, settings).status, QpStatus::Converged);
+    const Eigen::VectorXd x = scaled.from_scaled(mu);
+    EXPECT_TRUE(is_feasible(rq.qp, x, 1e-12));
+    EXPECT_LT(kkt_violation(rq.qp, x), 1e-8) << "seed " << seed;
+  }
+}

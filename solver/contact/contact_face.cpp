@@ -33,7 +33,7 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
     }
   }
   face.contact_index.assign(mesh.nodes.size(), -1);
-  std::vector<double> shortest;
+  std::vector<double> shortest, extent_x, extent_y;
   face.lo = mesh.nodes[face.triangles[0][0]].head<2>();
   face.hi = face.lo;
   for (const auto& tri : face.triangles) {
@@ -46,12 +46,24 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
       if (!dofs.clamped_node[tri[k]]) face.contact_index[tri[k]] = 0;
     }
     shortest.push_back(e);
+    Eigen::Vector2d tlo = mesh.nodes[tri[0]].head<2>(), thi = tlo;
+    for (int k = 1; k < 3; ++k) {
+      tlo = tlo.cwiseMin(mesh.nodes[tri[k]].head<2>());
+      thi = thi.cwiseMax(mesh.nodes[tri[k]].head<2>());
+    }
+    extent_x.push_back(thi.x() - tlo.x());
+    extent_y.push_back(thi.y() - tlo.y());
     const Eigen::Vector2d a = mesh.nodes[tri[1]].head<2>() - mesh.nodes[tri[0]].head<2>();
     const Eigen::Vector2d b = mesh.nodes[tri[2]].head<2>() - mesh.nodes[tri[0]].head<2>();
     face.area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
   }
   std::nth_element(shortest.begin(), shortest.begin() + shortest.size() / 2, shortest.end());
   face.h = shortest[shortest.size() / 2];
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  face.h_xy = Eigen::Vector2d(std::max(face.h, median(extent_x)), std::max(face.h, median(extent_y)));
   if (!(face.area > 0)) throw InputError("the contact groups have zero total area (degenerate triangles)");
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
     if (face.contact_index[v] == 0) {

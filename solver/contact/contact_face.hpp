@@ -19,6 +19,9 @@ struct ContactFace {
   std::vector<int> contact_index;             // mesh node -> position in `nodes`, or -1
   Eigen::Vector2d lo, hi;                     // bounding box of the face in (x, y)
   double h = 0;                               // typical contact edge length (median shortest edge)
+  // Typical element size per direction: medians of the triangles' x- and y-extents, at least h.
+  // "cell_size = 2h" uses these, so anisotropic contact meshes get matching rectangles.
+  Eigen::Vector2d h_xy = Eigen::Vector2d::Zero();
   double area = 0;
 
   Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }

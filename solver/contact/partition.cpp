@@ -105,8 +105,10 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
   Partition part;
   const Eigen::Vector2d extent = face.hi - face.lo;
   const double max_cells = 4e6;
+  const double size_y = opt.cell_size_y > 0 ? opt.cell_size_y : opt.cell_size;
+  if (!std::isfinite(size_y)) throw InputError("contact.cell_size must be finite");
   const double nx = std::max(1.0, std::ceil(extent.x() / opt.cell_size - 1e-9));
-  const double ny = std::max(1.0, std::ceil(extent.y() / opt.cell_size - 1e-9));
+  const double ny = std::max(1.0, std::ceil(extent.y() / size_y - 1e-9));
   if (nx * ny > max_cells)
     throw InputError("contact.cell_size " + std::to_string(opt.cell_size) + " m gives " +
                      std::to_string(nx * ny) + " cells; choose a larger H");

@@ -43,6 +43,7 @@ struct ContactCell {
 
 struct PartitionOptions {
   double cell_size = 0;              // H in m; the grid uses ceil(L/H) cells per direction
+  double cell_size_y = 0;            // H in y when it differs (0: same as cell_size)
   double sliver_fraction = 0.2;      // cells below this fraction of a full rectangle are merged
   bool split_disconnected = true;    // one cell per connected component of a rectangle ∩ Γc
   bool enforce_stability = true;     // repair or reject partitions failing the matching test

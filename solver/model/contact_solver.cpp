@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include <sys/resource.h>
 
@@ -17,6 +18,7 @@
 #include "linalg/blas_threads.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "qp/jacobi_scaling.hpp"
 #include "qp/ssn.hpp"
 
 namespace contact3d {
@@ -138,8 +140,13 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   }
 
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
-  res.cell_size = scene.cell_size_relative ? scene.cell_size * res.face.h : scene.cell_size;
-  res.partition = make_grid_partition(mesh, res.face, {res.cell_size});
+  // H = k·h means k times the typical element extent in each direction (h_xy), so that an
+  // anisotropic contact mesh gets rectangles of the same aspect; a length is used as given.
+  res.cell_size = scene.cell_size_relative ? scene.cell_size * res.face.h_xy.x() : scene.cell_size;
+  PartitionOptions cells;
+  cells.cell_size = res.cell_size;
+  cells.cell_size_y = scene.cell_size_relative ? scene.cell_size * res.face.h_xy.y() : 0.0;
+  res.partition = make_grid_partition(mesh, res.face, cells);
   const bool with_friction = !scene.frictionless();
   const ContactOperator op = make_contact_operator(res.face, res.partition, res.dofs, with_friction);
   res.n_cells = op.r;
@@ -178,6 +185,9 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   mpgp.expansion = scene.solver.qp == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
   res.qp_method = scene.solver.qp == QpVariant::Ssn ? "ssn" : scene.solver.qp == QpVariant::MpgpProjectedCG ? "mpgp_projcg" : "mpgp";
 
+  // Solvers see the Jacobi-scaled problem unless the scene asks for the paper's plain one.
+  std::optional<JacobiScaledQP> jacobi;
+  if (scene.solver.qp_scaling == QpScaling::Jacobi) jacobi.emplace(qp);
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(op.rows());
   Eigen::VectorXd w = dual.u_free;
   int products = 0;
@@ -189,15 +199,18 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
       for (std::size_t k = 0; k < res.face.nodes.size(); ++k) phi_nodes[res.face.nodes[k]] = phi_contact[k];
       qp.radius = disc_radii(res.face, res.partition, scene.law, scene.slip_bound, phi_nodes);
     }
+    const BoxDiscQP& problem = jacobi ? jacobi->scaled(qp.radius) : qp;
+    Eigen::VectorXd x = jacobi ? jacobi->to_scaled(lambda) : lambda;
     if (scene.solver.qp == QpVariant::Ssn) {
       SsnSettings ssn;
       ssn.rtol = rtol;
       ssn.max_iterations = scene.solver.qp_max_iterations;
-      res.last_qp = solve_ssn(qp, lambda, ssn);
+      res.last_qp = solve_ssn(problem, x, ssn);
     } else {
       mpgp.rtol = rtol;
-      res.last_qp = solve_mpgp(qp, lambda, mpgp);
+      res.last_qp = solve_mpgp(problem, x, mpgp);
     }
+    lambda = jacobi ? jacobi->from_scaled(x) : x;
     w = dual.u_free - factor.solve(Eigen::VectorXd(op.B.transpose() * lambda));
     eval.ok = res.last_qp.status == QpStatus::Converged && w.allFinite();
     eval.qp_iterations = res.last_qp.iterations;

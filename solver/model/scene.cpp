@@ -246,7 +246,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   }
 
   if (const toml::table* sv = table_at(root, "solver")) {
-    check_keys(*sv, "solver", {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp",
+    check_keys(*sv, "solver", {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
                                "fixed_point", "anderson_depth", "schur", "inexact_fixed_point",
                                "reference_factorization"});
     auto& o = s.solver;
@@ -262,6 +262,10 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     else if (qp == "mpgp_projcg") o.qp = QpVariant::MpgpProjectedCG;
     else if (qp == "ssn") o.qp = QpVariant::Ssn;
     else throw InputError("solver.qp must be 'mpgp', 'mpgp_projcg' or 'ssn', got '" + qp + "'");
+    const std::string scaling = get_string(*sv, "solver", "qp_scaling", "jacobi");
+    if (scaling == "jacobi") o.qp_scaling = QpScaling::Jacobi;
+    else if (scaling == "none") o.qp_scaling = QpScaling::None;
+    else throw InputError("solver.qp_scaling must be 'jacobi' or 'none', got '" + scaling + "'");
     const std::string schur = get_string(*sv, "solver", "schur", "auto");
     if (schur == "auto") o.schur = SchurMethod::Auto;
     else if (schur == "blocksolve") o.schur = SchurMethod::BlockSolve;

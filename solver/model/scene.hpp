@@ -29,6 +29,7 @@ enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
 // with the contact dofs ordered last (trailing factor block + dense trsm/syrk); auto picks.
 // or from the factor of [K 𝔹ᵀ; 𝔹 σI] (multipliers last, Q = L_21 L_21ᵀ).
 enum class SchurMethod { Auto, BlockSolve, ContactLast, Augmented };
+enum class QpScaling { None, Jacobi };
 enum class FixedPointVariant { Plain, Anderson };
 
 struct SolverSettings {
@@ -37,6 +38,7 @@ struct SolverSettings {
   double fixed_point_tol = 1e-4;      // err(k) <= this (paper)
   int fixed_point_max_iter = 50;
   QpVariant qp = QpVariant::Mpgp;
+  QpScaling qp_scaling = QpScaling::Jacobi;  // "jacobi" (default) or "none" (the paper's plain MPGP)
   FixedPointVariant fixed_point = FixedPointVariant::Plain;
   int anderson_depth = 5;
   SchurMethod schur = SchurMethod::Auto;

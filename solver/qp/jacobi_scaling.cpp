@@ -1,0 +1,32 @@
+#include "qp/jacobi_scaling.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "linalg/dual_operator.hpp"
+
+namespace contact3d {
+
+namespace {
+double inverse_sqrt(double d) { return d > 0 ? 1.0 / std::sqrt(d) : 1.0; }
+}  // namespace
+
+JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp) : qp_(qp) {
+  const Eigen::MatrixXd& Q = *qp.Q;
+  const int r = qp.r;
+  s_.resize(qp.size());
+  for (int i = 0; i < r; ++i) s_[i] = inverse_sqrt(Q(i, i));
+  if (qp.with_friction)
+    for (int i = 0; i < r; ++i) s_[r + i] = s_[2 * r + i] = inverse_sqrt(std::max(Q(r + i, r + i), Q(2 * r + i, 2 * r + i)));
+  Q_ = s_.asDiagonal() * Q * s_.asDiagonal();
+  qp_.Q = &Q_;
+  qp_.h = s_.cwiseProduct(qp.h);
+  qp_.q_norm = 1.05 * estimate_norm(Q_);
+}
+
+const BoxDiscQP& JacobiScaledQP::scaled(const Eigen::VectorXd& radius) {
+  if (qp_.with_friction) qp_.radius = radius.cwiseQuotient(s_.segment(qp_.r, qp_.r));
+  return qp_;
+}
+
+}  // namespace contact3d
