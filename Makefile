@@ -9,7 +9,7 @@ BIN := $(BUILD)/contact3d
 export FF_LOADPATH := /usr/lib/freefem++
 export OPENBLAS_NUM_THREADS ?= 2
 
-.PHONY: deps build pipeline test tables crosscheck figures bench stress clean
+.PHONY: deps build pipeline test tables crosscheck figures bench stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -41,6 +41,19 @@ bench: build
 
 stress: build
 	$(PY) pipeline/stress.py --bin $(BIN)
+
+# libFuzzer targets for the MSH reader and the scene parser (FUZZ_SECONDS each).
+FUZZ_SECONDS ?= 300
+fuzz:
+	@bash scripts/install-deps.sh --dev
+	bash fuzz/build.sh build-fuzz
+	mkdir -p build-fuzz/corpus_msh build-fuzz/corpus_scene
+	build-fuzz/fuzz_msh -max_total_time=$(FUZZ_SECONDS) -timeout=10 build-fuzz/corpus_msh fuzz/corpus/msh
+	build-fuzz/fuzz_scene -max_total_time=$(FUZZ_SECONDS) -timeout=10 build-fuzz/corpus_scene fuzz/corpus/scene
+
+# Unit tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+sanitize: deps
+	bash scripts/sanitize.sh
 
 clean:
 	rm -rf $(BUILD) results/runs meshes/generated
