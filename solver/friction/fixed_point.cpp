@@ -65,11 +65,13 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   int n_mult = 0;
   double best_err = INFINITY;
   int best_k = 0;
+  bool force_exact = false;  // an inexact step met tol: repeat it with the exact QP tolerance
   for (int k = 1; k <= settings.max_iterations; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     double rtol_k = qp_rtol;
     if (settings.inexact && k > 1) rtol_k = std::max(qp_rtol, std::min(1e-3, 1e-2 * result.history[k - 2].err));
     if (settings.inexact && k == 1) rtol_k = std::max(qp_rtol, 1e-3);
+    if (force_exact) rtol_k = qp_rtol;
     const SlipEvaluation eval = G(x, rtol_k);
     n_mult += eval.hessian_products;
     FixedPointStep step;
@@ -84,7 +86,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (!eval.ok) { result.status = FixedPointStatus::InnerSolverFailed; return result; }
     if (step.err <= settings.tol) {
       if (rtol_k <= qp_rtol) { result.status = FixedPointStatus::Converged; return result; }
-      continue;  // same φ again, exact QP (x unchanged; the next rtol_k is qp_rtol since err is small)
+      force_exact = true;  // same φ again (x unchanged), now with the exact QP tolerance
+      continue;
     }
     if (step.err < best_err) { best_err = step.err; best_k = k; }
     else if (k - best_k >= settings.stagnation_window) { result.status = FixedPointStatus::Stagnation; return result; }

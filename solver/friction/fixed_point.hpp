@@ -21,10 +21,10 @@ struct FixedPointSettings {
   int max_iterations = 50;
   bool anderson = false;
   int anderson_depth = 5;
-  int stagnation_window = 8;
+  int stagnation_window = 8;  // stop when err has not reached a new minimum for this many steps
   // Inexact early steps: QP tolerance max(qp_rtol, min(1e-3, 1e-2·err(k−1))); a step that meets
   // `tol` with a looser QP tolerance is repeated exactly before declaring convergence.
-  bool inexact = false;  // stop when err has not reached a new minimum for this many steps
+  bool inexact = false;
 };
 
 // One evaluation of G: what the Tresca solve reports back.

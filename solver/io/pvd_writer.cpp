@@ -39,9 +39,11 @@ int write_solution_steps(const std::filesystem::path& dir, const Scene& scene, c
   if (ec) throw InputError("cannot create '" + steps.string() + "': " + ec.message());
 
   const int count = static_cast<int>(res.u_history.size());
+  std::vector<int> history_index(mesh.nodes.size(), 0);
+  for (std::size_t j = 0; j < res.history_nodes.size(); ++j) history_index[res.history_nodes[j]] = static_cast<int>(j);
   for (int k = 1; k <= count; ++k) {
     const Eigen::VectorXd& u = res.u_history[k - 1];
-    auto ui = [&](std::size_t i, int c) { return u[3 * global[i] + c]; };
+    auto ui = [&](std::size_t i, int c) { return u[3 * history_index[global[i]] + c]; };
     std::ofstream out = open_file(steps / step_name(k));
     vtu::begin_piece(out, n, m);
     out << "      <PointData Scalars=\"slip_norm\" Vectors=\"displacement\">\n";

@@ -21,6 +21,9 @@ DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatr
   op.solves = 1;
   op.Q.resize(m, m);
   const Eigen::SparseMatrix<double> Bt = B.transpose();
+  // Keep each dense block of right-hand sides near 64 MiB whatever the mesh size.
+  const long long rows = std::max<long long>(1, B.cols());
+  block_columns = static_cast<int>(std::clamp<long long>((64LL << 20) / (8 * rows), 8, std::max(8, block_columns)));
   for (int j0 = 0; j0 < m; j0 += block_columns) {
     const int cols = std::min(block_columns, m - j0);
     const Eigen::MatrixXd rhs = Eigen::MatrixXd(Bt.middleCols(j0, cols));

@@ -20,7 +20,8 @@ struct DualOperator {
   int solves = 0;          // right-hand sides solved with the factor to build this
 };
 
-// Solves K X = 𝔹ᵀ in blocks of `block_columns` right-hand sides (memory stays bounded).
+// Solves K X = 𝔹ᵀ in blocks of at most `block_columns` right-hand sides, fewer on big meshes so a
+// block stays near 64 MiB.
 DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
                                 const Eigen::VectorXd& f, int block_columns = 256);
 
@@ -37,7 +38,9 @@ DualOperator make_dual_operator_augmented(const SparseCholesky& K_aug, const Eig
 // The dofs (columns) on which 𝔹 has a nonzero, ascending.
 std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);
 
-// Largest eigenvalue of a symmetric positive semidefinite matrix by power iteration.
+// Largest eigenvalue of a symmetric positive semidefinite matrix by power iteration (a Rayleigh
+// quotient: from below, within ~1% after 50 steps on dual operators; callers add a 5% margin, and
+// MPGP's step ᾱ = 1.8/‖Q‖ still decreases S if the estimate is low by up to 10%).
 double estimate_norm(const Eigen::MatrixXd& Q, int iterations = 50);
 
 }  // namespace contact3d

@@ -30,7 +30,7 @@ const std::array<std::array<Corner, 4>, 5> kEvenSplit = {{
 }  // namespace
 
 Mesh make_paper_brick(const BrickSize& s) {
-  if (s.n < 1 || s.n > 200) throw InputError("brick: n must be between 1 and 200, got " + std::to_string(s.n));
+  if (s.n < 1 || s.n > 64) throw InputError("brick: n must be between 1 and 64 (n = 64: 3.9M tets), got " + std::to_string(s.n));
   const int nx = 3 * s.n, ny = s.n, nz = s.n;
   Mesh m;
   auto node_id = [&](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };

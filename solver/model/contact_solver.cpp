@@ -65,7 +65,7 @@ double check_stability(const Eigen::MatrixXd& Q, const Partition& part, int r) {
   // Map pivots back through the LDLT permutation to rows of 𝔹, then to cells.
   const auto& perm = ldlt.transpositionsP();
   Eigen::VectorXi order = Eigen::VectorXi::LinSpaced(d.size(), 0, static_cast<int>(d.size()) - 1);
-  order = perm.transpose() * order;
+  order = perm * order;  // pivot k of the LDLᵀ sits at row (P·idx)[k] of Q
   std::string cells;
   for (std::size_t k = 0; k < bad.size() && k < 8; ++k) {
     const int row = order[bad[k]], cell = row % r;
@@ -153,8 +153,9 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   res.n_dual = op.rows();
   clock.lap("contact");
 
-  // One factorization of K. With the contact dofs ordered last its trailing block gives Q by
-  // dense BLAS-3 (no solve per row of 𝔹); the same factor serves K⁻¹f and the final w.
+  // One factorization that also yields Q without a solve per row of 𝔹: by default of the
+  // augmented [K 𝔹ᵀ; 𝔹 σI] (Q = L₂₁L₂₁ᵀ), or of K with the contact dofs last (trailing block, dense
+  // trsm/syrk), or plain K with block solves (the reference). It also serves K⁻¹f and the final w.
   const std::vector<int> trailing = contact_dofs(op.B);
   res.schur_method = choose_schur(scene.solver.schur, static_cast<int>(trailing.size()), op.rows());
   const bool contact_last = res.schur_method == "contactlast", augmented = res.schur_method == "augmented";
@@ -190,6 +191,12 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   if (scene.solver.qp_scaling == QpScaling::Jacobi) jacobi.emplace(qp);
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(op.rows());
   Eigen::VectorXd w = dual.u_free;
+  {
+    std::vector<char> seen(mesh.nodes.size(), 0);
+    for (const auto& tri : res.face.triangles)
+      for (int v : tri)
+        if (!seen[v]) { seen[v] = 1; res.history_nodes.push_back(v); }
+  }
   int products = 0;
   // One Tresca (or frictionless) solve for the radii of φ: warm-started λ, then w = K⁻¹(f − 𝔹ᵀλ).
   auto tresca = [&](const Eigen::VectorXd& phi_contact, double rtol) {
@@ -217,8 +224,11 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     eval.hessian_products = res.last_qp.hessian_products + 1;  // + the solve for w
     products += eval.hessian_products;
     res.qp_iterations += res.last_qp.iterations;
-    res.u_history.push_back(expand_to_nodes(res.dofs, w));
-    eval.slip = nodal_slip(res.face, res.u_history.back());
+    const Eigen::VectorXd u_nodes = expand_to_nodes(res.dofs, w);
+    Eigen::VectorXd u_face(3 * res.history_nodes.size());
+    for (std::size_t j = 0; j < res.history_nodes.size(); ++j) u_face.segment<3>(3 * j) = u_nodes.segment<3>(3 * res.history_nodes[j]);
+    res.u_history.push_back(std::move(u_face));
+    eval.slip = nodal_slip(res.face, u_nodes);
     res.slip_input = phi_contact;
     return eval;
   };

@@ -37,7 +37,11 @@ struct SolveResult {
   Eigen::VectorXd lambda;            // [λ_n | λ_t1 | λ_t2] per cell (λ_t empty when frictionless)
   Eigen::VectorXd radius;            // disc radii c_i of the last Tresca problem
   Eigen::VectorXd slip_input;        // φ used for the last radii, at contact nodes
-  std::vector<Eigen::VectorXd> u_history;  // nodal displacement after each Tresca solve (fixed-point steps)
+  // Displacement of the contact-face nodes after each Tresca solve (fixed-point steps):
+  // u_history[k][3 j + c] is component c at mesh node history_nodes[j] (face nodes only, so long
+  // runs on big meshes stay small).
+  std::vector<int> history_nodes;
+  std::vector<Eigen::VectorXd> u_history;
 
   // How it went.
   bool converged = false;
@@ -51,7 +55,7 @@ struct SolveResult {
   double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   double factor_nonzeros = 0;
-  std::string schur_method;          // how Q was formed: "blocksolve" or "contactlast"
+  std::string schur_method;          // how Q was formed: "augmented", "contactlast" or "blocksolve"
   std::string qp_method;             // "mpgp", "mpgp_projcg" or "ssn"
 };
 

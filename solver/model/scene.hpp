@@ -25,9 +25,10 @@ struct MeshSource {
 };
 
 enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
-// How Q = 𝔹K⁻¹𝔹ᵀ is formed: one K⁻¹ solve per row of 𝔹 (reference), or from one factorization
-// with the contact dofs ordered last (trailing factor block + dense trsm/syrk); auto picks.
-// or from the factor of [K 𝔹ᵀ; 𝔹 σI] (multipliers last, Q = L_21 L_21ᵀ).
+// How Q = 𝔹K⁻¹𝔹ᵀ is formed: one K⁻¹ solve per row of 𝔹 (BlockSolve, the reference), from one
+// factorization with the contact dofs ordered last (ContactLast: trailing block + dense
+// trsm/syrk), or from the factor of [K 𝔹ᵀ; 𝔹 σI] (Augmented: multipliers last, Q = L₂₁L₂₁ᵀ).
+// Auto picks by size (currently Augmented at every size measured).
 enum class SchurMethod { Auto, BlockSolve, ContactLast, Augmented };
 enum class QpScaling { None, Jacobi };
 enum class FixedPointVariant { Plain, Anderson };
@@ -61,7 +62,10 @@ struct Scene {
   std::filesystem::path output_dir;
   std::string echo;                   // the scene as solved, TOML text (overrides applied)
 
-  bool frictionless() const { return law.kind == FrictionLaw::Kind::None || slip_bound == 0; }
+  bool frictionless() const {
+    return law.kind == FrictionLaw::Kind::None || slip_bound == 0 ||
+           (law.kind == FrictionLaw::Kind::Constant && law.value == 0);
+  }
 };
 
 // Reads the scene; `overrides` are "dotted.key=value" strings (value in TOML syntax; a bare

@@ -15,7 +15,7 @@ struct BoxDiscQP {
   int r = 0;
   bool with_friction = true;
   Eigen::VectorXd radius;  // c_i (size r; ignored when frictionless)
-  double q_norm = 0;       // ‖Q‖ (estimate from above is fine)
+  double q_norm = 0;       // ‖Q‖, or an estimate of it with a small safety margin (see estimate_norm)
 
   int size() const { return with_friction ? 3 * r : r; }
   double value(const Eigen::VectorXd& lambda) const;
