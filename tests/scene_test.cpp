@@ -1,0 +1,46 @@
+// Scene parsing: overrides, defaults, and the inputs that must be refused with a message.
+#include <gtest/gtest.h>
+
+#include "io/errors.hpp"
+#include "model/scene.hpp"
+#include "test_support.hpp"
+
+using namespace contact3d;
+
+namespace {
+Scene parse(const std::vector<std::string>& overrides) {
+  return parse_scene_text(contact3d::testing::paper_scene_text(), ".", overrides);
+}
+std::string error_of(const std::vector<std::string>& overrides) {
+  try {
+    parse(overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Scene, DefaultsAndOverrides) {
+  const Scene s = parse({});
+  EXPECT_TRUE(s.cell_size_relative);
+  EXPECT_DOUBLE_EQ(s.cell_size, 2.0);
+  EXPECT_EQ(s.solver.qp_scaling, QpScaling::Jacobi);
+  EXPECT_FALSE(s.frictionless());
+  EXPECT_TRUE(parse({"friction.law=\"none\""}).frictionless());
+  EXPECT_TRUE(parse({"friction.law=\"constant\"", "friction.value=0"}).frictionless());
+  EXPECT_DOUBLE_EQ(parse({"contact.cell_size=\"3h\""}).cell_size, 3.0);
+  EXPECT_DOUBLE_EQ(parse({"contact.cell_size=0.25"}).cell_size, 0.25);
+  EXPECT_EQ(parse({"mesh.file=\"x.msh\""}).mesh.generator, "");  // a new mesh source replaces the old
+  EXPECT_TRUE(parse({"boundary.traction=[]"}).tractions.empty());
+}
+
+TEST(Scene, RefusesWhatMakesNoSense) {
+  EXPECT_NE(error_of({"contact.cell_size=\"2xyzh\""}).find("cell_size"), std::string::npos);
+  EXPECT_NE(error_of({"material.poisson=0.5"}).find("poisson"), std::string::npos);
+  EXPECT_NE(error_of({"material.young=nan"}).find("young"), std::string::npos);
+  EXPECT_NE(error_of({"friction.slip_bound=-1"}).find("slip_bound"), std::string::npos);
+  EXPECT_NE(error_of({"solver.qp_scaling=\"diagonal\""}).find("qp_scaling"), std::string::npos);
+  EXPECT_NE(error_of({"mesh.n=65"}).find("mesh.n"), std::string::npos);
+  EXPECT_NE(error_of({"frobnicate=1"}).find("frobnicate"), std::string::npos);
+}
