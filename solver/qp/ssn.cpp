@@ -57,7 +57,9 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     // Stopping test at the feasible point P(λ) (λ itself may sit slightly off a circle).
     Eigen::VectorXd lam_f = lambda;
     project(qp, lam_f);
-    const Eigen::VectorXd g_f = (lam_f - lambda).isZero(0) ? g : Eigen::VectorXd(Q * lam_f - qp.h);
+    const bool moved = !(lam_f - lambda).isZero(0);
+    const Eigen::VectorXd g_f = moved ? Eigen::VectorXd(Q * lam_f - qp.h) : g;
+    if (moved) ++result.hessian_products;
     const double pg = projected_gradient_norm(qp, lam_f, g_f);
     result.projected_gradient = pg / h_norm;
     if (!std::isfinite(pg)) { result.status = QpStatus::Breakdown; return result; }
@@ -81,7 +83,10 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       for (int i = 0; i < r; ++i) {
         const int a = r + i, b = 2 * r + i;
         const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
-        if (zn <= c) {  // inside the disc: D = I
+        if (c <= 0) {   // a point disc: λ_t is fixed at 0, D = 0
+          J(a, a) += 1;
+          J(b, b) += 1;
+        } else if (zn <= c) {  // inside the disc: D = I
           add_col(a, a, 1.0);
           add_col(b, b, 1.0);
         } else {        // sliding
