@@ -152,6 +152,12 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   res.n_cells = op.r;
   res.n_dual = op.rows();
   clock.lap("contact");
+  // Q is dense (n_dual²): refuse sizes that cannot fit rather than dying in the allocator.
+  const double q_bytes = 8.0 * op.rows() * static_cast<double>(op.rows());
+  if (q_bytes > 8.0 * (1ull << 30))
+    throw InputError("the contact partition has " + std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
+                     " multipliers): the dense dual operator would need " + std::to_string(q_bytes / (1ull << 30)) +
+                     " GiB; use a larger contact.cell_size (H)");
 
   // One factorization that also yields Q without a solve per row of 𝔹: by default of the
   // augmented [K 𝔹ᵀ; 𝔹 σI] (Q = L₂₁L₂₁ᵀ), or of K with the contact dofs last (trailing block, dense
