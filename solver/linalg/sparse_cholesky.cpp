@@ -16,8 +16,16 @@ namespace contact3d {
 
 struct SparseCholesky::Impl {
   cholmod_common common;
+  bool started = false;
   cholmod_factor* factor = nullptr;
+  ~Impl() {
+    if (!started) return;
+    if (factor) cholmod_l_free_factor(&factor, &common);
+    cholmod_l_finish(&common);
+  }
 };
+
+void SparseCholesky::ImplDeleter::operator()(Impl* impl) const { delete impl; }
 
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -118,19 +126,14 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::
 void SparseCholesky::factor(const Eigen::SparseMatrix<double>& K, const std::vector<int>* trailing) {
   cholmod_common* c = &impl_->common;
   cholmod_l_start(c);
+  impl_->started = true;
   c->supernodal = CHOLMOD_SUPERNODAL;
   c->final_ll = 1;
   c->print = 0;
   const int n = n_;
   UpperCsc full = upper_csc(K, nullptr, n);
   cholmod_sparse A = full.view(n);
-  auto fail = [&](const std::string& why) {
-    if (impl_->factor) cholmod_l_free_factor(&impl_->factor, c);
-    cholmod_l_finish(c);
-    delete impl_;
-    impl_ = nullptr;
-    throw std::runtime_error(why);
-  };
+  auto fail = [](const std::string& why) { throw std::runtime_error(why); };  // ~Impl frees CHOLMOD
   auto t0 = std::chrono::steady_clock::now();
   if (!trailing) {
     impl_->factor = cholmod_l_analyze(&A, c);
@@ -211,12 +214,7 @@ Eigen::MatrixXd SparseCholesky::trailing_factor(std::vector<int>& order) const {
   return Ltt;
 }
 
-SparseCholesky::~SparseCholesky() {
-  if (!impl_) return;
-  cholmod_l_free_factor(&impl_->factor, &impl_->common);
-  cholmod_l_finish(&impl_->common);
-  delete impl_;
-}
+SparseCholesky::~SparseCholesky() = default;
 
 double SparseCholesky::factor_nonzeros() const {
   const cholmod_factor* L = impl_->factor;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -50,7 +51,10 @@ class SparseCholesky {
 
  private:
   struct Impl;
-  Impl* impl_;
+  struct ImplDeleter {
+    void operator()(Impl* impl) const;
+  };
+  std::unique_ptr<Impl, ImplDeleter> impl_;  // frees the CHOLMOD factor and workspace, also on throw
   int n_;
   int n_trailing_ = 0;
   int n_aug_ = 0;  // size of the factored matrix (n_ + rows of 𝔹 for the augmented factor)
