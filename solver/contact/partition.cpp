@@ -67,18 +67,35 @@ std::vector<int> unmatched_rows(const std::vector<std::vector<int>>& adj, int n_
   std::vector<int> match_col(n_cols, -1);
   std::vector<int> seen(n_cols, -1);
   std::vector<int> unmatched;
-  std::function<bool(int, int)> augment = [&](int row, int stamp) {
-    for (int c : adj[row]) {
+  // Depth-first search for an augmenting path from `root`, with an explicit stack (no recursion:
+  // paths can be long on big faces). Frame k holds a row and the column it was reached through.
+  struct Frame {
+    int row;
+    std::size_t next;
+    int via_col;
+  };
+  std::vector<Frame> stack;
+  auto augment = [&](int root, int stamp) {
+    stack.assign(1, Frame{root, 0, -1});
+    while (!stack.empty()) {
+      Frame& top = stack.back();
+      if (top.next == adj[top.row].size()) { stack.pop_back(); continue; }
+      const int c = adj[top.row][top.next++];
       if (seen[c] == stamp) continue;
       seen[c] = stamp;
-      if (match_col[c] < 0 || augment(match_col[c], stamp)) {
-        match_col[c] = row;
+      if (match_col[c] < 0) {  // flip the path: every row on the stack takes the next column
+        int col = c;
+        for (std::size_t k = stack.size(); k-- > 0;) {
+          match_col[col] = stack[k].row;
+          col = stack[k].via_col;
+        }
         return true;
       }
+      stack.push_back(Frame{match_col[c], 0, c});
     }
     return false;
   };
-  // Greedy first pass keeps the recursion shallow on large faces.
+  // Greedy first pass: most cells match their own node at once.
   std::vector<char> done(adj.size(), 0);
   for (std::size_t r = 0; r < adj.size(); ++r)
     for (int c : adj[r])
