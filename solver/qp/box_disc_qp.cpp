@@ -10,7 +10,7 @@ constexpr double kActiveRelTol = 1e-12;
 }
 
 double BoxDiscQP::value(const Eigen::VectorXd& lambda) const {
-  return 0.5 * lambda.dot(*Q * lambda) - h.dot(lambda);
+  return 0.5 * lambda.dot(apply(lambda)) - h.dot(lambda);
 }
 
 void project(const BoxDiscQP& qp, Eigen::VectorXd& lambda) {

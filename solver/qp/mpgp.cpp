@@ -24,14 +24,14 @@ struct State {
   QpResult& result;
 
   void refresh_gradient() {
-    g = *qp.Q * lambda - qp.h;
+    g = qp.apply(lambda) - qp.h;
     ++result.hessian_products;
     split = split_gradient(qp, lambda, g);
   }
   void resplit() { split = split_gradient(qp, lambda, g); }
   Eigen::VectorXd apply(const Eigen::VectorXd& v) {
     ++result.hessian_products;
-    return *qp.Q * v;
+    return qp.apply(v);
   }
 };
 

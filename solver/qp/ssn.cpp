@@ -40,7 +40,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   // ρ scales the gradient to the size of λ: 1 / (mean diagonal of Q).
   const double rho = m / std::max(Q.diagonal().sum(), 1e-300);
 
-  Eigen::VectorXd g = Q * lambda - qp.h;
+  Eigen::VectorXd g = qp.apply(lambda) - qp.h;
   ++result.hessian_products;
   auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z, Eigen::VectorXd& pz) {
     z = lam - rho * grad;
@@ -58,7 +58,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     Eigen::VectorXd lam_f = lambda;
     project(qp, lam_f);
     const bool moved = !(lam_f - lambda).isZero(0);
-    const Eigen::VectorXd g_f = moved ? Eigen::VectorXd(Q * lam_f - qp.h) : g;
+    const Eigen::VectorXd g_f = moved ? Eigen::VectorXd(qp.apply(lam_f) - qp.h) : g;
     if (moved) ++result.hessian_products;
     const double pg = projected_gradient_norm(qp, lam_f, g_f);
     result.projected_gradient = pg / h_norm;
@@ -118,7 +118,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     // Backtracking on ‖F‖ (full steps near the solution: local superlinear convergence).
     double t = 1;
     bool accepted = false;
-    const Eigen::VectorXd Qd = Q * delta;
+    const Eigen::VectorXd Qd = qp.apply(delta);
     ++result.hessian_products;
     Eigen::VectorXd z_try, pz_try;
     for (int ls = 0; ls < 12; ++ls, t *= 0.5) {
