@@ -52,9 +52,23 @@ class StageClock {
   double last_cpu_ = cpu_ ? cpu_seconds() : 0;
 };
 
-// Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns the
-// estimate max pivot / min pivot of its LDLᵀ; throws naming the cells whose rows are dependent.
+// Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
+// estimate of cond(Q) (power iterations on Q and Q⁻¹); when its Cholesky fails or is
+// near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws).
 double check_stability(const Eigen::MatrixXd& Q, const Partition& part, int r) {
+  {  // the fast path: blocked Cholesky (several times faster than the pivoted LDLᵀ at 5000 rows)
+    const Eigen::LLT<Eigen::MatrixXd> llt(Q);
+    if (llt.info() == Eigen::Success) {
+      const Eigen::VectorXd d = llt.matrixLLT().diagonal().cwiseAbs2();
+      if (d.minCoeff() > 1e-11 * d.maxCoeff()) {
+        // cond(Q) = λmax / λmin: power iteration on Q and (with the factor) on Q⁻¹.
+        Eigen::VectorXd x = Eigen::VectorXd::Ones(Q.rows()).normalized();
+        for (int k = 0; k < 30; ++k) x = llt.solve(x).normalized();
+        const double lambda_min = x.dot(Q * x);
+        return estimate_norm(Q, 30) / lambda_min;
+      }
+    }
+  }
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(Q);
   const Eigen::VectorXd d = ldlt.vectorD();
   const double dmax = d.cwiseAbs().maxCoeff();
