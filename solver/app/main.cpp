@@ -107,9 +107,15 @@ int run_solve(const SolveArgs& args) {
 int run_check(const SolveArgs& args) {
   const Scene scene = load_scene(args.scene, args.sets);
   const fs::path work = fs::temp_directory_path() / ("contact3d_check_" + std::to_string(::getpid()));
+  struct RemoveOnExit {  // gmsh's scratch folder goes away even when meshing throws
+    fs::path dir;
+    ~RemoveOnExit() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{work};
   std::string description;
   const Mesh mesh = scene_mesh(scene, args.mesh, work, description);
-  fs::remove_all(work);
   fmt::print("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description, mesh.nodes.size(),
              mesh.tets.size(), mesh.triangles.size());
   fmt::print("physical groups: {}\n", mesh.describe_groups());
