@@ -102,13 +102,13 @@ double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {
   Eigen::VectorXd x = Eigen::VectorXd::Ones(Q.rows()).normalized();
   double lambda = 0;
   for (int k = 0; k < iterations; ++k) {
-    const Eigen::VectorXd y = Q * x;
+    const Eigen::VectorXd y = Q.selfadjointView<Eigen::Lower>() * x;
     const double norm = y.norm();
     if (norm == 0) return 0;
     lambda = x.dot(y);
     x = y / norm;
   }
-  return std::max(lambda, (Q * x).norm());
+  return std::max(lambda, (Q.selfadjointView<Eigen::Lower>() * x).norm());
 }
 
 }  // namespace contact3d

@@ -55,7 +55,7 @@ class StageClock {
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
 // estimate of cond(Q) (power iterations on Q and Q⁻¹); when its Cholesky fails or is
 // near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws).
-double check_stability(const Eigen::MatrixXd& Q, const Partition& part, int r) {
+double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partition& part, int r) {
   {  // the fast path: blocked Cholesky (several times faster than the pivoted LDLᵀ at 5000 rows)
     const Eigen::LLT<Eigen::MatrixXd> llt(Q);
     if (llt.info() == Eigen::Success) {
@@ -65,7 +65,7 @@ double check_stability(const Eigen::MatrixXd& Q, const Partition& part, int r) {
         Eigen::VectorXd x = Eigen::VectorXd::Ones(Q.rows()).normalized();
         for (int k = 0; k < 30; ++k) x = llt.solve(x).normalized();
         const double lambda_min = x.dot(Q * x);
-        return estimate_norm(Q, 30) / lambda_min;
+        return lambda_max / lambda_min;
       }
     }
   }
@@ -191,7 +191,8 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
                             : augmented  ? make_dual_operator_augmented(factor, op.B, f)
                                          : make_dual_operator(factor, op.B, f);
   clock.lap("dual");
-  res.stability_condition = check_stability(dual.Q, res.partition, op.r);
+  const double q_lambda_max = estimate_norm(dual.Q);  // once: for cond(Q) and for MPGP's step ᾱ
+  res.stability_condition = check_stability(dual.Q, q_lambda_max, res.partition, op.r);
   clock.lap("stability");
 
   BoxDiscQP qp;
@@ -200,7 +201,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   qp.r = op.r;
   qp.with_friction = with_friction;
   qp.radius = Eigen::VectorXd::Zero(op.r);
-  qp.q_norm = 1.05 * estimate_norm(dual.Q);
+  qp.q_norm = 1.05 * q_lambda_max;
   MpgpSettings mpgp;
   mpgp.max_iterations = scene.solver.qp_max_iterations;
   mpgp.expansion = scene.solver.qp == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
