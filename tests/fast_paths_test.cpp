@@ -14,6 +14,7 @@
 #include "contact/partition.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
+#include "linalg/displacement_trace.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "mesh/brick_generator.hpp"
@@ -115,6 +116,30 @@ TEST(FastPaths, TrailingFactorIsTheSchurComplementFactor) {
   const Eigen::MatrixXd S = Ktt - Ktl * Kll.llt().solve(Ktl.transpose());
   EXPECT_LT((L * L.transpose() - S).norm() / S.norm(), 1e-12);
   EXPECT_TRUE(L.isLowerTriangular());
+}
+
+// The per-step displacement of the fixed point (a restricted back substitution through the
+// augmented factor) against full K⁻¹ solves of the plain factor, for random multipliers.
+TEST(FastPaths, DisplacementTraceMatchesFullSolves) {
+  for (int n : {4, 6}) {
+    const BrickData d = brick_data(n, true);
+    const SparseCholesky plain(d.K), augmented(d.K, d.B);
+    const std::vector<int> face = contact_dofs(d.B);
+    const DisplacementTrace trace(augmented, d.f, face);
+    EXPECT_GT(trace.work_fraction(), 0.0);
+    EXPECT_LE(trace.work_fraction(), 1.0);
+    std::mt19937 gen(7 + n);
+    std::normal_distribution<double> normal;
+    for (int trial = 0; trial < 3; ++trial) {
+      Eigen::VectorXd lambda(d.B.rows());
+      for (auto& v : lambda) v = 1e6 * normal(gen);
+      const Eigen::VectorXd w = plain.solve(Eigen::VectorXd(d.f - d.B.transpose() * lambda));
+      const Eigen::VectorXd at = trace.at(lambda), all = trace.everywhere(lambda);
+      ASSERT_EQ(at.size(), static_cast<int>(face.size()));
+      for (std::size_t k = 0; k < face.size(); ++k) EXPECT_NEAR(at[k], w[face[k]], 1e-10 * w.cwiseAbs().maxCoeff());
+      EXPECT_LT((all - w).norm(), 1e-10 * w.norm()) << "n = " << n;
+    }
+  }
 }
 
 TEST(FastPaths, SsnMatchesMpgpOnRandomQps) {

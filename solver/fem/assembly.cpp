@@ -77,24 +77,6 @@ bool has_node_block_layout(const DofMap& dofs) {
   return next == dofs.n_free;
 }
 
-// Greedy colouring: tets of one colour share no node, so they can be scattered in parallel.
-std::vector<std::vector<int>> colour_tets(const Mesh& mesh) {
-  std::vector<std::uint64_t> used(mesh.nodes.size(), 0);
-  std::vector<std::vector<int>> colours;
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    std::uint64_t taken = 0;
-    for (int v : mesh.tets[e]) taken |= used[v];
-    int c = 0;
-    while (c < 64 && (taken >> c & 1u)) ++c;
-    if (c == 64) c = 63;  // more than 63 colours never happens on a tet mesh; keep it safe anyway
-    if (static_cast<int>(colours.size()) <= c) colours.resize(c + 1);
-    colours[c].push_back(static_cast<int>(e));
-    for (int v : mesh.tets[e]) used[v] |= std::uint64_t(1) << c;
-  }
-  // Colour 63 may hold tets that share nodes: run it serially (see below).
-  return colours;
-}
-
 template <class Fn>
 void parallel_for(std::size_t count, Fn fn) {
   const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
@@ -108,69 +90,99 @@ void parallel_for(std::size_t count, Fn fn) {
   for (auto& th : pool) th.join();
 }
 
+// Tets around every node, CSR: tets_of(v) = tet[first[v] .. first[v+1]).
+struct NodeTets {
+  std::vector<int> first, tet;
+  NodeTets(const Mesh& mesh) : first(mesh.nodes.size() + 1, 0) {
+    for (const auto& t : mesh.tets)
+      for (int v : t) ++first[v + 1];
+    for (std::size_t v = 0; v < mesh.nodes.size(); ++v) first[v + 1] += first[v];
+    tet.resize(first.back());
+    std::vector<int> next(first.begin(), first.end() - 1);
+    for (std::size_t e = 0; e < mesh.tets.size(); ++e)
+      for (int v : mesh.tets[e]) tet[next[v]++] = static_cast<int>(e);
+  }
+};
+
+// The 6x3 strain matrix of one hat function with gradient g (Voigt order of strain_matrix).
+Eigen::Matrix<double, 6, 3> hat_strain(const Eigen::Vector3d& g) {
+  Eigen::Matrix<double, 6, 3> B = Eigen::Matrix<double, 6, 3>::Zero();
+  B(0, 0) = g.x(); B(1, 1) = g.y(); B(2, 2) = g.z();
+  B(3, 1) = g.z(); B(3, 2) = g.y();
+  B(4, 0) = g.z(); B(4, 2) = g.x();
+  B(5, 0) = g.y(); B(5, 1) = g.x();
+  return B;
+}
+
 }  // namespace
 
-// Builds the compressed pattern from the node graph (each free node pair -> a dense 3x3
-// block), then scatters the element matrices straight into it, colour by colour on all cores.
+// Column-block assembly: every free node owns the 3 columns of its dofs and fills them from its
+// own tets (|T| B_aᵀ D B_b for each node a of a tet around it), so nodes are independent —
+// parallel without colouring — and every write goes to the node's own contiguous columns.
 Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
                                                const Material& material) {
   if (!has_node_block_layout(dofs)) return assemble_stiffness_triplets(mesh, dofs, material);
   const int n_nodes = dofs.n_nodes;
-  // Free neighbours of every free node (itself included), sorted.
+  const NodeTets around(mesh);
+  // Hat gradients and volume of every tet, once.
+  std::vector<std::array<Eigen::Vector3d, 4>> grad(mesh.tets.size());
+  std::vector<double> volume(mesh.tets.size());
+  parallel_for(mesh.tets.size(), [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t e = lo; e < hi; ++e) {
+      const TetCoords x = coords(mesh, mesh.tets[e]);
+      const Matrix6x12d B = strain_matrix(x);
+      for (int a = 0; a < 4; ++a) grad[e][a] = Eigen::Vector3d(B(0, 3 * a), B(1, 3 * a + 1), B(2, 3 * a + 2));
+      volume[e] = std::abs(tet_volume(x));
+    }
+  });
+  // Free neighbours of every free node (itself included), sorted: the block pattern of K.
   std::vector<std::vector<int>> nbr(n_nodes);
-  for (const auto& t : mesh.tets)
-    for (int a : t)
-      if (dofs.dof(a, 0) >= 0)
-        for (int b : t)
-          if (dofs.dof(b, 0) >= 0) nbr[a].push_back(b);
+  parallel_for(n_nodes, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t v = lo; v < hi; ++v) {
+      if (dofs.dof(static_cast<int>(v), 0) < 0) continue;
+      auto& list = nbr[v];
+      for (int k = around.first[v]; k < around.first[v + 1]; ++k)
+        for (int a : mesh.tets[around.tet[k]])
+          if (dofs.dof(a, 0) >= 0) list.push_back(a);
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+  });
   std::vector<Eigen::Index> col_ptr(dofs.n_free + 1, 0);
-  for (int v = 0; v < n_nodes; ++v) {
-    auto& list = nbr[v];
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
+  for (int v = 0; v < n_nodes; ++v)
     if (const int d = dofs.dof(v, 0); d >= 0)
-      for (int c = 0; c < 3; ++c) col_ptr[d + c + 1] = static_cast<Eigen::Index>(3 * list.size());
-  }
+      for (int c = 0; c < 3; ++c) col_ptr[d + c + 1] = static_cast<Eigen::Index>(3 * nbr[v].size());
   for (int j = 0; j < dofs.n_free; ++j) col_ptr[j + 1] += col_ptr[j];
   std::vector<int> row_idx(col_ptr.back());
-  for (int v = 0; v < n_nodes; ++v) {
-    const int d = dofs.dof(v, 0);
-    if (d < 0) continue;
-    for (int c = 0; c < 3; ++c) {
-      Eigen::Index k = col_ptr[d + c];
-      for (int a : nbr[v])
-        for (int r = 0; r < 3; ++r) row_idx[k++] = dofs.dof(a, r);
-    }
-  }
   std::vector<double> values(row_idx.size(), 0.0);
   const Matrix6d D = hooke_matrix(material);
-  auto scatter = [&](const std::array<int, 4>& t) {
-    const Matrix12d Ke = element_stiffness(coords(mesh, t), D);
-    for (int b = 0; b < 4; ++b) {
-      const int db = dofs.dof(t[b], 0);
-      if (db < 0) continue;
-      const auto& list = nbr[t[b]];
-      for (int a = 0; a < 4; ++a) {
-        if (dofs.dof(t[a], 0) < 0) continue;
-        const auto offset = 3 * (std::lower_bound(list.begin(), list.end(), t[a]) - list.begin());
-        for (int cb = 0; cb < 3; ++cb) {
-          double* column = values.data() + col_ptr[db + cb] + offset;
-          for (int ca = 0; ca < 3; ++ca) column[ca] += Ke(3 * a + ca, 3 * b + cb);
+  parallel_for(n_nodes, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t v = lo; v < hi; ++v) {
+      const int d = dofs.dof(static_cast<int>(v), 0);
+      if (d < 0) continue;
+      const auto& list = nbr[v];
+      for (int c = 0; c < 3; ++c) {
+        Eigen::Index k = col_ptr[d + c];
+        for (int a : list)
+          for (int r = 0; r < 3; ++r) row_idx[k++] = dofs.dof(a, r);
+      }
+      for (int k = around.first[v]; k < around.first[v + 1]; ++k) {
+        const int e = around.tet[k];
+        const auto& t = mesh.tets[e];
+        const int b = static_cast<int>(std::find(t.begin(), t.end(), static_cast<int>(v)) - t.begin());
+        const Eigen::Matrix<double, 6, 3> DBb = volume[e] * (D * hat_strain(grad[e][b]));
+        for (int a = 0; a < 4; ++a) {
+          if (dofs.dof(t[a], 0) < 0) continue;
+          const Eigen::Matrix3d block = hat_strain(grad[e][a]).transpose() * DBb;  // rows of node a, columns of v
+          const auto offset = 3 * (std::lower_bound(list.begin(), list.end(), t[a]) - list.begin());
+          for (int cb = 0; cb < 3; ++cb) {
+            double* column = values.data() + col_ptr[d + cb] + offset;
+            for (int ca = 0; ca < 3; ++ca) column[ca] += block(ca, cb);
+          }
         }
       }
     }
-  };
-  const auto colours = colour_tets(mesh);
-  for (std::size_t c = 0; c < colours.size(); ++c) {
-    const auto& tets = colours[c];
-    if (c == 63) {  // the overflow colour is not conflict-free
-      for (int e : tets) scatter(mesh.tets[e]);
-      continue;
-    }
-    parallel_for(tets.size(), [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t k = lo; k < hi; ++k) scatter(mesh.tets[tets[k]]);
-    });
-  }
+  });
   Eigen::SparseMatrix<double> K(dofs.n_free, dofs.n_free);
   K.resizeNonZeros(static_cast<Eigen::Index>(values.size()));
   std::copy(col_ptr.begin(), col_ptr.end(), K.outerIndexPtr());

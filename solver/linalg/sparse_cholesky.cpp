@@ -216,6 +216,22 @@ Eigen::MatrixXd SparseCholesky::trailing_factor(std::vector<int>& order) const {
 
 SparseCholesky::~SparseCholesky() = default;
 
+SparseCholesky::Supernodes SparseCholesky::supernodes() const {
+  static_assert(sizeof(SuiteSparse_long) == sizeof(std::int64_t));
+  const cholmod_factor* L = impl_->factor;
+  if (!L->is_super) throw std::logic_error("supernodes: the factor is not supernodal");
+  Supernodes v;
+  v.count = static_cast<std::int64_t>(L->nsuper);
+  v.n = static_cast<std::int64_t>(L->n);
+  v.super = static_cast<const std::int64_t*>(L->super);
+  v.pi = static_cast<const std::int64_t*>(L->pi);
+  v.px = static_cast<const std::int64_t*>(L->px);
+  v.rows = static_cast<const std::int64_t*>(L->s);
+  v.perm = static_cast<const std::int64_t*>(L->Perm);
+  v.values = static_cast<const double*>(L->x);
+  return v;
+}
+
 double SparseCholesky::factor_nonzeros() const {
   const cholmod_factor* L = impl_->factor;
   if (L->is_super) {

@@ -45,6 +45,18 @@ class SparseCholesky {
   std::vector<int> trailing_order() const;  // the `order` of trailing_factor, without the block
   bool augmented() const { return n_aug_ > n_; }
 
+  // Read-only view of the supernodal factor P A Pᵀ = L Lᵀ (A = K, or the augmented matrix):
+  // supernode s holds columns super[s] .. super[s+1]-1; its row indices are rows[pi[s] ..
+  // pi[s+1]) (its own columns first) and its values a column-major block at values + px[s].
+  // perm[k] = the row of A pivoted k-th.
+  struct Supernodes {
+    std::int64_t count = 0, n = 0;
+    const std::int64_t *super = nullptr, *pi = nullptr, *px = nullptr, *rows = nullptr, *perm = nullptr;
+    const double* values = nullptr;
+  };
+  Supernodes supernodes() const;
+  int factored_size() const { return n_aug_; }  // n, or n + rows of 𝔹 for the augmented factor
+
   int size() const { return n_; }
   double factor_nonzeros() const;  // nnz(L)
   double analyze_seconds = 0, factorize_seconds = 0;

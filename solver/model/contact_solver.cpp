@@ -16,6 +16,7 @@
 #include "friction/slip_bound.hpp"
 #include "io/errors.hpp"
 #include "linalg/blas_threads.hpp"
+#include "linalg/displacement_trace.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "qp/jacobi_scaling.hpp"
@@ -102,11 +103,47 @@ std::string choose_schur(SchurMethod m, int /*n_trailing*/, int n_dual) {
   return "augmented";
 }
 
-Eigen::VectorXd nodal_slip(const ContactFace& face, const Eigen::VectorXd& u) {
-  Eigen::VectorXd phi(face.nodes.size());
-  for (std::size_t k = 0; k < face.nodes.size(); ++k) phi[k] = std::hypot(u[3 * face.nodes[k]], u[3 * face.nodes[k] + 1]);
-  return phi;
-}
+// u on Γc as the fixed point sees it: (u1, u2, u3) at every node of a contact triangle (the
+// order of SolveResult::history_nodes; 0 at clamped components), and the slip |u_t| from it.
+struct FaceDisplacement {
+  std::vector<int> dofs;   // free dofs of the face nodes, ascending by (node, component)
+  std::vector<int> slots;  // position of dofs[k] in the face vector
+  std::vector<int> slot_of_node;  // mesh node -> first slot, or -1
+  std::size_t size = 0;
+
+  FaceDisplacement(SolveResult& res, std::size_t n_nodes) : slot_of_node(n_nodes, -1) {
+    for (const auto& tri : res.face.triangles)
+      for (int v : tri)
+        if (slot_of_node[v] < 0) {
+          slot_of_node[v] = static_cast<int>(3 * res.history_nodes.size());
+          res.history_nodes.push_back(v);
+        }
+    size = 3 * res.history_nodes.size();
+    for (std::size_t j = 0; j < res.history_nodes.size(); ++j)
+      for (int c = 0; c < 3; ++c) {
+        const int d = res.dofs.dof(res.history_nodes[j], c);
+        if (d >= 0) { dofs.push_back(d); slots.push_back(static_cast<int>(3 * j) + c); }
+      }
+  }
+  Eigen::VectorXd gather(const Eigen::VectorXd& w) const {
+    Eigen::VectorXd out(dofs.size());
+    for (std::size_t k = 0; k < dofs.size(); ++k) out[k] = w[dofs[k]];
+    return out;
+  }
+  Eigen::VectorXd scatter(const Eigen::VectorXd& values) const {
+    Eigen::VectorXd u_face = Eigen::VectorXd::Zero(size);
+    for (std::size_t k = 0; k < slots.size(); ++k) u_face[slots[k]] = values[k];
+    return u_face;
+  }
+  Eigen::VectorXd slip(const ContactFace& face, const Eigen::VectorXd& u_face) const {
+    Eigen::VectorXd phi(face.nodes.size());
+    for (std::size_t k = 0; k < face.nodes.size(); ++k) {
+      const int p = slot_of_node[face.nodes[k]];
+      phi[k] = std::hypot(u_face[p], u_face[p + 1]);
+    }
+    return phi;
+  }
+};
 
 }  // namespace
 
@@ -211,15 +248,12 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   std::optional<JacobiScaledQP> jacobi;
   if (scene.solver.qp_scaling == QpScaling::Jacobi) jacobi.emplace(qp);
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(op.rows());
-  Eigen::VectorXd w = dual.u_free;
-  {
-    std::vector<char> seen(mesh.nodes.size(), 0);
-    for (const auto& tri : res.face.triangles)
-      for (int v : tri)
-        if (!seen[v]) { seen[v] = 1; res.history_nodes.push_back(v); }
-  }
+  FaceDisplacement face_u(res, mesh.nodes.size());
+  std::optional<DisplacementTrace> trace;  // the fast per-step solve, augmented factor only
+  if (augmented) trace.emplace(factor, f, face_u.dofs);
   int products = 0;
-  // One Tresca (or frictionless) solve for the radii of φ: warm-started λ, then w = K⁻¹(f − 𝔹ᵀλ).
+  // One Tresca (or frictionless) solve for the radii of φ: warm-started λ, then w = K⁻¹(f − 𝔹ᵀλ)
+  // on Γc (all that the next radii need; the whole w is recovered once, after the loop).
   auto tresca = [&](const Eigen::VectorXd& phi_contact, double rtol) {
     SlipEvaluation eval;
     if (with_friction) {
@@ -239,23 +273,19 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
       res.last_qp = solve_mpgp(problem, x, mpgp);
     }
     lambda = jacobi ? jacobi->from_scaled(x) : x;
-    w = dual.u_free - factor.solve(Eigen::VectorXd(op.B.transpose() * lambda));
-    eval.ok = res.last_qp.status == QpStatus::Converged && w.allFinite();
+    Eigen::VectorXd u_face = face_u.scatter(
+        trace ? trace->at(lambda) : face_u.gather(dual.u_free - factor.solve(Eigen::VectorXd(op.B.transpose() * lambda))));
+    eval.ok = res.last_qp.status == QpStatus::Converged && u_face.allFinite();
     eval.qp_iterations = res.last_qp.iterations;
     eval.hessian_products = res.last_qp.hessian_products + 1;  // + the solve for w
     products += eval.hessian_products;
     res.qp_iterations += res.last_qp.iterations;
-    const Eigen::VectorXd u_nodes = expand_to_nodes(res.dofs, w);
-    Eigen::VectorXd u_face(3 * res.history_nodes.size());
-    for (std::size_t j = 0; j < res.history_nodes.size(); ++j) u_face.segment<3>(3 * j) = u_nodes.segment<3>(3 * res.history_nodes[j]);
+    eval.slip = face_u.slip(res.face, u_face);
     res.u_history.push_back(std::move(u_face));
-    eval.slip = nodal_slip(res.face, u_nodes);
     res.slip_input = phi_contact;
     return eval;
   };
 
-  // The loop below is single right-hand-side solves and small dense LUs: one BLAS thread.
-  auto single_blas_thread = std::make_unique<ScopedBlasThreads>(1);
   const Eigen::VectorXd phi0 = Eigen::VectorXd::Zero(res.face.nodes.size());
   if (scene.law.depends_on_slip() && with_friction) {
     FixedPointSettings fp;
@@ -273,10 +303,11 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     res.status = eval.ok ? "converged" : "qp_" + to_string(res.last_qp.status);
     if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, 0.0});
   }
-  single_blas_thread.reset();  // back to the configured BLAS threads (final solve excluded: one RHS)
   res.n_mult = products + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   clock.lap("dual_solve");
 
+  const Eigen::VectorXd w =
+      trace ? trace->everywhere(lambda) : Eigen::VectorXd(dual.u_free - factor.solve(Eigen::VectorXd(op.B.transpose() * lambda)));
   res.lambda = lambda;
   res.radius = qp.radius;
   res.u = expand_to_nodes(res.dofs, w);

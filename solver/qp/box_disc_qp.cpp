@@ -4,9 +4,20 @@
 #include <cmath>
 #include <limits>
 
+extern "C" void dsymv_(const char* uplo, const int* n, const double* alpha, const double* a, const int* lda,
+                       const double* x, const int* incx, const double* beta, double* y, const int* incy);
+
 namespace contact3d {
 namespace {
 constexpr double kActiveRelTol = 1e-12;
+}
+
+Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
+  const int n = static_cast<int>(Q->rows()), one = 1;
+  const double alpha = 1, beta = 0;
+  Eigen::VectorXd out(n);
+  if (n > 0) dsymv_("L", &n, &alpha, Q->data(), &n, v.data(), &one, &beta, out.data(), &one);
+  return out;
 }
 
 double BoxDiscQP::value(const Eigen::VectorXd& lambda) const {
