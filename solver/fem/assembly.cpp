@@ -104,20 +104,20 @@ struct NodeTets {
   }
 };
 
-// The 6x3 strain matrix of one hat function with gradient g (Voigt order of strain_matrix).
-Eigen::Matrix<double, 6, 3> hat_strain(const Eigen::Vector3d& g) {
-  Eigen::Matrix<double, 6, 3> B = Eigen::Matrix<double, 6, 3>::Zero();
-  B(0, 0) = g.x(); B(1, 1) = g.y(); B(2, 2) = g.z();
-  B(3, 1) = g.z(); B(3, 2) = g.y();
-  B(4, 0) = g.z(); B(4, 2) = g.x();
-  B(5, 0) = g.y(); B(5, 1) = g.x();
-  return B;
+// The 3x3 block of |T| Bᵀ D B coupling node a (rows) to node b (columns) of a tet, for the
+// isotropic D of hooke_matrix, from the hat gradients g_a, g_b:
+//   |T| (λ g_a g_bᵀ + μ g_b g_aᵀ + μ (g_a·g_b) I)   (λ, μ the Lamé constants).
+// Equal to the block of element_stiffness (tested against the triplet assembly).
+Eigen::Matrix3d isotropic_block(const Eigen::Vector3d& ga, const Eigen::Vector3d& gb, double lame_lambda, double mu, double volume) {
+  Eigen::Matrix3d block = lame_lambda * ga * gb.transpose() + mu * gb * ga.transpose();
+  block.diagonal().array() += mu * ga.dot(gb);
+  return volume * block;
 }
 
 }  // namespace
 
 // Column-block assembly: every free node owns the 3 columns of its dofs and fills them from its
-// own tets (|T| B_aᵀ D B_b for each node a of a tet around it), so nodes are independent —
+// own tets (the block |T| B_aᵀ D B_b for each node a of a tet around it), so nodes are independent —
 // parallel without colouring — and every write goes to the node's own contiguous columns.
 Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
                                                const Material& material) {
@@ -153,9 +153,14 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
     if (const int d = dofs.dof(v, 0); d >= 0)
       for (int c = 0; c < 3; ++c) col_ptr[d + c + 1] = static_cast<Eigen::Index>(3 * nbr[v].size());
   for (int j = 0; j < dofs.n_free; ++j) col_ptr[j + 1] += col_ptr[j];
-  std::vector<int> row_idx(col_ptr.back());
-  std::vector<double> values(row_idx.size(), 0.0);
-  const Matrix6d D = hooke_matrix(material);
+  // Filled in place (no copy of the arrays): K's compressed storage is exactly this layout.
+  Eigen::SparseMatrix<double> K(dofs.n_free, dofs.n_free);
+  K.resizeNonZeros(static_cast<Eigen::Index>(col_ptr.back()));
+  std::copy(col_ptr.begin(), col_ptr.end(), K.outerIndexPtr());
+  int* row_idx = K.innerIndexPtr();
+  double* values = K.valuePtr();
+  const double E = material.young, nu = material.poisson;
+  const double lame_lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));  // as in hooke_matrix
   parallel_for(n_nodes, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v) {
       const int d = dofs.dof(static_cast<int>(v), 0);
@@ -164,30 +169,24 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
       for (int c = 0; c < 3; ++c) {
         Eigen::Index k = col_ptr[d + c];
         for (int a : list)
-          for (int r = 0; r < 3; ++r) row_idx[k++] = dofs.dof(a, r);
+          for (int r = 0; r < 3; ++r) { row_idx[k] = dofs.dof(a, r); values[k++] = 0.0; }
       }
       for (int k = around.first[v]; k < around.first[v + 1]; ++k) {
         const int e = around.tet[k];
         const auto& t = mesh.tets[e];
         const int b = static_cast<int>(std::find(t.begin(), t.end(), static_cast<int>(v)) - t.begin());
-        const Eigen::Matrix<double, 6, 3> DBb = volume[e] * (D * hat_strain(grad[e][b]));
         for (int a = 0; a < 4; ++a) {
           if (dofs.dof(t[a], 0) < 0) continue;
-          const Eigen::Matrix3d block = hat_strain(grad[e][a]).transpose() * DBb;  // rows of node a, columns of v
+          const Eigen::Matrix3d block = isotropic_block(grad[e][a], grad[e][b], lame_lambda, mu, volume[e]);
           const auto offset = 3 * (std::lower_bound(list.begin(), list.end(), t[a]) - list.begin());
           for (int cb = 0; cb < 3; ++cb) {
-            double* column = values.data() + col_ptr[d + cb] + offset;
+            double* column = values + col_ptr[d + cb] + offset;
             for (int ca = 0; ca < 3; ++ca) column[ca] += block(ca, cb);
           }
         }
       }
     }
   });
-  Eigen::SparseMatrix<double> K(dofs.n_free, dofs.n_free);
-  K.resizeNonZeros(static_cast<Eigen::Index>(values.size()));
-  std::copy(col_ptr.begin(), col_ptr.end(), K.outerIndexPtr());
-  std::copy(row_idx.begin(), row_idx.end(), K.innerIndexPtr());
-  std::copy(values.begin(), values.end(), K.valuePtr());
   return K;
 }
 

@@ -1,5 +1,5 @@
-// SparseCholesky: one CHOLMOD supernodal factorization P K Pᵀ = L Lᵀ (METIS/AMD ordering
-// chosen by CHOLMOD), reused for every application of K⁻¹. Owns its cholmod_common: no global
+// SparseCholesky: one CHOLMOD supernodal factorization P K Pᵀ = L Lᵀ (fill-reducing ordering
+// below), reused for every application of K⁻¹. Owns its cholmod_common: no global
 // state; not copyable.
 #pragma once
 
@@ -12,17 +12,22 @@
 
 namespace contact3d {
 
+// Fill-reducing orderings: CHOLMOD's own choice on K (cholmod_analyze: AMD, then METIS when AMD
+// fills too much; the yardstick of the benchmarks), or nested dissection of K's quotient graph
+// (one vertex per mesh node; what every other constructor uses).
+enum class FillOrdering { CholmodDefault, QuotientNestedDissection };
+
 class SparseCholesky {
  public:
   // Analyze + factorize. Throws std::runtime_error if K is not positive definite (e.g. the
   // clamped part Γu is empty or does not prevent rigid motions).
-  explicit SparseCholesky(const Eigen::SparseMatrix<double>& K);
-  // Same factorization with the dofs `trailing` ordered last (METIS on the others, no
-  // postorder): the trailing diagonal block L_tt of the factor then satisfies
+  explicit SparseCholesky(const Eigen::SparseMatrix<double>& K,
+                          FillOrdering ordering = FillOrdering::QuotientNestedDissection);
+  // Same factorization with the dofs `trailing` ordered last (nested dissection on the others): the trailing diagonal block L_tt of the factor then satisfies
   // L_tt L_ttᵀ = S, the Schur complement of K onto those dofs, and (K⁻¹)_tt = S⁻¹.
   SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing);
-  // Factor of the augmented SPD matrix [K 𝔹ᵀ; 𝔹 σI] with the rows of 𝔹 ordered last (METIS on
-  // K's dofs). Its leading block is a Cholesky factor of K — solve() applies K⁻¹ through it —
+  // Factor of the augmented SPD matrix [K 𝔹ᵀ; 𝔹 σI] with the rows of 𝔹 ordered last (nested dissection
+  // on K's dofs). Its leading block is a Cholesky factor of K — solve() applies K⁻¹ through it —
   // and its off-diagonal block L_21 = 𝔹 (L_11)⁻ᵀ gives 𝔹K⁻¹𝔹ᵀ = L_21 L_21ᵀ (trailing_gram()).
   // σ only has to make the trailing block positive definite and never enters L_21, so a huge
   // σ (the default, from ‖𝔹‖_F² / max diag K · 1e20) costs no accuracy.

@@ -44,7 +44,7 @@ struct SolverSettings {
   int anderson_depth = 5;
   SchurMethod schur = SchurMethod::Auto;
   bool inexact_fixed_point = false;    // QP tolerance tied to err(k) in early fixed-point steps
-  bool reference_factorization = false; // also time one plain factorization of K (time_s.reference_factorization)
+  bool reference_factorization = false; // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
 };
 
 struct Scene {
