@@ -10,9 +10,11 @@ time_s.reference_factorization_nd, the stricter yardstick), in wall time and in 
 figure on a shared machine) (mesh generation and file writing excluded; the reference
 factorization itself excluded from the sum). Peak memory is the child's ru_maxrss (os.wait4).
 
-Accuracy: the meshes n, 2n, ... are nested (node (i,j,k) of n is node (2i,2j,2k) of 2n), so the
-error of a run is the relative discrete L2 difference of the contact-node displacements (u1, u2,
-u3 at the nodes of the coarse contact face) against the finest run of the reference variant.
+Accuracy: the meshes n, 2n, ... are nested (every tet of 2n lies in one tet of n), so the error of
+a run is measured against the finest nested run of the default variant in two ways: the relative
+discrete L2 difference of the contact-node displacements (u1, u2, u3 at the nodes of the coarse
+contact face, `error_vs_finest`) and the relative energy norm of the difference on the whole body
+(`energy_error_vs_finest`, pipeline/energy_error.py).
 
 Writes results/bench/bench.csv, results/bench/threads.csv, results/bench/error_vs_time.png.
 """
@@ -26,6 +28,10 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "pipeline"))
+import energy_error  # noqa: E402  (pipeline/energy_error.py)
+
+YOUNG, POISSON = 21.19e10, 0.277  # pipeline/scenes/paper_brick.toml
 SCENE = ROOT / "pipeline" / "scenes" / "paper_brick.toml"
 
 # name -> --set overrides. "blocksolve+mpgp" is the reference path: one solve per row of 𝔹 and
@@ -34,6 +40,7 @@ VARIANTS = {
     "blocksolve+mpgp": ["solver.schur=blocksolve", "solver.qp=mpgp", "solver.qp_scaling=none"],
     "augmented+mpgp": ["solver.schur=augmented", "solver.qp=mpgp"],
     "augmented+ssn": ["solver.schur=augmented", "solver.qp=ssn"],
+    "augmented+mpgp+inexact": ["solver.schur=augmented", "solver.qp=mpgp", "solver.inexact_fixed_point=true"],
     "contactlast+ssn": ["solver.schur=contactlast", "solver.qp=ssn"],
 }
 # The reference path forms Q with 3r solves (2-5 factorizations): only where it is affordable.
@@ -81,6 +88,34 @@ def relative_error(coarse, fine):
     return (num / den) ** 0.5 if den > 0 else float("nan")
 
 
+FIXED_POINTS = {"plain": [], "anderson": ["solver.fixed_point=anderson"],
+                "inexact": ["solver.inexact_fixed_point=true"]}
+
+
+def fixed_point_table(binary, n, work, out_dir):
+    """Fixed-point steps and n_mult, plain vs accelerated, for the paper's params and a steeper one."""
+    rows = []
+    for param in ["2e4", "6e4", "3e5", "3e6"]:
+        for name, extra in FIXED_POINTS.items():
+            d = work / f"fp_{param}_{name}"
+            s, _, _ = run(binary, n, ["solver.schur=augmented", "solver.qp=mpgp"], d,
+                          extra=[f"friction.param={param}"] + extra)
+            rows.append({"n": n, "param": param, "fixed_point": name, "converged": s["converged"],
+                         "it": s["fixed_point_iterations"], "n_mult": s["n_mult"],
+                         "qp_iterations": s["qp_iterations"],
+                         "fixed_point_s": round(s["time_s"].get("dual_solve", 0.0), 4),
+                         "final_err": s["err_history"][-1] if s.get("err_history") else ""})
+            print(f"fixed point n={n} param={param} {name:8s} it {rows[-1]['it']:3d} n_mult {rows[-1]['n_mult']}", flush=True)
+        base = contact_displacements(work / f"fp_{param}_plain")
+        for r in rows[-len(FIXED_POINTS):]:
+            r["u_diff_vs_plain"] = relative_error(contact_displacements(work / f"fp_{param}_{r['fixed_point']}"), base)
+    with open(out_dir / "fixed_point.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {out_dir / 'fixed_point.csv'}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--bin", default=str(ROOT / "build" / "contact3d"))
@@ -92,12 +127,20 @@ def main():
     ap.add_argument("--reuse-from", type=int, default=0,
                     help="reuse the runs already in --work for n >= this (big cases are run once)")
     ap.add_argument("--threads-n", type=int, default=16, help="mesh size of the 1 vs 2 thread runs (0: skip)")
+    ap.add_argument("--fixed-point-n", type=int, default=16,
+                    help="mesh size of the plain vs accelerated fixed-point runs over friction.param (0: skip)")
+    ap.add_argument("--only-fixed-point", action="store_true", help="run only the fixed-point comparison")
     args = ap.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
     variants = args.variants.split(",")
     out_dir, work = Path(args.out), Path(args.work)
     out_dir.mkdir(parents=True, exist_ok=True)
     work.mkdir(parents=True, exist_ok=True)
+
+    if args.fixed_point_n:
+        fixed_point_table(args.bin, args.fixed_point_n, work, out_dir)
+    if args.only_fixed_point:
+        return
 
     rows, solutions = [], {}
     for n in sizes:
@@ -160,6 +203,9 @@ def main():
         row["reference_n"] = ref_key[0] if ref_key else ""
         row["error_vs_finest"] = (relative_error(solutions[(row["n"], row["variant"])], solutions[ref_key])
                                   if ref_key else "")
+        row["energy_error_vs_finest"] = (
+            energy_error.energy_error(work / f"n{row['n']}_{row['variant']}", work / f"n{ref_key[0]}_{ref_key[1]}",
+                                      YOUNG, POISSON)["rel"] if ref_key else "")
     finest = max(n for n, _ in solutions)
     ref_key = (finest, "")
 
@@ -195,20 +241,22 @@ def main():
     except ImportError:
         print("matplotlib missing: no plot", file=sys.stderr)
         return
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    for v in variants:
-        pts = [(r["solve_s"], r["error_vs_finest"], r["n"]) for r in rows
-               if r["variant"] == v and r["error_vs_finest"] != "" and r["reference_n"] == finest]
-        if not pts:
-            continue
-        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=v)
-        for x, y, n in pts:
-            ax.annotate(f"n={n}", (x, y), fontsize=7, textcoords="offset points", xytext=(3, 3))
-    ax.set_xlabel("solve time (s), assembly to displacement")
-    ax.set_ylabel(f"contact displacement error vs n={ref_key[0]}")
-    ax.set_title("paper brick: error vs time per solver variant")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    for ax, key, label in ((axes[0], "error_vs_finest", "relative L2 error of u on Γc"),
+                           (axes[1], "energy_error_vs_finest", "relative energy-norm error")):
+        for v in variants:
+            pts = [(r["solve_s"], r[key], r["n"]) for r in rows
+                   if r["variant"] == v and r[key] != "" and r["reference_n"] == finest]
+            if not pts:
+                continue
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=v)
+            for x, y, n in pts:
+                ax.annotate(f"n={n}", (x, y), fontsize=7, textcoords="offset points", xytext=(3, 3))
+        ax.set_xlabel("solve time (s), assembly to displacement")
+        ax.set_ylabel(f"{label} vs n={ref_key[0]}")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("paper brick: error against run time per solver variant")
     fig.tight_layout()
     fig.savefig(out_dir / "error_vs_time.png", dpi=120)
     print(f"wrote {out_dir / 'error_vs_time.png'}")
