@@ -118,6 +118,20 @@ TEST(FastPaths, TrailingFactorIsTheSchurComplementFactor) {
   EXPECT_TRUE(L.isLowerTriangular());
 }
 
+// Our fill-reducing ordering (nested dissection of the node quotient graph) against CHOLMOD's own
+// choice: the same solutions, and no more fill on the paper brick (session 2: 10.6M against 11.9M
+// nonzeros at n = 16).
+TEST(FastPaths, QuotientNestedDissectionMatchesCholmodOrdering) {
+  for (int n : {4, 8}) {
+    const BrickData d = brick_data(n, true);
+    const SparseCholesky ours(d.K), cholmod(d.K, FillOrdering::CholmodDefault);
+    const Eigen::VectorXd a = ours.solve(d.f), b = cholmod.solve(d.f);
+    EXPECT_LT((a - b).norm(), 1e-10 * b.norm()) << "n = " << n;
+    EXPECT_LT((d.K * a - d.f).norm(), 1e-10 * d.f.norm());
+    EXPECT_LE(ours.factor_nonzeros(), 1.05 * cholmod.factor_nonzeros()) << "n = " << n;
+  }
+}
+
 // The per-step displacement of the fixed point (a restricted back substitution through the
 // augmented factor) against full K⁻¹ solves of the plain factor, for random multipliers.
 TEST(FastPaths, DisplacementTraceMatchesFullSolves) {
