@@ -509,9 +509,11 @@ void Parser::read_mesh_format() {
   const int data_size = int_value("the data size");
   end_record("the format line");
   if (file_type == 1) {
-    if (version_ == 22)
-      fail(tpos, "binary MSH 2.2 files are not supported (supported: 4.1 ASCII or binary, 2.2 "
-                 "ASCII); re-export with gmsh -format msh41 -bin, or without -bin");
+    // MSH 4.1: data-size is sizeof(size_t) of the writer (8 or 4); MSH 2.2: it is the size of
+    // the node coordinates, which this reader takes as doubles.
+    if (version_ == 22 && data_size != 8)
+      fail(dpos, "data size " + std::to_string(data_size) +
+                     " is not supported in binary MSH 2.2 (expected 8: coordinates are doubles)");
     if (data_size != 8 && data_size != 4)
       fail(dpos, "data size " + std::to_string(data_size) + " is not supported (expected 8 or 4)");
     size_bytes_ = static_cast<std::size_t>(data_size);

@@ -15,7 +15,6 @@
 #include "fem/assembly.hpp"
 #include "friction/slip_bound.hpp"
 #include "io/errors.hpp"
-#include "linalg/blas_threads.hpp"
 #include "linalg/displacement_trace.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
