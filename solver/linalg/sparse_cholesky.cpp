@@ -13,35 +13,24 @@ extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const 
                        const double* a, const int* lda, const double* beta, double* c, const int* ldc);
 
 namespace contact3d {
-
-struct SparseCholesky::Impl {
-  cholmod_common common;
-  bool started = false;
-  cholmod_factor* factor = nullptr;
-  ~Impl() {
-    if (!started) return;
-    if (factor) cholmod_l_free_factor(&factor, &common);
-    cholmod_l_finish(&common);
-  }
-};
-
-void SparseCholesky::ImplDeleter::operator()(Impl* impl) const { delete impl; }
-
 namespace {
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
-}  // namespace
 
-namespace {
-// Upper triangle of the symmetric matrix K restricted to `keep` (all rows/columns when empty),
-// in CSC with 64-bit indices (nnz(L) can pass 2^31 on big meshes).
+[[noreturn]] void fail(const std::string& why) { throw std::runtime_error(why); }
+
+// Upper triangle of a symmetric matrix in CSC with 64-bit indices (nnz(L) can pass 2^31 on big
+// meshes): what CHOLMOD factors.
 struct UpperCsc {
-  std::vector<SuiteSparse_long> col_ptr, row_idx;
+  std::vector<SuiteSparse_long> col_ptr{0}, row_idx;
   std::vector<double> values;
-  cholmod_sparse view(SuiteSparse_long n) {
+  void push(SuiteSparse_long row, double value) { row_idx.push_back(row); values.push_back(value); }
+  void end_column() { col_ptr.push_back(static_cast<SuiteSparse_long>(row_idx.size())); }
+  cholmod_sparse view() {
     cholmod_sparse A{};
-    A.nrow = A.ncol = n;
+    A.nrow = A.ncol = col_ptr.size() - 1;
     A.nzmax = values.size();
     A.p = col_ptr.data();
     A.i = row_idx.data();
@@ -56,30 +45,45 @@ struct UpperCsc {
   }
 };
 
-// new_index[j] = position of dof j in the submatrix, −1 if dropped.
-UpperCsc upper_csc(const Eigen::SparseMatrix<double>& K, const std::vector<int>* new_index, int n_sub) {
-  UpperCsc out;
-  out.col_ptr.assign(n_sub + 1, 0);
-  std::vector<int> old_of(n_sub);
-  for (int j = 0; j < K.cols(); ++j) {
-    const int jj = new_index ? (*new_index)[j] : j;
-    if (jj >= 0) old_of[jj] = j;
-  }
-  out.row_idx.reserve(K.nonZeros() / 2 + n_sub);
-  out.values.reserve(K.nonZeros() / 2 + n_sub);
-  std::vector<std::pair<SuiteSparse_long, double>> col;
-  for (int jj = 0; jj < n_sub; ++jj) {
-    col.clear();
-    for (Eigen::SparseMatrix<double>::InnerIterator it(K, old_of[jj]); it; ++it) {
-      const int ii = new_index ? (*new_index)[it.row()] : static_cast<int>(it.row());
-      if (ii >= 0 && ii <= jj) col.emplace_back(ii, it.value());
-    }
+// Appends the entries of column j of K with row <= j, sorted by row.
+void push_upper_column(const Eigen::SparseMatrix<double>& K, int j, UpperCsc& out) {
+  const auto begin = out.row_idx.size();
+  for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it)
+    if (it.row() <= j) out.push(it.row(), it.value());
+  if (!std::is_sorted(out.row_idx.begin() + begin, out.row_idx.end())) {  // Eigen keeps them sorted; be safe
+    std::vector<std::pair<SuiteSparse_long, double>> col;
+    for (auto k = begin; k < out.row_idx.size(); ++k) col.emplace_back(out.row_idx[k], out.values[k]);
     std::sort(col.begin(), col.end());
-    for (const auto& [i, v] : col) { out.row_idx.push_back(i); out.values.push_back(v); }
-    out.col_ptr[jj + 1] = static_cast<SuiteSparse_long>(out.row_idx.size());
+    for (std::size_t k = 0; k < col.size(); ++k) std::tie(out.row_idx[begin + k], out.values[begin + k]) = col[k];
+  }
+  out.end_column();
+}
+
+UpperCsc upper_csc(const Eigen::SparseMatrix<double>& K) {
+  UpperCsc out;
+  out.col_ptr.reserve(K.cols() + 1);
+  out.row_idx.reserve(K.nonZeros() / 2 + K.cols());
+  out.values.reserve(K.nonZeros() / 2 + K.cols());
+  for (int j = 0; j < K.cols(); ++j) push_upper_column(K, j, out);
+  return out;
+}
+
+// Upper triangle of [K 𝔹ᵀ; 𝔹 σI], built directly (no copy of the whole augmented matrix).
+UpperCsc augmented_upper_csc(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma) {
+  const Eigen::SparseMatrix<double> Bt = B.transpose();  // column i = row i of 𝔹, rows sorted
+  UpperCsc out;
+  out.col_ptr.reserve(K.cols() + B.rows() + 1);
+  out.row_idx.reserve(K.nonZeros() / 2 + K.cols() + B.nonZeros() + B.rows());
+  out.values.reserve(out.row_idx.capacity());
+  for (int j = 0; j < K.cols(); ++j) push_upper_column(K, j, out);
+  for (int i = 0; i < Bt.cols(); ++i) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(Bt, i); it; ++it) out.push(it.row(), it.value());
+    out.push(K.cols() + i, sigma);
+    out.end_column();
   }
   return out;
 }
+
 // K restricted to the dofs with new_index[j] >= 0 (both triangles, renumbered).
 Eigen::SparseMatrix<double> leading_block(const Eigen::SparseMatrix<double>& K, const std::vector<int>& new_index, int n_sub) {
   std::vector<Eigen::Triplet<double>> t;
@@ -100,6 +104,7 @@ Eigen::SparseMatrix<double> leading_block(const Eigen::SparseMatrix<double>& K, 
 // CHOLMOD's METIS on K (0.09 s against 0.2 s on the n = 16 brick), at equal or smaller fill.
 std::vector<SuiteSparse_long> quotient_nested_dissection(const Eigen::SparseMatrix<double>& K, cholmod_common* c) {
   const int n = static_cast<int>(K.cols());
+  if (n == 0) return {};
   auto same_pattern = [&](int a, int b) {
     const auto* ia = K.innerIndexPtr() + K.outerIndexPtr()[a];
     const auto* ib = K.innerIndexPtr() + K.outerIndexPtr()[b];
@@ -114,7 +119,6 @@ std::vector<SuiteSparse_long> quotient_nested_dissection(const Eigen::SparseMatr
   const int m = static_cast<int>(first.size());
   first.push_back(n);
   UpperCsc graph;
-  graph.col_ptr.assign(m + 1, 0);
   std::vector<SuiteSparse_long> col;
   for (int v = 0; v < m; ++v) {
     col.clear();
@@ -122,17 +126,16 @@ std::vector<SuiteSparse_long> quotient_nested_dissection(const Eigen::SparseMatr
       if (group[it.row()] <= v) col.push_back(group[it.row()]);
     std::sort(col.begin(), col.end());
     col.erase(std::unique(col.begin(), col.end()), col.end());
-    graph.row_idx.insert(graph.row_idx.end(), col.begin(), col.end());
-    graph.col_ptr[v + 1] = static_cast<SuiteSparse_long>(graph.row_idx.size());
+    for (auto r : col) graph.push(r, 1.0);
+    graph.end_column();
   }
-  graph.values.assign(graph.row_idx.size(), 1.0);
-  cholmod_sparse G = graph.view(m);
+  cholmod_sparse G = graph.view();
   std::vector<SuiteSparse_long> vertex_perm(m), parent(m), member(m);
   // CHOLMOD's nested dissection (METIS bisection + constrained minimum degree on the leaves):
   // 9.3 GFlop against 12.1 for plain METIS on the n = 16 brick, and 1.06-1.12 plain
   // factorizations for the augmented matrix at n = 16-24 against 1.1-1.2 with METIS.
   const bool ok = cholmod_l_nested_dissection(&G, nullptr, 0, vertex_perm.data(), parent.data(), member.data(), c) >= 0;
-  if (!ok && !cholmod_l_amd(&G, nullptr, 0, vertex_perm.data(), c)) throw std::runtime_error("CHOLMOD could not order the stiffness matrix");
+  if (!ok && !cholmod_l_amd(&G, nullptr, 0, vertex_perm.data(), c)) fail("CHOLMOD could not order the stiffness matrix");
   std::vector<SuiteSparse_long> perm;
   perm.reserve(n);
   for (int k = 0; k < m; ++k)
@@ -142,15 +145,86 @@ std::vector<SuiteSparse_long> quotient_nested_dissection(const Eigen::SparseMatr
 
 }  // namespace
 
-SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrdering ordering)
-    : impl_(new Impl), n_(static_cast<int>(K.rows())) {
-  n_aug_ = n_;
-  if (ordering == FillOrdering::CholmodDefault) {
-    factor(K, nullptr);
-  } else {
-    const std::vector<int> none;
-    factor(K, &none);  // nested dissection of everything, no trailing block
+struct SparseCholesky::Impl {
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  double analyze_seconds = 0, factorize_seconds = 0;
+
+  Impl() {
+    cholmod_l_start(&common);
+    common.supernodal = CHOLMOD_SUPERNODAL;
+    common.final_ll = 1;
+    common.print = 0;
   }
+  ~Impl() {
+    if (factor) cholmod_l_free_factor(&factor, &common);
+    cholmod_l_finish(&common);
+  }
+
+  // Symbolic analysis with the fill-reducing permutation `perm` (CHOLMOD's own choice when null;
+  // its last n_trailing pivots must stay last), then the numeric factorization. The clock t0
+  // started before the ordering was computed, so analyze_seconds includes it.
+  void analyze_and_factorize(UpperCsc& upper, const std::vector<SuiteSparse_long>* perm, SuiteSparse_long n_trailing,
+                             std::chrono::steady_clock::time_point t0) {
+    cholmod_sparse A = upper.view();
+    const auto n = static_cast<SuiteSparse_long>(A.nrow);
+    if (!perm) {
+      factor = cholmod_l_analyze(&A, &common);
+    } else {
+      std::vector<char> is_trailing(n, 0);
+      for (SuiteSparse_long k = n - n_trailing; k < n; ++k) is_trailing[(*perm)[k]] = 1;
+      auto trailing_kept = [&] {
+        const auto* P = static_cast<const SuiteSparse_long*>(factor->Perm);
+        for (SuiteSparse_long k = n - n_trailing; k < n; ++k)
+          if (!is_trailing[P[k]]) return false;
+        return true;
+      };
+      common.nmethods = 1;
+      common.method[0].ordering = CHOLMOD_GIVEN;
+      // Postordering merges supernodes (faster factorization) and keeps the trailing block last
+      // whenever it is the root of the elimination tree (a dense Schur complement, the usual
+      // case); otherwise analyze again without it.
+      common.postorder = 1;
+      factor = cholmod_l_analyze_p(&A, const_cast<SuiteSparse_long*>(perm->data()), nullptr, 0, &common);
+      if (factor && !trailing_kept()) {
+        cholmod_l_free_factor(&factor, &common);
+        common.postorder = 0;
+        factor = cholmod_l_analyze_p(&A, const_cast<SuiteSparse_long*>(perm->data()), nullptr, 0, &common);
+        if (factor && !trailing_kept()) fail("CHOLMOD did not keep the contact dofs last in its ordering");
+      }
+    }
+    analyze_seconds = seconds_since(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (factor) cholmod_l_factorize(&A, factor, &common);
+    factorize_seconds = seconds_since(t1);
+    if (!factor || common.status == CHOLMOD_NOT_POSDEF || common.status < 0) {
+      fail(common.status == CHOLMOD_NOT_POSDEF
+               ? "the stiffness matrix is not positive definite (column " +
+                     std::to_string(factor ? factor->minor : -1) +
+                     "): the clamped part Γu must prevent rigid motions"
+               : "CHOLMOD failed (status " + std::to_string(common.status) + ", out of memory?)");
+    }
+  }
+};
+
+void SparseCholesky::ImplDeleter::operator()(Impl* impl) const { delete impl; }
+
+void SparseCholesky::record_times() {
+  analyze_seconds = impl_->analyze_seconds;
+  factorize_seconds = impl_->factorize_seconds;
+}
+
+SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrdering ordering)
+    : impl_(new Impl), n_(static_cast<int>(K.rows())), n_aug_(n_) {
+  UpperCsc upper = upper_csc(K);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (ordering == FillOrdering::CholmodDefault) {
+    impl_->analyze_and_factorize(upper, nullptr, 0, t0);
+  } else {
+    const std::vector<SuiteSparse_long> perm = quotient_nested_dissection(K, &impl_->common);
+    impl_->analyze_and_factorize(upper, &perm, 0, t0);
+  }
+  record_times();
 }
 
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma)
@@ -163,98 +237,43 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen
     const double dmax = K.diagonal().cwiseAbs().maxCoeff();
     sigma = std::max(1.0, B.squaredNorm()) * 1e20 / std::max(dmax, 1e-300);
   }
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(K.nonZeros() + 2 * B.nonZeros() + m);
-  for (int j = 0; j < K.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
-  for (int j = 0; j < B.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(B, j); it; ++it) {
-      t.emplace_back(n + it.row(), it.col(), it.value());
-      t.emplace_back(it.col(), n + it.row(), it.value());
-    }
-  for (int i = 0; i < m; ++i) t.emplace_back(n + i, n + i, sigma);
-  Eigen::SparseMatrix<double> A(n + m, n + m);
-  A.setFromTriplets(t.begin(), t.end());
-  std::vector<int> trailing(m);
-  for (int i = 0; i < m; ++i) trailing[i] = n + i;
-  n_ = n + m;
   n_aug_ = n + m;
-  factor(A, &trailing);
-  n_ = n;
+  n_trailing_ = m;
+  UpperCsc upper = augmented_upper_csc(K, B, sigma);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<SuiteSparse_long> perm = quotient_nested_dissection(K, &impl_->common);  // K's dofs first
+  for (int i = 0; i < m; ++i) perm.push_back(n + i);                                    // then the multipliers
+  impl_->analyze_and_factorize(upper, &perm, m, t0);
+  record_times();
 }
 
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing)
-    : impl_(new Impl), n_(static_cast<int>(K.rows())) {
-  n_aug_ = n_;
-  factor(K, &trailing);
-}
-
-void SparseCholesky::factor(const Eigen::SparseMatrix<double>& K, const std::vector<int>* trailing) {
-  cholmod_common* c = &impl_->common;
-  cholmod_l_start(c);
-  impl_->started = true;
-  c->supernodal = CHOLMOD_SUPERNODAL;
-  c->final_ll = 1;
-  c->print = 0;
+    : impl_(new Impl), n_(static_cast<int>(K.rows())), n_aug_(n_) {
   const int n = n_;
-  UpperCsc full = upper_csc(K, nullptr, n);
-  cholmod_sparse A = full.view(n);
-  auto fail = [](const std::string& why) { throw std::runtime_error(why); };  // ~Impl frees CHOLMOD
-  auto t0 = std::chrono::steady_clock::now();
-  if (!trailing) {
-    impl_->factor = cholmod_l_analyze(&A, c);
-  } else {
-    // Ordering: nested dissection of the leading dofs (quotient graph), then `trailing` as given.
-    std::vector<int> is_trailing(n, -1);
-    for (std::size_t k = 0; k < trailing->size(); ++k) {
-      const int d = (*trailing)[k];
-      if (d < 0 || d >= n || is_trailing[d] >= 0) fail("trailing dof list is out of range or repeated");
-      is_trailing[d] = static_cast<int>(k);
-    }
-    n_trailing_ = static_cast<int>(trailing->size());
-    const int n_lead = n - n_trailing_;
-    std::vector<int> lead_index(n, -1), lead_dofs;
-    lead_dofs.reserve(n_lead);
-    for (int d = 0; d < n; ++d)
-      if (is_trailing[d] < 0) { lead_index[d] = static_cast<int>(lead_dofs.size()); lead_dofs.push_back(d); }
-    std::vector<SuiteSparse_long> perm(n);
-    if (n_lead > 0) {
-      const Eigen::SparseMatrix<double> K_lead = leading_block(K, lead_index, n_lead);
-      const std::vector<SuiteSparse_long> lead_perm = quotient_nested_dissection(K_lead, c);
-      for (int k = 0; k < n_lead; ++k) perm[k] = lead_dofs[lead_perm[k]];
-    }
-    for (int k = 0; k < n_trailing_; ++k) perm[n_lead + k] = (*trailing)[k];
-    c->nmethods = 1;
-    c->method[0].ordering = CHOLMOD_GIVEN;
-    auto trailing_kept = [&] {
-      const auto* P = static_cast<const SuiteSparse_long*>(impl_->factor->Perm);
-      for (int k = n_lead; k < n; ++k)
-        if (is_trailing[P[k]] < 0) return false;
-      return true;
-    };
-    // Postordering merges supernodes (faster factorization) and keeps the trailing block last
-    // whenever it is the root of the elimination tree (a dense Schur complement, the usual case);
-    // otherwise analyze again without it.
-    c->postorder = 1;
-    impl_->factor = cholmod_l_analyze_p(&A, perm.data(), nullptr, 0, c);
-    if (impl_->factor && !trailing_kept()) {
-      cholmod_l_free_factor(&impl_->factor, c);
-      c->postorder = 0;
-      impl_->factor = cholmod_l_analyze_p(&A, perm.data(), nullptr, 0, c);
-      if (impl_->factor && !trailing_kept()) fail("CHOLMOD did not keep the contact dofs last in its ordering");
-    }
+  std::vector<int> is_trailing(n, -1);
+  for (std::size_t k = 0; k < trailing.size(); ++k) {
+    const int d = trailing[k];
+    if (d < 0 || d >= n || is_trailing[d] >= 0) fail("trailing dof list is out of range or repeated");
+    is_trailing[d] = static_cast<int>(k);
   }
-  analyze_seconds = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  if (impl_->factor) cholmod_l_factorize(&A, impl_->factor, c);
-  factorize_seconds = seconds_since(t0);
-  if (!impl_->factor || c->status == CHOLMOD_NOT_POSDEF || c->status < 0) {
-    fail(c->status == CHOLMOD_NOT_POSDEF
-             ? "the stiffness matrix is not positive definite (column " +
-                   std::to_string(impl_->factor ? impl_->factor->minor : -1) +
-                   "): the clamped part Γu must prevent rigid motions"
-             : "CHOLMOD failed (status " + std::to_string(c->status) + ", out of memory?)");
+  n_trailing_ = static_cast<int>(trailing.size());
+  const int n_lead = n - n_trailing_;
+  UpperCsc upper = upper_csc(K);
+  const auto t0 = std::chrono::steady_clock::now();
+  // Ordering: nested dissection of the leading dofs (quotient graph), then `trailing` as given.
+  std::vector<int> lead_index(n, -1), lead_dofs;
+  lead_dofs.reserve(n_lead);
+  for (int d = 0; d < n; ++d)
+    if (is_trailing[d] < 0) { lead_index[d] = static_cast<int>(lead_dofs.size()); lead_dofs.push_back(d); }
+  std::vector<SuiteSparse_long> perm(n);
+  if (n_lead > 0) {
+    const std::vector<SuiteSparse_long> lead_perm =
+        quotient_nested_dissection(leading_block(K, lead_index, n_lead), &impl_->common);
+    for (int k = 0; k < n_lead; ++k) perm[k] = lead_dofs[lead_perm[k]];
   }
+  for (int k = 0; k < n_trailing_; ++k) perm[n_lead + k] = trailing[k];
+  impl_->analyze_and_factorize(upper, &perm, n_trailing_, t0);
+  record_times();
 }
 
 Eigen::MatrixXd SparseCholesky::trailing_factor(std::vector<int>& order) const {

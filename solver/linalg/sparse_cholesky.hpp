@@ -75,7 +75,7 @@ class SparseCholesky {
   int n_;
   int n_trailing_ = 0;
   int n_aug_ = 0;  // size of the factored matrix (n_ + rows of 𝔹 for the augmented factor)
-  void factor(const Eigen::SparseMatrix<double>& K, const std::vector<int>* trailing);
+  void record_times();
 };
 
 }  // namespace contact3d
