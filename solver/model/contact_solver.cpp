@@ -233,8 +233,13 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   res.factor_nonzeros = factor.factor_nonzeros();
   clock.lap("factorization");
 
+  // u on Γc per fixed-point step: a restricted back substitution (augmented factor only).
+  FaceDisplacement face_u(res, mesh.nodes.size());
+  std::optional<DisplacementTrace> trace;
+  if (augmented) trace.emplace(factor, f, face_u.dofs);
+  const Eigen::VectorXd u_free = trace ? trace->everywhere(Eigen::VectorXd::Zero(op.rows())) : Eigen::VectorXd();
   const DualOperator dual = contact_last ? make_dual_operator_schur(factor, op.B, f)
-                            : augmented  ? make_dual_operator_augmented(factor, op.B, f)
+                            : augmented  ? make_dual_operator_augmented(factor, op.B, f, &u_free)
                                          : make_dual_operator(factor, op.B, f);
   clock.lap("dual");
   const double q_lambda_max = estimate_norm(dual.Q);  // once: for cond(Q) and for MPGP's step ᾱ
@@ -257,9 +262,6 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   std::optional<JacobiScaledQP> jacobi;
   if (scene.solver.qp_scaling == QpScaling::Jacobi) jacobi.emplace(qp);
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(op.rows());
-  FaceDisplacement face_u(res, mesh.nodes.size());
-  std::optional<DisplacementTrace> trace;  // the fast per-step solve, augmented factor only
-  if (augmented) trace.emplace(factor, f, face_u.dofs);
   int products = 0;
   // One Tresca (or frictionless) solve for the radii of φ: warm-started λ, then w = K⁻¹(f − 𝔹ᵀλ)
   // on Γc (all that the next radii need; the whole w is recovered once, after the loop).
