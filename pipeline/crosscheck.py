@@ -4,7 +4,8 @@
 For a scene (TOML) this script
   1. meshes the scene's .geo with gmsh into MSH 2.2 (or uses its mesh file),
   2. runs the FreeFEM reference pipeline/freefem/contact_ref.edp on that mesh: nodal multipliers
-     with lumped boundary mass, semi-smooth Newton iterated to a relative change <= 1e-10,
+     with lumped boundary mass, semi-smooth Newton iterated to a relative change <= 1e-10 (for a
+     slip-dependent coefficient inside successive approximations on the nodal slip, err <= 1e-8),
   3. runs contact3d on the same .msh (`contact3d solve SCENE --mesh MSH --out DIR`),
   4. matches the contact nodes by coordinates and compares displacements on the contact face,
      the contact sets and the total contact forces, and records both run times,
@@ -14,10 +15,13 @@ For a scene (TOML) this script
        2  a side failed (non-zero exit, not converged, NaN, missing output) or bad input.
 
 Variants: frictionless (friction.law = none), tresca (law = constant, value = --F, slip_bound
-from the scene: bound s = F*g), scene (the scene's own law if it is none or constant), all
-(frictionless and tresca). Both solvers get a derived copy of the scene with the [friction]
-table of the variant (written to the work directory), so that the scene's other friction keys
-(e.g. those of the ramp law) do not get in the way.
+from the scene: bound s = F*g), slipdep (the scene's own solution-dependent coefficient F(|u_t|),
+law = ramp or table, the paper's actual problem: contact3d's successive approximations (5.7)
+against FreeFEM's successive approximations on nodal bounds s_p = g F(|u_t,p|)), scene (the
+scene's own law, whichever it is), all (frictionless, tresca, and slipdep when the scene's law
+depends on the slip; also the default). Both solvers get a derived copy of the scene with the
+[friction] table of the variant (written to the work directory), so that the scene's other
+friction keys (e.g. those of the ramp law) do not get in the way.
 
 Optional table in the scene (all keys optional, command-line options win):
   [crosscheck]
@@ -25,7 +29,7 @@ Optional table in the scene (all keys optional, command-line options win):
   force_tolerance = 0.05      # max relative difference of the total contact force (normal;
                               #   tangential vector when there is friction)
   n = 8                       # mesh parameter `n` used by the cross-check (default: the scene's)
-  variants = ["frictionless", "tresca"]
+  variants = ["frictionless", "tresca", "slipdep"]   # default: as --variant all
   friction_coefficient = 0.3  # F of the tresca variant
   contact_tol = 1e-2          # a node is "in contact" when wn > -contact_tol * max|u| on Gc
 
@@ -60,8 +64,9 @@ DEFAULTS = {
     "force_tolerance": 0.05,
     "friction_coefficient": 0.3,
     "contact_tol": 1e-2,
-    "variants": ["frictionless", "tresca"],
+    "variants": ["all"],
 }
+VARIANTS = ("frictionless", "tresca", "slipdep", "scene")
 CROSSCHECK_KEYS = {"tolerance", "force_tolerance", "n", "variants", "friction_coefficient", "contact_tol"}
 
 
@@ -271,25 +276,117 @@ def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
             "contact": contact, "traction": trac}
 
 
-def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> tuple[dict, float, str]:
-    """The [friction] table for the variant, the FreeFEM slip bound s = F*g, a label."""
+def scene_law_depends_on_slip(scene: dict) -> bool:
+    fr = scene.get("friction", {})
+    return fr.get("law", "none") in ("ramp", "table") and float(fr.get("slip_bound", 0.0)) > 0
+
+
+def expand_variants(names, scene: dict) -> list[str]:
+    out = []
+    for v in names:
+        v = v.strip()
+        if v == "all":
+            out += ["frictionless", "tresca"] + (["slipdep"] if scene_law_depends_on_slip(scene) else [])
+        elif v:
+            out.append(v)
+    return out
+
+
+def law_F(law: dict, t: float) -> float:
+    """F(t) of an ff_law dict: the same formula as contact3d's FrictionLaw and contact_ref.edp."""
+    if law["kind"] == 1:
+        if t <= law["t0"]:
+            return law["high"]
+        if t >= law["t0"] + 2.0 / law["param"]:
+            return law["low"]
+        return law["high"] - (law["high"] - law["low"]) * law["param"] / 2.0 * (t - law["t0"])
+    if law["kind"] == 2:
+        T, F = law["T"], law["F"]
+        if t <= T[0]:
+            return F[0]
+        if t >= T[-1]:
+            return F[-1]
+        j = next(k for k in range(1, len(T)) if T[k] > t)
+        return F[j - 1] + (F[j] - F[j - 1]) * (t - T[j - 1]) / (T[j] - T[j - 1])
+    return 0.0
+
+
+def slipdep_law(fr: dict, scene_path: Path) -> dict:
+    """FreeFEM law of the scene's ramp/table [friction] table (contact3d's defaults for absent keys)."""
+    g = float(fr.get("slip_bound", 0.0))
+    law = fr.get("law", "none")
+    if law == "ramp":
+        d = {"kind": 1, "g": g, "high": float(fr.get("high", 0.3)), "low": float(fr.get("low", 0.2)),
+             "t0": float(fr.get("t0", 1e-5)), "param": float(fr.get("param", 6e4))}
+        d["s"] = g * max(d["high"], d["low"])
+        return d
+    if law == "table":
+        pts = fr.get("points")
+        if not isinstance(pts, list) or not pts or not all(isinstance(p, list) and len(p) == 2 for p in pts):
+            raise SideFailed(f"{scene_path}: friction.points must be a list of [t, F] pairs")
+        d = {"kind": 2, "g": g, "T": [float(p[0]) for p in pts], "F": [float(p[1]) for p in pts]}
+        d["s"] = g * max(d["F"])
+        return d
+    raise SideFailed(f"{scene_path}: variant slipdep needs friction.law = ramp or table (have {law!r})")
+
+
+def law_label(law: dict) -> str:
+    if law["kind"] == 1:
+        return (f"ramp F(|u_t|): high={law['high']:g}, low={law['low']:g}, t0={law['t0']:g}, "
+                f"param={law['param']:g}, g={law['g']:g}")
+    if law["kind"] == 2:
+        return f"table F(|u_t|) ({len(law['T'])} points), g={law['g']:g}"
+    return f"s={law['s']:g}"
+
+
+def perturb_law(law: dict, items: list[str]) -> dict:
+    """--perturb-freefem-law KEY=VALUE (negative tests): change the FreeFEM side's law only."""
+    law = dict(law)
+    for kv in items:
+        k, sep, v = kv.partition("=")
+        k = k.strip()
+        if not sep or k not in ("high", "low", "t0", "param", "g") or k not in law:
+            raise SideFailed(f"--perturb-freefem-law {kv!r}: expected KEY=VALUE with KEY one of "
+                             f"{', '.join(x for x in ('high', 'low', 't0', 'param', 'g') if x in law)}")
+        law[k] = float(v)
+    if law["kind"] == 1:
+        law["s"] = law["g"] * max(law["high"], law["low"])
+    elif law["kind"] == 2:
+        law["s"] = law["g"] * max(law["F"])
+    return law
+
+
+def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> tuple[dict, dict, str]:
+    """The [friction] table for the variant, the FreeFEM law ({"kind": 0, "s": F*g} for a constant
+    bound; kind 1 ramp / 2 table with "g" and the law's parameters, "s" = g*max F), a label."""
     fr = scene.get("friction", {})
     g = float(fr.get("slip_bound", 0.0))
     if variant == "frictionless":
-        return {"law": "none"}, 0.0, "frictionless"
+        return {"law": "none"}, {"kind": 0, "s": 0.0}, "frictionless"
     if variant == "tresca":
         if g <= 0:
             raise SideFailed(f"{scene_path}: variant tresca needs friction.slip_bound > 0")
-        return {"law": "constant", "value": F, "slip_bound": g}, F * g, f"Tresca F={F:g}, g={g:g}"
+        return ({"law": "constant", "value": F, "slip_bound": g}, {"kind": 0, "s": F * g},
+                f"Tresca F={F:g}, g={g:g}")
+    if variant == "slipdep":
+        if g <= 0:
+            raise SideFailed(f"{scene_path}: variant slipdep needs friction.slip_bound > 0")
+        law = slipdep_law(fr, scene_path)
+        keys = ("high", "low", "t0", "param") if law["kind"] == 1 else ("points",)
+        table = {"law": fr["law"], "slip_bound": g, **{k: fr[k] for k in keys if k in fr}}
+        return table, law, law_label(law)
     if variant == "scene":
         law = fr.get("law", "none")
         if law == "none" or g == 0:
-            return {"law": "none"}, 0.0, "frictionless (scene)"
+            return {"law": "none"}, {"kind": 0, "s": 0.0}, "frictionless (scene)"
         if law == "constant":
             Fs = float(fr["value"])
-            return {"law": "constant", "value": Fs, "slip_bound": g}, Fs * g, f"Tresca F={Fs:g}, g={g:g} (scene)"
-        raise SideFailed(f"{scene_path}: friction law {law!r} has no FreeFEM reference "
-                         "(only none and constant); use --variant frictionless|tresca")
+            return ({"law": "constant", "value": Fs, "slip_bound": g}, {"kind": 0, "s": Fs * g},
+                    f"Tresca F={Fs:g}, g={g:g} (scene)")
+        if law in ("ramp", "table"):
+            table, ffl, label = variant_friction(scene, "slipdep", F, scene_path)
+            return table, ffl, label + " (scene)"
+        raise SideFailed(f"{scene_path}: friction law {law!r} has no FreeFEM reference")
     raise SideFailed(f"unknown variant {variant!r}")
 
 
@@ -332,8 +429,12 @@ def run_freefem(freefem: str, driver_text: str, work: Path, tag: str, timeout: f
     return wall, cpu
 
 
-def freefem_driver(prob: dict, msh: Path, s: float, out_csv: Path, out_json: Path, *, tol: float,
-                   maxit: int, perturb: float, out_field: str = "", contact: bool = True) -> str:
+def freefem_driver(prob: dict, msh: Path, law, out_csv: Path, out_json: Path, *, tol: float,
+                   maxit: int, perturb: float, out_field: str = "", contact: bool = True,
+                   fp_tol: float = 1e-8, fp_maxit: int = 100) -> str:
+    """law: a constant slip bound s = F*g (float; 0 = frictionless) or an ff_law dict."""
+    if not isinstance(law, dict):
+        law = {"kind": 0, "s": float(law)}
     t = prob["traction"]
     vals = [v * perturb for _, val in t for v in val]
     txt = "// generated by pipeline/crosscheck.py\n"
@@ -347,7 +448,13 @@ def freefem_driver(prob: dict, msh: Path, s: float, out_csv: Path, out_json: Pat
     txt += f"int nTraction = {len(t)};\n"
     txt += ff_array("int", "tractionLabels", [tag for tag, _ in t])
     txt += ff_array("real", "tractionValues", vals)
-    txt += f"real slipBound = {float(s)!r};\n"
+    txt += f"real slipBound = {float(law['s']) if law['kind'] == 0 else 0.0!r};\n"
+    txt += f"int lawKind = {int(law['kind'])};\nreal slipG = {float(law.get('g', 0.0))!r};\n"
+    txt += (f"real lawHigh = {float(law.get('high', 0.0))!r}, lawLow = {float(law.get('low', 0.0))!r}, "
+            f"lawT0 = {float(law.get('t0', 0.0))!r}, lawParam = {float(law.get('param', 1.0))!r};\n")
+    txt += ff_array("real", "lawT", law.get("T", []))
+    txt += ff_array("real", "lawF", law.get("F", []))
+    txt += f"real fpTol = {fp_tol!r};\nint fpMaxIt = {fp_maxit};\n"
     txt += f"real ffTol = {tol!r};\nint ffMaxIt = {maxit};\nreal cScale = 1.0;\n"
     txt += f"include {ff_string(FF_CONTACT if contact else FF_LINEAR)}\n"
     return txt
@@ -375,12 +482,17 @@ def read_csv(path: Path, required: list[str]) -> dict[str, np.ndarray]:
 
 
 def ff_checks(res: dict, s: float) -> list[str]:
-    """The reference's own discrete conditions; a violation means the reference is not trustworthy."""
+    """The reference's own discrete conditions; a violation means the reference is not trustworthy.
+    s: the (largest) slip bound, the scale of the tangential checks."""
     bad = []
     umax = max(res["max_abs_u"], 1e-300)
     if not res["converged"]:
-        bad.append(f"Newton did not converge ({res['newton_iterations']} iterations, "
-                   f"last change {res['final_relative_change']:.2e})")
+        if res.get("failure"):
+            bad.append(f"not converged: {res['failure']} ({res.get('fixed_point_iterations', 1)} fixed-point "
+                       f"steps, {res['newton_iterations']} Newton steps, last change {res['final_relative_change']:.2e})")
+        else:
+            bad.append(f"Newton did not converge ({res['newton_iterations']} iterations, "
+                       f"last change {res['final_relative_change']:.2e})")
     if res["max_penetration"] > 1e-10 * umax:
         bad.append(f"penetration {res['max_penetration']:.3e} m")
     lscale = max(abs(res["force_normal"]) / max(res["contact_area"], 1e-300), 1.0)
@@ -395,6 +507,14 @@ def ff_checks(res: dict, s: float) -> list[str]:
             bad.append(f"slip not aligned with lambda_t ({res['max_slip_direction_error']:.3e} Pa)")
         if res["max_stick_slip"] > 1e-10 * umax:
             bad.append(f"sticking node moved by {res['max_stick_slip']:.3e} m")
+    if res.get("slip_dependent"):
+        # successive approximations: the bounds of the last Tresca problem are g F(|u_t|) of its
+        # own solution up to the fixed-point tolerance (sanity bound, not a sharp estimate)
+        if not res.get("fixed_point_converged", False):
+            bad.append(f"successive approximations did not converge ({res.get('fixed_point_iterations')} steps)")
+        ltol = max(1e-6, 100 * res.get("fixed_point_tolerance", 0.0)) * s
+        if res.get("max_law_residual", 0.0) > ltol:
+            bad.append(f"|s_p - g F(|u_t,p|)| = {res['max_law_residual']:.3e} Pa > {ltol:.3e} Pa (fixed point not reached)")
     return bad
 
 
@@ -500,7 +620,12 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
 def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, work_root: Path) -> dict:
     name = scene_path.stem
     F = args.F if args.F is not None else float(cfg["friction_coefficient"])
-    fr_table, s, label = variant_friction(scene, variant, F, scene_path)
+    fr_table, ff_law, label = variant_friction(scene, variant, F, scene_path)
+    if args.perturb_freefem_law:
+        if ff_law["kind"] == 0:
+            raise SideFailed("--perturb-freefem-law needs a slip-dependent variant (slipdep)")
+        ff_law = perturb_law(ff_law, args.perturb_freefem_law)
+    s = ff_law["s"]
     work = work_root / f"{name}-n{n if n is not None else 'scene'}-{variant}"
     if work.exists() and not args.reuse_freefem:
         shutil.rmtree(work)
@@ -509,13 +634,14 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     mesh = read_msh22(msh)
     prob = problem_data(scene, scene_path, mesh)
     case = {"scene": name, "n": params.get("n", n), "variant": variant, "friction": label, "slip_bound_s": s,
+            "ff_law": ff_law,
             "mesh": str(msh), "n_nodes": int(len(mesh["coords"])), "work": str(work)}
     log(f"== {name} n={case['n']} {variant}: {label}; mesh {msh.name} ({case['n_nodes']} nodes)")
 
     # FreeFEM
     ff_csv, ff_json = work / "freefem_contact_nodes.csv", work / "freefem_summary.json"
-    drv = freefem_driver(prob, msh, s, ff_csv, ff_json, tol=args.ff_tol, maxit=args.ff_maxit,
-                         perturb=args.perturb_freefem_traction)
+    drv = freefem_driver(prob, msh, ff_law, ff_csv, ff_json, tol=args.ff_tol, maxit=args.ff_maxit,
+                         perturb=args.perturb_freefem_traction, fp_tol=args.ff_fp_tol, fp_maxit=args.ff_fp_maxit)
     timing = work / "freefem_time.json"
     old_drv = work / "freefem.edp"
     if (args.reuse_freefem and old_drv.exists() and old_drv.read_text() == drv and timing.exists()
@@ -539,7 +665,11 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     bad = ff_checks(ffres, s)
     if bad:
         raise SideFailed("FreeFEM reference failed its own checks: " + "; ".join(bad))
-    log(f"   FreeFEM: {ffres['newton_iterations']} Newton steps, {ffres['n_in_contact']}/{ffres['n_contact_nodes']} "
+    fp_txt = ""
+    if ffres.get("slip_dependent"):
+        fp_txt = (f"{ffres['fixed_point_iterations']} fixed-point steps (err "
+                  + ", ".join(f"{e:.1e}" for e in ffres["fixed_point_err"]) + "), ")
+    log(f"   FreeFEM: {fp_txt}{ffres['newton_iterations']} Newton steps, {ffres['n_in_contact']}/{ffres['n_contact_nodes']} "
         f"nodes in contact, {ff_wall:.2f} s wall, {ff_cpu:.2f} s CPU")
 
     # contact3d on a derived scene (same mesh file, the variant's friction table)
@@ -577,13 +707,22 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     for k in ("area", "lambda_n", "lambda_t1", "lambda_t2"):
         finite_or_fail(cells[k], f"contact3d cells {k}")
     ours_total = float(summ.get("time_s", {}).get("total", float("nan")))
-    log(f"   contact3d: {summ.get('fixed_point_iterations', '?')} fixed-point steps, n_mult {summ.get('n_mult', '?')}, "
+    errs = summ.get("err_history") or []
+    err_txt = (" (err " + ", ".join(f"{e:.1e}" for e in errs) + ")") if ff_law["kind"] != 0 and errs else ""
+    log(f"   contact3d: {summ.get('fixed_point_iterations', '?')} fixed-point steps{err_txt}, n_mult {summ.get('n_mult', '?')}, "
         f"{ours_wall:.2f} s wall, {ours_cpu:.2f} s CPU")
 
     cmp_ = compare(mesh, prob, ff, ours, cells, float(cfg["contact_tol"]))
     case.update(cmp_)
     case.update({
         "ff_newton_iterations": ffres["newton_iterations"], "ff_final_change": ffres["final_relative_change"],
+        "ff_fixed_point_iterations": ffres.get("fixed_point_iterations", 1),
+        "ff_fixed_point_err": ffres.get("fixed_point_err", []),
+        "ff_newton_per_fixed_point_step": ffres.get("newton_per_fixed_point_step", []),
+        "ff_fixed_point_tolerance": ffres.get("fixed_point_tolerance", 0.0),
+        "ff_max_law_residual": ffres.get("max_law_residual", 0.0),
+        "ff_slip_bound_range": [ffres.get("slip_bound_min", s), ffres.get("slip_bound", s)],
+        "ours_err_history": summ.get("err_history"), "ours_status": summ.get("status"),
         "ff_time_wall": ff_wall, "ff_time_cpu": ffres["time_s"]["total"], "ff_time_solve": ffres["time_s"]["solve"],
         "ff_time_process_cpu": ff_cpu, "ours_time_process_cpu": ours_cpu,
         "ours_time_wall": ours_wall, "ours_time_total": ours_total,
@@ -593,6 +732,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
         "time_ratio_cpu": ff_cpu / max(ours_cpu, 1e-9),
         "time_ratio_internal": ffres["time_s"]["total"] / ours_total if ours_total > 0 else float("nan"),
         "perturb_freefem_traction": args.perturb_freefem_traction,
+        "perturb_freefem_law": list(args.perturb_freefem_law or []),
     })
     # verdict
     tol, ftol = float(cfg["tolerance"]), float(cfg["force_tolerance"])
@@ -639,6 +779,13 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
              "boundary mass, semi-smooth Newton (primal-dual active set) to a relative change ≤ "
              "1e-10. contact3d: piecewise-constant multipliers on "
              "the cells T_H, dual QP (MPGP). Same P1 mesh; the two agree only as h → 0.\n")
+    sd = [c for c in cases if c.get("ff_law", {}).get("kind", 0) != 0]
+    if sd:
+        L.append("Variant slipdep (solution-dependent coefficient, " + sd[0]["friction"] + "): both sides use the method "
+                 "of successive approximations from φ⁰ = 0, err(k) = ‖φᵏ − φᵏ⁻¹‖/‖φᵏ‖ over the contact nodes. "
+                 "contact3d: disc radii c_i = ∫_R_i g F(φ_h) dS / |R_i| per cell, stop at err ≤ its "
+                 "`solver.fixed_point_tol`; FreeFEM: nodal bounds s_p = g F(φ_p) (lumped quadrature), warm-started "
+                 f"Newton per step, stop at err ≤ {sd[0]['ff_fixed_point_tolerance']:g}.\n")
     L.append("rel L2 = ‖u_ff − u_ours‖/‖u_ff‖ in L2(Γc), exact integral of the P1 interpolants over the "
              "contact triangles; max |Δu| = max over contact nodes of the Euclidean nodal difference. "
              "Forces: FreeFEM Σ m_p λ_p, contact3d Σ area·λ over cells (λ_n = pressure, λ_t = −tangential traction). "
@@ -659,13 +806,22 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
         L.append(f"| {c['n']} | {c['variant']} | {c['Fn_ff']:.6g} | {c['Fn_ours']:.6g} | {fmt(c['rel_Fn'])} | "
                  f"{ft(c['Ft_ff'])} | {ft(c['Ft_ours'])} | {fmt(c['rel_Ft']) if c['slip_bound_s'] > 0 else '—'} |")
     L.append("\nCost (wall = elapsed time of the process; CPU = user+system time of the process; ratio = FreeFEM/contact3d):\n")
-    L.append("| n | variant | FF Newton steps | contact3d steps / n_mult | FF wall (s) | FF CPU (s) | contact3d wall (s) "
+    L.append("| n | variant | FF fixed-point / Newton steps | contact3d steps / n_mult | FF wall (s) | FF CPU (s) | contact3d wall (s) "
              "| contact3d CPU (s) | ratio wall | ratio CPU |")
     L.append("|" + "---|" * 10)
     for c in cases:
-        L.append(f"| {c['n']} | {c['variant']} | {c['ff_newton_iterations']} | {c['ours_fixed_point_iterations']} / "
+        L.append(f"| {c['n']} | {c['variant']} | {c.get('ff_fixed_point_iterations', 1)} / {c['ff_newton_iterations']} | "
+                 f"{c['ours_fixed_point_iterations']} / "
                  f"{c['ours_n_mult']} | {c['ff_time_wall']:.2f} | {c['ff_time_process_cpu']:.2f} | {c['ours_time_wall']:.3f} | "
                  f"{c['ours_time_process_cpu']:.3f} | {c['time_ratio_wall']:.1f} | {c['time_ratio_cpu']:.1f} |")
+    if sd:
+        L.append("\nFixed-point histories err(k) (slipdep):\n")
+        L.append("| n | FreeFEM err(k) | FreeFEM Newton steps per step | contact3d err(k) |")
+        L.append("|" + "---|" * 4)
+        for c in sd:
+            L.append(f"| {c['n']} | {', '.join(format(e, '.1e') for e in c['ff_fixed_point_err'])} | "
+                     f"{', '.join(str(int(x)) for x in c['ff_newton_per_fixed_point_step'])} | "
+                     f"{', '.join(format(e, '.1e') for e in (c.get('ours_err_history') or []))} |")
     L.append("")
     for c in cases:
         for f in c["fails"]:
@@ -674,6 +830,9 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
         L.append(f"- ERROR: {e}")
     if any(c.get("perturb_freefem_traction", 1.0) != 1.0 for c in cases):
         L.append(f"\nNote: FreeFEM tractions were scaled by {cases[0]['perturb_freefem_traction']:g} "
+                 "(negative test of the cross-check).")
+    if any(c.get("perturb_freefem_law") for c in cases):
+        L.append(f"\nNote: the FreeFEM friction law was changed by {', '.join(cases[0]['perturb_freefem_law'])} "
                  "(negative test of the cross-check).")
     path.write_text("\n".join(L) + "\n")
     path.with_suffix(".json").write_text(json.dumps({"cases": cases, "errors": errors, "config": cfg}, indent=1))
@@ -685,7 +844,9 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
 
 def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) -> int:
     """(1) lifted body: frictionless contact solution == plain linear solve; (2) discrete conditions
-    of frictionless and Tresca solutions; (3) Tresca with a tiny bound == frictionless."""
+    of frictionless and Tresca solutions; (3) Tresca with a tiny bound == frictionless; (4) for a
+    scene with a slip-dependent law: discrete conditions and the fixed point of the successive
+    approximations; (5) that law with high = low = F (ramp) or all F_k = F (table) == Tresca F."""
     work = work_root / f"{scene_path.stem}-n{n}-ffselftest"
     if work.exists():
         shutil.rmtree(work)
@@ -724,15 +885,32 @@ def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) ->
     g = float(fr.get("slip_bound", 0.0))
     F = args.F if args.F is not None else DEFAULTS["friction_coefficient"]
     res = {}
-    for tag, s in (("frictionless", 0.0), ("tresca", F * g), ("tiny", 1e-6 * max(F * g, 1.0))):
+    runs = [("frictionless", 0.0), ("tresca", F * g), ("tiny", 1e-6 * max(F * g, 1.0))]
+    if scene_law_depends_on_slip(scene):
+        law = slipdep_law(fr, scene_path)
+        flat = dict(law)  # the same law with a constant value F: must reproduce Tresca F*g
+        if law["kind"] == 1:
+            flat.update(high=F, low=F)
+        else:
+            flat.update(F=[F] * len(law["F"]))
+        flat["s"] = F * g
+        runs += [("slipdep", law), ("flatlaw", flat)]
+    for tag, s in runs:
         if tag != "frictionless" and g <= 0:
             continue
+        smax = s["s"] if isinstance(s, dict) else s
         run_freefem(args.freefem, freefem_driver(prob, msh, s, work / f"{tag}.csv", work / f"{tag}.json",
-                                                 tol=args.ff_tol, maxit=args.ff_maxit, perturb=1.0), work, tag, args.timeout)
+                                                 tol=args.ff_tol, maxit=args.ff_maxit, perturb=1.0,
+                                                 fp_tol=args.ff_fp_tol, fp_maxit=args.ff_fp_maxit), work, tag, args.timeout)
         j = json.loads((work / f"{tag}.json").read_text())
         res[tag] = (j, read_csv(work / f"{tag}.csv", ["u1", "u2", "u3", "lambda_n", "mass"]))
-        bad = ff_checks(j, s)
-        log(f"   {tag}: s = {s:g} Pa, {j['newton_iterations']} Newton steps, {j['n_in_contact']} in contact, "
+        bad = ff_checks(j, smax)
+        extra = ""
+        if j.get("slip_dependent"):
+            extra = (f", {j['fixed_point_iterations']} fixed-point steps (last err {j['fixed_point_err'][-1]:.1e}), "
+                     f"bounds {j['slip_bound_min']:g}..{j['slip_bound']:g} Pa, |s - gF(|u_t|)| {j['max_law_residual']:.1e} Pa")
+        log(f"   {tag}: s = {law_label(s) if isinstance(s, dict) else format(s, 'g') + ' Pa'}, {j['newton_iterations']} "
+            f"Newton steps{extra}, {j['n_in_contact']} in contact, "
             f"{j.get('n_slip', 0)} slipping, penetration {j['max_penetration']:.1e} m, min lambda_n {j['min_lambda_n']:.1e}, "
             f"Tresca excess {j['max_tresca_excess']:.1e} Pa -> {'ok' if not bad else '; '.join(bad)}")
         problems += [f"{tag}: {x}" for x in bad]
@@ -744,6 +922,27 @@ def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) ->
         log(f"   Tresca with s = 1e-6*F*g vs frictionless: max rel difference {dt:.2e}")
         if dt > 1e-5:
             problems.append(f"tiny Tresca bound differs from frictionless by {dt:.2e}")
+    # (5) a slip-dependent law that is constant in fact reproduces the Tresca solution
+    if "flatlaw" in res and "tresca" in res:
+        u0 = np.column_stack([res["tresca"][1][k] for k in ("u1", "u2", "u3")])
+        u1 = np.column_stack([res["flatlaw"][1][k] for k in ("u1", "u2", "u3")])
+        dt = float(np.abs(u0 - u1).max() / np.abs(u0).max())
+        nfp = res["flatlaw"][0]["fixed_point_iterations"]
+        log(f"   law with constant F = {F:g} vs Tresca F = {F:g}: max rel difference {dt:.2e}, {nfp} fixed-point steps")
+        if dt > 1e-10 or nfp != 2:
+            problems.append(f"constant slip-dependent law differs from Tresca by {dt:.2e} ({nfp} fixed-point steps, expected 2)")
+    # the law of the edp == the law here (both are written after contact3d's friction_law.cpp)
+    if "slipdep" in res:
+        j, d = res["slipdep"]
+        law = slipdep_law(fr, scene_path)
+        ff_csv = read_csv(work / "slipdep.csv", ["u1", "u2", "slip_bound"])
+        # bounds used in the last step come from the previous slip; after convergence they equal
+        # g F(|u_t|) of the final slip, evaluated here with the Python formula
+        want = np.array([law["g"] * law_F(law, math.hypot(a, b)) for a, b in zip(ff_csv["u1"], ff_csv["u2"])])
+        dlaw = float(np.abs(want - ff_csv["slip_bound"]).max())
+        log(f"   slipdep: bounds vs g F(|u_t|) evaluated in Python: max difference {dlaw:.1e} Pa")
+        if dlaw > max(1e-6, 100 * args.ff_fp_tol) * law["s"]:
+            problems.append(f"slipdep bounds differ from g F(|u_t|) by {dlaw:.2e} Pa")
     for p in problems:
         log(f"FREEFEM SELFTEST FAILED: {p}")
     if not problems:
@@ -760,7 +959,8 @@ def main(argv=None) -> int:
     ap.add_argument("--scene", required=True, help="scene TOML")
     ap.add_argument("--n", default=None, help="mesh parameter n (comma-separated list for a sweep)")
     ap.add_argument("--variant", default=None,
-                    help="frictionless | tresca | scene | all (= frictionless,tresca); comma-separated list allowed")
+                    help="frictionless | tresca | slipdep | scene | all (= frictionless,tresca[,slipdep if the "
+                         "scene's law is ramp/table]); comma-separated list allowed")
     ap.add_argument("--F", type=float, default=None, help="friction coefficient of the tresca variant (default 0.3)")
     ap.add_argument("--tolerance", type=float, default=None, help="max relative L2(Gc) difference of u")
     ap.add_argument("--force-tolerance", type=float, default=None, help="max relative difference of contact forces")
@@ -772,12 +972,17 @@ def main(argv=None) -> int:
     ap.add_argument("--gmsh", default="gmsh")
     ap.add_argument("--timeout", type=float, default=3600.0, help="seconds per solver run")
     ap.add_argument("--ff-tol", type=float, default=1e-10, help="FreeFEM Newton: relative change to stop")
-    ap.add_argument("--ff-maxit", type=int, default=100)
+    ap.add_argument("--ff-maxit", type=int, default=100, help="FreeFEM Newton: max steps (per fixed-point step)")
+    ap.add_argument("--ff-fp-tol", type=float, default=1e-8,
+                    help="FreeFEM successive approximations (slipdep): err(k) to stop")
+    ap.add_argument("--ff-fp-maxit", type=int, default=100, help="FreeFEM successive approximations: max steps")
     ap.add_argument("--reuse-freefem", action="store_true",
                     help="reuse a FreeFEM result of the same driver and mesh left in the work folder")
     ap.add_argument("--validate-freefem", action="store_true",
                     help="self-test the FreeFEM reference only (no contact3d run)")
     ap.add_argument("--perturb-freefem-traction", type=float, default=1.0, help=argparse.SUPPRESS)
+    # negative tests of the slipdep variant: KEY=VALUE (high, low, t0, param, g) for FreeFEM's law only
+    ap.add_argument("--perturb-freefem-law", action="append", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
 
     scene_path = Path(args.scene).resolve()
@@ -808,14 +1013,12 @@ def main(argv=None) -> int:
     else:
         ns = [None]
     if args.variant is not None:
-        variants = []
-        for v in args.variant.split(","):
-            variants += ["frictionless", "tresca"] if v.strip() == "all" else [v.strip()]
+        variants = expand_variants(args.variant.split(","), scene)
     else:
-        variants = list(cfg["variants"])
+        variants = expand_variants(list(cfg["variants"]), scene)
     for v in variants:
-        if v not in ("frictionless", "tresca", "scene"):
-            log(f"error: unknown variant {v!r} (frictionless | tresca | scene | all)")
+        if v not in VARIANTS:
+            log(f"error: unknown variant {v!r} (frictionless | tresca | slipdep | scene | all)")
             return 2
 
     bin_path = Path(args.bin).resolve()

@@ -2,16 +2,19 @@
 # pipeline/freefem/contact_ref.edp) on the paper brick at n = 4 (a few seconds in all).
 #
 # At n = 4 the two discretisations differ by design (contact3d: 2h x 2h multiplier cells,
-# FreeFEM: nodal multipliers), measured: rel L2(Gc) 0.039 frictionless, 0.071 Tresca; contact
-# forces within 2.5% / 5%. The tolerances below sit just above that, so that the negative tests
-# (FreeFEM tractions scaled by 1.1) must fail them. results/crosscheck/README.md has the sweep.
+# FreeFEM: nodal multipliers), measured: rel L2(Gc) 0.039 frictionless, 0.071 Tresca, 0.034
+# slipdep (the scene's ramp law F(|u_t|), successive approximations on both sides); contact
+# forces within 2.5% / 5% / 5.1%. The tolerances below sit just above that, so that the negative
+# tests (FreeFEM tractions scaled by 1.1; for slipdep also FreeFEM's law with high and low
+# swapped) must fail them. results/crosscheck/README.md has the sweeps.
 set(CONTACT3D_CC ${CMAKE_SOURCE_DIR}/pipeline/crosscheck.py)
 set(CONTACT3D_CC_SCENE ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml)
 set(CONTACT3D_CC_WORK ${CMAKE_BINARY_DIR}/crosscheck-tests)
 set(CONTACT3D_CC_TOL_frictionless --tolerance 0.06 --force-tolerance 0.05)
 set(CONTACT3D_CC_TOL_tresca --tolerance 0.10 --force-tolerance 0.08)
+set(CONTACT3D_CC_TOL_slipdep --tolerance 0.05 --force-tolerance 0.08)
 
-foreach(variant frictionless tresca)
+foreach(variant frictionless tresca slipdep)
   # contact3d and FreeFEM agree within the n = 4 tolerance
   add_test(NAME crosscheck_brick_n4_${variant}
     COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_SCENE}
@@ -31,6 +34,18 @@ foreach(variant frictionless tresca)
     FAIL_REGULAR_EXPRESSION "error:")
 endforeach()
 
+# negative test of the solution-dependent coefficient itself: FreeFEM solves with the scene's ramp
+# law turned upside down (high = 0.2, low = 0.3 instead of 0.3, 0.2); contact3d keeps the scene's
+# law. Measured rel L2(Gc) 0.333 > 0.05 and dFt 0.205 > 0.08: the comparison sees the law.
+add_test(NAME crosscheck_brick_n4_slipdep_detects_law_perturbation
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_SCENE}
+          --n 4 --variant slipdep ${CONTACT3D_CC_TOL_slipdep}
+          --perturb-freefem-law high=0.2 --perturb-freefem-law low=0.3
+          --workdir ${CONTACT3D_CC_WORK}/slipdep-law-perturbed --report ${CONTACT3D_CC_WORK}/slipdep-law-perturbed.md)
+set_tests_properties(crosscheck_brick_n4_slipdep_detects_law_perturbation PROPERTIES TIMEOUT 120 LABELS crosscheck
+  PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: paper_brick n=4 slipdep: relative L2\\(Gc\\) difference of u .* exceeds tolerance"
+  FAIL_REGULAR_EXPRESSION "error:")
+
 # a failing solver is an error (exit 2, "error: ... contact3d exited with"), never a pass
 add_test(NAME crosscheck_reports_failed_solver
   COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin /bin/false --scene ${CONTACT3D_CC_SCENE}
@@ -39,7 +54,9 @@ set_tests_properties(crosscheck_reports_failed_solver PROPERTIES TIMEOUT 120 LAB
   PASS_REGULAR_EXPRESSION "error: n=4 frictionless: contact3d exited with 1")
 
 # the FreeFEM reference on its own: lifted body == plain linear solve, no penetration,
-# lambda_n >= 0, Tresca bound and slip direction, vanishing bound == frictionless
+# lambda_n >= 0, Tresca bound and slip direction, vanishing bound == frictionless; the scene's
+# ramp law: converged successive approximations with bounds g F(|u_t|) of the result, and the
+# law with high = low = 0.3 == Tresca F = 0.3
 add_test(NAME crosscheck_freefem_selftest_n4
   COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --scene ${CONTACT3D_CC_SCENE} --n 4 --validate-freefem
           --workdir ${CONTACT3D_CC_WORK}/selftest)
