@@ -1,11 +1,18 @@
 // Tests of the gmsh MSH reader and writers (solver/mesh/msh_reader.*, msh_writer.*).
-// Fixtures: meshes/fixtures/brick_n2_* (geo/brick.geo, n = 2, written by gmsh).
+// Fixtures: meshes/fixtures/brick_n2_* (geo/brick.geo, n = 2, written by gmsh), and pairs of
+// MSH 2.2 ASCII / binary exports of the same meshes (gmsh 4.8.4, from /work/main):
+//   gmsh -3 -format msh22 -bin -setnumber n 2 geo/brick.geo -o meshes/fixtures/brick_n2_msh22_bin.msh
+//   gmsh -3 -format msh22 [-bin] -setnumber h 0.5 geo/holed.geo -o meshes/fixtures/holed_h05_msh22[_bin].msh
+//   gmsh -3 -format msh22 [-bin] meshes/fixtures/multigroup.geo -o meshes/fixtures/multigroup_msh22[_bin].msh
+// (gmsh meshes these deterministically: two runs give byte-identical files.)
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -32,6 +39,11 @@ const std::string kFixtures = std::string(CONTACT3D_SOURCE_DIR) + "/meshes/fixtu
 const std::string kAscii41 = kFixtures + "brick_n2_msh41.msh";
 const std::string kBinary41 = kFixtures + "brick_n2_msh41_bin.msh";
 const std::string kAscii22 = kFixtures + "brick_n2_msh22.msh";
+const std::string kBinary22 = kFixtures + "brick_n2_msh22_bin.msh";
+const std::string kHoledAscii22 = kFixtures + "holed_h05_msh22.msh";
+const std::string kHoledBinary22 = kFixtures + "holed_h05_msh22_bin.msh";
+const std::string kMultiAscii22 = kFixtures + "multigroup_msh22.msh";
+const std::string kMultiBinary22 = kFixtures + "multigroup_msh22_bin.msh";
 constexpr int kN = 2;  // brick.geo parameter of the fixtures
 
 // A scratch directory removed at the end of the test.
@@ -189,7 +201,7 @@ TEST(MshReader, ParseFromMemoryMatchesFile) {
 
 TEST(MshWriter, RoundTripBrick) {
   TempDir dir;
-  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22}) {
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22, kBinary22}) {
     SCOPED_TRACE(fixture);
     const Mesh m = read_msh(fixture);
     write_msh41(m, dir.file("b41.msh"));
@@ -481,7 +493,11 @@ TEST(MshBroken, AsciiFilesNameFileAndLine) {
   const std::vector<BrokenCase> cases = {
       {"version 3.0", base41_with(2, "3.0 0 8"), {"line 2", "3.0", "supported: 4.1, 2.2"}},
       {"version 4.0", base41_with(2, "4 0 8"), {"line 2", "supported: 4.1, 2.2"}},
-      {"binary 2.2", base41_with(2, "2.2 1 8"), {"line 2", "binary MSH 2.2"}},
+      // A 4.1 ASCII body under a binary 2.2 header: the endianness marker is not there.
+      {"binary 2.2 header on ASCII data", base41_with(2, "2.2 1 8"),
+       {"byte offset 20", "corrupt binary header", "endianness marker"}},
+      {"binary 2.2 data size 4", base41_with(2, "2.2 1 4"),
+       {"line 2", "data size 4 is not supported in binary MSH 2.2"}},
       {"not msh", "hello world\n", {"line 1", "not a gmsh MSH file"}},
       {"bad coordinate", base41_with(22, "1 0 abc"), {"line 22", "'abc'", "coordinate"}},
       {"nan coordinate", base41_with(23, "0 nan 0"), {"line 23", "not a finite number"}},
@@ -644,7 +660,7 @@ TEST(MshBroken, BinaryFilesNameByteOffset) {
 
 // Every proper prefix of a valid file is an error (never a crash, hang or other exception).
 TEST(MshBroken, EveryTruncationIsAnInputError) {
-  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22}) {
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22, kBinary22}) {
     SCOPED_TRACE(fixture);
     const std::string data = slurp(fixture);
     ASSERT_EQ(data.back(), '\n');
@@ -665,7 +681,7 @@ TEST(MshBroken, EveryTruncationIsAnInputError) {
 TEST(MshBroken, RandomCorruptionIsAcceptedOrInputError) {
   std::mt19937 rng(12345);
   const char alphabet[] = "0123456789 \n-.e$\"xnaif";
-  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22}) {
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22, kBinary22}) {
     SCOPED_TRACE(fixture);
     const std::string good = slurp(fixture);
     int accepted = 0;
@@ -692,6 +708,385 @@ TEST(MshBroken, RandomCorruptionIsAcceptedOrInputError) {
       }
     }
     RecordProperty(fs::path(fixture).filename().string() + "_accepted", accepted);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// MSH 2.2 binary
+
+// Little-endian bytes of a value (the reader, like these tests, assumes a little-endian host).
+template <class T>
+std::string le(T v) {
+  std::string s(sizeof(T), '\0');
+  std::memcpy(s.data(), &v, sizeof(T));
+  return s;
+}
+std::string le_ints(std::initializer_list<std::int32_t> values) {
+  std::string s;
+  for (std::int32_t v : values) s += le(v);
+  return s;
+}
+
+// Nodes per element of the types gmsh writes in the fixtures.
+std::size_t fixture_type_nodes(std::int32_t type) {
+  switch (type) {
+    case 15: return 1;
+    case 1: return 2;
+    case 2: return 3;
+    case 4: return 4;
+    default: ADD_FAILURE() << "element type " << type << " in a fixture"; return 0;
+  }
+}
+
+// Byte range [first, last) of the element blocks of a binary MSH 2.2 file: from after the
+// count line of $Elements to the line break before $EndElements.
+std::pair<std::size_t, std::size_t> element_blocks22(const std::string& data) {
+  const std::size_t count = after(data, "$Elements\n");
+  return {data.find('\n', count) + 1, data.rfind("\n$EndElements")};
+}
+
+// Offsets of the element block headers (element type, number of elements, number of tags).
+std::vector<std::size_t> block_offsets22(const std::string& data) {
+  auto [p, last] = element_blocks22(data);
+  std::vector<std::size_t> out;
+  while (p < last) {
+    out.push_back(p);
+    const auto type = peek<std::int32_t>(data, p);
+    const auto n = static_cast<std::size_t>(peek<std::int32_t>(data, p + 4));
+    const auto ntags = static_cast<std::size_t>(peek<std::int32_t>(data, p + 8));
+    p += 12 + 4 * n * (1 + ntags + fixture_type_nodes(type));
+  }
+  EXPECT_EQ(p, last);
+  return out;
+}
+
+// gmsh 4 writes one block per element; other writers put runs of elements of one type (and tag
+// count) in one block. Rewrites a file that way.
+std::string regroup_blocks22(const std::string& data) {
+  const auto [first, last] = element_blocks22(data);
+  std::string blocks, body;
+  std::int32_t type = -1, ntags = -1, count = 0;
+  const auto flush = [&] {
+    if (count > 0) blocks += le_ints({type, count, ntags}) + body;
+    body.clear();
+    count = 0;
+  };
+  for (std::size_t b : block_offsets22(data)) {
+    const auto t = peek<std::int32_t>(data, b);
+    const auto n = peek<std::int32_t>(data, b + 4);
+    const auto k = peek<std::int32_t>(data, b + 8);
+    if (t != type || k != ntags) {
+      flush();
+      type = t;
+      ntags = k;
+    }
+    body += data.substr(b + 12, 4 * static_cast<std::size_t>(n) *
+                                    (1 + static_cast<std::size_t>(k) + fixture_type_nodes(t)));
+    count += n;
+  }
+  flush();
+  return data.substr(0, first) + blocks + data.substr(last);
+}
+
+// gmsh writes MSH 2.2 ASCII coordinates with printf("%.16g"), binary ones with all their bits:
+// the mesh read from a binary file, its coordinates rounded that way.
+Mesh rounded_as_msh22_ascii(Mesh m) {
+  for (auto& x : m.nodes)
+    for (int k = 0; k < 3; ++k) {
+      char buf[40];
+      std::snprintf(buf, sizeof buf, "%.16g", x[k]);
+      x[k] = std::strtod(buf, nullptr);
+    }
+  return m;
+}
+
+TEST(MshReader, Gmsh22BinaryMatchesAscii) {
+  const Mesh brick = read_msh(kBinary22);
+  check_brick(brick, kN);
+  expect_same_mesh(brick, read_msh(kAscii22));  // coordinates k/2, k/6: exact in both
+  expect_same_mesh(brick, read_msh(kAscii41));
+  for (const auto& [binary, ascii] : {std::pair{kBinary22, kAscii22},
+                                      std::pair{kHoledBinary22, kHoledAscii22},
+                                      std::pair{kMultiBinary22, kMultiAscii22}}) {
+    SCOPED_TRACE(binary);
+    const Mesh b = read_msh(binary);
+    EXPECT_FALSE(b.tets.empty());
+    EXPECT_FALSE(b.triangles.empty());
+    expect_same_mesh(rounded_as_msh22_ascii(b), read_msh(ascii));
+  }
+  const Mesh holed = read_msh(kHoledBinary22);
+  EXPECT_EQ(holed.nodes.size(), 104u);
+  const char* names[] = {"clamped", "load_top", "load_end", "contact", "free", "body"};
+  ASSERT_EQ(holed.groups.size(), 6u) << holed.describe_groups();
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(holed.groups[i].name, names[i]);
+  EXPECT_FALSE(holed.triangles_of_group("contact").empty());
+}
+
+// meshes/fixtures/multigroup.geo: a cube whose boundary faces and volume are each in two
+// physical groups, a physical point and curve (elements of type 15 and 1, skipped), and an
+// unnamed physical surface 42.
+TEST(MshReader, Gmsh22BinarySeveralGroupsPerElement) {
+  const Mesh m = read_msh(kMultiBinary22);
+  EXPECT_EQ(m.nodes.size(), 14u);
+  // gmsh writes each tetrahedron for "body" (43) then "body_again" (44): stored once.
+  EXPECT_EQ(m.tets.size(), 24u);
+  for (int g : m.tet_group) EXPECT_EQ(g, 43);
+  double volume = 0;
+  for (const auto& t : m.tets) volume += std::abs(tet_volume(m, t));
+  EXPECT_NEAR(volume, 1.0, 1e-12);
+  // Triangles are stored once per group.
+  EXPECT_EQ(m.triangles_of_group("contact").size(), 4u);
+  EXPECT_EQ(m.triangles_of_group("also_contact").size(), 4u);
+  EXPECT_EQ(m.triangles_of_group("sides").size(), 16u);
+  EXPECT_EQ(m.triangles_of_group("").size(), 4u);
+  EXPECT_EQ(m.triangles.size(), 28u);
+  // The named groups in file order, then the unnamed one.
+  ASSERT_EQ(m.groups.size(), 8u) << m.describe_groups();
+  EXPECT_EQ(m.groups[0].name, "corner");
+  EXPECT_EQ(m.groups[0].dim, 0);
+  EXPECT_EQ(m.groups[1].name, "edge");
+  EXPECT_EQ(m.groups[1].dim, 1);
+  EXPECT_EQ(m.groups[6].name, "body_again");
+  EXPECT_EQ(m.groups[6].tag, 44);
+  EXPECT_EQ(m.groups[7].dim, 2);
+  EXPECT_EQ(m.groups[7].tag, 42);
+  EXPECT_EQ(m.groups[7].name, "");
+}
+
+// Blocks holding many elements (as written by gmsh 2 and other writers) read the same.
+TEST(MshReader, Msh22BinaryBlocksOfSeveralElements) {
+  for (const std::string& fixture : {kBinary22, kHoledBinary22, kMultiBinary22}) {
+    SCOPED_TRACE(fixture);
+    const std::string data = slurp(fixture);
+    const std::string grouped = regroup_blocks22(data);
+    EXPECT_GT(block_offsets22(data).size(), 50u);
+    EXPECT_LE(block_offsets22(grouped).size(), 4u);
+    expect_same_mesh(parse_msh(grouped, "grouped.msh"), read_msh(fixture));
+  }
+}
+
+// Hand-built: sparse node tags, 4 tags per element (gmsh's partition tags), an empty block, a
+// tetrahedron written for two groups, count lines ending in "\r\n"; same Mesh as the ASCII text.
+TEST(MshReader, Msh22BinaryHandBuiltMatchesAscii) {
+  const std::string ascii =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+      "$PhysicalNames\n2\n2 4 \"contact\"\n3 6 \"body\"\n$EndPhysicalNames\n"
+      "$Nodes\n5\n10 0 0 0\n20 1 0 0\n30 0 1 0\n40 0 0 1\n1000000007 1 1 1\n$EndNodes\n"
+      "$Elements\n7\n"
+      "1 15 2 0 1 10\n"
+      "2 1 4 0 3 1 2 10 20\n"
+      "3 2 4 4 1 1 2 10 20 30\n"
+      "4 2 4 0 1 1 2 10 30 40\n"
+      "5 4 2 6 1 10 20 30 40\n"
+      "6 4 2 9 1 10 20 30 40\n"
+      "7 4 2 6 1 20 30 40 1000000007\n"
+      "$EndElements\n";
+  std::string bin = "$MeshFormat\n2.2 1 8\n" + le<std::int32_t>(1) +
+                    "\n$EndMeshFormat\n"
+                    "$PhysicalNames\n2\n2 4 \"contact\"\n3 6 \"body\"\n$EndPhysicalNames\n"
+                    "$Nodes\r\n5\r\n";
+  const std::pair<std::int32_t, Eigen::Vector3d> nodes[] = {
+      {10, {0, 0, 0}}, {20, {1, 0, 0}}, {30, {0, 1, 0}}, {40, {0, 0, 1}}, {1000000007, {1, 1, 1}}};
+  for (const auto& [tag, x] : nodes) bin += le(tag) + le(x.x()) + le(x.y()) + le(x.z());
+  bin += "\n$EndNodes\n$Elements\r\n7\r\n";
+  bin += le_ints({15, 1, 2, /**/ 1, 0, 1, 10});
+  bin += le_ints({1, 1, 4, /**/ 2, 0, 3, 1, 2, 10, 20});
+  bin += le_ints({2, 0, 2});  // an empty block
+  bin += le_ints({2, 2, 4, /**/ 3, 4, 1, 1, 2, 10, 20, 30, /**/ 4, 0, 1, 1, 2, 10, 30, 40});
+  bin += le_ints({4, 3, 2, /**/ 5, 6, 1, 10, 20, 30, 40, /**/ 6, 9, 1, 10, 20, 30, 40,
+                  /**/ 7, 6, 1, 20, 30, 40, 1000000007});
+  bin += "\n$EndElements\n";
+  const Mesh m = parse_msh(bin, "hand.msh");
+  expect_same_mesh(m, parse_msh(ascii, "hand_ascii.msh"));
+  EXPECT_EQ(m.node_tags, std::vector<std::size_t>({10, 20, 30, 40, 1000000007}));
+  EXPECT_EQ(m.tets, std::vector<Tet>({{0, 1, 2, 3}, {1, 2, 3, 4}}));
+  EXPECT_EQ(m.tet_tags, std::vector<std::size_t>({5, 7}));
+  EXPECT_EQ(m.tet_group, std::vector<int>({6, 6}));
+  EXPECT_EQ(m.triangle_tags, std::vector<std::size_t>({3, 4}));
+  EXPECT_EQ(m.triangle_group, std::vector<int>({4, 0}));
+  ASSERT_EQ(m.groups.size(), 3u);
+  EXPECT_EQ(m.groups[2].dim, 3);
+  EXPECT_EQ(m.groups[2].tag, 9);
+}
+
+// Broken binary 2.2 files built from the brick fixture: each raises InputError naming the file,
+// the byte offset of the problem and the problem.
+TEST(MshBroken, Binary22FilesNameByteOffset) {
+  const std::string good = slurp(kBinary22);
+  const std::size_t format_one = after(good, "2.2 1 8\n");
+  const std::size_t nodes_header = good.find("$Nodes\n");
+  const std::size_t node_count = after(good, "$Nodes\n");
+  const std::size_t first_node = after(good, "$Nodes\n63\n");  // 28 bytes per node
+  const std::size_t element_count = after(good, "$Elements\n");
+  const std::vector<std::size_t> blocks = block_offsets22(good);
+  ASSERT_EQ(blocks.size(), 256u);  // gmsh 4 writes one block per element
+  const std::size_t first_tet_block = blocks[112];
+  ASSERT_EQ(peek<std::int32_t>(good, first_tet_block), 4);
+  ASSERT_EQ(peek<std::int32_t>(good, first_tet_block + 12), 113);
+  const std::size_t last_block = blocks.back();
+  ASSERT_EQ(last_block + 12 + 28, element_blocks22(good).second);
+  const std::size_t blocks_end = element_blocks22(good).second;
+  const auto replace = [](std::string& d, const std::string& from, const std::string& to) {
+    const std::size_t pos = d.find(from);
+    ASSERT_NE(pos, std::string::npos) << from;
+    d.replace(pos, from.size(), to);
+  };
+
+  struct Patch {
+    std::string name;
+    std::function<std::size_t(std::string&)> apply;  // returns the offset the error must name
+    std::vector<std::string> keywords;
+  };
+  using D = std::string&;
+  const std::vector<Patch> patches = {
+      // Header
+      {"flipped endianness marker",
+       [&](D d) { poke<std::int32_t>(d, format_one, 0x01000000); return format_one; },
+       {"big-endian"}},
+      {"corrupt endianness marker",
+       [&](D d) { poke<std::int32_t>(d, format_one, 7); return format_one; },
+       {"corrupt binary header", "endianness marker is 7"}},
+      // Truncations
+      {"truncated in the endianness marker",
+       [&](D d) { d.resize(format_one + 2); return format_one; },
+       {"unexpected end of file in binary data", "endianness marker"}},
+      {"truncated in the nodes", [&](D d) { d.resize(first_node + 10 * 28 + 5); return node_count; },
+       {"the number of nodes 63 is larger than the rest of the file can hold (truncated"}},
+      {"truncated before the element blocks",
+       [&](D d) { d.resize(element_count + 100); return element_count; },
+       {"the number of elements 256 is larger than the rest of the file can hold (truncated"}},
+      {"truncated in a block header", [&](D d) { d.resize(last_block + 6); return last_block + 4; },
+       {"unexpected end of file in binary data", "the number of elements in the block"}},
+      // The last block: a 12-byte header, then one tetrahedron of 28 bytes.
+      {"truncated in an element", [&](D d) { d.resize(blocks_end - 20); return last_block + 4; },
+       {"the number of elements in the block 1 is larger than the rest of the file can hold"}},
+      {"truncated before $EndElements", [&](D d) { d.resize(blocks_end); return blocks_end; },
+       {"unexpected end of file; expected $EndElements"}},
+      // Counts
+      {"huge node count",
+       [&](D d) { replace(d, "$Nodes\n63\n", "$Nodes\n4000000000000\n"); return node_count; },
+       {"the number of nodes 4000000000000 is larger than the rest of the file can hold"}},
+      {"node count too large",
+       [&](D d) { replace(d, "$Nodes\n63\n", "$Nodes\n64\n"); return first_node + 63 * 28; },
+       {"the $Nodes header announces 64 nodes but the section ends after 63"}},
+      {"node count too small",
+       [&](D d) { replace(d, "$Nodes\n63\n", "$Nodes\n62\n"); return first_node + 62 * 28; },
+       {"expected $EndNodes", "more data than the counts"}},
+      {"huge element count",
+       [&](D d) { replace(d, "$Elements\n256\n", "$Elements\n4000000000000\n"); return element_count; },
+       {"the number of elements 4000000000000 is larger than the rest of the file can hold"}},
+      {"element count too large",
+       [&](D d) { replace(d, "$Elements\n256\n", "$Elements\n257\n"); return blocks_end; },
+       {"the $Elements header announces 257 elements but its blocks hold 256"}},
+      {"element count too small",
+       [&](D d) { replace(d, "$Elements\n256\n", "$Elements\n255\n"); return last_block; },
+       {"expected $EndElements", "more data than the counts"}},
+      {"huge block count",
+       [&](D d) { poke<std::int32_t>(d, blocks[0] + 4, 0x7fffffff); return blocks[0] + 4; },
+       {"the number of elements in the block 2147483647 is larger than the rest of the file"}},
+      {"block count beyond the header's",
+       [&](D d) {
+         replace(d, "$Elements\n256\n", "$Elements\n1\n");  // 2 bytes shorter
+         poke<std::int32_t>(d, blocks[0] - 2 + 4, 2);
+         return blocks[0] - 2 + 4;
+       },
+       {"the element blocks hold more elements than the 1 announced"}},
+      {"negative block count",
+       [&](D d) { poke<std::int32_t>(d, blocks[0] + 4, -1); return blocks[0] + 4; },
+       {"the number of elements in the block is negative (-1)"}},
+      {"huge tag count",
+       [&](D d) { poke<std::int32_t>(d, blocks[0] + 8, 0x7fffffff); return blocks[0] + 8; },
+       {"the number of tags per element 2147483647 is larger than the rest of the file"}},
+      {"negative tag count",
+       [&](D d) { poke<std::int32_t>(d, blocks[0] + 8, -2); return blocks[0] + 8; },
+       {"the number of tags per element is negative (-2)"}},
+      // Element types
+      {"10-node tetrahedron block",
+       [&](D d) { poke<std::int32_t>(d, first_tet_block, 11); return first_tet_block; },
+       {"element type 11 (10-node tetrahedron) is not supported", "gmsh -order 1"}},
+      {"hexahedron block", [&](D d) { poke<std::int32_t>(d, first_tet_block, 5); return first_tet_block; },
+       {"element type 5 (8-node hexahedron) is not supported"}},
+      {"unknown element type",
+       [&](D d) { poke<std::int32_t>(d, blocks[0], 77); return blocks[0]; },
+       {"element type 77 (unknown to this reader) is not supported"}},
+      // Element records
+      {"undefined node",
+       [&](D d) { poke<std::int32_t>(d, blocks[0] + 24, 9999); return blocks[0] + 24; },
+       {"element 1 refers to node 9999, which $Nodes does not define", "(in $Elements)"}},
+      {"negative node", [&](D d) { poke<std::int32_t>(d, blocks[0] + 24, -3); return blocks[0] + 24; },
+       {"element 1 refers to node -3"}},
+      {"node out of range in a tetrahedron",
+       [&](D d) { poke<std::int32_t>(d, first_tet_block + 36, 64); return first_tet_block + 36; },
+       {"element 113 refers to node 64"}},
+      {"element tag 0", [&](D d) { poke<std::int32_t>(d, blocks[0] + 12, 0); return blocks[0] + 12; },
+       {"element tag 0 is not valid"}},
+      // Nodes
+      {"duplicate node tag",
+       [&](D d) { poke<std::int32_t>(d, first_node + 28, 1); return nodes_header; },
+       {"node tag 1 is defined twice"}},
+      {"node tag 0", [&](D d) { poke<std::int32_t>(d, first_node, 0); return first_node; },
+       {"node tag 0 is not valid"}},
+      {"negative node tag", [&](D d) { poke<std::int32_t>(d, first_node + 56, -7); return first_node + 56; },
+       {"node tag -7 is not valid"}},
+      {"nan coordinate",
+       [&](D d) {
+         poke(d, first_node + 12, std::numeric_limits<double>::quiet_NaN());
+         return first_node + 4;
+       },
+       {"node 1 has a non-finite coordinate", "(in $Nodes)"}},
+  };
+  TempDir dir;
+  for (const auto& p : patches) {
+    SCOPED_TRACE(p.name);
+    std::string data = good;
+    const std::size_t offset = p.apply(data);
+    const std::string path = dir.write("bin22.msh", data);
+    const std::string msg = input_error([&] { read_msh(path); });
+    EXPECT_NE(msg.find(path + ", byte offset " + std::to_string(offset) + ":"), std::string::npos)
+        << msg;
+    for (const auto& k : p.keywords)
+      EXPECT_NE(msg.find(k), std::string::npos) << "'" << k << "' not in: " << msg;
+  }
+}
+
+// Every prefix and every single overwritten byte or int of the binary 2.2 fixtures gives a Mesh
+// with indices in range or an InputError (never a crash, hang or other exception).
+TEST(MshBroken, Binary22PrefixesAndOverwritesAreAcceptedOrInputError) {
+  // Whether the data is accepted; fails the test if the Mesh has an index out of range.
+  const auto check = [](const std::string& data) -> bool {
+    try {
+      const Mesh m = parse_msh(data, "fuzz");
+      const auto in_range = [&](int v) { return v >= 0 && static_cast<std::size_t>(v) < m.nodes.size(); };
+      for (const auto& t : m.tets)
+        for (int v : t) EXPECT_TRUE(in_range(v));
+      for (const auto& t : m.triangles)
+        for (int v : t) EXPECT_TRUE(in_range(v));
+      return true;
+    } catch (const InputError&) {
+      return false;
+    }
+  };
+  for (const std::string& fixture : {kMultiBinary22, kHoledBinary22}) {
+    SCOPED_TRACE(fixture);
+    const std::string good = slurp(fixture);
+    for (std::size_t len = 0; len + 1 < good.size(); ++len)
+      ASSERT_FALSE(check(good.substr(0, len))) << "prefix of " << len << " bytes was accepted";
+  }
+  const std::string good = slurp(kMultiBinary22);
+  for (std::size_t pos = 0; pos < good.size(); ++pos) {
+    for (const char c : {'\0', '\xff', '\x7f', '\n', ' ', '$', '1'}) {
+      std::string data = good;
+      data[pos] = c;
+      check(data);
+    }
+  }
+  const std::size_t nodes = after(good, "$Nodes\n");
+  for (std::size_t pos = nodes; pos + 4 <= good.size(); pos += 4) {
+    for (const std::int32_t v : {0, -1, 1, 14, 15, 0x7fffffff, std::numeric_limits<std::int32_t>::min()}) {
+      std::string data = good;
+      poke(data, pos, v);
+      check(data);
+    }
   }
 }
 

@@ -1,6 +1,7 @@
-// gmsh MSH reader (4.1 ASCII/binary, 2.2 ASCII). The whole file is read into memory and
+// gmsh MSH reader (4.1 ASCII/binary, 2.2 ASCII/binary). The whole file is read into memory and
 // parsed in place with std::from_chars; ASCII records are line-checked so that errors can name
-// the offending line. Line numbers are only computed when an error is raised.
+// the offending line. Line numbers are only computed when an error is raised; in binary files
+// errors name the byte offset.
 #include "mesh/msh_reader.hpp"
 
 #include <algorithm>
@@ -46,6 +47,9 @@ constexpr int kPoint = 15;
 constexpr int kLine2 = 1;
 constexpr int kTri3 = 2;
 constexpr int kTet4 = 4;
+
+// Bytes of a node record in binary MSH 2.2: int node-number, 3 double coordinates.
+constexpr std::size_t kNode22Bytes = 4 + 3 * 8;
 
 // Number of nodes of the element types this reader accepts (kept or skipped), 0 otherwise.
 int accepted_type_nodes(int type) {
@@ -315,6 +319,16 @@ class Parser {
                     " is larger than the rest of the file can hold (truncated file or corrupt "
                     "count)");
   }
+  // Whether the data at p_ is the line `end_tag` (after at most a few whitespace bytes). In
+  // binary sections this tells "the count promises more records than the section holds" apart
+  // from corrupt data; the bounded look-ahead keeps each call O(1).
+  bool at_section_end(std::string_view end_tag) const {
+    const char* s = p_;
+    for (int k = 0; k < 4 && s < end_ && is_space(*s); ++k) ++s;
+    const std::string_view rest(s, static_cast<std::size_t>(end_ - s));
+    return rest.substr(0, end_tag.size()) == end_tag &&
+           (rest.size() == end_tag.size() || is_space(rest[end_tag.size()]));
+  }
   // "$EndXxx" (after optional whitespace), then the end of its line.
   void expect_section_end(std::string_view end_tag) {
     skip_ws();
@@ -373,6 +387,15 @@ class Parser {
       fail(pos, "element " + std::to_string(element_tag) + " refers to node " +
                     std::to_string(tag) + ", which $Nodes does not define");
     return idx;
+  }
+  // The nn node tags ending an ASCII element record (both MSH versions), as node indices.
+  void read_ascii_element_nodes(int nn, std::array<int, 4>& idx, std::size_t element_tag) {
+    for (int k = 0; k < nn; ++k) {
+      skip_blank();
+      const char* npos = p_;
+      idx[k] = node_ref(static_cast<std::size_t>(unsigned_value("a node tag of an element")), npos, element_tag);
+    }
+    end_record("the nodes of an element");
   }
   void reserve_more_tets(std::size_t n) {
     const std::size_t need = mesh_.tets.size() + n;
@@ -501,10 +524,12 @@ void Parser::read_mesh_format() {
                    " is not supported (supported: 4.1, 2.2); re-export the mesh with "
                    "gmsh -format msh41 (or msh22)");
   }
+  skip_blank();
   const char* tpos = p_;
   const int file_type = int_value("the file type (0 = ASCII, 1 = binary)");
   if (file_type != 0 && file_type != 1)
     fail(tpos, "file type " + std::to_string(file_type) + " is neither 0 (ASCII) nor 1 (binary)");
+  skip_blank();
   const char* dpos = p_;
   const int data_size = int_value("the data size");
   end_record("the format line");
@@ -738,20 +763,38 @@ void Parser::read_nodes22() {
   section_ = "Nodes";
   next_record();
   const char* npos = p_;
-  const std::size_t n = count_value("the number of nodes", 8);
+  // A node takes at least 8 characters in ASCII ("1 0 0 0\n"), exactly kNode22Bytes in binary.
+  const std::size_t n = count_value("the number of nodes", binary_ ? kNode22Bytes : 8);
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     fail(npos, "too many nodes (" + std::to_string(n) + ")");
   end_record("the number of nodes");
   mesh_.nodes.reserve(n);
   mesh_.node_tags.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
-    next_record();
-    const char* tpos = p_;
-    const std::uint64_t tag = unsigned_value("a node tag");
-    if (tag == 0) fail(tpos, "node tag 0 is not valid (tags start at 1)");
+    const char* tpos;
+    std::uint64_t tag;
     Eigen::Vector3d x;
-    for (int k = 0; k < 3; ++k) x[k] = real_value(kCoordinateNames[k]);
-    end_record("the coordinates of a node");
+    if (binary_) {
+      // Binary: int node-number, then 3 doubles; the count line is ASCII.
+      tpos = p_;
+      if (at_section_end("$EndNodes"))
+        fail(tpos, "the $Nodes header announces " + std::to_string(n) +
+                       " nodes but the section ends after " + std::to_string(i));
+      const int t = raw_int("a node tag");
+      if (t <= 0) fail(tpos, "node tag " + std::to_string(t) + " is not valid (tags start at 1)");
+      tag = static_cast<std::uint64_t>(t);
+      const char* cpos = p_;
+      for (int k = 0; k < 3; ++k) x[k] = raw<double>("a node coordinate");
+      if (!x.allFinite())
+        fail(cpos, "node " + std::to_string(tag) + " has a non-finite coordinate");
+    } else {
+      next_record();
+      tpos = p_;
+      tag = unsigned_value("a node tag");
+      if (tag == 0) fail(tpos, "node tag 0 is not valid (tags start at 1)");
+      for (int k = 0; k < 3; ++k) x[k] = real_value(kCoordinateNames[k]);
+      end_record("the coordinates of a node");
+    }
     mesh_.node_tags.push_back(static_cast<std::size_t>(tag));
     mesh_.nodes.push_back(x);
   }
@@ -837,13 +880,7 @@ void Parser::read_elements41() {
         next_record();
         epos = p_;
         tag = unsigned_value("an element tag");
-        for (int k = 0; k < nn; ++k) {
-          skip_blank();
-          const char* npos = p_;
-          idx[k] = node_ref(static_cast<std::size_t>(unsigned_value("a node tag of an element")),
-                            npos, tag);
-        }
-        end_record("the nodes of an element");
+        read_ascii_element_nodes(nn, idx, tag);
       }
       if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
       if (type == kTet4) {
@@ -882,41 +919,20 @@ void Parser::read_elements22() {
   section_ = "Elements";
   have_elements_ = true;
   next_record();
+  // An element takes at least 8 characters in ASCII, 8 bytes in binary (a point without tags).
   const std::size_t n = count_value("the number of elements", 8);
   end_record("the number of elements");
   bool prev_tet = false;
   int prev_elementary = 0;
   std::array<int, 4> idx{};
-  for (std::size_t i = 0; i < n; ++i) {
-    next_record();
-    const char* epos = p_;
-    const std::uint64_t tag = unsigned_value("an element tag");
-    if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
-    skip_blank();
-    const char* tpos = p_;
-    const int type = int_value("an element type");
-    const int nn = accepted_type_nodes(type);
-    if (nn == 0) fail(tpos, unsupported_type_message(type));
-    const std::size_t ntags = count_value("the number of tags of an element", 2);
-    int physical = 0, elementary = 0;
-    for (std::size_t k = 0; k < ntags; ++k) {
-      const int t = int_value("an element tag (physical or elementary)");
-      if (k == 0) physical = t;
-      if (k == 1) elementary = t;
-    }
-    for (int k = 0; k < nn; ++k) {
-      skip_blank();
-      const char* npos = p_;
-      idx[k] = node_ref(static_cast<std::size_t>(unsigned_value("a node tag of an element")),
-                        npos, tag);
-    }
-    end_record("the nodes of an element");
+  // Stores one element of an accepted type whose nodes are in idx.
+  const auto keep = [&](int type, std::uint64_t tag, int physical, int elementary) {
     const int dim = type == kTet4 ? 3 : type == kTri3 ? 2 : type == kLine2 ? 1 : 0;
     note_used_group(dim, physical);
     if (type == kTet4) {
       const std::array<int, 4> tet{idx[0], idx[1], idx[2], idx[3]};
-      // gmsh writes a tetrahedron once per physical group, on consecutive lines.
-      if (prev_tet && elementary == prev_elementary && mesh_.tets.back() == tet) continue;
+      // gmsh writes a tetrahedron once per physical group, as consecutive records.
+      if (prev_tet && elementary == prev_elementary && mesh_.tets.back() == tet) return;
       mesh_.tets.push_back(tet);
       mesh_.tet_tags.push_back(static_cast<std::size_t>(tag));
       mesh_.tet_group.push_back(physical);
@@ -929,6 +945,92 @@ void Parser::read_elements22() {
         mesh_.triangle_tags.push_back(static_cast<std::size_t>(tag));
         mesh_.triangle_group.push_back(physical);
       }
+    }
+  };
+
+  if (binary_) {
+    // Blocks: a header of 3 ints (element type, number of elements in the block, number of
+    // tags per element), then per element: int element number, the tags, the node numbers.
+    // gmsh 4 writes one block per element; older writers group elements of a type.
+    std::size_t total = 0;
+    while (total < n) {
+      const char* bpos = p_;
+      if (at_section_end("$EndElements"))
+        fail(bpos, "the $Elements header announces " + std::to_string(n) +
+                       " elements but its blocks hold " + std::to_string(total));
+      const int type = raw_int("the element type of an element block");
+      const int nn = accepted_type_nodes(type);
+      if (nn == 0) fail(bpos, unsupported_type_message(type));
+      const char* cpos = p_;
+      const int count = raw_int("the number of elements in the block");
+      const char* tpos = p_;
+      const int ntags = raw_int("the number of tags per element of the block");
+      if (count < 0)
+        fail(cpos, "the number of elements in the block is negative (" + std::to_string(count) +
+                       ")");
+      if (ntags < 0)
+        fail(tpos, "the number of tags per element is negative (" + std::to_string(ntags) + ")");
+      // The block must fit in the rest of the file: first without tags (else the file is
+      // truncated or the count corrupt), then with them (else the tag count is corrupt).
+      const std::size_t bare = 4 * (1 + static_cast<std::size_t>(nn));
+      check_count(cpos, static_cast<std::uint64_t>(count), bare,
+                  "the number of elements in the block");
+      if (count > 0) {
+        const std::size_t room =
+            static_cast<std::size_t>(end_ - p_) / static_cast<std::size_t>(count) - bare;
+        if (static_cast<std::size_t>(ntags) > room / 4)
+          fail(tpos, "the number of tags per element " + std::to_string(ntags) +
+                         " is larger than the rest of the file can hold (truncated file or corrupt "
+                         "count)");
+      }
+      if (static_cast<std::size_t>(count) > n - total)
+        fail(cpos, "the element blocks hold more elements than the " + std::to_string(n) +
+                       " announced in the $Elements header");
+      if (type == kTet4) reserve_more_tets(static_cast<std::size_t>(count));
+      if (type == kTri3) reserve_more_triangles(static_cast<std::size_t>(count));
+      for (int i = 0; i < count; ++i) {
+        const char* epos = p_;
+        const int tag = raw_int("an element tag");
+        if (tag <= 0)
+          fail(epos, "element tag " + std::to_string(tag) + " is not valid (tags start at 1)");
+        int physical = 0, elementary = 0;
+        for (int k = 0; k < ntags; ++k) {
+          const int t = raw_int("an element tag (physical or elementary)");
+          if (k == 0) physical = t;
+          if (k == 1) elementary = t;
+        }
+        for (int k = 0; k < nn; ++k) {
+          const char* npos = p_;
+          const int v = raw_int("a node tag of an element");
+          if (v < 0)
+            fail(npos, "element " + std::to_string(tag) + " refers to node " + std::to_string(v) +
+                           ", which $Nodes does not define");
+          idx[k] = node_ref(static_cast<std::size_t>(v), npos, static_cast<std::size_t>(tag));
+        }
+        keep(type, static_cast<std::uint64_t>(tag), physical, elementary);
+      }
+      total += static_cast<std::size_t>(count);
+    }
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      next_record();
+      const char* epos = p_;
+      const std::uint64_t tag = unsigned_value("an element tag");
+      if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
+      skip_blank();
+      const char* tpos = p_;
+      const int type = int_value("an element type");
+      const int nn = accepted_type_nodes(type);
+      if (nn == 0) fail(tpos, unsupported_type_message(type));
+      const std::size_t ntags = count_value("the number of tags of an element", 2);
+      int physical = 0, elementary = 0;
+      for (std::size_t k = 0; k < ntags; ++k) {
+        const int t = int_value("an element tag (physical or elementary)");
+        if (k == 0) physical = t;
+        if (k == 1) elementary = t;
+      }
+      read_ascii_element_nodes(nn, idx, tag);
+      keep(type, tag, physical, elementary);
     }
   }
   expect_section_end("$EndElements");

@@ -1,7 +1,7 @@
-// Reader for gmsh MSH files: format 4.1 (ASCII and binary) and 2.2 (ASCII). Keeps nodes,
-// 4-node tetrahedra, 3-node triangles and physical names/tags; other element types are
+// Reader for gmsh MSH files: format 4.1 and 2.2, each ASCII or binary (little-endian). Keeps
+// nodes, 4-node tetrahedra, 3-node triangles and physical names/tags; other element types are
 // skipped (points, lines) or rejected (higher order, other volume types).
-// Malformed input raises InputError naming the file and line.
+// Malformed input raises InputError naming the file and line (byte offset in binary files).
 //
 // Physical groups:
 //  - MSH 4.1: an element's groups are the physical tags of its entity ($Entities). A triangle
@@ -9,8 +9,10 @@
 //    then all of it with the second, ...); a tetrahedron is stored once with the first tag.
 //    Without $Entities, elements have group 0.
 //  - MSH 2.2: the first element tag is the physical tag (0 = none). gmsh writes an element
-//    once per physical group; consecutive tetrahedron lines with the same nodes and the same
-//    elementary tag are therefore stored once (with the first group).
+//    once per physical group; consecutive tetrahedron records with the same nodes and the same
+//    elementary tag are therefore stored once (with the first group). Binary 2.2 files follow
+//    the same rules (element blocks of any size, any number of tags); their coordinates are
+//    exact where gmsh's 2.2 ASCII export rounds them to 16 significant digits.
 //  - Mesh::groups lists the $PhysicalNames entries in file order, then physical tags that are
 //    used but unnamed (with an empty name), in order of first use.
 // Unknown sections ($Periodic, $NodeData, $Comments, ...) are skipped; partitioned meshes
