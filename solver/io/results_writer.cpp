@@ -274,6 +274,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
   j.end_array();
   j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
   j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
+  j.value("step_solve_fraction", res.step_solve_fraction);
   double force_n = 0, force_t1 = 0, force_t2 = 0;
   for (int i = 0; i < res.n_cells; ++i) {
     const double a = res.partition.cells[i].area;

@@ -236,7 +236,10 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   // u on Γc per fixed-point step: a restricted back substitution (augmented factor only).
   FaceDisplacement face_u(res, mesh.nodes.size());
   std::optional<DisplacementTrace> trace;
-  if (augmented) trace.emplace(factor, f, face_u.dofs);
+  if (augmented) {
+    trace.emplace(factor, f, face_u.dofs);
+    res.step_solve_fraction = trace->work_fraction();
+  }
   const Eigen::VectorXd u_free = trace ? trace->everywhere(Eigen::VectorXd::Zero(op.rows())) : Eigen::VectorXd();
   const DualOperator dual = contact_last ? make_dual_operator_schur(factor, op.B, f)
                             : augmented  ? make_dual_operator_augmented(factor, op.B, f, &u_free)

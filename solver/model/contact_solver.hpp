@@ -55,6 +55,7 @@ struct SolveResult {
   double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   double factor_nonzeros = 0;
+  double step_solve_fraction = 1;  // share of nnz(L) one fixed-point step back-substitutes through (DisplacementTrace); 1: a full solve
   std::string schur_method;          // how Q was formed: "augmented", "contactlast" or "blocksolve"
   std::string qp_method;             // "mpgp", "mpgp_projcg" or "ssn"
 };
