@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <limits>
 #include <thread>
 
 #include "io/errors.hpp"
@@ -77,17 +79,25 @@ bool has_node_block_layout(const DofMap& dofs) {
   return next == dofs.n_free;
 }
 
+// fn(lo, hi) over [0, count) split across the cores; an exception in a worker (e.g. bad_alloc)
+// is rethrown here after all workers joined, not left to terminate the process.
 template <class Fn>
 void parallel_for(std::size_t count, Fn fn) {
   const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
   if (threads == 1 || count < 2048) { fn(std::size_t(0), count); return; }
   std::vector<std::thread> pool;
+  std::vector<std::exception_ptr> errors(threads);
   const std::size_t chunk = (count + threads - 1) / threads;
   for (unsigned t = 0; t < threads; ++t) {
     const std::size_t lo = t * chunk, hi = std::min(count, lo + chunk);
-    if (lo < hi) pool.emplace_back(fn, lo, hi);
+    if (lo < hi)
+      pool.emplace_back([&, t, lo, hi] {
+        try { fn(lo, hi); } catch (...) { errors[t] = std::current_exception(); }
+      });
   }
   for (auto& th : pool) th.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
 }
 
 // Tets around every node, CSR: tets_of(v) = tet[first[v] .. first[v+1]).
@@ -153,6 +163,9 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
     if (const int d = dofs.dof(v, 0); d >= 0)
       for (int c = 0; c < 3; ++c) col_ptr[d + c + 1] = static_cast<Eigen::Index>(3 * nbr[v].size());
   for (int j = 0; j < dofs.n_free; ++j) col_ptr[j + 1] += col_ptr[j];
+  if (col_ptr.back() > std::numeric_limits<int>::max())
+    throw InputError("the stiffness matrix would have " + std::to_string(col_ptr.back()) +
+                     " nonzeros, beyond the 32-bit indices of its sparse storage: use a coarser mesh");
   // Filled in place (no copy of the arrays): K's compressed storage is exactly this layout.
   Eigen::SparseMatrix<double> K(dofs.n_free, dofs.n_free);
   K.resizeNonZeros(static_cast<Eigen::Index>(col_ptr.back()));

@@ -29,7 +29,8 @@ class DisplacementTrace {
   // w at every dof: the same back substitution over all supernodes.
   Eigen::VectorXd everywhere(const Eigen::VectorXd& lambda) const;
 
-  // Share of the leading factor's nonzeros one at() call reads (1 = a full back substitution).
+  // Share of the leading factor's nonzeros one at() call reads (1 = a full back substitution);
+  // each call also copies z (O(n), small next to the factor).
   double work_fraction() const { return work_fraction_; }
 
  private:

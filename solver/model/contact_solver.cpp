@@ -115,7 +115,7 @@ std::string choose_schur(SchurMethod m, int /*n_trailing*/, int n_dual) {
 // u on Γc as the fixed point sees it: (u1, u2, u3) at every node of a contact triangle (the
 // order of SolveResult::history_nodes; 0 at clamped components), and the slip |u_t| from it.
 struct FaceDisplacement {
-  std::vector<int> dofs;   // free dofs of the face nodes, ascending by (node, component)
+  std::vector<int> dofs;   // free dofs of the face nodes, by (node in triangle order, component)
   std::vector<int> slots;  // position of dofs[k] in the face vector
   std::vector<int> slot_of_node;  // mesh node -> first slot, or -1
   std::size_t size = 0;
@@ -291,7 +291,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
         trace ? trace->at(lambda) : face_u.gather(dual.u_free - factor.solve(Eigen::VectorXd(op.B.transpose() * lambda))));
     eval.ok = res.last_qp.status == QpStatus::Converged && u_face.allFinite();
     eval.qp_iterations = res.last_qp.iterations;
-    eval.hessian_products = res.last_qp.hessian_products + 1;  // + the solve for w
+    eval.hessian_products = res.last_qp.hessian_products + 1;  // + w on Γc (counted as one K⁻¹ solve)
     products += eval.hessian_products;
     res.qp_iterations += res.last_qp.iterations;
     eval.slip = face_u.slip(res.face, u_face);
@@ -331,6 +331,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     throw std::runtime_error("the solution is not finite (numerical breakdown); residuals could not be computed");
   clock.lap("postprocess");
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
+    trace.reset();       // it points into our factor
     factor_ptr.reset();  // free our factor first: two big factors need not fit at once
     time_reference_factorizations(K, clock);
   }

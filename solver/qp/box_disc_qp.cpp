@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 extern "C" void dsymv_(const char* uplo, const int* n, const double* alpha, const double* a, const int* lda,
                        const double* x, const int* incx, const double* beta, double* y, const int* incy);
@@ -14,8 +15,9 @@ constexpr double kActiveRelTol = 1e-12;
 
 Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
   const int n = static_cast<int>(Q->rows()), one = 1;
+  if (v.size() != n) throw std::invalid_argument("BoxDiscQP::apply: vector size differs from Q");
   const double alpha = 1, beta = 0;
-  Eigen::VectorXd out(n);
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
   if (n > 0) dsymv_("L", &n, &alpha, Q->data(), &n, v.data(), &one, &beta, out.data(), &one);
   return out;
 }
