@@ -140,6 +140,13 @@ TEST(FastPaths, DisplacementTraceMatchesFullSolves) {
     const SparseCholesky plain(d.K), augmented(d.K, d.B);
     const std::vector<int> face = contact_dofs(d.B);
     const DisplacementTrace trace(augmented, d.f, face);
+    // The case the trace must get right: a supernode holding both the last columns of K and the
+    // first multipliers (CHOLMOD's supernode amalgamation merges them on these meshes).
+    const auto L = augmented.supernodes();
+    const std::int64_t first = L.n - augmented.trailing_size();
+    int straddling = 0;
+    for (std::int64_t s = 0; s < L.count; ++s) straddling += L.super[s] < first && L.super[s + 1] > first;
+    EXPECT_GE(straddling, 1) << "n = " << n;
     EXPECT_GT(trace.work_fraction(), 0.0);
     EXPECT_LE(trace.work_fraction(), 1.0);
     std::mt19937 gen(7 + n);
