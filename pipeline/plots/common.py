@@ -1,6 +1,7 @@
 """Shared helpers for the figure scripts: reading a run folder written by `contact3d solve`
 (summary.json, contact_nodes.csv, contact_cells.csv, history.csv, body.vtu, contact.vtu) and
 the friction law of its scene (the TOML echo in summary.json)."""
+import argparse
 import csv
 import json
 import os
@@ -124,3 +125,12 @@ def save(fig, out_dir, name):
     fig.savefig(path, dpi=130, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def run_one(plot, description):
+    """Command line of a one-run figure script: `script.py RUN [--out DIR]`; prints the files written."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("run")
+    ap.add_argument("--out", default=None)
+    a = ap.parse_args()
+    print("\n".join(plot(Run(a.run), a.out or a.run + "/figures")))

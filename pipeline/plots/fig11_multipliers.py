@@ -3,14 +3,13 @@
 centred at the cell's centre and the segment λ_tH(R) from that centre, both drawn with one
 length scale (Pa → m), so a segment reaching its circle is a slipping cell (‖λ_t‖ = c).
 usage: fig11_multipliers.py RUN_DIR [--out DIR]"""
-import argparse
 
 import numpy as np
 from matplotlib import colors
 from matplotlib.collections import PatchCollection
 from matplotlib.patches import Circle, Rectangle
 
-from common import Run, face_axes, plt, save
+from common import run_one, face_axes, plt, save
 
 
 def plot(run, out_dir):
@@ -44,8 +43,4 @@ def plot(run, out_dir):
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("run")
-    ap.add_argument("--out", default=None)
-    a = ap.parse_args()
-    print("\n".join(plot(Run(a.run), a.out or a.run + "/figures")))
+    run_one(plot, __doc__)

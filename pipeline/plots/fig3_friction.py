@@ -3,12 +3,10 @@
 For a ramp law (6.1) it draws the paper's three laws (param = 2e4, 6e4, 3e5) with the scene's
 high/low/t0, and highlights the scene's own param; any other law is drawn as it is.
 usage: fig3_friction.py RUN_DIR [--out DIR]"""
-import argparse
-import sys
 
 import numpy as np
 
-from common import Run, friction_law, plt, save
+from common import run_one, friction_law, plt, save
 
 PAPER_PARAMS = (2e4, 6e4, 3e5)
 
@@ -44,9 +42,4 @@ def plot(run, out_dir):
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("run")
-    ap.add_argument("--out", default=None)
-    a = ap.parse_args()
-    print("\n".join(plot(Run(a.run), a.out or a.run + "/figures")))
-    sys.exit(0)
+    run_one(plot, __doc__)

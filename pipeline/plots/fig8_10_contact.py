@@ -6,11 +6,10 @@
 Nodal fields come from contact.vtu (all nodes of Γc, including those on Γu), cell fields from
 contact_cells.csv.
 usage: fig8_10_contact.py RUN_DIR [--out DIR]"""
-import argparse
 
 import numpy as np
 
-from common import Run, cell_rectangles, face_axes, face_triangulation, plt, save
+from common import run_one, cell_rectangles, face_axes, face_triangulation, plt, save
 
 
 def _nodal(ax, fig, tri, values, label, cmap="viridis"):
@@ -74,8 +73,4 @@ def plot(run, out_dir):
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("run")
-    ap.add_argument("--out", default=None)
-    a = ap.parse_args()
-    print("\n".join(plot(Run(a.run), a.out or a.run + "/figures")))
+    run_one(plot, __doc__)
