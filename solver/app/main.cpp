@@ -11,7 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/results_writer.hpp"
 #include "mesh/brick_generator.hpp"
 #include "mesh/msh_reader.hpp"

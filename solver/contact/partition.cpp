@@ -7,7 +7,7 @@
 #include <numeric>
 #include <sstream>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 namespace {

@@ -7,7 +7,7 @@
 #include <limits>
 #include <thread>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 namespace {

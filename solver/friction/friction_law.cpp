@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <fstream>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/vtu_format.hpp"
 
 namespace contact3d {

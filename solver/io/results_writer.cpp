@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "fem/elasticity.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/json_writer.hpp"
 #include "io/pvd_writer.hpp"
 #include "io/vtu_format.hpp"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 namespace {

@@ -1,6 +1,6 @@
 #include "mesh/mesh.hpp"
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 

@@ -24,7 +24,7 @@
 
 #include <sys/stat.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 namespace {

@@ -14,7 +14,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 namespace {

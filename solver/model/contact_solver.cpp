@@ -14,7 +14,7 @@
 #include "contact/contact_operator.hpp"
 #include "fem/assembly.hpp"
 #include "friction/slip_bound.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "linalg/displacement_trace.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"

@@ -6,7 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "mesh/brick_generator.hpp"
 #include "mesh/msh_reader.hpp"
 

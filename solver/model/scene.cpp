@@ -8,7 +8,7 @@
 
 #include <toml++/toml.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace contact3d {
 namespace {

@@ -1,0 +1,79 @@
+#include "linalg/dual_problem.hpp"
+
+#include <optional>
+#include <stdexcept>
+
+#include "linalg/displacement_trace.hpp"
+#include "linalg/dual_operator.hpp"
+#include "linalg/sparse_cholesky.hpp"
+
+namespace contact3d {
+namespace {
+
+// One CHOLMOD factor, whichever way it was built; w by a full solve, or for the augmented factor
+// by the restricted back substitution of DisplacementTrace.
+class CholmodDualProblem final : public DualProblem {
+ public:
+  CholmodDualProblem(DualMethod m, const DualProblemInput& in, StageClock& clock)
+      : B_(in.B), face_dofs_(in.face_dofs) {
+    if (in.B.rows() == 0) m = DualMethod::BlockSolve;  // nothing to form: a plain factor of K
+    if (m == DualMethod::Auto) m = DualMethod::Augmented;
+    method = m == DualMethod::Augmented ? "augmented" : m == DualMethod::ContactLast ? "contactlast" : "blocksolve";
+    factor_ = m == DualMethod::ContactLast ? std::make_unique<SparseCholesky>(in.K, contact_dofs(in.B))
+              : m == DualMethod::Augmented ? std::make_unique<SparseCholesky>(in.K, in.B)
+                                           : std::make_unique<SparseCholesky>(in.K);
+    factor_nonzeros = factor_->factor_nonzeros();
+    clock.lap("factorization");
+
+    DualOperator dual;
+    if (m == DualMethod::Augmented) {
+      trace_.emplace(*factor_, in.f, face_dofs_);
+      step_solve_fraction = trace_->work_fraction();
+      const Eigen::VectorXd u_free = trace_->everywhere(Eigen::VectorXd::Zero(in.B.rows()));
+      dual = make_dual_operator_augmented(*factor_, in.B, in.f, &u_free);
+    } else if (m == DualMethod::ContactLast) {
+      dual = make_dual_operator_schur(*factor_, in.B, in.f);
+    } else {
+      dual = make_dual_operator(*factor_, in.B, in.f);
+    }
+    Q_ = std::move(dual.Q);
+    h_ = std::move(dual.h);
+    u_free_ = std::move(dual.u_free);
+    clock.lap("dual");
+  }
+
+  Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const override {
+    if (trace_) return trace_->at(lambda);
+    const Eigen::VectorXd w = displacement(lambda);
+    Eigen::VectorXd out(face_dofs_.size());
+    for (std::size_t k = 0; k < face_dofs_.size(); ++k) out[k] = w[face_dofs_[k]];
+    return out;
+  }
+
+  Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const override {
+    if (!factor_) throw std::logic_error("DualProblem: the factor was released");
+    if (trace_) return trace_->everywhere(lambda);
+    if (lambda.size() == 0) return u_free_;
+    return u_free_ - factor_->solve(Eigen::VectorXd(B_.transpose() * lambda));
+  }
+
+  void release_factor() override {
+    trace_.reset();  // it points into the factor
+    factor_.reset();
+  }
+
+ private:
+  const Eigen::SparseMatrix<double>& B_;
+  std::vector<int> face_dofs_;
+  std::unique_ptr<SparseCholesky> factor_;
+  std::optional<DisplacementTrace> trace_;
+  Eigen::VectorXd u_free_;  // K⁻¹f
+};
+
+}  // namespace
+
+std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input, StageClock& clock) {
+  return std::make_unique<CholmodDualProblem>(method, input, clock);
+}
+
+}  // namespace contact3d

@@ -1,0 +1,63 @@
+// DualProblem: the dualisation of (5.4) as one object. It owns the factorization of K (or of the
+// augmented matrix [K 𝔹ᵀ; 𝔹 σI]) and gives the data of the dual QP (5.5)-(5.6) — the dense
+// Q = 𝔹K⁻¹𝔹ᵀ and h = 𝔹K⁻¹f — and its recovery: the displacement w = K⁻¹(f − 𝔹ᵀλ), on the
+// contact face for one fixed-point step, everywhere at the end. This is the seam where a linear-
+// algebra backend plugs in (CHOLMOD here; PETSc/MUMPS behind the same interface).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "base/stage_clock.hpp"
+
+namespace contact3d {
+
+// How Q is formed with CHOLMOD (the dual problem's "method"):
+//   Augmented   — factor [K 𝔹ᵀ; 𝔹 σI] with the multipliers last: Q = L₂₁L₂₁ᵀ (about 1.1
+//                 factorizations), and each step's face displacement by a restricted back
+//                 substitution (DisplacementTrace). What Auto takes at every size measured.
+//   ContactLast — factor K with the contact dofs last; Q from the dense trailing block (trsm/syrk).
+//   BlockSolve  — one K⁻¹ solve per row of 𝔹 (the reference the tests compare against).
+enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve };
+
+// What a backend needs: K and f over the free dofs, 𝔹 (multipliers × free dofs), and the free
+// dofs at which face_displacement() reports w (the contact face, in the caller's order).
+struct DualProblemInput {
+  const Eigen::SparseMatrix<double>& K;
+  const Eigen::SparseMatrix<double>& B;
+  const Eigen::VectorXd& f;
+  std::vector<int> face_dofs;
+};
+
+class DualProblem {
+ public:
+  virtual ~DualProblem() = default;
+
+  const Eigen::MatrixXd& Q() const { return Q_; }  // dense, symmetric (both triangles filled)
+  const Eigen::VectorXd& h() const { return h_; }
+  int size() const { return static_cast<int>(h_.size()); }
+
+  // w = K⁻¹(f − 𝔹ᵀλ) at the face dofs, in the order of DualProblemInput::face_dofs.
+  virtual Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const = 0;
+  // w = K⁻¹(f − 𝔹ᵀλ) at every free dof.
+  virtual Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const = 0;
+  // Frees the factorization (benchmarks time a reference factorization afterwards); Q and h stay.
+  virtual void release_factor() = 0;
+
+  std::string method;              // "augmented", "contactlast", "blocksolve", "mumps", ...
+  double factor_nonzeros = 0;      // nnz(L) of the factorization held
+  double step_solve_fraction = 1;  // share of the factor one face_displacement() reads (1: a full solve)
+
+ protected:
+  Eigen::MatrixXd Q_;
+  Eigen::VectorXd h_;
+};
+
+// The CHOLMOD backend. Laps `clock` at "factorization" and at "dual" (forming Q and h).
+std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input, StageClock& clock);
+
+}  // namespace contact3d
