@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/msh_reader.hpp"
 #include "mesh/msh_writer.hpp"

@@ -11,7 +11,7 @@
 #include "contact/contact_face.hpp"
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "mesh/brick_generator.hpp"
 
 using namespace contact3d;

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "mesh/msh_reader.hpp"
 #include "model/scene.hpp"
 

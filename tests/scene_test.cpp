@@ -1,7 +1,7 @@
 // Scene parsing: overrides, defaults, and the inputs that must be refused with a message.
 #include <gtest/gtest.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "model/scene.hpp"
 #include "test_support.hpp"
 
@@ -25,7 +25,7 @@ TEST(Scene, DefaultsAndOverrides) {
   const Scene s = parse({});
   EXPECT_TRUE(s.cell_size_relative);
   EXPECT_DOUBLE_EQ(s.cell_size, 2.0);
-  EXPECT_EQ(s.solver.qp_scaling, QpScaling::Jacobi);
+  EXPECT_EQ(s.solver.qp.scaling, QpScaling::Jacobi);
   EXPECT_FALSE(s.frictionless());
   EXPECT_TRUE(parse({"friction.law=\"none\""}).frictionless());
   EXPECT_TRUE(parse({"friction.law=\"constant\"", "friction.value=0"}).frictionless());

@@ -62,6 +62,16 @@ std::string get_string(const toml::table& t, const std::string& where, const std
   return *n->value<std::string>();
 }
 
+// An enum by its name in the enum's table; absent: `value` keeps its default.
+template <class E, std::size_t N>
+void get_enum(const toml::table& t, const std::string& where, const std::string& key, const NameTable<E, N>& names, E& value) {
+  const toml::node* n = t.get(key);
+  if (!n) return;
+  const std::string name = get_string(t, where, key, "");
+  if (!value_of(name, names, value))
+    throw InputError(where + "." + key + " must be " + names_list(names) + ", got '" + name + "'");
+}
+
 std::vector<std::string> get_strings(const toml::table& t, const std::string& where, const std::string& key) {
   const toml::node* n = t.get(key);
   if (!n) return {};
@@ -254,27 +264,16 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
                                "reference_factorization"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
-    o.qp_max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp_max_iterations, 1, 100000000);
+    o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
     o.fixed_point_tol = get_number(*sv, "solver", "fixed_point_tol", o.fixed_point_tol);
     o.fixed_point_max_iter = get_int(*sv, "solver", "fixed_point_max_iter", o.fixed_point_max_iter, 1, 100000);
     o.anderson_depth = get_int(*sv, "solver", "anderson_depth", o.anderson_depth, 1, 50);
     if (!(o.qp_rtol > 0 && o.qp_rtol < 1)) throw InputError("solver.qp_rtol must lie in (0, 1)");
     if (!(o.fixed_point_tol > 0 && o.fixed_point_tol < 1)) throw InputError("solver.fixed_point_tol must lie in (0, 1)");
-    const std::string qp = get_string(*sv, "solver", "qp", "mpgp");
-    if (qp == "mpgp") o.qp = QpVariant::Mpgp;
-    else if (qp == "mpgp_projcg") o.qp = QpVariant::MpgpProjectedCG;
-    else if (qp == "ssn") o.qp = QpVariant::Ssn;
-    else throw InputError("solver.qp must be 'mpgp', 'mpgp_projcg' or 'ssn', got '" + qp + "'");
-    const std::string scaling = get_string(*sv, "solver", "qp_scaling", "jacobi");
-    if (scaling == "jacobi") o.qp_scaling = QpScaling::Jacobi;
-    else if (scaling == "none") o.qp_scaling = QpScaling::None;
-    else throw InputError("solver.qp_scaling must be 'jacobi' or 'none', got '" + scaling + "'");
-    const std::string schur = get_string(*sv, "solver", "schur", "auto");
-    if (schur == "auto") o.schur = SchurMethod::Auto;
-    else if (schur == "blocksolve") o.schur = SchurMethod::BlockSolve;
-    else if (schur == "contactlast") o.schur = SchurMethod::ContactLast;
-    else if (schur == "augmented") o.schur = SchurMethod::Augmented;
-    else throw InputError("solver.schur must be 'auto', 'blocksolve', 'contactlast' or 'augmented', got '" + schur + "'");
+    get_enum(*sv, "solver", "qp", kQpVariantNames, o.qp.variant);
+    get_enum(*sv, "solver", "qp_scaling", kQpScalingNames, o.qp.scaling);
+    get_enum(*sv, "solver", "schur", kDualMethodNames, o.dual_method);
+    get_enum(*sv, "solver", "fixed_point", kFixedPointVariantNames, o.fixed_point);
     for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},
                                       {"reference_factorization", &o.reference_factorization}}) {
       if (!sv->contains(key)) continue;
@@ -282,10 +281,6 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
       if (!v || !(*sv)[key].is_boolean()) throw InputError(std::string("solver.") + key + " must be true or false");
       *target = *v;
     }
-    const std::string fp = get_string(*sv, "solver", "fixed_point", "plain");
-    if (fp == "plain") o.fixed_point = FixedPointVariant::Plain;
-    else if (fp == "anderson") o.fixed_point = FixedPointVariant::Anderson;
-    else throw InputError("solver.fixed_point must be 'plain' or 'anderson', got '" + fp + "'");
   }
   if (const toml::table* out = table_at(root, "output")) {
     check_keys(*out, "output", {"dir"});

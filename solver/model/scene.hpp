@@ -13,6 +13,8 @@
 #include "fem/assembly.hpp"
 #include "fem/elasticity.hpp"
 #include "friction/friction_law.hpp"
+#include "linalg/dual_problem.hpp"
+#include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
 
@@ -24,25 +26,26 @@ struct MeshSource {
   int n = 4;                                  // generator resolution
 };
 
-enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
-// How Q = 𝔹K⁻¹𝔹ᵀ is formed: one K⁻¹ solve per row of 𝔹 (BlockSolve, the reference), from one
-// factorization with the contact dofs ordered last (ContactLast: trailing block + dense
-// trsm/syrk), or from the factor of [K 𝔹ᵀ; 𝔹 σI] (Augmented: multipliers last, Q = L₂₁L₂₁ᵀ).
-// Auto picks by size (currently Augmented at every size measured).
-enum class SchurMethod { Auto, BlockSolve, ContactLast, Augmented };
-enum class QpScaling { None, Jacobi };
 enum class FixedPointVariant { Plain, Anderson };
+inline constexpr NameTable<FixedPointVariant, 2> kFixedPointVariantNames{
+    {{FixedPointVariant::Plain, "plain"}, {FixedPointVariant::Anderson, "anderson"}}};
+inline constexpr NameTable<DualMethod, 4> kDualMethodNames{{{DualMethod::Auto, "auto"},
+                                                            {DualMethod::BlockSolve, "blocksolve"},
+                                                            {DualMethod::ContactLast, "contactlast"},
+                                                            {DualMethod::Augmented, "augmented"}}};
 
+// [solver]: every option with its default; the scene key is the field name unless noted.
 struct SolverSettings {
-  double qp_rtol = 1e-6;              // ‖g̃‖ <= qp_rtol ‖h‖ (paper)
-  int qp_max_iterations = 100000;
-  double fixed_point_tol = 1e-4;      // err(k) <= this (paper)
+  double qp_rtol = 1e-6;              // ‖g̃‖ <= qp_rtol ‖h‖ (the paper's criterion)
+  double fixed_point_tol = 1e-4;      // err(k) <= this (the paper's)
   int fixed_point_max_iter = 50;
-  QpVariant qp = QpVariant::Mpgp;
-  QpScaling qp_scaling = QpScaling::Jacobi;  // "jacobi" (default) or "none" (the paper's plain MPGP)
-  FixedPointVariant fixed_point = FixedPointVariant::Plain;
+  // qp (variant: "mpgp" the paper's algorithm, "mpgp_projcg", "ssn"), qp_scaling ("jacobi": a
+  // diagonal scaling that keeps half-lines and discs; "none": the paper's plain MPGP),
+  // qp_max_iterations.
+  QpSettings qp;
+  FixedPointVariant fixed_point = FixedPointVariant::Plain;  // "plain" (the paper's (5.7)) or "anderson"
   int anderson_depth = 5;
-  SchurMethod schur = SchurMethod::Auto;
+  DualMethod dual_method = DualMethod::Auto;  // key `schur`: how Q = 𝔹K⁻¹𝔹ᵀ is formed (DualMethod)
   bool inexact_fixed_point = false;    // QP tolerance tied to err(k) in early fixed-point steps
   bool reference_factorization = false; // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
 };

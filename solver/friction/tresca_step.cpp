@@ -1,0 +1,26 @@
+#include "friction/tresca_step.hpp"
+
+namespace contact3d {
+
+TrescaStep::TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs& face_dofs, const ContactFace& face,
+                       RadiusRule radii)
+    : dual_(dual), qp_(qp), face_dofs_(face_dofs), face_(face), radii_(std::move(radii)),
+      lambda_(Eigen::VectorXd::Zero(dual.size())) {}
+
+SlipEvaluation TrescaStep::operator()(const Eigen::VectorXd& phi, double qp_rtol) {
+  radius_ = radii_(phi);
+  last_qp_ = qp_.solve(radius_, lambda_, qp_rtol);
+  Eigen::VectorXd u_face = face_dofs_.scatter(dual_.face_displacement(lambda_));
+  SlipEvaluation eval;
+  eval.ok = last_qp_.status == QpStatus::Converged && u_face.allFinite();
+  eval.qp_iterations = last_qp_.iterations;
+  eval.hessian_products = last_qp_.hessian_products + 1;  // + w on Γc (counted as one K⁻¹ solve)
+  products_ += eval.hessian_products;
+  qp_iterations_ += last_qp_.iterations;
+  eval.slip = face_dofs_.slip(face_, u_face);
+  face_history_.push_back(std::move(u_face));
+  slip_input_ = phi;
+  return eval;
+}
+
+}  // namespace contact3d

@@ -1,0 +1,53 @@
+// TrescaStep: one evaluation of the map G of the successive approximations (5.7). For the slip φ
+// at the contact nodes it sets the disc radii c(φ) (5.3), solves the dual QP (5.5) warm-started
+// from the previous multipliers, and returns the slip ‖w_t‖ of w = K⁻¹(f − 𝔹ᵀλ) on Γc. It keeps
+// the state the fixed point carries between steps (λ, the radii, counts, the face history).
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "contact/face_dofs.hpp"
+#include "friction/fixed_point.hpp"
+#include "linalg/dual_problem.hpp"
+#include "qp/dual_qp_solver.hpp"
+
+namespace contact3d {
+
+// The radii c_i for a slip φ at the contact nodes (size r; unused when frictionless).
+using RadiusRule = std::function<Eigen::VectorXd(const Eigen::VectorXd& phi_contact)>;
+
+class TrescaStep {
+ public:
+  // `dual`, `qp`, `face_dofs` and `face` must outlive the step.
+  TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs& face_dofs, const ContactFace& face,
+             RadiusRule radii);
+
+  // G(φ): one Tresca solve with the QP tolerance `qp_rtol` (the SlipMap of the fixed point).
+  SlipEvaluation operator()(const Eigen::VectorXd& phi, double qp_rtol);
+
+  const Eigen::VectorXd& lambda() const { return lambda_; }
+  const Eigen::VectorXd& radius() const { return radius_; }
+  const Eigen::VectorXd& slip_input() const { return slip_input_; }  // φ of the last radii
+  const QpResult& last_qp() const { return last_qp_; }
+  int products() const { return products_; }          // K⁻¹ applications in the paper's sense
+  int qp_iterations() const { return qp_iterations_; }
+  // u on Γc after each solve (FaceDofs order, 3 per node).
+  const std::vector<Eigen::VectorXd>& face_history() const { return face_history_; }
+  std::vector<Eigen::VectorXd> take_face_history() { return std::move(face_history_); }
+
+ private:
+  const DualProblem& dual_;
+  DualQpSolver& qp_;
+  const FaceDofs& face_dofs_;
+  const ContactFace& face_;
+  RadiusRule radii_;
+  Eigen::VectorXd lambda_, radius_, slip_input_;
+  QpResult last_qp_;
+  int products_ = 0, qp_iterations_ = 0;
+  std::vector<Eigen::VectorXd> face_history_;
+};
+
+}  // namespace contact3d

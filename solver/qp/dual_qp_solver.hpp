@@ -1,0 +1,46 @@
+// DualQpSolver: the dual QP (5.5) of one scene with its solver chosen once — MPGP (the paper's
+// algorithm), MPGP with projected-CG expansion, or semismooth Newton — on the Jacobi-scaled or
+// the plain problem. Q and h are fixed per scene; each solve() takes the radii c_i of the disc
+// constraints (which change from one fixed-point step to the next) and a warm start.
+#pragma once
+
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "base/named_enum.hpp"
+#include "qp/box_disc_qp.hpp"
+#include "qp/jacobi_scaling.hpp"
+#include "qp/mpgp.hpp"
+
+namespace contact3d {
+
+enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
+inline constexpr NameTable<QpVariant, 3> kQpVariantNames{{
+    {QpVariant::Mpgp, "mpgp"}, {QpVariant::MpgpProjectedCG, "mpgp_projcg"}, {QpVariant::Ssn, "ssn"}}};
+
+enum class QpScaling { None, Jacobi };
+inline constexpr NameTable<QpScaling, 2> kQpScalingNames{{{QpScaling::Jacobi, "jacobi"}, {QpScaling::None, "none"}}};
+
+struct QpSettings {
+  QpVariant variant = QpVariant::Mpgp;
+  QpScaling scaling = QpScaling::Jacobi;
+  int max_iterations = 100000;
+};
+
+class DualQpSolver {
+ public:
+  // `Q` must outlive the solver; `q_norm` is an estimate of ‖Q‖ (estimate_norm).
+  DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
+               const QpSettings& settings);
+  // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
+  // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
+  QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
+
+ private:
+  BoxDiscQP qp_;
+  std::optional<JacobiScaledQP> jacobi_;
+  QpSettings settings_;
+};
+
+}  // namespace contact3d
