@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "model/scene.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

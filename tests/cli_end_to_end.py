@@ -40,6 +40,10 @@ with tempfile.TemporaryDirectory() as tmp:
     for stage in ["total", "mesh", "assembly", "factorization", "dual"]:
         if stage not in s["time_s"]:
             fail(f"time_s lacks {stage}")
+    expected_settings = {"qp": "mpgp", "qp_scaling": "jacobi", "fixed_point": "plain", "schur": "auto",
+                         "qp_rtol": 1e-6, "fixed_point_tol": 1e-4}
+    if any(s.get("settings", {}).get(k) != v for k, v in expected_settings.items()):
+        fail(f"summary.json settings are not the resolved defaults: {s.get('settings')}")
     if (s["n_primal"], s["n_dual"], s["n_cells"], s["n_contact_nodes"]) != (900, 36, 12, 60):
         fail(f"sizes {s['n_primal']} {s['n_dual']} {s['n_cells']} {s['n_contact_nodes']}")
     if not s["converged"] or len(s["err_history"]) != s["fixed_point_iterations"] or len(progress) != len(s["err_history"]):

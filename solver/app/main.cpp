@@ -160,6 +160,10 @@ int main(int argc, char** argv) {
   solve->add_option("--set", args.sets, "override a scene key, e.g. --set friction.param=2e4");
   solve->add_option("--out", args.out, "output folder");
   solve->add_flag("--quiet", args.quiet, "print nothing but errors");
+  solve->footer("Solver choices (scene keys, also for --set): solver.qp = " + names_list(kQpVariantNames) +
+                 "; solver.qp_scaling = " + names_list(kQpScalingNames) + "; solver.fixed_point = " +
+                 names_list(kFixedPointVariantNames) + "; solver.schur = " + names_list(kDualMethodNames) +
+                 ". summary.json records the resolved settings under \"settings\".");
   auto* check = app.add_subcommand("check", "validate a scene and its mesh without solving");
   check->add_option("scene", args.scene, "scene file (TOML)")->required();
   check->add_option("--mesh", args.mesh, "use this .msh instead of the scene's mesh");

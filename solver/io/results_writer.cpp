@@ -12,6 +12,7 @@
 #include "base/errors.hpp"
 #include "io/json_writer.hpp"
 #include "io/pvd_writer.hpp"
+#include "io/settings_json.hpp"
 #include "io/vtu_format.hpp"
 
 namespace contact3d {
@@ -291,6 +292,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
   j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
   j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
   j.end_object();
+  write_solver_settings(j, scene.solver);
   j.value("scene", scene.echo);
   j.end_object();
   out << "\n";
