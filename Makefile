@@ -8,6 +8,8 @@ PY := /usr/bin/python3
 BIN := $(BUILD)/contact3d
 export FF_LOADPATH := /usr/lib/freefem++
 export OPENBLAS_NUM_THREADS ?= 2
+# Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
+REPORTS := $(if $(PUBLISH),results,results/runs)
 
 .PHONY: deps build pipeline test tables crosscheck figures bench stress fuzz sanitize clean
 
@@ -25,22 +27,22 @@ pipeline: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 900
 
-# Tables 1 and 2 of the paper, on the 5-tet mesh and the gmsh mesh (results/tables.md).
+# Tables 1 and 2 of the paper, on the 5-tet mesh and the gmsh mesh ($(REPORTS)/tables.md).
 tables: build
-	$(PY) pipeline/tables.py --bin $(BIN) --out results/tables.md
+	$(PY) pipeline/tables.py --bin $(BIN) --out $(REPORTS)/tables.md
 
 crosscheck: build
-	$(PY) pipeline/crosscheck.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml
+	$(PY) pipeline/crosscheck.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --report $(REPORTS)/crosscheck/$(SCENE).md
 
 # The paper's figures for a run (Fig. 3, 6-11), copied into results/figures with the report.
 figures: build
-	$(PY) pipeline/run_scene.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --out results/runs/$(SCENE) --figures results/figures --compare-params 2e4,3e5
+	$(PY) pipeline/run_scene.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --out results/runs/$(SCENE) --figures $(REPORTS)/figures --compare-params 2e4,3e5
 
 bench: build
-	$(PY) pipeline/bench.py --bin $(BIN)
+	$(PY) pipeline/bench.py --bin $(BIN) --out $(REPORTS)/bench
 
 stress: build
-	$(PY) pipeline/stress.py --bin $(BIN)
+	$(PY) pipeline/stress.py --bin $(BIN) --out $(REPORTS)/stress
 
 # libFuzzer targets for the MSH reader and the scene parser (FUZZ_SECONDS each).
 FUZZ_SECONDS ?= 300
