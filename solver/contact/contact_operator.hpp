@@ -6,6 +6,8 @@
 
 #include <Eigen/SparseCore>
 
+#include "base/multiplier_layout.hpp"
+
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
 
@@ -15,7 +17,8 @@ struct ContactOperator {
   Eigen::SparseMatrix<double> B;   // (r or 3r) x n_free
   int r = 0;                       // number of cells
   bool with_friction = true;
-  int rows() const { return with_friction ? 3 * r : r; }
+  MultiplierLayout layout() const { return {r, with_friction}; }
+  int rows() const { return layout().size(); }
 };
 
 ContactOperator make_contact_operator(const ContactFace& face, const Partition& partition,

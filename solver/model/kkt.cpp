@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/multiplier_layout.hpp"
+
 namespace contact3d {
 
 double KktResiduals::max() const {
@@ -26,8 +28,10 @@ KktResiduals kkt_residuals(const Eigen::SparseMatrix<double>& K, const Eigen::Ve
   res.normal_complementarity = safe_div(std::abs(lambda.head(r).dot(d.head(r))), scale);
   if (!with_friction) return res;
   double excess = 0, gap = 0;
+  const MultiplierLayout layout{r, true};
   for (int i = 0; i < r; ++i) {
-    const Eigen::Vector2d lt(lambda[r + i], lambda[2 * r + i]), dt(d[r + i], d[2 * r + i]);
+    const int a = layout.t1(i), b = layout.t2(i);
+    const Eigen::Vector2d lt(lambda[a], lambda[b]), dt(d[a], d[b]);
     excess = std::max(excess, lt.norm() - radius[i]);
     gap += radius[i] * dt.norm() - lt.dot(dt);
   }

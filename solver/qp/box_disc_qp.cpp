@@ -32,11 +32,12 @@ void project(const BoxDiscQP& qp, Eigen::VectorXd& lambda) {
   if (!qp.with_friction) return;
   for (int i = 0; i < r; ++i) {
     const double c = qp.radius[i];
-    const double norm = std::hypot(lambda[r + i], lambda[2 * r + i]);
+    const int a = qp.layout().t1(i), b = qp.layout().t2(i);
+    const double norm = std::hypot(lambda[a], lambda[b]);
     if (norm > c) {
       const double s = norm > 0 ? c / norm : 0.0;
-      lambda[r + i] *= s;
-      lambda[2 * r + i] *= s;
+      lambda[a] *= s;
+      lambda[b] *= s;
     }
   }
 }
@@ -47,7 +48,7 @@ bool is_feasible(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, double rel_
     if (lambda[i] < 0) return false;
   if (!qp.with_friction) return true;
   for (int i = 0; i < r; ++i)
-    if (std::hypot(lambda[r + i], lambda[2 * r + i]) > qp.radius[i] * (1 + rel_tol)) return false;
+    if (std::hypot(lambda[qp.layout().t1(i)], lambda[qp.layout().t2(i)]) > qp.radius[i] * (1 + rel_tol)) return false;
   return true;
 }
 
@@ -60,7 +61,7 @@ GradientSplit split_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& lambda,
   }
   if (!qp.with_friction) return s;
   for (int i = 0; i < r; ++i) {
-    const int a = r + i, b = 2 * r + i;
+    const int a = qp.layout().t1(i), b = qp.layout().t2(i);
     const double c = qp.radius[i];
     if (c <= 0) continue;  // the disc is a point: nothing can move
     const double norm = std::hypot(lambda[a], lambda[b]);
@@ -89,7 +90,7 @@ double max_feasible_step(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, con
     if (p[i] > 0) step = std::min(step, lambda[i] / p[i]);
   if (!qp.with_friction) return step;
   for (int i = 0; i < r; ++i) {
-    const int a = r + i, b = 2 * r + i;
+    const int a = qp.layout().t1(i), b = qp.layout().t2(i);
     const double pp = p[a] * p[a] + p[b] * p[b];
     if (pp == 0) continue;
     const double c = qp.radius[i];

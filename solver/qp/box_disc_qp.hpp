@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "base/multiplier_layout.hpp"
+
 namespace contact3d {
 
 struct BoxDiscQP {
@@ -17,7 +19,8 @@ struct BoxDiscQP {
   Eigen::VectorXd radius;  // c_i (size r; ignored when frictionless)
   double q_norm = 0;       // ‖Q‖, or an estimate of it with a small safety margin (see estimate_norm)
 
-  int size() const { return with_friction ? 3 * r : r; }
+  MultiplierLayout layout() const { return {r, with_friction}; }
+  int size() const { return layout().size(); }
   // Q v from the lower triangle only (Q is symmetric): half the memory traffic of a full
   // product, which is what bounds it once Q no longer fits in cache (2x at 5184 multipliers).
   // BLAS dsymv, so it uses the BLAS threads (2 threads: 1.9-2.2x at 576-5184 multipliers).

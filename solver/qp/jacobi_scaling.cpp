@@ -17,7 +17,10 @@ JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp) : qp_(qp) {
   s_.resize(qp.size());
   for (int i = 0; i < r; ++i) s_[i] = inverse_sqrt(Q(i, i));
   if (qp.with_friction)
-    for (int i = 0; i < r; ++i) s_[r + i] = s_[2 * r + i] = inverse_sqrt(std::max(Q(r + i, r + i), Q(2 * r + i, 2 * r + i)));
+    for (int i = 0; i < r; ++i) {
+      const int a = qp.layout().t1(i), b = qp.layout().t2(i);
+      s_[a] = s_[b] = inverse_sqrt(std::max(Q(a, a), Q(b, b)));
+    }
   Q_ = s_.asDiagonal() * Q * s_.asDiagonal();
   qp_.Q = &Q_;
   qp_.h = s_.cwiseProduct(qp.h);

@@ -81,7 +81,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     }
     if (qp.with_friction) {
       for (int i = 0; i < r; ++i) {
-        const int a = r + i, b = 2 * r + i;
+        const int a = qp.layout().t1(i), b = qp.layout().t2(i);
         const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
         if (c <= 0) {   // a point disc: λ_t is fixed at 0, D = 0
           J(a, a) += 1;
