@@ -10,7 +10,6 @@ import argparse
 import json
 import math
 import pathlib
-import shutil
 import subprocess
 import sys
 import time

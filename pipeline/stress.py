@@ -19,7 +19,6 @@ displacements with the reference run (relative max difference <= 1e-6... 1e-5 al
 import argparse
 import csv
 import json
-import math
 import os
 import shutil
 import subprocess
@@ -180,7 +179,7 @@ def cases(meshes):
         "exit 1, status iteration_limit, outputs written and finite", b4, ["solver.fixed_point_max_iter=2"],
         expect_exit1("iteration_limit"))
     add("steep_big_slip", "ramp param = 1e8, loads and g x3 (large slip across the jump)",
-        "solved: converged or named exit 1; finite", b4, [f"friction.param=1e8"] + loads_scaled(3.0, False), expect_solved())
+        "solved: converged or named exit 1; finite", b4, ["friction.param=1e8"] + loads_scaled(3.0, False), expect_solved())
     add("table_jump", "table law with a jump at t0 = 1e-5 (table_jump.toml)",
         "solved: converged or named exit 1; finite", b4, [], expect_solved(), scene=os.path.join(SCENES, "table_jump.toml"))
     add("table_jump_anderson", "table law with a jump, Anderson", "solved: converged or named exit 1; finite", b4,
@@ -425,7 +424,7 @@ def write_report(path, rows, binary):
     for c, r, ok, why in rows:
         npass += ok
         status = f"{r['rc']} / {r.get('status', '–')}" if r["rc"] in (0, 1) else str(r["rc"])
-        note = f"PASS" if ok else "**FAIL**"
+        note = "PASS" if ok else "**FAIL**"
         if why:
             note += f" ({why.replace('|', '/')})"
         lines.append(f"| {c['name']} | {c['n']} | {c['what'].replace('|', '/')} | {c['expect'].replace('|', '/')} | {status} | "
@@ -450,7 +449,7 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     work = a.work or os.path.join("/tmp", f"contact3d_stress_{os.getpid()}")
     os.makedirs(work, exist_ok=True)
-    env_note = os.environ.setdefault("OPENBLAS_NUM_THREADS", "2")
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "2")
     meshes = Meshes(binary, work)
     rows, runs = [], {}
     for c in cases(meshes):

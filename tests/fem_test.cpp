@@ -94,7 +94,9 @@ TEST(Assembly, PatchTestLinearFieldIsReproducedInside) {
   const SparseCholesky K(assemble_stiffness(mesh, dofs, mat));
   const Eigen::VectorXd u = K.solve(f);
   for (int i = 0; i < 3 * all.n_nodes; ++i)
-    if (dofs.free_index[i] >= 0) EXPECT_NEAR(u[dofs.free_index[i]], exact[i], 1e-12);
+    if (dofs.free_index[i] >= 0) {
+      EXPECT_NEAR(u[dofs.free_index[i]], exact[i], 1e-12);
+    }
 }
 
 TEST(Assembly, TractionLoadSumsToForce) {
