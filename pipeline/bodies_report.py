@@ -7,12 +7,11 @@ study, and write results/bodies/README.md. Also the checks used by tests/bodies.
   bodies_report.py stability --bin B --scene S --out DIR               # H = h/4 must be rejected
 """
 import argparse
-import json
 import math
 import pathlib
-import subprocess
 import sys
-import time
+
+import c3d.run
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENES = ["lblock", "wedge", "holed", "ufoot", "punch", "brick_unstructured"]
@@ -25,16 +24,11 @@ KKT_TOL = 1e-3
 
 
 def run(binary, scene, out, sets=()):
-    cmd = [str(binary), "solve", str(scene), "--out", str(out), "--quiet"]
-    for s in sets:
-        cmd += ["--set", s]
-    t = time.time()
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    return p, time.time() - t
+    return c3d.run.solve(binary, scene, out, sets)
 
 
 def load(out):
-    return json.loads((pathlib.Path(out) / "summary.json").read_text())
+    return c3d.run.summary(out)
 
 
 def contact_max_u(out):

@@ -31,6 +31,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+import c3d.run
+
 VTK_TETRA = 10
 BARY_TOL = 1e-9  # barycentric coordinates are dimensionless, so this tolerance is relative
 
@@ -158,8 +160,9 @@ def energy_error(coarse_dir, fine_dir, young, poisson):
 
 def _solve_brick(binary, n, out):
     scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes", "paper_brick.toml")
-    subprocess.run([binary, "solve", scene, "--set", "mesh.generator=paper_brick",
-                    "--set", f"mesh.n={n}", "--out", out], check=True, stdout=subprocess.DEVNULL)
+    proc, _ = c3d.run.solve(binary, scene, out, ["mesh.generator=paper_brick", f"mesh.n={n}"])
+    if proc.returncode != 0:
+        raise RuntimeError(f"solve failed ({' '.join(proc.args)}):\n{proc.stderr}")
     return read_body_vtu(os.path.join(out, "body.vtu"))
 
 

@@ -25,6 +25,8 @@ import subprocess
 import sys
 import time
 
+import c3d.run
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = os.path.join(ROOT, "pipeline", "scenes", "stress")
 BASE = os.path.join(SCENES, "base.toml")
@@ -370,9 +372,7 @@ def read_results(out, r):
 def run_case(binary, c, work):
     out = os.path.join(work, "runs", c["name"])
     shutil.rmtree(out, ignore_errors=True)
-    cmd = [binary, "solve", c["scene"], "--mesh", c["mesh"], "--out", out, "--quiet"]
-    for s in c["sets"]:
-        cmd += ["--set", s]
+    cmd = c3d.run.solve_command(binary, c["scene"], out, c["sets"], mesh=c["mesh"])
     r = dict(name=c["name"], cmd=cmd)
     t0 = time.time()
     try:

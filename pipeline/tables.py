@@ -11,11 +11,11 @@ usage: tables.py --bin build/contact3d [--out results/tables.md] [--ns 4,6,...]
 """
 import argparse
 import csv
-import json
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+import c3d.run
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "pipeline" / "scenes" / "paper_brick.toml"
@@ -33,22 +33,21 @@ def paper_table(name):
 # (row label, mesh, extra overrides): the default solver on both meshes, and the paper's plain
 # (unscaled) MPGP on the paper's mesh for the n_mult comparison.
 RUNS = [("five-tet", "five-tet", []),
-        ("five-tet, plain MPGP", "five-tet", ["--set", "solver.qp_scaling=none"]),
+        ("five-tet, plain MPGP", "five-tet", ["solver.qp_scaling=none"]),
         ("gmsh", "gmsh", [])]
 
 
 def solve(binary, mesh_kind, n, param, workdir, extra=()):
     out = Path(workdir) / f"{mesh_kind}_n{n}_p{param:g}_{len(extra)}"
-    args = [binary, "solve", str(SCENE), "--out", str(out), "--quiet", "--set", f"friction.param={param}", *extra]
+    sets = [f"friction.param={param}", *extra]
     if mesh_kind == "five-tet":
-        args += ["--set", "mesh.generator=paper_brick", "--set", f"mesh.n={n}"]
+        sets += ["mesh.generator=paper_brick", f"mesh.n={n}"]
     else:
-        args += ["--set", f"mesh.parameters.n={n}"]
-    proc = subprocess.run(args, capture_output=True, text=True)
+        sets += [f"mesh.parameters.n={n}"]
+    proc, _ = c3d.run.solve(binary, SCENE, out, sets)
     if proc.returncode not in (0, 1):
-        sys.exit(f"solve failed ({' '.join(args)}):\n{proc.stderr}")
-    with open(out / "summary.json") as f:
-        return json.load(f)
+        sys.exit(f"solve failed ({' '.join(proc.args)}):\n{proc.stderr}")
+    return c3d.run.summary(out)
 
 
 def fmt(x, spec):

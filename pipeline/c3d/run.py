@@ -1,0 +1,34 @@
+"""Run `contact3d solve` and read its summary.json."""
+import json
+import subprocess
+import time
+from pathlib import Path
+
+
+def solve_command(binary, scene, out, sets=(), mesh=None, quiet=True):
+    """The argument list of one solve: scene, output folder, `--set key=value` overrides, optional mesh."""
+    cmd = [str(binary), "solve", str(scene), "--out", str(out)]
+    if mesh is not None:
+        cmd += ["--mesh", str(mesh)]
+    for s in sets:
+        cmd += ["--set", s]
+    if quiet:
+        cmd.append("--quiet")
+    return cmd
+
+
+def solve(binary, scene, out, sets=(), mesh=None, quiet=True, timeout=None):
+    """Runs one solve; returns (CompletedProcess with text stdout/stderr, wall seconds).
+
+    Exit codes are contact3d's: 0 converged, 1 a named exit (see summary.json), 2 bad input.
+    Raises subprocess.TimeoutExpired when `timeout` (s) passes.
+    """
+    cmd = solve_command(binary, scene, out, sets, mesh, quiet)
+    t0 = time.time()
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    return proc, time.time() - t0
+
+
+def summary(out):
+    """summary.json of a finished solve in folder `out` as a dict."""
+    return json.loads((Path(out) / "summary.json").read_text())
