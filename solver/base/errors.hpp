@@ -1,5 +1,11 @@
-// InputError: the one exception type for anything a user supplied wrongly (mesh, scene,
-// command line). The CLI prints "error: <message>" and exits with code 2.
+// InputError: the one exception type for anything a user supplied wrongly (mesh, scene, command
+// line, an output folder that cannot be written) or asked for beyond what the machine holds. The
+// CLI prints "error: <message>" and exits with code 2. The message names what to change (file,
+// line, key, group, cell, value).
+//
+// Internal invariants (a factor of the wrong kind, a size mismatch between our own objects) throw
+// std::logic_error instead: those are bugs, not user errors; the CLI still exits 2 with `error:`,
+// so no run ever ends in an abort.
 #pragma once
 
 #include <stdexcept>

@@ -1,7 +1,8 @@
-// The whole solve of one scene, stage by stage (mesh -> fem -> contact -> factorization ->
-// dual operator -> fixed point / single QP -> displacement), skipping what the scene does not
-// need: no contact group -> one linear solve; frictionless -> normal multipliers only, one
-// QP; constant coefficient -> one Tresca QP; slip-dependent coefficient -> (5.7).
+// The whole solve of one scene, stage by stage — discretise (K, f) → contact stage (Γc, T_H, 𝔹)
+// → dual problem (one factorization; Q, h) → stability (5.1) → dual QP solver → Tresca step →
+// fixed point (5.7) → recovery (w, KKT residuals) — skipping what the scene does not need: no
+// contact group -> one linear solve; frictionless -> normal multipliers only, one QP; constant
+// coefficient -> one Tresca QP; slip-dependent coefficient -> (5.7).
 // The result carries everything the writers and the checks need, with its history.
 #pragma once
 
