@@ -3,7 +3,10 @@
 #include <chrono>
 #include <cmath>
 #include <algorithm>
+#include <cstdio>
 #include <deque>
+#include <limits>
+#include <string>
 
 #include <Eigen/Dense>
 
@@ -55,6 +58,52 @@ class AndersonMixer {
   std::deque<Eigen::VectorXd> xs_, gs_;
 };
 
+// q from the last three step lengths ‖G(xₖ) − xₖ‖ (the largest of their two ratios: conservative).
+double contraction_factor(const std::vector<double>& step_lengths) {
+  const std::size_t n = step_lengths.size();
+  if (n < 3) return std::numeric_limits<double>::quiet_NaN();
+  double q = 0;
+  for (std::size_t j = n - 2; j < n; ++j)
+    q = std::max(q, step_lengths[j - 1] > 0 ? step_lengths[j] / step_lengths[j - 1] : 0.0);
+  return q;
+}
+
+// The last two step-length ratios both in [0.5, 1): a slow but steady contraction, where mixing
+// pays; growing steps (a nonsmooth map changing its active set) are left to the plain iteration.
+bool contracts_slowly(const std::vector<double>& lengths) {
+  const std::size_t n = lengths.size();
+  if (n < 3) return false;
+  for (std::size_t j = n - 2; j < n; ++j) {
+    const double ratio = lengths[j - 1] > 0 ? lengths[j] / lengths[j - 1] : 0.0;
+    if (ratio < 0.5 || ratio >= 1) return false;
+  }
+  return true;
+}
+
+std::string format_g(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
+  switch (status) {
+    case FixedPointStatus::Converged: return "";
+    case FixedPointStatus::IterationLimit:
+      return "the successive approximations contract slowly (q = " + format_g(q) +
+             "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"anderson\"";
+    case FixedPointStatus::Stagnation:
+      return "the map does not contract here (q = " + format_g(q) + ") although each QP was solved to " +
+             format_g(final_rtol) +
+             ": the law is too steep for successive approximations at this slip level (the paper's convergence needs "
+             "a small Lipschitz modulus of F); try a gentler law (smaller friction.param) or solver.fixed_point = "
+             "\"anderson\"";
+    case FixedPointStatus::InnerSolverFailed:
+      return "the dual QP did not converge: raise solver.qp_max_iterations, or try solver.qp = \"ssn\"";
+  }
+  return "";
+}
+
 }  // namespace
 
 FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPointSettings& settings, double qp_rtol,
@@ -62,16 +111,56 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   FixedPointResult result;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n_phi);
   AndersonMixer mixer(settings.anderson_depth);
+  std::vector<double> step_lengths;
+  // Accelerated: the last accepted point's image and step length, and whether mixing is on.
+  Eigen::VectorXd accepted_image;
+  double accepted_length = INFINITY;
+  bool mixing = false;
+  int plain_steps_before_mixing = 0;  // after a rejected mixed step
+  auto next_iterate = [&](const Eigen::VectorXd& xk, const Eigen::VectorXd& gx, const std::vector<double>& lengths,
+                          bool err_grew) -> Eigen::VectorXd {
+    switch (settings.variant) {
+      case FixedPointVariant::Plain: return gx;
+      case FixedPointVariant::Anderson:
+        if (err_grew) mixer.reset();  // safeguard
+        return mixer.next(xk, gx);
+      case FixedPointVariant::Accelerated: break;
+    }
+    if (mixing && lengths.back() > accepted_length) {  // the mixed point did worse: plain step from the last good one
+      mixer.reset();
+      mixing = false;
+      plain_steps_before_mixing = 2;
+      accepted_length = INFINITY;  // that plain step is taken whatever its length
+      return accepted_image;
+    }
+    accepted_image = gx;
+    accepted_length = lengths.back();
+    if (plain_steps_before_mixing > 0) --plain_steps_before_mixing;
+    else if (!mixing && contracts_slowly(lengths)) mixing = true;
+    const Eigen::VectorXd mixed = mixer.next(xk, gx);  // fed from the start, used once the map contracts slowly
+    return mixing ? mixed : gx;
+  };
   int n_mult = 0;
   double best_err = INFINITY;
   int best_k = 0;
+  double rtol = qp_rtol;     // the exact-step QP tolerance; tightened against inner noise
   bool force_exact = false;  // an inexact step met tol: repeat it with the exact QP tolerance
+  auto finish = [&](FixedPointStatus status) {
+    result.status = status;
+    result.contraction_factor = contraction_factor(step_lengths);
+    const double q = result.contraction_factor, err = result.history.back().err;
+    result.distance_bound = status == FixedPointStatus::Converged && result.history.size() == 1 ? err
+                            : q < 1 ? q / (1 - q) * err
+                                    : std::numeric_limits<double>::infinity();
+    result.hint = hint_for(status, q, rtol);
+    return result;
+  };
   for (int k = 1; k <= settings.max_iterations; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
-    double rtol_k = qp_rtol;
-    if (settings.inexact && k > 1) rtol_k = std::max(qp_rtol, std::min(1e-3, 1e-2 * result.history[k - 2].err));
-    if (settings.inexact && k == 1) rtol_k = std::max(qp_rtol, 1e-3);
-    if (force_exact) rtol_k = qp_rtol;
+    double rtol_k = rtol;
+    if (settings.inexact && k > 1) rtol_k = std::max(rtol, std::min(1e-3, 1e-2 * result.history[k - 2].err));
+    if (settings.inexact && k == 1) rtol_k = std::max(rtol, 1e-3);
+    if (force_exact) rtol_k = rtol;
     const SlipEvaluation eval = G(x, rtol_k);
     n_mult += eval.hessian_products;
     FixedPointStep step;
@@ -79,27 +168,35 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     step.err = relative_change(eval.slip, x);
     step.qp_iterations = eval.qp_iterations;
     step.n_mult = n_mult;
+    step.qp_rtol = rtol_k;
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(step);
     result.phi = x;
+    step_lengths.push_back((eval.slip - x).norm());
     if (observe) observe(step);
-    if (!eval.ok) { result.status = FixedPointStatus::InnerSolverFailed; return result; }
+    if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
     if (step.err <= settings.tol) {
-      if (rtol_k <= qp_rtol) { result.status = FixedPointStatus::Converged; return result; }
+      if (rtol_k <= rtol) return finish(FixedPointStatus::Converged);
       force_exact = true;  // same φ again (x unchanged), now with the exact QP tolerance
       continue;
     }
-    if (step.err < best_err) { best_err = step.err; best_k = k; }
-    else if (k - best_k >= settings.stagnation_window) { result.status = FixedPointStatus::Stagnation; return result; }
-    if (settings.anderson) {
-      if (k > 1 && step.err > 2 * result.history[k - 2].err) mixer.reset();  // safeguard
-      x = mixer.next(x, eval.slip);
-    } else {
-      x = eval.slip;
+    // A step that barely moves err may be the QP's noise: tighten the inner tolerance first.
+    const bool stalled = k > 1 && step.err > 0.7 * result.history[k - 2].err;
+    if (settings.adaptive_qp_tolerance && stalled && rtol > settings.qp_rtol_floor) {
+      rtol = std::max(settings.qp_rtol_floor, 1e-2 * rtol);
+      ++result.qp_tolerance_tightenings;
+      best_err = INFINITY;  // stagnation is judged afresh at the new tolerance
     }
+    if (step.err < best_err) {
+      best_err = step.err;
+      best_k = k;
+    } else if (k - best_k >= settings.stagnation_window &&
+               (!settings.adaptive_qp_tolerance || rtol <= settings.qp_rtol_floor)) {
+      return finish(FixedPointStatus::Stagnation);
+    }
+    x = next_iterate(x, eval.slip, step_lengths, k > 1 && step.err > 2 * result.history[k - 2].err);
   }
-  result.status = FixedPointStatus::IterationLimit;
-  return result;
+  return finish(FixedPointStatus::IterationLimit);
 }
 
 }  // namespace contact3d

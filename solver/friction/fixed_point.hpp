@@ -3,28 +3,53 @@
 // G(φᵏ⁻¹) = ‖w_t‖ at the contact nodes. err(k) = ‖G(φᵏ⁻¹) − φᵏ⁻¹‖ / ‖G(φᵏ⁻¹)‖, which for the
 // plain iteration φᵏ = G(φᵏ⁻¹) is the paper's ‖φᵏ − φᵏ⁻¹‖ / ‖φᵏ‖. The Anderson variant mixes the
 // last few iterates (safeguarded: non-negative slip, restart when err grows).
+//
+// The inner (QP) tolerance never sets the floor: G is only evaluated to the QP tolerance, so a
+// step whose err does not fall (err(k) > 0.7 err(k−1)) may be inner noise, and the QP tolerance is
+// tightened 100× (down to `qp_rtol_floor`) before anything else is concluded. Stagnation — no new
+// minimum of err for `stagnation_window` steps — is only declared at the floor, i.e. when the map
+// itself does not contract. The observed contraction factor q (the largest ratio of successive
+// steps ‖φᵏ⁺¹ − φᵏ‖ / ‖φᵏ − φᵏ⁻¹‖ over the last three) gives the a posteriori bound
+// ‖φ* − φᵏ‖ <= q / (1 − q) ‖φᵏ − φᵏ⁻¹‖ on the distance to the fixed point when q < 1.
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "base/named_enum.hpp"
+
 namespace contact3d {
 
 enum class FixedPointStatus { Converged, IterationLimit, Stagnation, InnerSolverFailed };
+
+// Plain: φᵏ = G(φᵏ⁻¹), the paper's (5.7). Anderson: mixing of the last `anderson_depth` iterates
+// from the start. Accelerated: plain while the map contracts fast (so scenes the
+// paper's iteration handles keep its steps exactly), Anderson mixing once it contracts slowly but
+// steadily (the last two step-length ratios in [0.5, 1)), each
+// mixed step kept only if it shrinks the step length ‖G(φ) − φ‖ below the last accepted one (else
+// the plain step from the last accepted point, and the mixing restarts).
+enum class FixedPointVariant { Plain, Anderson, Accelerated };
+inline constexpr NameTable<FixedPointVariant, 3> kFixedPointVariantNames{{{FixedPointVariant::Plain, "plain"},
+                                                                        {FixedPointVariant::Anderson, "anderson"},
+                                                                        {FixedPointVariant::Accelerated, "accelerated"}}};
 std::string to_string(FixedPointStatus s);
 
 struct FixedPointSettings {
   double tol = 1e-4;
   int max_iterations = 50;
-  bool anderson = false;
+  FixedPointVariant variant = FixedPointVariant::Accelerated;
   int anderson_depth = 5;
   int stagnation_window = 8;  // stop when err has not reached a new minimum for this many steps
   // Inexact early steps: QP tolerance max(qp_rtol, min(1e-3, 1e-2·err(k−1))); a step that meets
   // `tol` with a looser QP tolerance is repeated exactly before declaring convergence.
   bool inexact = false;
+  // Noise-aware inner tolerance (see above); off: the QP tolerance stays qp_rtol (the paper's).
+  bool adaptive_qp_tolerance = true;
+  double qp_rtol_floor = 1e-12;
 };
 
 // One evaluation of G: what the Tresca solve reports back.
@@ -41,12 +66,19 @@ struct FixedPointStep {
   int qp_iterations = 0;
   int n_mult = 0;             // cumulative multiplications by K⁻¹ (paper's count)
   double seconds = 0;         // wall time of this step
+  double qp_rtol = 0;         // the QP tolerance this step was solved to
 };
 
 struct FixedPointResult {
   FixedPointStatus status = FixedPointStatus::IterationLimit;
   std::vector<FixedPointStep> history;
   Eigen::VectorXd phi;        // the last input φ (the final Tresca solve used c(phi))
+  // Observed contraction factor q (NaN before three steps) and the a posteriori bound on the
+  // relative distance of the last G(φ) to the fixed point, q/(1 − q)·err (∞ when q >= 1).
+  double contraction_factor = std::numeric_limits<double>::quiet_NaN();
+  double distance_bound = std::numeric_limits<double>::infinity();
+  int qp_tolerance_tightenings = 0;  // times the inner tolerance was tightened against noise
+  std::string hint;                  // what to try when the status is not "converged"
   int iterations() const { return static_cast<int>(history.size()); }
 };
 

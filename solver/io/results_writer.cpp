@@ -273,6 +273,16 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
   j.begin_array("err_history");
   for (const auto& s : solve_history(res)) j.element(s.err);
   j.end_array();
+  if (!res.fixed_point.history.empty()) {  // how far the answer may be from the fixed point of (5.7)
+    const FixedPointResult& fp = res.fixed_point;
+    j.begin_object("fixed_point");
+    j.value("contraction_factor", fp.contraction_factor);  // null before three steps
+    j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err; null when q >= 1 (no bound)
+    j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
+    j.value("final_qp_rtol", fp.history.back().qp_rtol);
+    j.value("hint", fp.hint);
+    j.end_object();
+  }
   j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
   j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
   j.value("step_solve_fraction", res.step_solve_fraction);

@@ -132,7 +132,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     FixedPointSettings fp;
     fp.tol = scene.solver.fixed_point_tol;
     fp.max_iterations = scene.solver.fixed_point_max_iter;
-    fp.anderson = scene.solver.fixed_point == FixedPointVariant::Anderson;
+    fp.variant = scene.solver.fixed_point;
     fp.anderson_depth = scene.solver.anderson_depth;
     fp.inexact = scene.solver.inexact_fixed_point;
     res.fixed_point = solve_fixed_point(std::ref(tresca), n_contact_nodes, fp, scene.solver.qp_rtol, progress);

@@ -12,6 +12,7 @@
 
 #include "fem/assembly.hpp"
 #include "fem/elasticity.hpp"
+#include "friction/fixed_point.hpp"
 #include "friction/friction_law.hpp"
 #include "linalg/dual_problem.hpp"
 #include "qp/dual_qp_solver.hpp"
@@ -26,9 +27,6 @@ struct MeshSource {
   int n = 4;                                  // generator resolution
 };
 
-enum class FixedPointVariant { Plain, Anderson };
-inline constexpr NameTable<FixedPointVariant, 2> kFixedPointVariantNames{
-    {{FixedPointVariant::Plain, "plain"}, {FixedPointVariant::Anderson, "anderson"}}};
 inline constexpr NameTable<DualMethod, 4> kDualMethodNames{{{DualMethod::Auto, "auto"},
                                                             {DualMethod::BlockSolve, "blocksolve"},
                                                             {DualMethod::ContactLast, "contactlast"},
@@ -43,7 +41,9 @@ struct SolverSettings {
   // diagonal scaling that keeps half-lines and discs; "none": the paper's plain MPGP),
   // qp_max_iterations.
   QpSettings qp;
-  FixedPointVariant fixed_point = FixedPointVariant::Plain;  // "plain" (the paper's (5.7)) or "anderson"
+  // "accelerated" (default: plain while it contracts fast, safeguarded Anderson when slowly),
+  // "plain" (the paper's (5.7)) or "anderson" (FixedPointVariant).
+  FixedPointVariant fixed_point = FixedPointVariant::Accelerated;
   int anderson_depth = 5;
   DualMethod dual_method = DualMethod::Auto;  // key `schur`: how Q = 𝔹K⁻¹𝔹ᵀ is formed (DualMethod)
   bool inexact_fixed_point = false;    // QP tolerance tied to err(k) in early fixed-point steps

@@ -1,0 +1,114 @@
+// The fixed point's named exits on synthetic maps G (no contact problem behind them): it
+// converges on a contraction, hits the iteration limit on a slow one, reports the inner solver's
+// failure, tightens the inner tolerance before it ever calls noise "stagnation", and declares
+// stagnation only for a map that does not contract. The contraction factor and the a posteriori
+// bound are checked against the known rate.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "friction/fixed_point.hpp"
+
+namespace contact3d {
+namespace {
+
+// G(φ) = φ* + q (φ − φ*) (+ noise of size noise·rtol that a tighter tolerance removes).
+SlipMap linear_map(double q, double noise_per_rtol = 0) {
+  return [=, flip = 0](const Eigen::VectorXd& phi, double rtol) mutable {
+    const Eigen::VectorXd star = Eigen::VectorXd::LinSpaced(phi.size(), 1.0, 2.0);
+    SlipEvaluation e;
+    e.slip = star + q * (phi - star);
+    flip = 1 - flip;
+    e.slip += (flip ? 1.0 : -1.0) * noise_per_rtol * rtol * Eigen::VectorXd::Ones(phi.size());
+    e.qp_iterations = 1;
+    e.hessian_products = 2;
+    return e;
+  };
+}
+
+FixedPointSettings settings(FixedPointVariant v = FixedPointVariant::Plain) {
+  FixedPointSettings s;
+  s.variant = v;
+  return s;
+}
+
+TEST(FixedPoint, ConvergesOnAContractionWithTheRateItObserves) {
+  const FixedPointResult r = solve_fixed_point(linear_map(0.3), 5, settings(), 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_NEAR(r.contraction_factor, 0.3, 1e-6);
+  EXPECT_LE(r.distance_bound, 0.3 / 0.7 * r.history.back().err * (1 + 1e-9));
+  EXPECT_TRUE(r.hint.empty());
+  // err(k) of the plain iteration from 0 falls by q per step after the first.
+  for (std::size_t k = 2; k < r.history.size(); ++k) EXPECT_LT(r.history[k].err, 0.5 * r.history[k - 1].err);
+}
+
+TEST(FixedPoint, IterationLimitOnASlowContractionSaysWhatToTry) {
+  FixedPointSettings s = settings();
+  s.max_iterations = 10;
+  const FixedPointResult r = solve_fixed_point(linear_map(0.95), 4, s, 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::IterationLimit);
+  EXPECT_EQ(r.iterations(), 10);
+  EXPECT_NEAR(r.contraction_factor, 0.95, 1e-6);
+  EXPECT_NE(r.hint.find("fixed_point_max_iter"), std::string::npos);
+}
+
+TEST(FixedPoint, AcceleratedBeatsPlainOnASlowSteadyContraction) {
+  const FixedPointResult plain = solve_fixed_point(linear_map(0.95), 4, settings(), 1e-6);
+  const FixedPointResult fast = solve_fixed_point(linear_map(0.95), 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  EXPECT_EQ(fast.status, FixedPointStatus::Converged);
+  EXPECT_LT(fast.iterations(), plain.iterations() / 3);
+}
+
+TEST(FixedPoint, AcceleratedKeepsThePlainStepsWhenTheMapContractsFast) {
+  const FixedPointResult plain = solve_fixed_point(linear_map(0.2), 4, settings(), 1e-6);
+  const FixedPointResult fast = solve_fixed_point(linear_map(0.2), 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  ASSERT_EQ(fast.iterations(), plain.iterations());
+  for (int k = 0; k < plain.iterations(); ++k) EXPECT_DOUBLE_EQ(fast.history[k].err, plain.history[k].err);
+}
+
+TEST(FixedPoint, InnerNoiseTightensTheQpToleranceInsteadOfStagnating) {
+  // Noise of 1e3·rtol in G: at rtol = 1e-6 it is 1e-3, far above tol = 1e-4 (the old noise floor).
+  const FixedPointResult r = solve_fixed_point(linear_map(0.3, 1e3), 5, settings(), 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_GE(r.qp_tolerance_tightenings, 1);
+  EXPECT_LT(r.history.back().qp_rtol, 1e-6);
+  // With the paper's fixed tolerance the same map stalls on the noise.
+  FixedPointSettings fixed = settings();
+  fixed.adaptive_qp_tolerance = false;
+  EXPECT_NE(solve_fixed_point(linear_map(0.3, 1e3), 5, fixed, 1e-6).status, FixedPointStatus::Converged);
+}
+
+TEST(FixedPoint, StagnationOnlyWhenTheMapDoesNotContract) {
+  // G oscillates between two points: no contraction however tight the QP.
+  SlipMap two_cycle = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi.sum() > 0.5 * phi.size() ? Eigen::VectorXd::Zero(phi.size()).eval()
+                                          : Eigen::VectorXd::Ones(phi.size()).eval();
+    e.slip[0] += 0.1;
+    return e;
+  };
+  FixedPointSettings s = settings();
+  s.max_iterations = 200;
+  const FixedPointResult r = solve_fixed_point(two_cycle, 3, s, 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Stagnation);
+  EXPECT_LE(r.history.back().qp_rtol, s.qp_rtol_floor);  // the inner tolerance was ruled out first
+  EXPECT_GE(r.contraction_factor, 1.0);
+  EXPECT_TRUE(std::isinf(r.distance_bound));
+  EXPECT_NE(r.hint.find("does not contract"), std::string::npos);
+}
+
+TEST(FixedPoint, InnerFailureIsNamed) {
+  SlipMap failing = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi;
+    e.ok = false;
+    return e;
+  };
+  const FixedPointResult r = solve_fixed_point(failing, 2, settings(), 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::InnerSolverFailed);
+  EXPECT_EQ(r.iterations(), 1);
+  EXPECT_NE(r.hint.find("qp"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace contact3d
