@@ -181,7 +181,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       continue;
     }
     // A step that barely moves err may be the QP's noise: tighten the inner tolerance first.
-    const bool stalled = k > 1 && step.err > 0.7 * result.history[k - 2].err;
+    // Noise shows as a stall in which the warm-started QP hardly moved (a few iterations against
+    // the first step's); a stall with a busy QP is the map's own slow contraction.
+    const bool stalled = k > 1 && step.err > 0.7 * result.history[k - 2].err &&
+                         eval.qp_iterations <= std::max(5, result.history[0].qp_iterations / 20);
     if (settings.adaptive_qp_tolerance && stalled && rtol > settings.qp_rtol_floor) {
       rtol = std::max(settings.qp_rtol_floor, 1e-2 * rtol);
       ++result.qp_tolerance_tightenings;
