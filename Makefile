@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps build pipeline test tables crosscheck figures bench stress fuzz sanitize clean
+.PHONY: deps build pipeline test tables crosscheck figures bench robustness stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -40,6 +40,10 @@ figures: build
 
 bench: build
 	$(PY) pipeline/bench.py --bin $(BIN) --out $(REPORTS)/bench
+
+# Bodies x slip-dependent laws x two mesh sizes with default settings ($(REPORTS)/robustness.md).
+robustness: build
+	$(PY) pipeline/robustness.py --bin $(BIN) --out $(REPORTS)/robustness.md
 
 stress: build
 	$(PY) pipeline/stress.py --bin $(BIN) --out $(REPORTS)/stress
