@@ -4,15 +4,18 @@
 //   contact3d check SCENE.toml [--mesh FILE.msh]  (validate scene and mesh without solving)
 // Exit codes: 0 solved and converged, 1 solved but not converged, 2 bad input or failure.
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
 #include "base/errors.hpp"
 #include "io/results_writer.hpp"
+#include "io/run_folder.hpp"
 #include "mesh/brick_generator.hpp"
 #include "mesh/msh_reader.hpp"
 #include "mesh/msh_writer.hpp"
@@ -53,16 +56,6 @@ Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::
   return load_scene_mesh(src, work_dir);
 }
 
-void prepare_output(const fs::path& dir) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  const fs::path probe = dir / ".write_test";
-  std::FILE* f = std::fopen(probe.c_str(), "w");
-  if (!f) throw InputError("output folder '" + dir.string() + "' cannot be written");
-  std::fclose(f);
-  fs::remove(probe, ec);
-}
-
 // Γu must hold at least one triangle (a named but empty group would leave K singular).
 void require_clamped_triangles(const Scene& scene, const Mesh& mesh) {
   std::size_t n = 0;
@@ -76,9 +69,13 @@ void require_clamped_triangles(const Scene& scene, const Mesh& mesh) {
 
 int run_solve(const SolveArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
+  // The folder is claimed before anything can fail, so a failed rerun never leaves the previous
+  // run's summary.json looking like this run's result.
+  std::optional<RunFolder> folder;
+  if (!args.out.empty()) folder.emplace(args.out, "contact3d solve " + args.scene);
   const Scene scene = load_scene(args.scene, args.sets);
   const fs::path out = output_dir_for(scene, args);
-  prepare_output(out);
+  if (!folder) folder.emplace(out, "contact3d solve " + args.scene);
   RunInfo info;
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
   info.mesh_seconds = since(t0);
@@ -95,6 +92,7 @@ int run_solve(const SolveArgs& args) {
   const SolveResult res = solve_scene(scene, mesh, progress);
   info.total_seconds = since(t0);
   write_results(out, scene, mesh, res, info);
+  folder->finish();
   if (!args.quiet) {
     fmt::print("{}: n_p={} n_d={} it={} n_mult={} |wn+|_L2={:.2e} |wn+|_inf={:.2e} kkt_max={:.1e} total {:.2f} s\n",
                res.status, res.n_primal, res.n_dual, std::max(1, res.fixed_point.iterations()), res.n_mult,
@@ -176,11 +174,17 @@ int main(int argc, char** argv) {
   mesh_cmd->add_option("--n", n, "cubes per unit length (3n x n x n cubes)");
   mesh_cmd->add_option("-o,--output", out_file, "output .msh (default brick_n<N>.msh)");
 
+  // A full disk or a file-size limit must fail a write (an error naming the file), not kill the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    std::cerr << "error: " << e.what() << "\n" << "run 'contact3d --help' (or 'contact3d solve --help') for the usage\n";
+    return 2;
   }
   try {
     if (*solve) return run_solve(args);

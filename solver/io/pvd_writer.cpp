@@ -5,17 +5,11 @@
 #include <fstream>
 
 #include "base/errors.hpp"
+#include "io/atomic_file.hpp"
 #include "io/vtu_format.hpp"
 
 namespace contact3d {
 namespace {
-
-std::ofstream open_file(const std::filesystem::path& file) {
-  std::ofstream out(file);
-  if (!out) throw InputError("cannot write '" + file.string() + "' (is the output folder writable?)");
-  out.precision(12);
-  return out;
-}
 
 std::string step_name(int k) {
   char buf[64];
@@ -44,30 +38,32 @@ int write_solution_steps(const std::filesystem::path& dir, const Scene& scene, c
   for (int k = 1; k <= count; ++k) {
     const Eigen::VectorXd& u = res.u_history[k - 1];
     auto ui = [&](std::size_t i, int c) { return u[3 * history_index[global[i]] + c]; };
-    std::ofstream out = open_file(steps / step_name(k));
-    vtu::begin_piece(out, n, m);
-    out << "      <PointData Scalars=\"slip_norm\" Vectors=\"displacement\">\n";
-    vtu::data_array(out, "displacement", 3, n, ui);
-    vtu::data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[global[i]].z() + ui(i, 2); });
-    vtu::data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return c < 2 ? ui(i, c) : 0.0; });
-    vtu::data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(ui(i, 0), ui(i, 1)); });
-    vtu::data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) {
-      return scene.frictionless() ? 0.0 : scene.law(std::hypot(ui(i, 0), ui(i, 1)));
+    write_file(steps / step_name(k), [&](std::ostream& out) {
+      vtu::begin_piece(out, n, m);
+      out << "      <PointData Scalars=\"slip_norm\" Vectors=\"displacement\">\n";
+      vtu::data_array(out, "displacement", 3, n, ui);
+      vtu::data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[global[i]].z() + ui(i, 2); });
+      vtu::data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return c < 2 ? ui(i, c) : 0.0; });
+      vtu::data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(ui(i, 0), ui(i, 1)); });
+      vtu::data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) {
+        return scene.frictionless() ? 0.0 : scene.law(std::hypot(ui(i, 0), ui(i, 1)));
+      });
+      out << "      </PointData>\n";
+      vtu::geometry(
+          out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
+          [&](std::size_t e, int a) { return local[res.face.triangles[e][a]]; }, 5);
+      vtu::end_piece(out);
     });
-    out << "      </PointData>\n";
-    vtu::geometry(
-        out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
-        [&](std::size_t e, int a) { return local[res.face.triangles[e][a]]; }, 5);
-    vtu::end_piece(out);
   }
 
-  std::ofstream pvd = open_file(dir / "solution.pvd");
-  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-      << "  <Collection>\n";
-  for (int k = 1; k <= count; ++k)
-    pvd << "    <DataSet timestep=\"" << k << "\" group=\"\" part=\"0\" file=\"steps/" << step_name(k) << "\"/>\n";
-  if (count > 0) pvd << "    <DataSet timestep=\"" << count << "\" group=\"\" part=\"1\" file=\"body.vtu\"/>\n";
-  pvd << "  </Collection>\n</VTKFile>\n";
+  write_file(dir / "solution.pvd", [&](std::ostream& pvd) {
+    pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        << "  <Collection>\n";
+    for (int k = 1; k <= count; ++k)
+      pvd << "    <DataSet timestep=\"" << k << "\" group=\"\" part=\"0\" file=\"steps/" << step_name(k) << "\"/>\n";
+    if (count > 0) pvd << "    <DataSet timestep=\"" << count << "\" group=\"\" part=\"1\" file=\"body.vtu\"/>\n";
+    pvd << "  </Collection>\n</VTKFile>\n";
+  });
   return count;
 }
 

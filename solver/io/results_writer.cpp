@@ -10,6 +10,7 @@
 
 #include "fem/elasticity.hpp"
 #include "base/errors.hpp"
+#include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
 #include "io/pvd_writer.hpp"
 #include "io/settings_json.hpp"
@@ -17,13 +18,6 @@
 
 namespace contact3d {
 namespace {
-
-std::ofstream open_output(const std::filesystem::path& file) {
-  std::ofstream out(file);
-  if (!out) throw InputError("cannot write '" + file.string() + "' (is the output folder writable?)");
-  out.precision(12);
-  return out;
-}
 
 // One entry per Tresca (or frictionless) solve: the fixed-point history, or, when the scene needed
 // a single solve (constant or no friction), that solve as step 1 with err = 0 (nothing depends on
@@ -115,33 +109,34 @@ void contact_point_data(std::ostream& out, const Mesh& mesh, const SolveResult& 
 // ("gap" is the distance z + u_3 to the plane at every node; "slip" is u_t on Γc only).
 void write_body_vtu(const std::filesystem::path& file, const Mesh& mesh, const SolveResult& res,
                     const ContactNodeFields& nf, const std::vector<double>& vm) {
-  std::ofstream out = open_output(file);
-  const std::size_t n = mesh.nodes.size(), m = mesh.tets.size();
-  std::vector<char> on_face(n, 0);
-  for (const auto& tri : res.face.triangles)
-    for (int v : tri) on_face[v] = 1;
-  vtu::begin_piece(out, n, m);
-  out << "      <PointData Vectors=\"displacement\">\n";
-  auto u = [&](std::size_t i, int c) { return res.u[3 * i + c]; };
-  data_array(out, "displacement", 3, n, u);
-  data_array(out, "displacement_norm", 1, n, [&](std::size_t i, int) { return res.u.segment<3>(3 * i).norm(); });
-  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[i].z() + u(i, 2); });
-  data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return on_face[i] && c < 2 ? u(i, c) : 0.0; });
-  data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[i]; });
-  data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
-    return c == 0 ? nf.traction_t1[i] : c == 1 ? nf.traction_t2[i] : 0.0;
+  write_file(file, [&](std::ostream& out) {
+    const std::size_t n = mesh.nodes.size(), m = mesh.tets.size();
+    std::vector<char> on_face(n, 0);
+    for (const auto& tri : res.face.triangles)
+      for (int v : tri) on_face[v] = 1;
+    vtu::begin_piece(out, n, m);
+    out << "      <PointData Vectors=\"displacement\">\n";
+    auto u = [&](std::size_t i, int c) { return res.u[3 * i + c]; };
+    data_array(out, "displacement", 3, n, u);
+    data_array(out, "displacement_norm", 1, n, [&](std::size_t i, int) { return res.u.segment<3>(3 * i).norm(); });
+    data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[i].z() + u(i, 2); });
+    data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return on_face[i] && c < 2 ? u(i, c) : 0.0; });
+    data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[i]; });
+    data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
+      return c == 0 ? nf.traction_t1[i] : c == 1 ? nf.traction_t2[i] : 0.0;
+    });
+    data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[i]; });
+    data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[i]; }, "Int32");
+    data_array(out, "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, "Int32");
+    out << "      </PointData>\n      <CellData Scalars=\"von_mises\">\n";
+    data_array(out, "von_mises", 1, m, [&](std::size_t e, int) { return vm[e]; });
+    data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
+    out << "      </CellData>\n";
+    vtu::geometry(
+        out, n, [&](std::size_t i, int c) { return mesh.nodes[i][c]; }, m, 4,
+        [&](std::size_t e, int a) { return mesh.tets[e][a]; }, 10);
+    vtu::end_piece(out);
   });
-  data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[i]; });
-  data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[i]; }, "Int32");
-  data_array(out, "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, "Int32");
-  out << "      </PointData>\n      <CellData Scalars=\"von_mises\">\n";
-  data_array(out, "von_mises", 1, m, [&](std::size_t e, int) { return vm[e]; });
-  data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
-  out << "      </CellData>\n";
-  vtu::geometry(
-      out, n, [&](std::size_t i, int c) { return mesh.nodes[i][c]; }, m, 4,
-      [&](std::size_t e, int a) { return mesh.tets[e][a]; }, 10);
-  vtu::end_piece(out);
 }
 
 void write_contact_vtu(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
@@ -153,18 +148,19 @@ void write_contact_vtu(const std::filesystem::path& file, const Scene& scene, co
       if (local[v] < 0) { local[v] = static_cast<int>(global.size()); global.push_back(v); }
   const std::size_t n = global.size(), m = res.face.triangles.size();
   const FaceCellData cd = face_cell_data(scene, mesh, res, vm);
-  std::ofstream out = open_output(file);
-  vtu::begin_piece(out, n, m);
-  out << "      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
-  contact_point_data(out, mesh, res, nf, n, [&](std::size_t i) { return global[i]; });
-  out << "      </PointData>\n      <CellData Scalars=\"von_mises\">\n";
-  data_array(out, "von_mises", 1, m, [&](std::size_t e, int) { return cd.von_mises[e]; });
-  data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return cd.group[e]; }, "Int32");
-  out << "      </CellData>\n";
-  vtu::geometry(
-      out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
-      [&](std::size_t e, int a) { return local[res.face.triangles[e][a]]; }, 5);
-  vtu::end_piece(out);
+  write_file(file, [&](std::ostream& out) {
+    vtu::begin_piece(out, n, m);
+    out << "      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
+    contact_point_data(out, mesh, res, nf, n, [&](std::size_t i) { return global[i]; });
+    out << "      </PointData>\n      <CellData Scalars=\"von_mises\">\n";
+    data_array(out, "von_mises", 1, m, [&](std::size_t e, int) { return cd.von_mises[e]; });
+    data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return cd.group[e]; }, "Int32");
+    out << "      </CellData>\n";
+    vtu::geometry(
+        out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
+        [&](std::size_t e, int a) { return local[res.face.triangles[e][a]]; }, 5);
+    vtu::end_piece(out);
+  });
 }
 
 void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) {
@@ -178,25 +174,26 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
     }
   const int r = res.n_cells;
   const bool fr = has_friction(res);
-  std::ofstream out = open_output(file);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << pts.size() << "\" NumberOfCells=\"" << owner.size()
-      << "\">\n      <CellData Scalars=\"lambda_n\">\n";
-  data_array(out, "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, "Int64");
-  data_array(out, "lambda_n", 1, owner.size(), [&](std::size_t k, int) { return res.lambda[owner[k]]; });
-  data_array(out, "lambda_t", 3, owner.size(), [&](std::size_t k, int c) {
-    return fr && c < 2 ? res.lambda[(c + 1) * r + owner[k]] : 0.0;
+  write_file(file, [&](std::ostream& out) {
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << pts.size() << "\" NumberOfCells=\"" << owner.size()
+        << "\">\n      <CellData Scalars=\"lambda_n\">\n";
+    data_array(out, "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, "Int64");
+    data_array(out, "lambda_n", 1, owner.size(), [&](std::size_t k, int) { return res.lambda[owner[k]]; });
+    data_array(out, "lambda_t", 3, owner.size(), [&](std::size_t k, int c) {
+      return fr && c < 2 ? res.lambda[(c + 1) * r + owner[k]] : 0.0;
+    });
+    data_array(out, "radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
+    const std::vector<int> cs = cell_status(res);
+    data_array(out, "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, "Int32");
+    out << "      </CellData>\n      <Points>\n";
+    data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) { return c < 2 ? pts[i][c] : 0.0; });
+    out << "      </Points>\n      <Cells>\n";
+    data_array(out, "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, "Int64");
+    data_array(out, "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, "Int64");
+    data_array(out, "types", 1, owner.size(), [](std::size_t, int) { return 7; }, "UInt8");
+    out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   });
-  data_array(out, "radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
-  const std::vector<int> cs = cell_status(res);
-  data_array(out, "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, "Int32");
-  out << "      </CellData>\n      <Points>\n";
-  data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) { return c < 2 ? pts[i][c] : 0.0; });
-  out << "      </Points>\n      <Cells>\n";
-  data_array(out, "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, "Int64");
-  data_array(out, "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, "Int64");
-  data_array(out, "types", 1, owner.size(), [](std::size_t, int) { return 7; }, "UInt8");
-  out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
 }
 
 }  // namespace
@@ -256,63 +253,63 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
 
 void write_summary_json(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
                         const RunInfo& info) {
-  std::ofstream out = open_output(file);
-  JsonWriter j(out);
-  j.begin_object();
-  j.value("status", res.status).value("converged", res.converged);
-  j.value("mesh", info.mesh_description);
-  j.value("n_nodes", static_cast<long long>(mesh.nodes.size())).value("n_tets", static_cast<long long>(mesh.tets.size()));
-  j.value("n_primal", res.n_primal).value("n_dual", res.n_dual);
-  j.value("n_contact_nodes", static_cast<long long>(res.face.nodes.size())).value("n_cells", res.n_cells);
-  j.value("contact_h", res.face.h).value("cell_size", res.cell_size).value("cells_merged", res.partition.merged_slivers);
-  j.value("cells_split", res.partition.split_cells).value("cells_merged_for_stability", res.partition.stability_merges);
-  j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
-  j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
-  j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
-  j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
-  j.begin_array("err_history");
-  for (const auto& s : solve_history(res)) j.element(s.err);
-  j.end_array();
-  if (!res.fixed_point.history.empty()) {  // how far the answer may be from the fixed point of (5.7)
-    const FixedPointResult& fp = res.fixed_point;
-    j.begin_object("fixed_point");
-    j.value("contraction_factor", fp.contraction_factor);  // null before three steps
-    j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err; null when q >= 1 (no bound)
-    j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
-    j.value("final_qp_rtol", fp.history.back().qp_rtol);
-    j.value("hint", fp.hint);
+  write_file(file, [&](std::ostream& out) {
+    JsonWriter j(out);
+    j.begin_object();
+    j.value("status", res.status).value("converged", res.converged);
+    j.value("mesh", info.mesh_description);
+    j.value("n_nodes", static_cast<long long>(mesh.nodes.size())).value("n_tets", static_cast<long long>(mesh.tets.size()));
+    j.value("n_primal", res.n_primal).value("n_dual", res.n_dual);
+    j.value("n_contact_nodes", static_cast<long long>(res.face.nodes.size())).value("n_cells", res.n_cells);
+    j.value("contact_h", res.face.h).value("cell_size", res.cell_size).value("cells_merged", res.partition.merged_slivers);
+    j.value("cells_split", res.partition.split_cells).value("cells_merged_for_stability", res.partition.stability_merges);
+    j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
+    j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
+    j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
+    j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
+    j.begin_array("err_history");
+    for (const auto& s : solve_history(res)) j.element(s.err);
+    j.end_array();
+    if (!res.fixed_point.history.empty()) {  // how far the answer may be from the fixed point of (5.7)
+      const FixedPointResult& fp = res.fixed_point;
+      j.begin_object("fixed_point");
+      j.value("contraction_factor", fp.contraction_factor);  // null before three steps
+      j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err; null when q >= 1 (no bound)
+      j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
+      j.value("final_qp_rtol", fp.history.back().qp_rtol);
+      j.value("hint", fp.hint);
+      j.end_object();
+    }
+    j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
+    j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
+    j.value("step_solve_fraction", res.step_solve_fraction);
+    double force_n = 0, force_t1 = 0, force_t2 = 0;
+    for (int i = 0; i < res.n_cells; ++i) {
+      const double a = res.partition.cells[i].area;
+      force_n += a * res.lambda[i];
+      if (has_friction(res)) { force_t1 += a * res.lambda[res.n_cells + i]; force_t2 += a * res.lambda[2 * res.n_cells + i]; }
+    }
+    j.begin_object("contact_force").value("normal", force_n).value("t1", force_t1).value("t2", force_t2).end_object();
+    j.begin_object("time_s");
+    j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);
+    for (const auto& [stage, sec] : res.seconds) j.value(stage, sec);
     j.end_object();
-  }
-  j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
-  j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
-  j.value("step_solve_fraction", res.step_solve_fraction);
-  double force_n = 0, force_t1 = 0, force_t2 = 0;
-  for (int i = 0; i < res.n_cells; ++i) {
-    const double a = res.partition.cells[i].area;
-    force_n += a * res.lambda[i];
-    if (has_friction(res)) { force_t1 += a * res.lambda[res.n_cells + i]; force_t2 += a * res.lambda[2 * res.n_cells + i]; }
-  }
-  j.begin_object("contact_force").value("normal", force_n).value("t1", force_t1).value("t2", force_t2).end_object();
-  j.begin_object("time_s");
-  j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);
-  for (const auto& [stage, sec] : res.seconds) j.value(stage, sec);
-  j.end_object();
-  j.begin_object("kkt");
-  j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
-  j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
-  j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
-  j.end_object();
-  write_solver_settings(j, scene.solver);
-  j.value("scene", scene.echo);
-  j.end_object();
-  out << "\n";
+    j.begin_object("kkt");
+    j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
+    j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
+    j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
+    j.end_object();
+    write_solver_settings(j, scene.solver);
+    j.value("scene", scene.echo);
+    j.end_object();
+    out << "\n";
+  });
 }
 
 void write_results(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res,
                    const RunInfo& info) {
   const ContactNodeFields nf = contact_node_fields(mesh, scene, res);
-  {
-    std::ofstream out = open_output(dir / "contact_nodes.csv");
+  write_file(dir / "contact_nodes.csv", [&](std::ostream& out) {
     out << "node,x,y,z,u1,u2,u3,wn,wt_norm,F,pressure,status\n";
     for (int v : res.face.nodes) {
       const auto& x = mesh.nodes[v];
@@ -320,9 +317,8 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
       out << mesh.node_tags[v] << ',' << x.x() << ',' << x.y() << ',' << x.z() << ',' << u1 << ',' << u2 << ',' << u3 << ','
           << -u3 << ',' << std::hypot(u1, u2) << ',' << nf.friction[v] << ',' << nf.pressure[v] << ',' << nf.status[v] << '\n';
     }
-  }
-  {
-    std::ofstream out = open_output(dir / "contact_cells.csv");
+  });
+  write_file(dir / "contact_cells.csv", [&](std::ostream& out) {
     out << "cell,xmin,xmax,ymin,ymax,area,lambda_n,lambda_t1,lambda_t2,radius\n";
     const int r = res.n_cells;
     for (int i = 0; i < r; ++i) {
@@ -332,13 +328,12 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
           << res.lambda[i] << ',' << (fr ? res.lambda[r + i] : 0.0) << ',' << (fr ? res.lambda[2 * r + i] : 0.0) << ','
           << (fr ? res.radius[i] : 0.0) << '\n';
     }
-  }
-  {
-    std::ofstream out = open_output(dir / "history.csv");
+  });
+  write_file(dir / "history.csv", [&](std::ostream& out) {
     out << "k,err,qp_iterations,n_mult,seconds\n";
     for (const auto& s : solve_history(res))
       out << s.k << ',' << s.err << ',' << s.qp_iterations << ',' << s.n_mult << ',' << s.seconds << '\n';
-  }
+  });
   const Matrix6d D = hooke_matrix(scene.material);
   std::vector<double> vm(mesh.tets.size());
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) vm[e] = von_mises(mesh, D, mesh.tets[e], res.u);

@@ -1,0 +1,34 @@
+// RunFolder: the output folder of one solve, kept honest. Opening it takes an exclusive lock (a
+// second solve into the same folder is refused while the first runs), removes the previous run's
+// results (so a failed or killed rerun never leaves a summary.json of another solve behind) and
+// leaves a RUNNING marker; finish() removes the marker once every file, summary.json last, is in
+// place. A folder holds a finished solve iff it has summary.json and no RUNNING file.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace contact3d {
+
+class RunFolder {
+ public:
+  // Creates the folder if needed; throws InputError when it cannot be written or is locked.
+  explicit RunFolder(const std::filesystem::path& dir, const std::string& what);
+  ~RunFolder();
+  RunFolder(const RunFolder&) = delete;
+  RunFolder& operator=(const RunFolder&) = delete;
+
+  const std::filesystem::path& path() const { return dir_; }
+  void finish();  // the solve's files are all written: remove the RUNNING marker
+
+ private:
+  std::filesystem::path dir_;
+  int lock_fd_ = -1;
+};
+
+// The files a solve writes into its folder (summary.json first: removed first, written last).
+const char* const kRunOutputs[] = {"summary.json", "history.csv",       "contact_nodes.csv", "contact_cells.csv",
+                                   "body.vtu",     "contact.vtu",       "contact_cells.vtu", "solution.pvd",
+                                   "report.md"};
+
+}  // namespace contact3d

@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Fault injection for the output folder (issue 13): a solve that cannot finish never leaves files
+that look like a finished solve, and says why.
+
+1. full disk: a file-size limit (RLIMIT_FSIZE) makes a write fail -> exit 2, `error:` naming the
+   file, no summary.json, the RUNNING marker left, no *.partial file;
+2. failed rerun: a good solve, then a rerun into the same folder with a bad scene -> exit 2 and the
+   earlier summary.json is gone (RUNNING marks the folder);
+3. interrupted: SIGTERM and SIGINT during a solve -> no summary.json, RUNNING left;
+4. two solves at once on one folder -> the second is refused (exit 2, `another contact3d solve`);
+5. an unwritable file mid-run: summary.json's name taken by a directory -> exit 2 naming it.
+usage: check_output_integrity.py CONTACT3D SOURCE_DIR
+"""
+import os
+import resource
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+binary, root = sys.argv[1], Path(sys.argv[2])
+scene = root / "pipeline" / "scenes" / "paper_brick.toml"
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def solve(out, n=4, extra=(), **kw):
+    cmd = [binary, "solve", str(scene), "--out", str(out), "--quiet", "--set", "mesh.generator=paper_brick",
+           "--set", f"mesh.n={n}", *extra]
+    return subprocess.run(cmd, capture_output=True, text=True, **kw)
+
+
+def unfinished(out):
+    return not (out / "summary.json").exists() and (out / "RUNNING").exists() and not list(out.glob("*.partial"))
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    tmp = Path(tmp)
+    # 1. full disk through a 16 KiB file-size limit
+    out = tmp / "full"
+    p = solve(out, 8, preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (16384, 16384)))
+    check(p.returncode == 2 and "error: cannot write" in p.stderr and str(out) in p.stderr,
+          f"file-size limit: exit {p.returncode}, stderr {p.stderr!r}")
+    check(unfinished(out), f"file-size limit left {sorted(x.name for x in out.iterdir())}")
+
+    # 2. a failed rerun removes the earlier result
+    out = tmp / "rerun"
+    p = solve(out)
+    check(p.returncode == 0 and (out / "summary.json").exists() and not (out / "RUNNING").exists(), "good solve")
+    p = solve(out, extra=["--set", "friction.law=bogus"])
+    check(p.returncode == 2 and "error:" in p.stderr, f"bad rerun exit {p.returncode}")
+    check(unfinished(out), f"failed rerun left {sorted(x.name for x in out.iterdir())}")
+
+    # 3. SIGTERM / SIGINT during a solve (n = 16 runs for a second or more)
+    for sig in (signal.SIGTERM, signal.SIGINT):
+        out = tmp / f"signal{int(sig)}"
+        proc = subprocess.Popen([binary, "solve", str(scene), "--out", str(out), "--quiet", "--set",
+                                 "mesh.generator=paper_brick", "--set", "mesh.n=16"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(0.4)
+        proc.send_signal(sig)
+        rc = proc.wait(timeout=120)
+        check(rc != 0, f"signal {sig}: exit {rc}")
+        check(unfinished(out), f"signal {sig} left {sorted(x.name for x in out.iterdir())}")
+
+    # 4. two solves on one folder
+    out = tmp / "twice"
+    first = subprocess.Popen([binary, "solve", str(scene), "--out", str(out), "--quiet", "--set",
+                              "mesh.generator=paper_brick", "--set", "mesh.n=16"],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    time.sleep(0.3)
+    p = solve(out)
+    first.wait(timeout=300)
+    check(p.returncode == 2 and "another contact3d solve" in p.stderr, f"second solve: {p.returncode} {p.stderr!r}")
+    check(first.returncode == 0 and (out / "summary.json").exists() and not (out / "RUNNING").exists(),
+          "the first solve must finish normally")
+
+    # 5. summary.json cannot be written (its name is a directory)
+    out = tmp / "blocked"
+    out.mkdir()
+    (out / "summary.json").mkdir()  # the run removes stale files but not a non-empty directory
+    (out / "summary.json" / "keep").write_text("x")
+    p = solve(out)
+    check(p.returncode == 2 and "summary.json" in p.stderr, f"blocked summary.json: {p.returncode} {p.stderr!r}")
+    check((out / "RUNNING").exists(), "blocked summary.json: RUNNING must stay")
+
+print(f"{len(failures)} checks failed" if failures else "all 5 cases held")
+sys.exit(1 if failures else 0)
