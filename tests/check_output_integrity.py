@@ -11,7 +11,6 @@ that look like a finished solve, and says why.
 5. an unwritable file mid-run: summary.json's name taken by a directory -> exit 2 naming it.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
-import os
 import resource
 import signal
 import subprocess
