@@ -90,6 +90,7 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
   switch (status) {
     case FixedPointStatus::Converged: return "";
     case FixedPointStatus::IterationLimit:
+      if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol);
       return "the successive approximations contract slowly (q = " + format_g(q) +
              "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"anderson\"";
     case FixedPointStatus::Stagnation:
@@ -183,8 +184,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     // A step that barely moves err may be the QP's noise: tighten the inner tolerance first.
     // Noise shows as a stall in which the warm-started QP hardly moved (a few iterations against
     // the first step's); a stall with a busy QP is the map's own slow contraction.
-    const bool stalled = k > 1 && step.err > 0.7 * result.history[k - 2].err &&
-                         eval.qp_iterations <= std::max(5, result.history[0].qp_iterations / 20);
+    const bool qp_idle = eval.qp_iterations <= std::max(5, result.history[0].qp_iterations / 20);
+    const bool stalled = k > 1 && step.err > 0.7 * result.history[k - 2].err && qp_idle;
     if (settings.adaptive_qp_tolerance && stalled && rtol > settings.qp_rtol_floor) {
       rtol = std::max(settings.qp_rtol_floor, 1e-2 * rtol);
       ++result.qp_tolerance_tightenings;
@@ -194,7 +195,9 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       best_err = step.err;
       best_k = k;
     } else if (k - best_k >= settings.stagnation_window &&
-               (!settings.adaptive_qp_tolerance || rtol <= settings.qp_rtol_floor)) {
+               (!settings.adaptive_qp_tolerance || rtol <= settings.qp_rtol_floor || !qp_idle)) {
+      // No new minimum for a window of steps, and not for inner noise: the QP is at its floor, or
+      // it is busy (the radii keep changing it) — the map itself does not contract.
       return finish(FixedPointStatus::Stagnation);
     }
     x = next_iterate(x, eval.slip, step_lengths, k > 1 && step.err > 2 * result.history[k - 2].err);

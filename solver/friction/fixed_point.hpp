@@ -7,9 +7,9 @@
 // The inner (QP) tolerance never sets the floor: G is only evaluated to the QP tolerance, so a
 // step whose err does not fall (err(k) > 0.7 err(k−1)) while its warm-started QP hardly moved (at
 // most max(5, 1/20 of the first step's) iterations) is taken as inner noise, and the QP tolerance
-// is tightened 100× (down to `qp_rtol_floor`) before anything else is concluded. Stagnation — no new
-// minimum of err for `stagnation_window` steps — is only declared at the floor, i.e. when the map
-// itself does not contract. The observed contraction factor q (the largest ratio of successive
+// is tightened 100× (down to `qp_rtol_floor`) before anything else is concluded. Stagnation — no
+// new minimum of err for `stagnation_window` steps — is only declared when inner noise is ruled
+// out (the QP is at the floor, or busy with every step), i.e. when the map itself does not contract. The observed contraction factor q (the largest ratio of successive
 // steps ‖φᵏ⁺¹ − φᵏ‖ / ‖φᵏ − φᵏ⁻¹‖ over the last three) gives the a posteriori bound
 // ‖φ* − φᵏ‖ <= q / (1 − q) ‖φᵏ − φᵏ⁻¹‖ on the distance to the fixed point when q < 1.
 #pragma once
