@@ -5,6 +5,7 @@
 #include <set>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 
 namespace contact3d {
 
@@ -25,7 +26,7 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
       for (int v : tri)
         if (std::abs(mesh.nodes[v].z()) > plane_tol)
           throw InputError("contact group '" + name + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
-                           " has a node at z = " + std::to_string(mesh.nodes[v].z()) +
+                           " has a node at z = " + number(mesh.nodes[v].z()) +
                            "; Γc must lie in the plane z = 0");
       std::array<int, 3> key = tri;
       std::sort(key.begin(), key.end());

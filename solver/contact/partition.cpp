@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 
 namespace contact3d {
 namespace {
@@ -287,8 +288,8 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
         for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part, bad[k]);
         throw InputError("the multiplier partition violates the stability condition (5.1): " +
                          std::to_string(bad.size()) + " of " + std::to_string(part.cells.size()) +
-                         " cells have no free contact node of their own (rectangles H = " + std::to_string(part.hx) +
-                         " x " + std::to_string(part.hy) + " m, contact mesh size h = " + std::to_string(face.h) +
+                         " cells have no free contact node of their own (rectangles H = " + number(part.hx) +
+                         " x " + number(part.hy) + " m, contact mesh size h = " + number(face.h) +
                          " m), e.g." + cells + "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
       }
       root_of_cell = build();

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 
 namespace contact3d {
 
@@ -55,17 +56,23 @@ std::string FrictionLaw::name() const {
 }
 
 void FrictionLaw::validate() const {
+  // A coefficient of friction above this is a typo, not a material (and F·g must not overflow).
+  constexpr double kMaxCoefficient = 100;
   auto bad = [](const std::string& key, double v) {
-    throw InputError("friction." + key + " = " + std::to_string(v) + " is not allowed");
+    throw InputError("friction." + key + " = " + number(v) + " is not allowed");
+  };
+  auto coefficient = [&](const std::string& key, double v) {
+    if (!std::isfinite(v) || v < 0 || v > kMaxCoefficient)
+      bad(key + " (a coefficient: finite, in [0, " + number(kMaxCoefficient) + "])", v);
   };
   switch (kind) {
     case Kind::None: return;
     case Kind::Constant:
-      if (!std::isfinite(value) || value < 0) bad("value (must be finite and >= 0)", value);
+      coefficient("value", value);
       return;
     case Kind::Ramp:
-      if (!std::isfinite(high) || high < 0) bad("high (must be finite and >= 0)", high);
-      if (!std::isfinite(low) || low < 0) bad("low (must be finite and >= 0)", low);
+      coefficient("high", high);
+      coefficient("low", low);
       if (!std::isfinite(t0) || t0 < 0) bad("t0 (must be finite and >= 0)", t0);
       if (!std::isfinite(param) || param <= 0) bad("param (must be finite and > 0)", param);
       return;
@@ -73,8 +80,9 @@ void FrictionLaw::validate() const {
       if (points.empty()) throw InputError("friction.points must list at least one [t, F] pair");
       for (std::size_t k = 0; k < points.size(); ++k) {
         const auto& [t, f] = points[k];
-        if (!std::isfinite(t) || !std::isfinite(f) || f < 0 || t < 0)
-          throw InputError("friction.points[" + std::to_string(k) + "] must be finite with t >= 0 and F >= 0");
+        if (!std::isfinite(t) || !std::isfinite(f) || f < 0 || t < 0 || f > kMaxCoefficient)
+          throw InputError("friction.points[" + std::to_string(k) + "] must be finite with t >= 0 and F in [0, " +
+                           number(kMaxCoefficient) + "]");
         if (k > 0 && t < points[k - 1].first)
           throw InputError("friction.points must be sorted by t (entry " + std::to_string(k) + ")");
         if (k > 1 && t == points[k - 2].first)

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 #include "base/memory.hpp"
 #include "contact/contact_operator.hpp"
 #include "contact/face_dofs.hpp"
@@ -59,8 +60,8 @@ void require_memory_for_dense_dual(const ContactOperator& op) {
   if (available > 0 && bytes > 0.9 * available)
     throw InputError("the contact partition has " + std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
                      " multipliers): the dense dual operator and its working copies would need " +
-                     std::to_string(bytes / (1ull << 30)) + " GiB, and this machine has " +
-                     std::to_string(available / (1ull << 30)) + " GiB available; use a larger contact.cell_size (H)");
+                     number(bytes / (1ull << 30)) + " GiB, and this machine has " +
+                     number(available / (1ull << 30)) + " GiB available; use a larger contact.cell_size (H)");
 }
 
 // The yardsticks of total / factorization (benchmarks), in this process: one factorization of K
@@ -105,8 +106,8 @@ double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partit
   for (std::size_t k = 0; k < bad.size() && k < 8; ++k) {
     const int row = order[bad[k]], cell = row % r;
     const auto& c = part.cells[cell];
-    cells += "\n  cell " + std::to_string(cell) + " [" + std::to_string(c.lo.x()) + ", " + std::to_string(c.hi.x()) +
-             "] x [" + std::to_string(c.lo.y()) + ", " + std::to_string(c.hi.y()) + "], area " + std::to_string(c.area);
+    cells += "\n  cell " + std::to_string(cell) + " [" + number(c.lo.x()) + ", " + number(c.hi.x()) +
+             "] x [" + number(c.lo.y()) + ", " + number(c.hi.y()) + "], area " + number(c.area);
   }
   throw InputError("the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) +
                    " rows of the contact operator are linearly dependent, e.g." + cells +
@@ -159,8 +160,9 @@ void recover(const Mesh& mesh, const Discretisation& disc, const ContactOperator
   res.u = expand_to_nodes(res.dofs, w);
   res.kkt = kkt_residuals(disc.K, disc.f, op.B, op.r, op.with_friction, res.radius, w, res.lambda, dual.h());
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
-  if (!res.u.allFinite() || !res.lambda.allFinite())
-    throw std::runtime_error("the solution is not finite (numerical breakdown); residuals could not be computed");
+  if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
+    throw InputError("the solution is not finite: the scene's loads, material or friction values overflow double "
+                     "precision (check their units); no results were written");
 }
 
 // No contact group: one linear solve.

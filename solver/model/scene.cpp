@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 
 namespace contact3d {
 namespace {
@@ -43,7 +44,7 @@ double get_number(const toml::table& t, const std::string& where, const std::str
   std::optional<double> v = n->value<double>();
   if (!v || !(n->is_floating_point() || n->is_integer()))
     throw InputError("scene key '" + where + "." + key + "' must be a number");
-  if (!std::isfinite(*v)) throw InputError("scene key '" + where + "." + key + "' must be finite, got " + std::to_string(*v));
+  if (!std::isfinite(*v)) throw InputError("scene key '" + where + "." + key + "' must be finite, got " + number(*v));
   return *v;
 }
 
@@ -51,7 +52,7 @@ int get_int(const toml::table& t, const std::string& where, const std::string& k
   const double v = get_number(t, where, key, fallback);
   if (v != std::floor(v) || v < lo || v > hi)
     throw InputError("scene key '" + where + "." + key + "' must be an integer in [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "], got " + std::to_string(v));
+                     std::to_string(hi) + "], got " + number(v));
   return static_cast<int>(v);
 }
 
@@ -205,9 +206,9 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   check_keys(*mat, "material", {"young", "poisson", "body_force"});
   s.material.young = get_number(*mat, "material", "young", 0, true);
   s.material.poisson = get_number(*mat, "material", "poisson", 0, true);
-  if (!(s.material.young > 0)) throw InputError("material.young must be > 0 (Pa), got " + std::to_string(s.material.young));
+  if (!(s.material.young > 0)) throw InputError("material.young must be > 0 (Pa), got " + number(s.material.young));
   if (!(s.material.poisson > -1 && s.material.poisson < 0.5))
-    throw InputError("material.poisson must lie in (-1, 0.5), got " + std::to_string(s.material.poisson));
+    throw InputError("material.poisson must lie in (-1, 0.5), got " + number(s.material.poisson));
   if (mat->contains("body_force")) s.body_force = get_vector(mat->get("body_force"), "material.body_force");
 
   const toml::table* bnd = table_at(root, "boundary");
@@ -231,7 +232,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   const toml::table* fr = table_at(root, "friction");
   s.law = parse_law(fr ? *fr : empty);
   s.slip_bound = fr ? get_number(*fr, "friction", "slip_bound", 0) : 0;
-  if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + std::to_string(s.slip_bound));
+  if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + number(s.slip_bound));
   if (s.law.kind != FrictionLaw::Kind::None && fr && !fr->contains("slip_bound"))
     throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() + "'");
 
