@@ -336,6 +336,120 @@ def c_mesh_n_zero(c):
     return ["mesh", "brick", "--n", "0", "-o", c.path("b.msh")], ["n"]
 
 
+# ------------------------------------------------ what the mesh means (issue 13)
+class Msh22:
+    """The MSH 2.2 fixture as editable nodes, elements and names."""
+
+    def __init__(self, c):
+        lines = c.msh22_lines()
+        self.head = lines[:lines.index("$Nodes")]
+        n0 = lines.index("$Nodes") + 2
+        self.nodes = [l.split() for l in lines[n0:lines.index("$EndNodes")]]
+        e0 = lines.index("$Elements") + 2
+        self.elements = [l.split() for l in lines[e0:lines.index("$EndElements")]]
+
+    def add_element(self, kind, phys, nodes):
+        eid = str(max(int(e[0]) for e in self.elements) + 1)
+        self.elements.append([eid, str(kind), "2", str(phys), "1"] + [str(v) for v in nodes])
+        return eid
+
+    def tets(self):
+        return [e for e in self.elements if e[1] == "4"]
+
+    def node_at(self, x, y, z):
+        return next(n[0] for n in self.nodes if [float(v) for v in n[1:4]] == [x, y, z])
+
+    def text(self):
+        out = self.head + ["$Nodes", str(len(self.nodes))] + [" ".join(n) for n in self.nodes] + ["$EndNodes"]
+        out += ["$Elements", str(len(self.elements))] + [" ".join(e) for e in self.elements] + ["$EndElements", ""]
+        return "\n".join(out)
+
+
+def c_mesh_duplicate_tet(c):
+    m = Msh22(c)
+    first = m.tets()[0]
+    eid = m.add_element(4, first[3], first[-4:])
+    return ["check", c.scene(c.write("duptet.msh", m.text()))], ["same four nodes", first[0], eid]
+
+
+def c_mesh_duplicate_load_triangle(c):
+    m = Msh22(c)
+    tri = next(e for e in m.elements if e[1] == "2" and e[3] == "3")  # load_top
+    eid = m.add_element(2, 3, tri[-3:])
+    return ["solve", c.scene(c.write("duptri.msh", m.text())), "--out", c.path("out"), "--quiet"], \
+        ["load_top", tri[0], eid, "twice"]
+
+
+def c_mesh_duplicate_group_name(c):
+    m = Msh22(c)
+    m.head = [l.replace('2 5 "free"', '2 5 "load_top"') for l in m.head]
+    return ["check", c.scene(c.write("dupname.msh", m.text()))], ["load_top", "two physical groups"]
+
+
+def c_mesh_initial_penetration(c):
+    m = Msh22(c)
+    node = m.node_at(1.5, 0.5, 0.0)  # a node of Γc pushed 1 mm below the plane
+    for n in m.nodes:
+        if n[0] == node:
+            n[3] = "-1e-3"
+    return ["check", c.scene(c.write("below.msh", m.text()))], ["below the foundation", f"node {node}", "-0.001"]
+
+
+def c_mesh_contact_interior_face(c):
+    m = Msh22(c)
+    count = {}
+    for e in m.tets():
+        v = e[-4:]
+        for skip in range(4):
+            f = tuple(sorted(v[:skip] + v[skip + 1:]))
+            count[f] = count.get(f, 0) + 1
+    face = next(f for f, k in count.items() if k == 2)
+    eid = m.add_element(2, 4, face)
+    return ["check", c.scene(c.write("interior.msh", m.text()))], ["interior face", eid]
+
+
+def c_mesh_contact_not_a_face(c):
+    m = Msh22(c)
+    eid = m.add_element(2, 4, [m.node_at(0, 0, 0), m.node_at(3, 0, 0), m.node_at(3, 1, 0)])
+    return ["check", c.scene(c.write("orphan.msh", m.text()))], ["not a face of any tetrahedron", eid]
+
+
+def c_mesh_clamp_on_a_line(c):
+    m = Msh22(c)
+    m.elements = [e for e in m.elements if not (e[1] == "2" and e[3] == "1")]  # drop the clamped face
+    line = [m.node_at(0, 0, 0), m.node_at(0, 0, 0.5), m.node_at(0, 0, 1)]
+    m.add_element(2, 1, line)
+    return ["check", c.scene(c.write("line.msh", m.text()))], ["one line", "rotate", "clamped"]
+
+
+def c_mesh_huge_coordinate(c):
+    m = Msh22(c)
+    m.nodes[-1][1] = "1e120"
+    return ["check", c.scene(c.write("huge.msh", m.text()))], ["1e+120", "units"]
+
+
+def c_mesh_device_file(c):
+    return ["check", c.scene(), "--mesh", "/dev/zero"], ["/dev/zero", "not a regular file"]
+
+
+def c_scene_is_directory(c):
+    return ["check", c.work], ["is a directory"]
+
+
+def c_law_value_huge(c):
+    s = c.scene()
+    text = open(s).read().replace('law = "ramp"', 'law = "constant"\nvalue = 1e302')
+    return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["friction.value", "1e+302"]
+
+
+def c_cli_no_scene(c):
+    return ["solve"], ["scene", "required"]
+
+
+def c_cli_unknown_option(c):
+    return ["solve", c.scene(), "--bogus"], ["--bogus"]
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

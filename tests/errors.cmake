@@ -10,7 +10,10 @@ set(CONTACT3D_BAD_INPUT_CASES
   poisson_half poisson_above young_zero
   young_negative slip_bound_negative nan_young inf_poisson inf_slip_bound nan_traction nan_body_force
   nan_param overflowing_body_force overflowing_traction inf_cell_size nan_table_point nan_set_override inf_mesh_parameter unknown_key invalid_toml
-  missing_scene stability_violation out_proc out_is_file out_under_file mesh_n_zero)
+  missing_scene stability_violation out_proc out_is_file out_under_file mesh_n_zero
+  mesh_duplicate_tet mesh_duplicate_load_triangle mesh_duplicate_group_name mesh_initial_penetration
+  mesh_contact_interior_face mesh_contact_not_a_face mesh_clamp_on_a_line mesh_huge_coordinate mesh_device_file
+  scene_is_directory law_value_huge cli_no_scene cli_unknown_option)
 foreach(case ${CONTACT3D_BAD_INPUT_CASES})
   add_test(NAME errors.${case}
     COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/bad_inputs.py --bin $<TARGET_FILE:contact3d>

@@ -124,6 +124,9 @@ int run_check(const SolveArgs& args) {
     else for (int t : mesh.tet_group) count += (t == g.tag);
     fmt::print("  {:<16} dim {}  {} elements\n", g.name, g.dim, count);
   }
+  check_coordinates_in_range(mesh);
+  check_tet_orientation(mesh);
+  check_mesh_meaning(mesh, mesh_roles(scene));
   // Quality: worst ratio of inradius-like measure (volume / longest edge³), scaled to 1 for a regular tet.
   check_tet_orientation(mesh);
   double worst = 1e300;

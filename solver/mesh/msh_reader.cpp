@@ -1072,6 +1072,10 @@ Mesh read_msh(const std::string& path) {
       std::fclose(f);
       throw InputError("cannot read mesh file '" + path + "': it is a directory");
     }
+    if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {  // /dev/zero would be read forever
+      std::fclose(f);
+      throw InputError("cannot read mesh file '" + path + "': it is not a regular file (a device or socket)");
+    }
     // Regular files: one read straight into a buffer of the file's size.
     if (S_ISREG(st.st_mode) && st.st_size > 0) {
       data.resize(static_cast<std::size_t>(st.st_size));

@@ -14,6 +14,7 @@
 #include "fem/assembly.hpp"
 #include "friction/slip_bound.hpp"
 #include "friction/tresca_step.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "qp/dual_qp_solver.hpp"
@@ -28,7 +29,9 @@ struct Discretisation {
 };
 
 Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res) {
+  check_coordinates_in_range(mesh);
   check_tet_orientation(mesh);
+  check_mesh_meaning(mesh, mesh_roles(scene));
   res.dofs = make_dof_map(mesh, scene.clamped);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   res.n_primal = res.dofs.n_free;

@@ -290,7 +290,17 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   return s;
 }
 
+MeshRoles mesh_roles(const Scene& scene) {
+  MeshRoles roles{scene.clamped, scene.contact, {}};
+  for (const auto& t : scene.tractions) roles.loaded.push_back(t.group);
+  return roles;
+}
+
 Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError("scene '" + path.string() + "' is a directory, not a scene file");
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError("scene '" + path.string() + "' is not a regular file");
   std::ifstream in(path);
   if (!in) throw InputError("cannot open scene file '" + path.string() + "'");
   std::stringstream buf;

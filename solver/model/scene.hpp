@@ -15,6 +15,7 @@
 #include "friction/fixed_point.hpp"
 #include "friction/friction_law.hpp"
 #include "linalg/dual_problem.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
@@ -70,6 +71,9 @@ struct Scene {
            (law.kind == FrictionLaw::Kind::Constant && law.value == 0);
   }
 };
+
+// The roles the scene gives the mesh's groups (for check_mesh_meaning).
+MeshRoles mesh_roles(const Scene& scene);
 
 // Reads the scene; `overrides` are "dotted.key=value" strings (value in TOML syntax; a bare
 // word is taken as a string).

@@ -1,0 +1,188 @@
+#include "mesh/mesh_checks.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <Eigen/Dense>
+
+#include "base/errors.hpp"
+#include "base/format.hpp"
+
+namespace contact3d {
+namespace {
+
+constexpr double kMaxCoordinate = 1e15;
+
+template <std::size_t N>
+std::array<int, N> sorted(std::array<int, N> a) {
+  std::sort(a.begin(), a.end());
+  return a;
+}
+
+std::string tag_list(const std::vector<std::size_t>& tags) {
+  std::string out;
+  for (std::size_t k = 0; k < tags.size() && k < 4; ++k) out += (k ? ", " : "") + std::to_string(tags[k]);
+  return out + (tags.size() > 4 ? ", ..." : "");
+}
+
+}  // namespace
+
+void check_coordinates_in_range(const Mesh& mesh) {
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
+    for (int c = 0; c < 3; ++c)
+      if (!(std::abs(mesh.nodes[v][c]) <= kMaxCoordinate))
+        throw InputError("node " + std::to_string(mesh.node_tags[v]) + " has coordinate " + "xyz"[c] + " = " +
+                         number(mesh.nodes[v][c]) + ", beyond ±1e15: the mesh's units are wrong or the file is corrupt");
+}
+
+namespace {
+
+void check_group_names(const Mesh& mesh) {
+  std::set<std::pair<int, std::string>> seen;
+  for (const auto& g : mesh.groups)
+    if (!seen.insert({g.dim, g.name}).second)
+      throw InputError("the mesh has two physical groups of dimension " + std::to_string(g.dim) + " named '" + g.name +
+                       "'; a scene names groups by name, so each name must be used once per dimension");
+}
+
+void check_duplicate_tets(const Mesh& mesh) {
+  std::vector<std::pair<std::array<int, 4>, std::size_t>> keyed(mesh.tets.size());
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) keyed[e] = {sorted(mesh.tets[e]), e};
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t k = 1; k < keyed.size(); ++k)
+    if (keyed[k].first == keyed[k - 1].first)
+      throw InputError("tetrahedra " + std::to_string(mesh.tet_tags[keyed[k - 1].second]) + " and " +
+                       std::to_string(mesh.tet_tags[keyed[k].second]) +
+                       " have the same four nodes: the body would be assembled twice there (a duplicated element)");
+}
+
+int group_tag(const Mesh& mesh, const std::string& name) {
+  const PhysicalGroup* g = mesh.find_group(name, 2);
+  return g ? g->tag : -1;  // a missing group is reported where the scene's groups are resolved
+}
+
+// A triangle twice in one group, or in two of the load groups.
+void check_duplicate_triangles(const Mesh& mesh, const MeshRoles& roles) {
+  std::map<std::pair<std::array<int, 3>, int>, std::size_t> in_group;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto [it, fresh] = in_group.emplace(std::make_pair(sorted(mesh.triangles[t]), mesh.triangle_group[t]), t);
+    if (!fresh && mesh.triangle_group[t] != 0) {
+      std::string name = std::to_string(mesh.triangle_group[t]);
+      for (const auto& g : mesh.groups)
+        if (g.dim == 2 && g.tag == mesh.triangle_group[t]) name = g.name;
+      throw InputError("triangles " + std::to_string(mesh.triangle_tags[it->second]) + " and " +
+                       std::to_string(mesh.triangle_tags[t]) + " of group '" + name +
+                       "' have the same three nodes: a load or constraint on that group would count them twice");
+    }
+  }
+  std::map<std::array<int, 3>, std::string> loaded_by;
+  for (const auto& name : roles.loaded) {
+    const int tag = group_tag(mesh, name);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (mesh.triangle_group[t] != tag) continue;
+      const auto [it, fresh] = loaded_by.emplace(sorted(mesh.triangles[t]), name);
+      if (!fresh && it->second != name)
+        throw InputError("triangle " + std::to_string(mesh.triangle_tags[t]) + " is in the load groups '" + it->second +
+                         "' and '" + name + "': its load would be applied twice");
+    }
+  }
+}
+
+// Every contact triangle must be the face of exactly one tetrahedron.
+void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
+  std::map<std::array<int, 3>, std::vector<std::size_t>> wanted;
+  for (const auto& name : roles.contact) {
+    const int tag = group_tag(mesh, name);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (mesh.triangle_group[t] == tag) wanted[sorted(mesh.triangles[t])].push_back(t);
+  }
+  if (wanted.empty()) return;
+  std::vector<char> on_face(mesh.nodes.size(), 0);
+  for (const auto& [face, tris] : wanted)
+    for (int v : face) on_face[v] = 1;
+  std::map<std::array<int, 3>, int> count;
+  for (const auto& tet : mesh.tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f{};
+      for (int a = 0, j = 0; a < 4; ++a)
+        if (a != skip) f[j++] = tet[a];
+      if (!on_face[f[0]] || !on_face[f[1]] || !on_face[f[2]]) continue;
+      f = sorted(f);
+      if (wanted.count(f)) ++count[f];
+    }
+  std::vector<std::size_t> orphans, interior;
+  for (const auto& [face, tris] : wanted) {
+    const int n = count.count(face) ? count[face] : 0;
+    for (std::size_t t : tris) {
+      if (n == 0) orphans.push_back(mesh.triangle_tags[t]);
+      if (n > 1) interior.push_back(mesh.triangle_tags[t]);
+    }
+  }
+  if (!orphans.empty())
+    throw InputError(std::to_string(orphans.size()) + " contact triangle(s) are not a face of any tetrahedron (tags " +
+                     tag_list(orphans) + "): the contact group does not lie on the body's surface");
+  if (!interior.empty())
+    throw InputError(std::to_string(interior.size()) + " contact triangle(s) are interior faces, shared by two "
+                     "tetrahedra (tags " + tag_list(interior) + "): Γc must be part of the body's boundary");
+}
+
+// Initial penetration: the body must lie on or above the foundation plane z = 0.
+void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
+  if (roles.contact.empty() || mesh.nodes.empty()) return;
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& x : mesh.nodes) lo = std::min(lo, x.z()), hi = std::max(hi, x.z());
+  const double tol = 1e-9 * std::max(1.0, hi - lo);
+  std::size_t deepest = 0;
+  for (std::size_t v = 1; v < mesh.nodes.size(); ++v)
+    if (mesh.nodes[v].z() < mesh.nodes[deepest].z()) deepest = v;
+  if (mesh.nodes[deepest].z() < -tol)
+    throw InputError("the body reaches below the foundation plane z = 0 (initial penetration): node " +
+                     std::to_string(mesh.node_tags[deepest]) + " lies at z = " + number(mesh.nodes[deepest].z()) +
+                     "; move the mesh so that the contact face lies in z = 0 and the body above it");
+}
+
+// Constrained nodes that all lie on one line (or at one point) leave a rigid rotation free.
+void check_constraints_hold(const Mesh& mesh, const MeshRoles& roles) {
+  std::set<int> nodes;
+  std::string names;
+  for (const auto& name : roles.clamped) {
+    names += (names.empty() ? "'" : ", '") + name + "'";
+    const int tag = group_tag(mesh, name);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (mesh.triangle_group[t] == tag) nodes.insert(mesh.triangles[t].begin(), mesh.triangles[t].end());
+  }
+  if (nodes.empty()) return;  // reported where Γu is required
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int v : nodes) mean += mesh.nodes[v];
+  mean /= static_cast<double>(nodes.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (int v : nodes) scatter += (mesh.nodes[v] - mean) * (mesh.nodes[v] - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  const Eigen::Vector3d ev = eig.eigenvalues();  // ascending
+  const double scale = std::max(ev[2], 1e-300);
+  if (ev[1] > 1e-12 * scale && ev[2] > 0) return;  // the nodes span a plane: no free motion
+  const Eigen::Vector3d axis = eig.eigenvectors().col(2);
+  const std::string at = "(" + number(mean.x()) + ", " + number(mean.y()) + ", " + number(mean.z()) + ")";
+  if (!(ev[2] > 0))
+    throw InputError("the constrained group(s) " + names + " hold a single point " + at +
+                     ": the body can rotate freely about it; constrain a surface (three nodes not on one line)");
+  throw InputError("the constrained nodes of " + names + " all lie on one line through " + at + " along (" +
+                   number(axis.x()) + ", " + number(axis.y()) + ", " + number(axis.z()) +
+                   "): the body can rotate freely about that axis; constrain a surface, not an edge");
+}
+
+}  // namespace
+
+void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles) {
+  check_group_names(mesh);
+  check_duplicate_tets(mesh);
+  check_duplicate_triangles(mesh, roles);
+  check_contact_faces(mesh, roles);
+  check_above_foundation(mesh, roles);
+  check_constraints_hold(mesh, roles);
+}
+
+}  // namespace contact3d

@@ -1,0 +1,30 @@
+// What a mesh means, checked beyond its syntax (the readers) and its orientation (fem's
+// check_tet_orientation). Each finding is an InputError naming the elements by their file tags,
+// the group and what to change:
+//   - a coordinate beyond ±1e15 (overflows the element integrals);
+//   - two physical groups with the same name and dimension;
+//   - a tetrahedron listed twice (same four nodes: it would be assembled twice);
+//   - a boundary triangle listed twice in one group, or in two load groups (a doubled load);
+//   - a contact triangle that is not a face of any tetrahedron, or that is an interior face;
+//   - a body below the foundation plane z = 0 (initial penetration), naming the deepest node;
+//   - constraints whose nodes all lie on one line or at one point (a free rigid rotation).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace contact3d {
+
+// How a scene uses the mesh's groups.
+struct MeshRoles {
+  std::vector<std::string> clamped, contact, loaded;
+};
+
+// Coordinates beyond ±1e15 (run first: every other check computes with them).
+void check_coordinates_in_range(const Mesh& mesh);
+// The other checks above; run after the tetrahedra are known to be positively oriented.
+void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles);
+
+}  // namespace contact3d
