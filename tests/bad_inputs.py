@@ -450,6 +450,29 @@ def c_cli_unknown_option(c):
     return ["solve", c.scene(), "--bogus"], ["--bogus"]
 
 
+# ------------------------------------------------ a scene's .geo is code (issue 13)
+def geo_scene(c, geo_text):
+    os.makedirs(c.path("geo"), exist_ok=True)
+    c.write(os.path.join("geo", "body.geo"), geo_text)
+    with open(os.path.join(c.src, "pipeline", "scenes", "holed.toml")) as f:
+        text = f.read().replace("../../geo/holed.geo", "geo/body.geo")
+    text = "\n".join(l for l in text.splitlines() if not l.startswith("dir ="))
+    return c.write("geo_scene.toml", text)
+
+
+def c_geo_system_call(c):
+    with open(os.path.join(c.src, "geo", "holed.geo")) as f:
+        geo = f.read() + '\nSystemCall "touch contact3d_pwned";\n'
+    return ["check", geo_scene(c, geo)], ["SystemCall", "trusted"]
+
+
+def c_geo_include_outside(c):
+    c.write("outside.geo", "h = 0.1;\n")
+    with open(os.path.join(c.src, "geo", "holed.geo")) as f:
+        geo = 'Include "../outside.geo";\n' + f.read()
+    return ["check", geo_scene(c, geo)], ["outside.geo", "outside its folder", "trusted"]
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

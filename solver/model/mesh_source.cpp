@@ -1,6 +1,7 @@
 #include "model/mesh_source.hpp"
 
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <sys/wait.h>
@@ -26,6 +27,48 @@ std::string tail_of(const std::filesystem::path& log, std::size_t chars = 800) {
   buf << in.rdbuf();
   const std::string s = buf.str();
   return s.size() > chars ? s.substr(s.size() - chars) : s;
+}
+
+// Comments removed, so that a keyword in a comment does not count (and one hidden behind a
+// comment marker inside a string is still seen: strings are kept).
+std::string without_comments(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size();) {
+    if (text.compare(i, 2, "//") == 0) {
+      while (i < text.size() && text[i] != '\n') ++i;
+    } else if (text.compare(i, 2, "/*") == 0) {
+      const std::size_t end = text.find("*/", i + 2);
+      i = end == std::string::npos ? text.size() : end + 2;
+    } else {
+      out += text[i++];
+    }
+  }
+  return out;
+}
+
+// The policy for untrusted .geo scripts (MeshSource::trusted), applied to the script and to every
+// file it includes.
+void check_geo_is_safe(const std::filesystem::path& geo, const std::filesystem::path& root, int depth = 0) {
+  std::ifstream in(geo);
+  if (!in) throw InputError("gmsh script '" + geo.string() + "' cannot be read");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  const std::string code = without_comments(buf.str());
+  static const std::regex run(R"(\b(SystemCall|NonBlockingSystemCall|Shell|NonBlockingShell|OnelabRun|SetChanged)\b)");
+  std::smatch m;
+  if (std::regex_search(code, m, run))
+    throw InputError("gmsh script '" + geo.string() + "' calls '" + m[1].str() +
+                     "', which runs other programs; a scene's .geo is not trusted to do that unless [mesh] sets "
+                     "trusted = true");
+  static const std::regex include(R"re(\bInclude\s*"([^"]*)")re");
+  for (auto it = std::sregex_iterator(code.begin(), code.end(), include); it != std::sregex_iterator(); ++it) {
+    const std::filesystem::path target = std::filesystem::weakly_canonical(geo.parent_path() / (*it)[1].str());
+    const auto rel = target.lexically_relative(root);
+    if (rel.empty() || *rel.begin() == "..")
+      throw InputError("gmsh script '" + geo.string() + "' includes '" + (*it)[1].str() + "', outside its folder '" +
+                       root.string() + "'; set [mesh] trusted = true to allow it");
+    if (depth < 16) check_geo_is_safe(target, root, depth + 1);
+  }
 }
 
 }  // namespace
@@ -63,6 +106,9 @@ void run_gmsh(const std::filesystem::path& geo, const std::map<std::string, doub
 Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work_dir) {
   if (!source.generator.empty()) return make_paper_brick(BrickSize{source.n});
   if (!source.geo.empty()) {
+    if (!std::filesystem::exists(source.geo)) throw InputError("gmsh script '" + source.geo.string() + "' does not exist");
+    if (!source.trusted)
+      check_geo_is_safe(source.geo, std::filesystem::weakly_canonical(source.geo).parent_path());
     std::filesystem::create_directories(work_dir);
     const auto msh = work_dir / "mesh.msh";
     std::filesystem::remove(msh);

@@ -189,7 +189,12 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   static const toml::table empty;
   const toml::table* mesh = table_at(root, "mesh");
   if (!mesh) throw InputError("the scene has no [mesh] table");
-  check_keys(*mesh, "mesh", {"file", "geo", "parameters", "generator", "n"});
+  check_keys(*mesh, "mesh", {"file", "geo", "parameters", "generator", "n", "trusted"});
+  if (mesh->contains("trusted")) {
+    const auto v = (*mesh)["trusted"].value<bool>();
+    if (!v || !(*mesh)["trusted"].is_boolean()) throw InputError("mesh.trusted must be true or false");
+    s.mesh.trusted = *v;
+  }
   const int sources = mesh->contains("file") + mesh->contains("geo") + mesh->contains("generator");
   if (sources != 1) throw InputError("[mesh] needs exactly one of: file, geo, generator");
   if (mesh->contains("file")) s.mesh.file = resolve(base, get_string(*mesh, "mesh", "file", ""));

@@ -26,6 +26,10 @@ struct MeshSource {
   std::map<std::string, double> parameters;
   std::string generator;                      // "paper_brick": the built-in five-tet brick
   int n = 4;                                  // generator resolution
+  // A .geo script is code gmsh runs. Untrusted (the default), it may not call programs
+  // (SystemCall, Shell, OnelabRun, ...) nor Include files outside its own folder; `trusted = true`
+  // in [mesh] lifts both.
+  bool trusted = false;
 };
 
 inline constexpr NameTable<DualMethod, 4> kDualMethodNames{{{DualMethod::Auto, "auto"},
