@@ -17,7 +17,7 @@
 #include "io/results_writer.hpp"
 #include "io/run_folder.hpp"
 #include "mesh/brick_generator.hpp"
-#include "mesh/msh_reader.hpp"
+#include "mesh/read_mesh.hpp"
 #include "mesh/msh_writer.hpp"
 #include "model/contact_solver.hpp"
 #include "model/mesh_source.hpp"
@@ -47,7 +47,7 @@ fs::path output_dir_for(const Scene& scene, const SolveArgs& args) {
 Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::path& work_dir, std::string& description) {
   if (!mesh_override.empty()) {
     description = mesh_override;
-    return read_msh(mesh_override);
+    return read_mesh_file(mesh_override);
   }
   const auto& src = scene.mesh;
   description = !src.generator.empty() ? src.generator + " n=" + std::to_string(src.n)
@@ -118,11 +118,16 @@ int run_check(const SolveArgs& args) {
   fmt::print("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description, mesh.nodes.size(),
              mesh.tets.size(), mesh.triangles.size());
   fmt::print("physical groups: {}\n", mesh.describe_groups());
+  // Each group as a scene names it (a label or an unnamed gmsh group by its number), with its size.
   for (const auto& g : mesh.groups) {
     std::size_t count = 0;
-    if (g.dim == 2) count = mesh.triangles_of_group(g.name).size();
-    else for (int t : mesh.tet_group) count += (t == g.tag);
-    fmt::print("  {:<16} dim {}  {} elements\n", g.name, g.dim, count);
+    if (g.dim == 2) {
+      for (int t : mesh.triangle_group) count += (t == g.tag);
+    } else {
+      for (int t : mesh.tet_group) count += (t == g.tag);
+    }
+    const std::string name = g.name.empty() ? std::to_string(g.tag) : g.name;
+    fmt::print("  {:<16} dim {}  {} {}\n", "\"" + name + "\"", g.dim, count, g.dim == 2 ? "triangles" : "tetrahedra");
   }
   check_coordinates_in_range(mesh);
   check_tet_orientation(mesh);
@@ -158,7 +163,7 @@ int main(int argc, char** argv) {
   SolveArgs args;
   auto* solve = app.add_subcommand("solve", "solve a scene");
   solve->add_option("scene", args.scene, "scene file (TOML)")->required();
-  solve->add_option("--mesh", args.mesh, "use this .msh instead of the scene's mesh");
+  solve->add_option("--mesh", args.mesh, "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
   solve->add_option("--set", args.sets, "override a scene key, e.g. --set friction.param=2e4");
   solve->add_option("--out", args.out, "output folder");
   solve->add_flag("--quiet", args.quiet, "print nothing but errors");
@@ -168,7 +173,7 @@ int main(int argc, char** argv) {
                  ". summary.json records the resolved settings under \"settings\".");
   auto* check = app.add_subcommand("check", "validate a scene and its mesh without solving");
   check->add_option("scene", args.scene, "scene file (TOML)")->required();
-  check->add_option("--mesh", args.mesh, "use this .msh instead of the scene's mesh");
+  check->add_option("--mesh", args.mesh, "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
   check->add_option("--set", args.sets, "override a scene key");
   auto* mesh_cmd = app.add_subcommand("mesh", "write a built-in mesh");
   std::string kind, out_file;

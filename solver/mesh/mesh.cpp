@@ -7,6 +7,10 @@ namespace contact3d {
 const PhysicalGroup* Mesh::find_group(std::string_view name, int dim) const {
   for (const auto& g : groups)
     if (g.dim == dim && g.name == name) return &g;
+  // An unnamed group (gmsh's physical groups without a name) by its number: "4".
+  if (!name.empty() && name.find_first_not_of("0123456789") == std::string_view::npos && name.size() < 10)
+    for (const auto& g : groups)
+      if (g.dim == dim && g.name.empty() && std::to_string(g.tag) == name) return &g;
   return nullptr;
 }
 
@@ -15,7 +19,7 @@ std::string Mesh::describe_groups() const {
   std::string out;
   for (const auto& g : groups) {
     if (!out.empty()) out += ", ";
-    out += "'" + g.name + "' (dim " + std::to_string(g.dim) + ")";
+    out += (g.name.empty() ? "unnamed " + std::to_string(g.tag) : "'" + g.name + "'") + " (dim " + std::to_string(g.dim) + ")";
   }
   return out;
 }

@@ -36,7 +36,8 @@ struct Mesh {
 
   std::vector<PhysicalGroup> groups;
 
-  // The group of dimension `dim` called `name`, or nullptr.
+  // The group of dimension `dim` called `name` (an unnamed group also answers to its number,
+  // "4"), or nullptr.
   const PhysicalGroup* find_group(std::string_view name, int dim) const;
   // "name (dim 2), name (dim 3), ..." for error messages.
   std::string describe_groups() const;

@@ -10,6 +10,7 @@
 #include "base/errors.hpp"
 #include "mesh/brick_generator.hpp"
 #include "mesh/msh_reader.hpp"
+#include "mesh/read_mesh.hpp"
 
 namespace contact3d {
 namespace {
@@ -115,7 +116,7 @@ Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work
     run_gmsh(source.geo, source.parameters, msh);
     return read_msh(msh.string());
   }
-  return read_msh(source.file.string());
+  return read_mesh_file(source.file.string());
 }
 
 }  // namespace contact3d

@@ -1,0 +1,30 @@
+// Reader for the Medit mesh format that FreeFEM's savemesh writes for a mesh3: ASCII `.mesh`
+// (keywords MeshVersionFormatted, Dimension 3, Vertices, Tetrahedra, Triangles, End; `#`
+// comments) and binary `.meshb` (libMeshb's layout: versions 1-4, either byte order). Keeps the
+// vertices, 4-node tetrahedra and 3-node triangles with their integer labels; edges, corners,
+// ridges, required entities and normals are skipped; quadrilaterals, hexahedra, prisms,
+// pyramids and second-order elements are rejected.
+//
+// Groups: every label becomes a physical group named by its number ("4"), of dimension 3 for
+// tetrahedra and 2 for triangles, so a scene names them as strings: contact = ["5"].
+// Malformed input raises InputError naming the file, the line (byte offset in .meshb) and the
+// section.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "mesh/mesh.hpp"
+
+namespace contact3d {
+
+Mesh read_medit(const std::string& path);
+
+// Parses .mesh or .meshb contents already in memory (binary when the first four bytes are the
+// libMeshb code 1 in either byte order); `source_name` is used in error messages.
+Mesh parse_medit(std::string_view contents, const std::string& source_name);
+
+// True for paths ending in .mesh or .meshb (the Medit formats), false otherwise.
+bool is_medit_path(const std::string& path);
+
+}  // namespace contact3d
