@@ -48,14 +48,15 @@ robustness: build
 stress: build
 	$(PY) pipeline/stress.py --bin $(BIN) --out $(REPORTS)/stress
 
-# libFuzzer targets for the MSH reader and the scene parser (FUZZ_SECONDS each).
+# libFuzzer targets for the MSH reader, the scene parser and the Medit reader (FUZZ_SECONDS each).
 FUZZ_SECONDS ?= 300
 fuzz:
 	@bash scripts/install-deps.sh --dev
 	bash fuzz/build.sh build-fuzz
-	mkdir -p build-fuzz/corpus_msh build-fuzz/corpus_scene
+	mkdir -p build-fuzz/corpus_msh build-fuzz/corpus_scene build-fuzz/corpus_medit
 	build-fuzz/fuzz_msh -max_total_time=$(FUZZ_SECONDS) -timeout=10 build-fuzz/corpus_msh fuzz/corpus/msh
 	build-fuzz/fuzz_scene -max_total_time=$(FUZZ_SECONDS) -timeout=10 build-fuzz/corpus_scene fuzz/corpus/scene
+	build-fuzz/fuzz_medit -max_total_time=$(FUZZ_SECONDS) -timeout=10 build-fuzz/corpus_medit fuzz/corpus/medit
 
 # Unit tests under AddressSanitizer + UndefinedBehaviorSanitizer.
 sanitize: deps
