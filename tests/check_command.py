@@ -62,7 +62,7 @@ problems = []
 if p.returncode != 0:
     problems.append(f"exit {p.returncode}")
 for tag, (dim, name) in names.items():
-    m = re.search(rf"^\s*{re.escape(name)}\s+dim {dim}\s+(\d+) elements", out, re.M)
+    m = re.search(rf"^\s*\"{re.escape(name)}\"\s+dim {dim}\s+(\d+) (?:triangles|tetrahedra)", out, re.M)
     if not m:
         problems.append(f"group {name} not listed")
     elif int(m.group(1)) != count[tag]:
