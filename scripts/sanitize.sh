@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Builds contact3d and the unit tests with AddressSanitizer + UBSan (-DCONTACT3D_SANITIZE=ON)
 # in build-asan/ and runs the unit tests there. Exit status: that of the test run.
+# Warnings are not errors here: GCC 12 reports false maybe-uninitialized warnings inside
+# libstdc++ (std::regex) once the sanitizers instrument it; the normal build keeps -Werror.
 #   scripts/sanitize.sh [gtest args]     e.g. scripts/sanitize.sh --gtest_filter='Regression*'
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${BUILD_ASAN:-$root/build-asan}"
 jobs="${JOBS:-2}"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCONTACT3D_SANITIZE=ON >/dev/null
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCONTACT3D_SANITIZE=ON -DCONTACT3D_WERROR=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target unit_tests contact3d
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"

@@ -473,6 +473,39 @@ def c_geo_include_outside(c):
     return ["check", geo_scene(c, geo)], ["outside.geo", "outside its folder", "trusted"]
 
 
+# ------------------------------------------------ FreeFEM meshes and scripts (issue 15)
+def c_medit_truncated(c):
+    data = c.fixture("freefem_cube2.mesh")
+    p = c.write("cube.mesh", data[: int(len(data) * 0.6)])
+    return ["check", c.scene(p)], ["cube.mesh"]
+
+
+def c_medit_binary_truncated(c):
+    data = c.fixture("freefem_cube2.meshb")
+    p = c.write("cube.meshb", data[: len(data) // 2])
+    return ["check", c.scene(p)], ["cube.meshb"]
+
+
+def edp_scene(c, edp_text):
+    c.write("body.edp", edp_text)
+    with open(os.path.join(c.src, "pipeline", "scenes", "paper_brick_freefem.toml")) as f:
+        text = f.read().replace("../../geo/paper_brick.edp", "body.edp").replace("n = 16", "n = 2")
+    text = "\n".join(l for l in text.splitlines() if not l.startswith("dir ="))
+    return c.write("edp_scene.toml", text)
+
+
+def c_edp_system_call(c):
+    with open(os.path.join(c.src, "geo", "paper_brick.edp")) as f:
+        edp = 'exec("touch contact3d_pwned");\n' + f.read()
+    return ["check", edp_scene(c, edp)], ["exec", "trusted"]
+
+
+def c_edp_script_fails(c):
+    with open(os.path.join(c.src, "geo", "paper_brick.edp")) as f:
+        edp = f.read() + "\nthis is not FreeFEM;\n"
+    return ["check", edp_scene(c, edp)], ["body.edp", "FreeFEM"]
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

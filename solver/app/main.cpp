@@ -51,7 +51,8 @@ Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::
   }
   const auto& src = scene.mesh;
   description = !src.generator.empty() ? src.generator + " n=" + std::to_string(src.n)
-                : !src.geo.empty()     ? src.geo.string() + " (gmsh)"
+                : !src.geo.empty()     ? src.geo.string() + " (gmsh) -> " + (work_dir / "mesh.msh").string()
+                : !src.edp.empty()     ? src.edp.string() + " (FreeFEM) -> " + (work_dir / "mesh.mesh").string()
                                        : src.file.string();
   return load_scene_mesh(src, work_dir);
 }

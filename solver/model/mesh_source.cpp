@@ -1,5 +1,6 @@
 #include "model/mesh_source.hpp"
 
+#include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -30,8 +31,34 @@ std::string tail_of(const std::filesystem::path& log, std::size_t chars = 800) {
   return s.size() > chars ? s.substr(s.size() - chars) : s;
 }
 
+// Runs a mesher (argv[0] from PATH) with its output in `log`; an InputError with the log's tail
+// when it fails or does not produce `product`.
+void run_mesher(std::vector<std::string> args, const std::filesystem::path& script, const std::filesystem::path& product,
+                const std::filesystem::path& log) {
+  const std::string program = args.front();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("cannot start " + program + " (fork failed)");
+  if (pid == 0) {
+    std::FILE* f = std::fopen(log.c_str(), "w");
+    if (f) { dup2(fileno(f), 1); dup2(fileno(f), 2); }
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execvp(program.c_str(), argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !std::filesystem::exists(product)) {
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    throw InputError(code == 127 ? program + " is not installed (run `make deps`)"
+                                 : program + " failed on '" + script.string() + "' (exit " + std::to_string(code) +
+                                       "); end of " + log.string() + ":\n" + tail_of(log));
+  }
+}
+
 // Comments removed, so that a keyword in a comment does not count (and one hidden behind a
-// comment marker inside a string is still seen: strings are kept).
+// comment marker inside a string is still seen: strings are kept). gmsh and FreeFEM share C++'s.
 std::string without_comments(const std::string& text) {
   std::string out;
   for (std::size_t i = 0; i < text.size();) {
@@ -47,29 +74,50 @@ std::string without_comments(const std::string& text) {
   return out;
 }
 
-// The policy for untrusted .geo scripts (MeshSource::trusted), applied to the script and to every
-// file it includes.
-void check_geo_is_safe(const std::filesystem::path& geo, const std::filesystem::path& root, int depth = 0) {
-  std::ifstream in(geo);
-  if (!in) throw InputError("gmsh script '" + geo.string() + "' cannot be read");
+// What an untrusted script of each kind may not do: run programs, include files outside its folder.
+struct ScriptRules {
+  const char* kind;       // "gmsh script", "FreeFEM script"
+  std::regex runs;        // a call that runs another program
+  std::regex include;     // an include, with the file name as group 1
+};
+const ScriptRules& gmsh_rules() {
+  static const ScriptRules r{"gmsh script",
+                             std::regex(R"(\b(SystemCall|NonBlockingSystemCall|Shell|NonBlockingShell|OnelabRun)\b)"),
+                             std::regex(R"re(\bInclude\s*"([^"]*)")re")};
+  return r;
+}
+const ScriptRules& freefem_rules() {
+  static const ScriptRules r{"FreeFEM script", std::regex(R"(\b(exec|system)\s*\()"),
+                             std::regex(R"re(\binclude\s*"([^"]*)")re")};
+  return r;
+}
+
+// The policy for untrusted scripts (MeshSource::trusted), applied to the script and every file it includes.
+void check_script_is_safe(const std::filesystem::path& script, const std::filesystem::path& root, const ScriptRules& rules,
+                          int depth = 0) {
+  std::ifstream in(script);
+  if (!in) throw InputError(std::string(rules.kind) + " '" + script.string() + "' cannot be read");
   std::stringstream buf;
   buf << in.rdbuf();
   const std::string code = without_comments(buf.str());
-  static const std::regex run(R"(\b(SystemCall|NonBlockingSystemCall|Shell|NonBlockingShell|OnelabRun|SetChanged)\b)");
   std::smatch m;
-  if (std::regex_search(code, m, run))
-    throw InputError("gmsh script '" + geo.string() + "' calls '" + m[1].str() +
-                     "', which runs other programs; a scene's .geo is not trusted to do that unless [mesh] sets "
+  if (std::regex_search(code, m, rules.runs))
+    throw InputError(std::string(rules.kind) + " '" + script.string() + "' calls '" + m[1].str() +
+                     "', which runs other programs; a scene's script is not trusted to do that unless [mesh] sets "
                      "trusted = true");
-  static const std::regex include(R"re(\bInclude\s*"([^"]*)")re");
-  for (auto it = std::sregex_iterator(code.begin(), code.end(), include); it != std::sregex_iterator(); ++it) {
-    const std::filesystem::path target = std::filesystem::weakly_canonical(geo.parent_path() / (*it)[1].str());
+  for (auto it = std::sregex_iterator(code.begin(), code.end(), rules.include); it != std::sregex_iterator(); ++it) {
+    const std::filesystem::path target = std::filesystem::weakly_canonical(script.parent_path() / (*it)[1].str());
     const auto rel = target.lexically_relative(root);
     if (rel.empty() || *rel.begin() == "..")
-      throw InputError("gmsh script '" + geo.string() + "' includes '" + (*it)[1].str() + "', outside its folder '" +
-                       root.string() + "'; set [mesh] trusted = true to allow it");
-    if (depth < 16) check_geo_is_safe(target, root, depth + 1);
+      throw InputError(std::string(rules.kind) + " '" + script.string() + "' includes '" + (*it)[1].str() +
+                       "', outside its folder '" + root.string() + "'; set [mesh] trusted = true to allow it");
+    if (depth < 16) check_script_is_safe(target, root, rules, depth + 1);
   }
+}
+
+void require_script(const std::filesystem::path& script, const char* kind, bool trusted, const ScriptRules& rules) {
+  if (!std::filesystem::exists(script)) throw InputError(std::string(kind) + " '" + script.string() + "' does not exist");
+  if (!trusted) check_script_is_safe(script, std::filesystem::weakly_canonical(script).parent_path(), rules);
 }
 
 }  // namespace
@@ -78,43 +126,38 @@ void run_gmsh(const std::filesystem::path& geo, const std::map<std::string, doub
               const std::filesystem::path& out_msh, const std::string& format) {
   if (!std::filesystem::exists(geo)) throw InputError("gmsh script '" + geo.string() + "' does not exist");
   std::vector<std::string> args = {"gmsh", "-3", "-format", format, "-v", "2"};
-  for (const auto& [k, v] : parameters) {
-    args.insert(args.end(), {"-setnumber", k, format_number(v)});
-  }
+  for (const auto& [k, v] : parameters) args.insert(args.end(), {"-setnumber", k, format_number(v)});
   args.insert(args.end(), {geo.string(), "-o", out_msh.string()});
-  const std::filesystem::path log = out_msh.parent_path() / "gmsh.log";
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("cannot start gmsh (fork failed)");
-  if (pid == 0) {
-    std::FILE* f = std::fopen(log.c_str(), "w");
-    if (f) { dup2(fileno(f), 1); dup2(fileno(f), 2); }
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execvp("gmsh", argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !std::filesystem::exists(out_msh)) {
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    throw InputError(code == 127 ? "gmsh is not installed (run `make deps`)"
-                                 : "gmsh failed on '" + geo.string() + "' (exit " + std::to_string(code) +
-                                       "); end of " + log.string() + ":\n" + tail_of(log));
-  }
+  run_mesher(args, geo, out_msh, out_msh.parent_path() / "gmsh.log");
+}
+
+void run_freefem_mesher(const std::filesystem::path& edp, const std::map<std::string, double>& parameters,
+                        const std::filesystem::path& out_mesh) {
+  if (!std::filesystem::exists(edp)) throw InputError("FreeFEM script '" + edp.string() + "' does not exist");
+  // FreeFEM's plugins (msh3, ...) live in /usr/lib/freefem++ on Debian while its .pref points elsewhere.
+  if (!std::getenv("FF_LOADPATH")) setenv("FF_LOADPATH", "/usr/lib/freefem++", 0);
+  std::vector<std::string> args = {"FreeFem++", "-nw", "-v", "0", edp.string(), "-out", out_mesh.string()};
+  for (const auto& [k, v] : parameters) args.insert(args.end(), {"-" + k, format_number(v)});
+  run_mesher(args, edp, out_mesh, out_mesh.parent_path() / "freefem.log");
 }
 
 Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work_dir) {
   if (!source.generator.empty()) return make_paper_brick(BrickSize{source.n});
   if (!source.geo.empty()) {
-    if (!std::filesystem::exists(source.geo)) throw InputError("gmsh script '" + source.geo.string() + "' does not exist");
-    if (!source.trusted)
-      check_geo_is_safe(source.geo, std::filesystem::weakly_canonical(source.geo).parent_path());
+    require_script(source.geo, "gmsh script", source.trusted, gmsh_rules());
     std::filesystem::create_directories(work_dir);
     const auto msh = work_dir / "mesh.msh";
     std::filesystem::remove(msh);
     run_gmsh(source.geo, source.parameters, msh);
     return read_msh(msh.string());
+  }
+  if (!source.edp.empty()) {
+    require_script(source.edp, "FreeFEM script", source.trusted, freefem_rules());
+    std::filesystem::create_directories(work_dir);
+    const auto mesh = work_dir / "mesh.mesh";
+    std::filesystem::remove(mesh);
+    run_freefem_mesher(source.edp, source.parameters, mesh);
+    return read_medit(mesh.string());
   }
   return read_mesh_file(source.file.string());
 }

@@ -1,6 +1,7 @@
-// Obtains the scene's mesh: reads an .msh file, runs gmsh on a .geo script (with the
-// scene's -setnumber parameters, output kept in the run's folder), or builds the paper's
-// five-tet brick in memory.
+// Obtains the scene's mesh: reads a mesh file (.msh, or FreeFEM's Medit .mesh/.meshb), runs gmsh
+// on a .geo script (with the scene's -setnumber parameters) or FreeFEM on an .edp meshing script
+// (`-out FILE -<key> <value>`; it must savemesh its mesh3 to FILE), output kept in the run's
+// folder, or builds the paper's five-tet brick in memory. Scripts are code: see MeshSource::trusted.
 #pragma once
 
 #include <filesystem>
@@ -10,11 +11,15 @@
 
 namespace contact3d {
 
-// `work_dir` receives mesh.msh and gmsh.log when gmsh runs.
+// `work_dir` receives mesh.msh and gmsh.log when gmsh runs, mesh.mesh and freefem.log for FreeFEM.
 Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work_dir);
 
 // Runs gmsh: geo -> msh (format "msh41" or "msh22"). Throws InputError with gmsh's log tail.
 void run_gmsh(const std::filesystem::path& geo, const std::map<std::string, double>& parameters,
               const std::filesystem::path& out_msh, const std::string& format = "msh41");
+
+// Runs FreeFEM's meshing script: edp -> Medit file `out_mesh`. Throws InputError with the log's tail.
+void run_freefem_mesher(const std::filesystem::path& edp, const std::map<std::string, double>& parameters,
+                        const std::filesystem::path& out_mesh);
 
 }  // namespace contact3d

@@ -128,8 +128,8 @@ void apply_override(toml::table& root, const std::string& assignment) {
   }
   t->insert_or_assign(part, *parsed.get("v"));
   // Choosing a mesh source on the command line replaces the scene's own.
-  if (key == "mesh.file" || key == "mesh.geo" || key == "mesh.generator")
-    for (const char* other : {"file", "geo", "generator"})
+  if (key == "mesh.file" || key == "mesh.geo" || key == "mesh.edp" || key == "mesh.generator")
+    for (const char* other : {"file", "geo", "edp", "generator"})
       if ("mesh." + std::string(other) != key) t->erase(other);
 }
 
@@ -189,16 +189,17 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   static const toml::table empty;
   const toml::table* mesh = table_at(root, "mesh");
   if (!mesh) throw InputError("the scene has no [mesh] table");
-  check_keys(*mesh, "mesh", {"file", "geo", "parameters", "generator", "n", "trusted"});
+  check_keys(*mesh, "mesh", {"file", "geo", "edp", "parameters", "generator", "n", "trusted"});
   if (mesh->contains("trusted")) {
     const auto v = (*mesh)["trusted"].value<bool>();
     if (!v || !(*mesh)["trusted"].is_boolean()) throw InputError("mesh.trusted must be true or false");
     s.mesh.trusted = *v;
   }
-  const int sources = mesh->contains("file") + mesh->contains("geo") + mesh->contains("generator");
-  if (sources != 1) throw InputError("[mesh] needs exactly one of: file, geo, generator");
+  const int sources = mesh->contains("file") + mesh->contains("geo") + mesh->contains("edp") + mesh->contains("generator");
+  if (sources != 1) throw InputError("[mesh] needs exactly one of: file, geo, edp, generator");
   if (mesh->contains("file")) s.mesh.file = resolve(base, get_string(*mesh, "mesh", "file", ""));
   if (mesh->contains("geo")) s.mesh.geo = resolve(base, get_string(*mesh, "mesh", "geo", ""));
+  if (mesh->contains("edp")) s.mesh.edp = resolve(base, get_string(*mesh, "mesh", "edp", ""));
   s.mesh.generator = get_string(*mesh, "mesh", "generator", "");
   if (!s.mesh.generator.empty() && s.mesh.generator != "paper_brick")
     throw InputError("mesh.generator must be 'paper_brick', got '" + s.mesh.generator + "'");

@@ -23,12 +23,13 @@ namespace contact3d {
 struct MeshSource {
   std::filesystem::path file;                 // an .msh file, or
   std::filesystem::path geo;                  // a gmsh .geo script meshed with -setnumber parameters, or
+  std::filesystem::path edp;                  // a FreeFEM script run as `FreeFem++ -nw edp -out F -<key> <value>...`, or
   std::map<std::string, double> parameters;
   std::string generator;                      // "paper_brick": the built-in five-tet brick
   int n = 4;                                  // generator resolution
-  // A .geo script is code gmsh runs. Untrusted (the default), it may not call programs
-  // (SystemCall, Shell, OnelabRun, ...) nor Include files outside its own folder; `trusted = true`
-  // in [mesh] lifts both.
+  // A .geo or .edp script is code. Untrusted (the default), it may not run programs (gmsh's
+  // SystemCall, Shell, OnelabRun, ...; FreeFEM's exec, system) nor include files outside its own
+  // folder; `trusted = true` in [mesh] lifts both.
   bool trusted = false;
 };
 
