@@ -506,6 +506,42 @@ def c_edp_script_fails(c):
     return ["check", edp_scene(c, edp)], ["body.edp", "FreeFEM"]
 
 
+# ------------------------------------------------ boundary conditions users write (issue 14)
+def c_displacement_missing_group(c):
+    text = open(c.scene()).read().replace("[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "symmetry"\ny = 0.0\n\n[[boundary.traction]]', 1)
+    return ["check", c.write("scene.toml", text)], ["symmetry", "free", "load_end"]
+
+
+def c_displacement_rigid_motion_free(c):
+    text = open(c.scene(clamped="[]")).read().replace(
+        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "contact"\nz = 0.0\n\n[[boundary.traction]]', 1)
+    return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["free to move", "translation"]
+
+
+def c_displacement_conflicting_values(c):
+    text = open(c.scene()).read().replace(
+        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "clamped"\nx = 1e-3\n\n[[boundary.traction]]', 1)
+    return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["prescribed twice", "clamped"]
+
+
+def c_displacement_no_component(c):
+    text = open(c.scene()).read().replace(
+        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "free"\n\n[[boundary.traction]]', 1)
+    return ["check", c.write("scene.toml", text)], ["free", "x, y, z"]
+
+
+def c_pressure_on_volume_group(c):
+    text = open(c.scene()).read().replace(
+        "[[boundary.traction]]", '[[boundary.pressure]]\ngroup = "body"\nvalue = 1e6\n\n[[boundary.traction]]', 1)
+    return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["body", "volume"]
+
+
+def c_material_region_not_volume(c):
+    text = open(c.scene()).read().replace(
+        "[boundary]", '[[material.region]]\ngroup = "load_top"\nyoung = 7e10\npoisson = 0.3\n\n[boundary]', 1)
+    return ["check", c.write("scene.toml", text)], ["load_top", "volume"]
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

@@ -14,7 +14,9 @@ set(CONTACT3D_BAD_INPUT_CASES
   mesh_duplicate_tet mesh_duplicate_load_triangle mesh_duplicate_group_name mesh_initial_penetration
   mesh_contact_interior_face mesh_contact_not_a_face mesh_clamp_on_a_line mesh_huge_coordinate mesh_device_file
   scene_is_directory law_value_huge cli_no_scene cli_unknown_option geo_system_call geo_include_outside
-  medit_truncated medit_binary_truncated edp_system_call edp_script_fails)
+  medit_truncated medit_binary_truncated edp_system_call edp_script_fails
+  displacement_missing_group displacement_rigid_motion_free displacement_conflicting_values
+  displacement_no_component pressure_on_volume_group material_region_not_volume)
 foreach(case ${CONTACT3D_BAD_INPUT_CASES})
   add_test(NAME errors.${case}
     COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/bad_inputs.py --bin $<TARGET_FILE:contact3d>

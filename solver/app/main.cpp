@@ -57,15 +57,20 @@ Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::
   return load_scene_mesh(src, work_dir);
 }
 
-// Γu must hold at least one triangle (a named but empty group would leave K singular).
-void require_clamped_triangles(const Scene& scene, const Mesh& mesh) {
+// Γu, when named, must hold at least one triangle, and so must every displacement group (a named
+// but empty group would silently prescribe nothing).
+void require_constrained_triangles(const Scene& scene, const Mesh& mesh) {
   std::size_t n = 0;
   std::string names;
   for (const auto& g : scene.clamped) {
     n += mesh.triangles_of_group(g).size();
     names += (names.empty() ? "'" : ", '") + g + "'";
   }
-  if (n == 0) throw InputError("boundary.clamped: the group(s) " + names + " hold no triangles, so Γu is empty");
+  if (!scene.clamped.empty() && n == 0)
+    throw InputError("boundary.clamped: the group(s) " + names + " hold no triangles, so Γu is empty");
+  for (const auto& d : scene.displacements)
+    if (mesh.triangles_of_group(d.group).empty())
+      throw InputError("boundary.displacement: the group '" + d.group + "' holds no triangles");
 }
 
 int run_solve(const SolveArgs& args) {
@@ -80,7 +85,7 @@ int run_solve(const SolveArgs& args) {
   RunInfo info;
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
   info.mesh_seconds = since(t0);
-  require_clamped_triangles(scene, mesh);
+  require_constrained_triangles(scene, mesh);
   if (!args.quiet)
     fmt::print("mesh: {} nodes, {} tets, {} boundary triangles ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
                mesh.triangles.size(), info.mesh_seconds);
@@ -144,9 +149,11 @@ int run_check(const SolveArgs& args) {
     worst = std::min(worst, tet_volume(x) / (h * h * h) * 6 * std::sqrt(2.0));
   }
   fmt::print("worst tet quality (volume / longest edge³, 1 = regular): {:.3g}\n", worst);
-  require_clamped_triangles(scene, mesh);
+  require_constrained_triangles(scene, mesh);
   for (const auto& tr : scene.tractions) mesh.triangles_of_group(tr.group);
-  const DofMap dofs = make_dof_map(mesh, scene.clamped);
+  const DofMap dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
+  require_rigid_motions_fixed(mesh, dofs);
+  tet_materials(scene, mesh);
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
     fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} m², h = {:.4g} m\n", face.triangles.size(),

@@ -44,7 +44,7 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
       face.lo = face.lo.cwiseMin(p);
       face.hi = face.hi.cwiseMax(p);
       e = std::min(e, (p - mesh.nodes[tri[(k + 1) % 3]].head<2>()).norm());
-      if (!dofs.clamped_node[tri[k]]) face.contact_index[tri[k]] = 0;
+      if (!dofs.fully_fixed(tri[k])) face.contact_index[tri[k]] = 0;
     }
     shortest.push_back(e);
     Eigen::Vector2d tlo = mesh.nodes[tri[0]].head<2>(), thi = tlo;

@@ -1,5 +1,6 @@
 // ContactFace: the triangles of Γc (all contact groups merged), which must lie in the plane
-// z = 0, and the contact nodes: nodes of closure(Γc) that are not on closure(Γu).
+// z = 0, and the contact nodes: nodes of closure(Γc) with a free displacement component (not
+// clamped, nor prescribed in all three components).
 #pragma once
 
 #include <array>

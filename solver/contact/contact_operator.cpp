@@ -10,12 +10,18 @@ ContactOperator make_contact_operator(const ContactFace& face, const Partition& 
   std::vector<Eigen::Triplet<double>> entries;
   const auto weights = cell_node_weights(face, partition);
   const MultiplierLayout layout = op.layout();
+  op.offset = Eigen::VectorXd::Zero(op.rows());
+  // Row `row` gets weight·u_c: on the free dof, or in the offset where u_c is prescribed.
+  auto add = [&](int row, int node, int c, double weight) {
+    if (const int d = dofs.dof(node, c); d >= 0) entries.emplace_back(row, d, weight);
+    else op.offset[row] += weight * dofs.prescribed[3 * node + c];
+  };
   for (int i = 0; i < op.r; ++i)
     for (const auto& [node, w] : weights[i]) {
-      if (int d = dofs.dof(node, 2); d >= 0) entries.emplace_back(layout.normal(i), d, -w);  // v_n = -v_3
+      add(layout.normal(i), node, 2, -w);  // v_n = -v_3
       if (!with_friction) continue;
-      if (int d = dofs.dof(node, 0); d >= 0) entries.emplace_back(layout.t1(i), d, w);
-      if (int d = dofs.dof(node, 1); d >= 0) entries.emplace_back(layout.t2(i), d, w);
+      add(layout.t1(i), node, 0, w);
+      add(layout.t2(i), node, 1, w);
     }
   op.B.resize(op.rows(), dofs.n_free);
   op.B.setFromTriplets(entries.begin(), entries.end());

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <exception>
 #include <limits>
+#include <map>
 #include <thread>
 
 #include "base/errors.hpp"
@@ -44,12 +45,12 @@ void check_tet_orientation(const Mesh& mesh) {
 }
 
 Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const DofMap& dofs,
-                                                        const Material& material) {
-  const Matrix6d D = hooke_matrix(material);
+                                                        const TetMaterials& material) {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(mesh.tets.size() * 144);
-  for (const auto& t : mesh.tets) {
-    const Matrix12d Ke = element_stiffness(coords(mesh, t), D);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    const Matrix12d Ke = element_stiffness(coords(mesh, t), hooke_matrix(material[e]));
     std::array<int, 12> idx{};
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c) idx[3 * a + c] = dofs.dof(t[a], c);
@@ -66,17 +67,17 @@ Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const 
 
 namespace {
 
-// True when every node has either no free dof or three consecutive ones, ascending with the
-// node index (what make_dof_map produces): then K has a 3x3-block pattern known in advance.
-bool has_node_block_layout(const DofMap& dofs) {
+// True when free dofs are numbered node by node, ascending, each node's free components in
+// x, y, z order (what make_dof_map produces): then K's pattern follows from the node graph.
+bool has_node_ordered_layout(const DofMap& dofs) {
   int next = 0;
-  for (int v = 0; v < dofs.n_nodes; ++v) {
-    const int d0 = dofs.free_index[3 * v], d1 = dofs.free_index[3 * v + 1], d2 = dofs.free_index[3 * v + 2];
-    if (d0 < 0 && d1 < 0 && d2 < 0) continue;
-    if (d0 != next || d1 != next + 1 || d2 != next + 2) return false;
-    next += 3;
-  }
+  for (int i = 0; i < 3 * dofs.n_nodes; ++i)
+    if (dofs.free_index[i] >= 0 && dofs.free_index[i] != next++) return false;
   return next == dofs.n_free;
+}
+
+int free_components(const DofMap& dofs, int node) {
+  return (dofs.dof(node, 0) >= 0) + (dofs.dof(node, 1) >= 0) + (dofs.dof(node, 2) >= 0);
 }
 
 // fn(lo, hi) over [0, count) split across the cores; an exception in a worker (e.g. bad_alloc)
@@ -130,38 +131,47 @@ Eigen::Matrix3d isotropic_block(const Eigen::Vector3d& ga, const Eigen::Vector3d
 // own tets (the block |T| B_aᵀ D B_b for each node a of a tet around it), so nodes are independent —
 // parallel without colouring — and every write goes to the node's own contiguous columns.
 Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
-                                               const Material& material) {
-  if (!has_node_block_layout(dofs)) return assemble_stiffness_triplets(mesh, dofs, material);
+                                               const TetMaterials& material) {
+  if (!has_node_ordered_layout(dofs)) return assemble_stiffness_triplets(mesh, dofs, material);
   const int n_nodes = dofs.n_nodes;
   const NodeTets around(mesh);
-  // Hat gradients and volume of every tet, once.
+  // Hat gradients, volume and Lamé constants of every tet, once.
   std::vector<std::array<Eigen::Vector3d, 4>> grad(mesh.tets.size());
   std::vector<double> volume(mesh.tets.size());
+  std::vector<Eigen::Vector2d> lame(mesh.tets.size());  // (λ, μ) as in hooke_matrix
   parallel_for(mesh.tets.size(), [&](std::size_t lo, std::size_t hi) {
     for (std::size_t e = lo; e < hi; ++e) {
       const TetCoords x = coords(mesh, mesh.tets[e]);
       const Matrix6x12d B = strain_matrix(x);
       for (int a = 0; a < 4; ++a) grad[e][a] = Eigen::Vector3d(B(0, 3 * a), B(1, 3 * a + 1), B(2, 3 * a + 2));
       volume[e] = std::abs(tet_volume(x));
+      const double E = material[e].young, nu = material[e].poisson;
+      lame[e] = Eigen::Vector2d(E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu)));
     }
   });
-  // Free neighbours of every free node (itself included), sorted: the block pattern of K.
-  std::vector<std::vector<int>> nbr(n_nodes);
+  // Neighbours of every node with a free dof (itself included) that have free dofs, sorted, and
+  // the offset of each neighbour's rows within a column: the pattern of K.
+  std::vector<int> n_free_of(n_nodes);
+  for (int v = 0; v < n_nodes; ++v) n_free_of[v] = free_components(dofs, v);
+  std::vector<std::vector<int>> nbr(n_nodes), row_offset(n_nodes);
   parallel_for(n_nodes, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v) {
-      if (dofs.dof(static_cast<int>(v), 0) < 0) continue;
+      if (n_free_of[v] == 0) continue;
       auto& list = nbr[v];
       for (int k = around.first[v]; k < around.first[v + 1]; ++k)
         for (int a : mesh.tets[around.tet[k]])
-          if (dofs.dof(a, 0) >= 0) list.push_back(a);
+          if (n_free_of[a] > 0) list.push_back(a);
       std::sort(list.begin(), list.end());
       list.erase(std::unique(list.begin(), list.end()), list.end());
+      auto& offset = row_offset[v];
+      offset.resize(list.size() + 1, 0);
+      for (std::size_t j = 0; j < list.size(); ++j) offset[j + 1] = offset[j] + n_free_of[list[j]];
     }
   });
   std::vector<Eigen::Index> col_ptr(dofs.n_free + 1, 0);
   for (int v = 0; v < n_nodes; ++v)
-    if (const int d = dofs.dof(v, 0); d >= 0)
-      for (int c = 0; c < 3; ++c) col_ptr[d + c + 1] = static_cast<Eigen::Index>(3 * nbr[v].size());
+    for (int c = 0; c < 3; ++c)
+      if (const int d = dofs.dof(v, c); d >= 0) col_ptr[d + 1] = static_cast<Eigen::Index>(row_offset[v].back());
   for (int j = 0; j < dofs.n_free; ++j) col_ptr[j + 1] += col_ptr[j];
   if (col_ptr.back() > std::numeric_limits<int>::max())
     throw InputError("the stiffness matrix would have " + std::to_string(col_ptr.back()) +
@@ -172,29 +182,32 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
   std::copy(col_ptr.begin(), col_ptr.end(), K.outerIndexPtr());
   int* row_idx = K.innerIndexPtr();
   double* values = K.valuePtr();
-  const double E = material.young, nu = material.poisson;
-  const double lame_lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));  // as in hooke_matrix
   parallel_for(n_nodes, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v) {
-      const int d = dofs.dof(static_cast<int>(v), 0);
-      if (d < 0) continue;
+      if (n_free_of[v] == 0) continue;
       const auto& list = nbr[v];
       for (int c = 0; c < 3; ++c) {
-        Eigen::Index k = col_ptr[d + c];
+        const int d = dofs.dof(static_cast<int>(v), c);
+        if (d < 0) continue;
+        Eigen::Index k = col_ptr[d];
         for (int a : list)
-          for (int r = 0; r < 3; ++r) { row_idx[k] = dofs.dof(a, r); values[k++] = 0.0; }
+          for (int r = 0; r < 3; ++r)
+            if (const int row = dofs.dof(a, r); row >= 0) { row_idx[k] = row; values[k++] = 0.0; }
       }
       for (int k = around.first[v]; k < around.first[v + 1]; ++k) {
         const int e = around.tet[k];
         const auto& t = mesh.tets[e];
         const int b = static_cast<int>(std::find(t.begin(), t.end(), static_cast<int>(v)) - t.begin());
         for (int a = 0; a < 4; ++a) {
-          if (dofs.dof(t[a], 0) < 0) continue;
-          const Eigen::Matrix3d block = isotropic_block(grad[e][a], grad[e][b], lame_lambda, mu, volume[e]);
-          const auto offset = 3 * (std::lower_bound(list.begin(), list.end(), t[a]) - list.begin());
+          if (n_free_of[t[a]] == 0) continue;
+          const Eigen::Matrix3d block = isotropic_block(grad[e][a], grad[e][b], lame[e][0], lame[e][1], volume[e]);
+          const auto j = std::lower_bound(list.begin(), list.end(), t[a]) - list.begin();
           for (int cb = 0; cb < 3; ++cb) {
-            double* column = values + col_ptr[d + cb] + offset;
-            for (int ca = 0; ca < 3; ++ca) column[ca] += block(ca, cb);
+            const int d = dofs.dof(static_cast<int>(v), cb);
+            if (d < 0) continue;
+            double* column = values + col_ptr[d] + row_offset[v][j];
+            for (int ca = 0, row = 0; ca < 3; ++ca)
+              if (dofs.dof(t[a], ca) >= 0) column[row++] += block(ca, cb);
           }
         }
       }
@@ -203,26 +216,79 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
   return K;
 }
 
-Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
-                              const std::vector<Traction>& tractions,
-                              const Eigen::Vector3d& body_force) {
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs.n_free);
-  auto add = [&](int node, const Eigen::Vector3d& load) {
-    for (int c = 0; c < 3; ++c)
-      if (int d = dofs.dof(node, c); d >= 0) f[d] += load[c];
-  };
-  for (const auto& tr : tractions)
-    for (int t : mesh.triangles_of_group(tr.group)) {
-      const auto& tri = mesh.triangles[t];
+namespace {
+
+// The body's outward unit normal on each triangle of a group, from the tetrahedron it bounds.
+std::vector<Eigen::Vector3d> outward_normals(const Mesh& mesh, const std::string& group, const std::vector<int>& tris) {
+  std::map<std::array<int, 3>, int> opposite;  // sorted face -> the tet's fourth node
+  for (int t : tris) {
+    std::array<int, 3> key = mesh.triangles[t];
+    std::sort(key.begin(), key.end());
+    opposite.emplace(key, -1);
+  }
+  for (const auto& tet : mesh.tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> key{};
+      for (int a = 0, k = 0; a < 4; ++a)
+        if (a != skip) key[k++] = tet[a];
+      std::sort(key.begin(), key.end());
+      if (auto it = opposite.find(key); it != opposite.end()) it->second = it->second == -1 ? tet[skip] : -2;
+    }
+  std::vector<Eigen::Vector3d> normals;
+  for (int t : tris) {
+    std::array<int, 3> key = mesh.triangles[t];
+    std::sort(key.begin(), key.end());
+    const int inner = opposite[key];
+    if (inner < 0)
+      throw InputError("boundary.pressure on '" + group + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
+                       (inner == -1 ? " is not a face of any tetrahedron" : " is an interior face (two tetrahedra share it)") +
+                       "; a pressure acts on the body's boundary");
+    const auto& tri = mesh.triangles[t];
+    Eigen::Vector3d n = (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).normalized();
+    if (n.dot(mesh.nodes[inner] - mesh.nodes[tri[0]]) > 0) n = -n;
+    normals.push_back(n);
+  }
+  return normals;
+}
+
+// Adds the loads at the nodes (3 per node) of every surface load and the body force.
+Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force) {
+  Eigen::VectorXd load = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(mesh.nodes.size()));
+  for (const auto& tr : tractions) {
+    if (mesh.find_group(tr.group, 2) == nullptr && mesh.find_group(tr.group, 3) != nullptr)
+      throw InputError("the load on '" + tr.group + "' names a volume (3-D) group; tractions and pressures act on "
+                       "boundary (2-D) groups");
+    const std::vector<int> tris = mesh.triangles_of_group(tr.group);
+    const std::vector<Eigen::Vector3d> normals =
+        tr.pressure != 0 ? outward_normals(mesh, tr.group, tris) : std::vector<Eigen::Vector3d>();
+    for (std::size_t k = 0; k < tris.size(); ++k) {
+      const auto& tri = mesh.triangles[tris[k]];
       const double area =
           0.5 * (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).norm();
-      for (int v : tri) add(v, tr.value * (area / 3.0));
+      const Eigen::Vector3d shift = tr.pressure != 0 ? Eigen::Vector3d(-tr.pressure * normals[k]) : Eigen::Vector3d::Zero();
+      std::array<Eigen::Vector3d, 3> t;  // the traction at the corners; ∫ t φ_i = |T|/12 (2 t_i + t_j + t_k)
+      for (int a = 0; a < 3; ++a) t[a] = tr.value + shift + tr.gradient * mesh.nodes[tri[a]];
+      for (int a = 0; a < 3; ++a)
+        load.segment<3>(3 * tri[a]) += area / 12.0 * (2 * t[a] + t[(a + 1) % 3] + t[(a + 2) % 3]);
     }
+  }
   if (body_force.squaredNorm() > 0)
     for (const auto& t : mesh.tets) {
       const double vol = std::abs(tet_volume(coords(mesh, t)));
-      for (int v : t) add(v, body_force * (vol / 4.0));
+      for (int v : t) load.segment<3>(3 * v) += body_force * (vol / 4.0);
     }
+  return load;
+}
+
+}  // namespace
+
+Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
+                              const std::vector<Traction>& tractions,
+                              const Eigen::Vector3d& body_force) {
+  const Eigen::VectorXd load = nodal_loads(mesh, tractions, body_force);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs.n_free);
+  for (Eigen::Index i = 0; i < load.size(); ++i)
+    if (const int d = dofs.free_index[i]; d >= 0) f[d] += load[i];
   // Loads so large that |f|² overflows would turn every norm in the dual QP into inf/NaN.
   if (!std::isfinite(f.squaredNorm()))
     throw InputError("the load vector overflows double precision (|f|² is not finite): tractions or body force too "
@@ -230,10 +296,51 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
   return f;
 }
 
+Eigen::VectorXd assemble_lift(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs.n_free);
+  if (!dofs.has_nonzero_prescribed()) return f;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    Eigen::Matrix<double, 12, 1> g;
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 3; ++c) g[3 * a + c] = dofs.dof(t[a], c) < 0 ? dofs.prescribed[3 * t[a] + c] : 0.0;
+    if (g.isZero(0)) continue;
+    const Eigen::Matrix<double, 12, 1> Kg = element_stiffness(coords(mesh, t), hooke_matrix(material[e])) * g;
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 3; ++c)
+        if (const int d = dofs.dof(t[a], c); d >= 0) f[d] -= Kg[3 * a + c];
+  }
+  if (!std::isfinite(f.squaredNorm()))
+    throw InputError("the prescribed displacements overflow the load vector (|K u_c|² is not finite); rescale the units");
+  return f;
+}
+
+Eigen::VectorXd internal_minus_external(const Mesh& mesh, const TetMaterials& material,
+                                        const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force,
+                                        const Eigen::VectorXd& u_nodes) {
+  Eigen::VectorXd r = -nodal_loads(mesh, tractions, body_force);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    Eigen::Matrix<double, 12, 1> ue;
+    for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u_nodes.segment<3>(3 * t[a]);
+    const Eigen::Matrix<double, 12, 1> Ku = element_stiffness(coords(mesh, t), hooke_matrix(material[e])) * ue;
+    for (int a = 0; a < 4; ++a) r.segment<3>(3 * t[a]) += Ku.segment<3>(3 * a);
+  }
+  return r;
+}
+
+std::vector<ReactionForce> reaction_forces(const DofMap& dofs, const Eigen::VectorXd& residual) {
+  std::vector<ReactionForce> out(dofs.conditions.size());
+  for (std::size_t k = 0; k < out.size(); ++k) out[k].condition = dofs.conditions[k];
+  for (std::size_t i = 0; i < dofs.fixed_by.size(); ++i)
+    if (dofs.fixed_by[i] >= 0) out[dofs.fixed_by[i]].force[static_cast<int>(i % 3)] += residual[static_cast<Eigen::Index>(i)];
+  return out;
+}
+
 Eigen::VectorXd expand_to_nodes(const DofMap& dofs, const Eigen::VectorXd& u_free) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * dofs.n_nodes);
   for (int i = 0; i < 3 * dofs.n_nodes; ++i)
-    if (dofs.free_index[i] >= 0) u[i] = u_free[dofs.free_index[i]];
+    u[i] = dofs.free_index[i] >= 0 ? u_free[dofs.free_index[i]] : dofs.prescribed[i];
   return u;
 }
 

@@ -1,5 +1,7 @@
 // Global P1 elasticity system on the free dofs: stiffness K (symmetric, both triangles stored)
-// and load vector f from surface tractions on named groups and a constant body force.
+// and load vector f from surface loads on named groups (tractions affine in position, normal
+// pressures), a constant body force and the lift −K_fc·u_c of prescribed displacements; the
+// reaction forces at the prescribed components once u is known.
 #pragma once
 
 #include <string>
@@ -14,9 +16,14 @@
 
 namespace contact3d {
 
+// A surface load on a boundary group: t(x) = value + gradient·x (Pa; affine in position, e.g. a
+// torsion gradient = τ[[0,-1,0],[1,0,0],[0,0,0]]) plus a normal pressure p (Pa, pushing into the
+// body: adds −p·n with n the body's outward normal, so it follows curved faces).
 struct Traction {
-  std::string group;        // surface physical group
-  Eigen::Vector3d value;    // Pa, constant over the group
+  std::string group;
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero();  // Pa/m
+  double pressure = 0;                                  // Pa
 };
 
 struct ElasticSystem {
@@ -28,16 +35,35 @@ struct ElasticSystem {
 void check_tet_orientation(const Mesh& mesh);
 
 Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
-                                               const Material& material);
+                                               const TetMaterials& material);
 // The same matrix by plain triplet assembly (the reference the fast path is tested against,
 // and the fallback for dof maps without the node-block layout of make_dof_map).
 Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const DofMap& dofs,
-                                                        const Material& material);
+                                                        const TetMaterials& material);
+// The external loads at the free dofs (tractions integrated exactly for affine t). Throws
+// InputError for a pressure on a group that is not a boundary face of the body.
 Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
                               const std::vector<Traction>& tractions,
                               const Eigen::Vector3d& body_force);
+// −K_fc·u_c: what the prescribed displacements add to the free dofs' load (zero for clamps).
+Eigen::VectorXd assemble_lift(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material);
 
-// Full nodal displacement (3 per node, clamped = 0) from the free-dof vector.
+// Full nodal displacement (3 per node, prescribed values where fixed) from the free-dof vector.
 Eigen::VectorXd expand_to_nodes(const DofMap& dofs, const Eigen::VectorXd& u_free);
+
+// r = K·u − f_ext per node and component for the whole displacement u (3 per node). Equilibrium
+// reads K·u = f_ext + f_contact + f_support, and f_contact vanishes at prescribed components, so
+// there r is the force the support exerts on the body.
+Eigen::VectorXd internal_minus_external(const Mesh& mesh, const TetMaterials& material,
+                                        const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force,
+                                        const Eigen::VectorXd& u_nodes);
+
+// The force each prescribing condition exerts on the body (N): r summed over the components it
+// fixes (a component fixed by two conditions counts for the first one listed).
+struct ReactionForce {
+  std::string condition;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+};
+std::vector<ReactionForce> reaction_forces(const DofMap& dofs, const Eigen::VectorXd& residual);
 
 }  // namespace contact3d

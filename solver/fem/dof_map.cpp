@@ -1,23 +1,126 @@
 #include "fem/dof_map.hpp"
 
-namespace contact3d {
+#include <cmath>
 
-DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_groups) {
+#include <Eigen/Eigenvalues>
+
+#include "base/errors.hpp"
+#include "base/format.hpp"
+
+namespace contact3d {
+namespace {
+
+const char* const kAxis[3] = {"x", "y", "z"};
+
+std::string where(const Mesh& mesh, int v) {
+  const auto& p = mesh.nodes[v];
+  return "node " + std::to_string(mesh.node_tags[v]) + " (" + number(p.x()) + ", " + number(p.y()) + ", " +
+         number(p.z()) + ")";
+}
+
+// "(x, y, z)" with components below 1e-9·scale (rounding noise) shown as 0.
+std::string vector_text(const Eigen::Vector3d& v, double scale = 1) {
+  auto c = [&](double x) { return number(std::abs(x) < 1e-9 * scale ? 0.0 : x); };
+  return "(" + c(v.x()) + ", " + c(v.y()) + ", " + c(v.z()) + ")";
+}
+
+}  // namespace
+
+bool DofMap::has_nonzero_prescribed() const {
+  for (double g : prescribed)
+    if (g != 0) return true;
+  return false;
+}
+
+DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_groups,
+                    const std::vector<PrescribedDisplacement>& displacements) {
   DofMap map;
   map.n_nodes = static_cast<int>(mesh.nodes.size());
-  map.clamped_node.assign(map.n_nodes, 0);
-  for (const auto& name : clamped_groups)
+  map.fixed.assign(map.n_nodes, 0);
+  map.prescribed.assign(3 * map.n_nodes, 0.0);
+  map.fixed_by.assign(3 * map.n_nodes, -1);
+  auto prescribe = [&](int v, int c, double value) {
+    const int i = 3 * v + c;
+    if (map.fixed_by[i] >= 0) {
+      if (map.prescribed[i] != value)
+        throw InputError("u_" + std::string(kAxis[c]) + " at " + where(mesh, v) + " is prescribed twice with different values: " +
+                         number(map.prescribed[i]) + " by " + map.conditions[map.fixed_by[i]] + " and " + number(value) +
+                         " by " + map.conditions.back());
+      return;
+    }
+    map.fixed[v] |= static_cast<unsigned char>(1u << c);
+    map.prescribed[i] = value;
+    map.fixed_by[i] = static_cast<int>(map.conditions.size()) - 1;
+  };
+  for (const auto& name : clamped_groups) {
+    map.conditions.push_back("boundary.clamped '" + name + "'");
     for (int t : mesh.triangles_of_group(name))
-      for (int v : mesh.triangles[t]) map.clamped_node[v] = 1;
+      for (int v : mesh.triangles[t])
+        for (int c = 0; c < 3; ++c) prescribe(v, c, 0.0);
+  }
+  for (const auto& d : displacements) {
+    map.conditions.push_back("boundary.displacement '" + d.group + "'");
+    for (int t : mesh.triangles_of_group(d.group))
+      for (int v : mesh.triangles[t])
+        for (int c = 0; c < 3; ++c)
+          if (d.value[c]) prescribe(v, c, *d.value[c]);
+  }
   // Nodes not used by any tet carry no stiffness: treat them as fixed so K stays regular.
-  std::vector<char> used(map.n_nodes, 0);
+  map.used.assign(map.n_nodes, 0);
   for (const auto& t : mesh.tets)
-    for (int v : t) used[v] = 1;
+    for (int v : t) map.used[v] = 1;
   map.free_index.assign(3 * map.n_nodes, -1);
   for (int v = 0; v < map.n_nodes; ++v)
-    if (!map.clamped_node[v] && used[v])
-      for (int c = 0; c < 3; ++c) map.free_index[3 * v + c] = map.n_free++;
+    for (int c = 0; c < 3; ++c)
+      if (map.used[v] && !(map.fixed[v] >> c & 1)) map.free_index[3 * v + c] = map.n_free++;
   return map;
+}
+
+void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
+  // A rigid motion u(x) = t + ω × (x − x̄) is free iff it vanishes at every prescribed component.
+  // With coordinates scaled by the body's size, the 6×6 Gram matrix of those components' rows is
+  // singular exactly then; its null vector is the free motion.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo, centre = Eigen::Vector3d::Zero();
+  int n_used = 0;
+  for (int v = 0; v < dofs.n_nodes; ++v)
+    if (dofs.used[v]) {
+      lo = lo.cwiseMin(mesh.nodes[v]);
+      hi = hi.cwiseMax(mesh.nodes[v]);
+      centre += mesh.nodes[v];
+      ++n_used;
+    }
+  if (n_used == 0) return;
+  centre /= n_used;
+  const double size = std::max((hi - lo).maxCoeff(), 1e-300);
+  Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    if (!dofs.used[v] || !dofs.fixed[v]) continue;
+    const Eigen::Vector3d x = (mesh.nodes[v] - centre) / size;
+    // Row c of the rigid-motion basis at x: translations e_c, rotations e_a × x.
+    const Eigen::Matrix<double, 3, 6> basis =
+        (Eigen::Matrix<double, 3, 6>() << 1, 0, 0, 0, x.z(), -x.y(),  //
+         0, 1, 0, -x.z(), 0, x.x(),                                   //
+         0, 0, 1, x.y(), -x.x(), 0)
+            .finished();
+    for (int c = 0; c < 3; ++c)
+      if (dofs.fixed[v] >> c & 1) gram += basis.row(c).transpose() * basis.row(c);
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram);
+  if (eig.eigenvalues()[0] > 1e-10 * std::max(eig.eigenvalues()[5], 1.0)) return;
+  const Eigen::Matrix<double, 6, 1> motion = eig.eigenvectors().col(0);
+  const Eigen::Vector3d t = motion.head<3>(), w = motion.tail<3>();
+  std::string what;
+  if (w.norm() < 1e-6 * t.norm()) {
+    what = "a translation along " + vector_text(t.normalized());
+  } else {
+    // The axis of u = t + ω × (x − x̄), scaled back: points p with u(p) ∥ ω.
+    const Eigen::Vector3d point = centre + size * w.cross(t) / w.squaredNorm();
+    what = "a rotation about the axis along " + vector_text(w.normalized()) + " through " + vector_text(point, size);
+    if (std::abs(t.dot(w)) > 1e-6 * t.norm() * w.norm()) what += " (with a slide along it)";
+  }
+  throw InputError("the prescribed displacements leave the body free to move: " + what +
+                   " is not prevented by boundary.clamped or boundary.displacement, so the stiffness matrix is "
+                   "singular (contact alone does not hold a body); constrain more components or groups");
 }
 
 }  // namespace contact3d

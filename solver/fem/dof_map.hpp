@@ -1,23 +1,52 @@
-// DofMap: numbering of the free displacement unknowns. Node v has components c = 0,1,2;
-// a component is eliminated (Dirichlet u = 0, Γu) when v lies on a clamped triangle.
+// DofMap: numbering of the free displacement unknowns. Node v has components c = 0,1,2 (x, y, z);
+// a component is eliminated when it is prescribed: all three on a clamped group (u = 0, Γu),
+// the named ones on a `[[boundary.displacement]]` group (symmetry planes, rollers, imposed
+// displacement). Prescribed values enter the load as the lift −K_fc·u_c (assembly.hpp).
 #pragma once
 
+#include <array>
+#include <optional>
+#include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "mesh/mesh.hpp"
 
 namespace contact3d {
 
+// Prescribed components on the nodes of a boundary group's triangles (unset = free).
+struct PrescribedDisplacement {
+  std::string group;
+  std::array<std::optional<double>, 3> value;  // m, per component x, y, z
+};
+
 struct DofMap {
   int n_nodes = 0;
   int n_free = 0;
-  std::vector<int> free_index;  // 3*node + c -> free dof index, or -1 if clamped
-  std::vector<char> clamped_node;
+  std::vector<int> free_index;       // 3*node + c -> free dof index, or -1 if prescribed
+  std::vector<double> prescribed;    // 3*node + c -> the prescribed value (0 where free or clamped)
+  std::vector<unsigned char> fixed;  // per node: bit c set when component c is prescribed
+  std::vector<char> used;            // per node: 1 when a tetrahedron uses it (unused nodes are fixed at 0)
+  // The conditions that prescribe components ("boundary.clamped 'wall'", ...), and for 3*node + c
+  // the one that fixed it (the first one listed), or -1: where each reaction force is reported.
+  std::vector<std::string> conditions;
+  std::vector<int> fixed_by;
 
   int dof(int node, int component) const { return free_index[3 * node + component]; }
+  bool fully_fixed(int node) const { return fixed[node] == 7; }
+  bool has_nonzero_prescribed() const;
 };
 
-// Clamps every node of the triangles in `clamped_groups` (all three components).
-DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_groups);
+// Clamps every node of the triangles in `clamped_groups` (all three components) and prescribes
+// the given components on the nodes of each displacement group. Free dofs are numbered node by
+// node, ascending. Throws InputError when two conditions give one component different values.
+DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_groups,
+                    const std::vector<PrescribedDisplacement>& displacements = {});
+
+// Throws InputError, before anything is factorized, when the prescribed components leave a rigid
+// motion of the body free (K would be singular), naming the motion: a translation along a
+// direction or a rotation about an axis through a point.
+void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs);
 
 }  // namespace contact3d

@@ -3,6 +3,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -11,6 +14,19 @@ namespace contact3d {
 struct Material {
   double young = 1.0;    // E, Pa
   double poisson = 0.0;  // ν
+};
+
+// The material of every tetrahedron: one for the whole body, or one per tetrahedron (several
+// materials, one per volume group, as Abaqus sections).
+class TetMaterials {
+ public:
+  TetMaterials(const Material& whole_body) : single_(whole_body) {}  // NOLINT: one material converts implicitly
+  explicit TetMaterials(std::vector<Material> per_tet) : per_tet_(std::move(per_tet)) {}
+  const Material& operator[](std::size_t tet) const { return per_tet_.empty() ? single_ : per_tet_[tet]; }
+
+ private:
+  Material single_;
+  std::vector<Material> per_tet_;
 };
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;

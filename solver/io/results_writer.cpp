@@ -251,6 +251,26 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
   return nf;
 }
 
+void write_vector(JsonWriter& j, const char* key, const Eigen::Vector3d& v) {
+  j.begin_array(key).element(v.x()).element(v.y()).element(v.z()).end_array();
+}
+
+// "forces": the resultants on the body (N, global x, y, z) and their balance.
+void write_forces(JsonWriter& j, const ResultantForces& f) {
+  j.begin_object("forces");
+  write_vector(j, "applied", f.applied);
+  write_vector(j, "contact", f.contact);
+  j.begin_array("reactions");
+  for (const auto& r : f.reactions) {
+    j.begin_object().value("condition", r.condition);
+    write_vector(j, "force", r.force);
+    j.end_object();
+  }
+  j.end_array();
+  j.value("balance", f.balance);
+  j.end_object();
+}
+
 void write_summary_json(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
                         const RunInfo& info) {
   write_file(file, [&](std::ostream& out) {
@@ -290,6 +310,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       if (has_friction(res)) { force_t1 += a * res.lambda[res.n_cells + i]; force_t2 += a * res.lambda[2 * res.n_cells + i]; }
     }
     j.begin_object("contact_force").value("normal", force_n).value("t1", force_t1).value("t2", force_t2).end_object();
+    write_forces(j, res.forces);
     j.begin_object("time_s");
     j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);
     for (const auto& [stage, sec] : res.seconds) j.value(stage, sec);

@@ -38,6 +38,7 @@ class CholmodDualProblem final : public DualProblem {
     }
     Q_ = std::move(dual.Q);
     h_ = std::move(dual.h);
+    if (in.offset.size() == h_.size()) h_ += in.offset;
     u_free_ = std::move(dual.u_free);
     clock.lap("dual");
   }

@@ -1,6 +1,6 @@
 // DualProblem: the dualisation of (5.4) as one object. It owns the factorization of K (or of the
 // augmented matrix [K 𝔹ᵀ; 𝔹 σI]) and gives the data of the dual QP (5.5)-(5.6) — the dense
-// Q = 𝔹K⁻¹𝔹ᵀ and h = 𝔹K⁻¹f — and its recovery: the displacement w = K⁻¹(f − 𝔹ᵀλ), on the
+// Q = 𝔹K⁻¹𝔹ᵀ and h = 𝔹K⁻¹f + b — and its recovery: the displacement w = K⁻¹(f − 𝔹ᵀλ), on the
 // contact face for one fixed-point step, everywhere at the end. This is the seam where a linear-
 // algebra backend plugs in (CHOLMOD here; PETSc/MUMPS behind the same interface).
 #pragma once
@@ -24,13 +24,15 @@ namespace contact3d {
 //   BlockSolve  — one K⁻¹ solve per row of 𝔹 (the reference the tests compare against).
 enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve };
 
-// What a backend needs: K and f over the free dofs, 𝔹 (multipliers × free dofs), and the free
-// dofs at which face_displacement() reports w (the contact face, in the caller's order).
+// What a backend needs: K and f over the free dofs, 𝔹 (multipliers × free dofs), the free dofs
+// at which face_displacement() reports w (the contact face, in the caller's order), and the
+// offset b of the constraint rows 𝔹w + b (empty: zero), which h takes on.
 struct DualProblemInput {
   const Eigen::SparseMatrix<double>& K;
   const Eigen::SparseMatrix<double>& B;
   const Eigen::VectorXd& f;
   std::vector<int> face_dofs;
+  Eigen::VectorXd offset = Eigen::VectorXd();
 };
 
 class DualProblem {

@@ -146,6 +146,7 @@ void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
 
 // Constrained nodes that all lie on one line (or at one point) leave a rigid rotation free.
 void check_constraints_hold(const Mesh& mesh, const MeshRoles& roles) {
+  if (!roles.displaced.empty()) return;  // per-component conditions: require_rigid_motions_fixed decides
   std::set<int> nodes;
   std::string names;
   for (const auto& name : roles.clamped) {

@@ -20,6 +20,7 @@ namespace contact3d {
 // How a scene uses the mesh's groups.
 struct MeshRoles {
   std::vector<std::string> clamped, contact, loaded;
+  std::vector<std::string> displaced;  // groups with prescribed components (the rigid-motion check is fem's then)
 };
 
 // Coordinates beyond ±1e15 (run first: every other check computes with them).

@@ -22,8 +22,9 @@
 namespace contact3d {
 namespace {
 
-// K and f over the free dofs (Γu eliminated).
+// K and f over the free dofs (prescribed components eliminated, their lift in f).
 struct Discretisation {
+  TetMaterials materials;
   Eigen::SparseMatrix<double> K;
   Eigen::VectorXd f;
 };
@@ -32,10 +33,14 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   check_coordinates_in_range(mesh);
   check_tet_orientation(mesh);
   check_mesh_meaning(mesh, mesh_roles(scene));
-  res.dofs = make_dof_map(mesh, scene.clamped);
+  res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
+  require_rigid_motions_fixed(mesh, res.dofs);
   res.n_primal = res.dofs.n_free;
-  return {assemble_stiffness(mesh, res.dofs, scene.material), assemble_load(mesh, res.dofs, scene.tractions, scene.body_force)};
+  Discretisation disc{tet_materials(scene, mesh), {}, {}};
+  disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
+  disc.f = assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
+  return disc;
 }
 
 // Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
@@ -151,8 +156,8 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
 }
 
 // The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
-void recover(const Mesh& mesh, const Discretisation& disc, const ContactOperator& op, const DualProblem& dual,
-             const TrescaStep& tresca, SolveResult& res) {
+void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, const ContactOperator& op,
+             const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
   const Eigen::VectorXd w = dual.displacement(tresca.lambda());
   res.lambda = tresca.lambda();
   res.radius = tresca.radius();
@@ -161,21 +166,25 @@ void recover(const Mesh& mesh, const Discretisation& disc, const ContactOperator
   res.qp_iterations = tresca.qp_iterations();
   res.n_mult = tresca.products() + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   res.u = expand_to_nodes(res.dofs, w);
-  res.kkt = kkt_residuals(disc.K, disc.f, op.B, op.r, op.with_friction, res.radius, w, res.lambda, dual.h());
+  res.kkt = kkt_residuals(disc.K, disc.f, op.B, op.r, op.with_friction, res.radius, w, res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
+  res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError("the solution is not finite: the scene's loads, material or friction values overflow double "
                      "precision (check their units); no results were written");
 }
 
 // No contact group: one linear solve.
-SolveResult solve_without_contact(const Scene& scene, const Discretisation& disc, StageClock& clock, SolveResult res) {
+SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretisation& disc, StageClock& clock,
+                                  SolveResult res) {
   const Eigen::SparseMatrix<double> no_rows(0, disc.K.cols());
   const auto dual = make_cholmod_dual_problem(DualMethod::BlockSolve, {disc.K, no_rows, disc.f, {}}, clock);
   res.factor_nonzeros = dual->factor_nonzeros;
   const Eigen::VectorXd w = dual->displacement(Eigen::VectorXd());
   res.u = expand_to_nodes(res.dofs, w);
   res.kkt.equilibrium = (disc.K * w - disc.f).norm() / std::max(disc.f.norm(), 1e-300);
+  res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, no_rows,
+                                Eigen::VectorXd());
   res.n_mult = 1;
   res.converged = true;
   res.status = "converged";
@@ -208,14 +217,14 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   const Discretisation disc = discretise(scene, mesh, res);
   clock.lap("assembly");
-  if (scene.contact.empty()) return solve_without_contact(scene, disc, clock, std::move(res));
+  if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, std::move(res));
 
   const ContactOperator op = contact_stage(scene, mesh, res);
   clock.lap("contact");
   require_memory_for_dense_dual(op);
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
   std::unique_ptr<DualProblem> dual =
-      make_cholmod_dual_problem(scene.solver.dual_method, {disc.K, op.B, disc.f, face_dofs.dofs}, clock);
+      make_cholmod_dual_problem(scene.solver.dual_method, {disc.K, op.B, disc.f, face_dofs.dofs, op.offset}, clock);
   const double q_norm = estimate_norm(dual->Q());  // once: for cond(Q) and for MPGP's step ᾱ
   res.stability_condition = check_stability(dual->Q(), q_norm, res.partition, op.r);
   clock.lap("stability");
@@ -225,7 +234,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), progress, res);
   clock.lap("dual_solve");
 
-  recover(mesh, disc, op, *dual, tresca, res);
+  recover(scene, mesh, disc, op, *dual, tresca, res);
   res.history_nodes = face_dofs.nodes;
   res.u_history = tresca.take_face_history();
   res.schur_method = dual->method;

@@ -20,6 +20,7 @@
 #include "friction/fixed_point.hpp"
 #include "mesh/mesh.hpp"
 #include "model/kkt.hpp"
+#include "model/resultant_forces.hpp"
 #include "model/scene.hpp"
 #include "qp/mpgp.hpp"
 
@@ -52,6 +53,7 @@ struct SolveResult {
   int n_mult = 0;                    // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
   int qp_iterations = 0;
   KktResiduals kkt;
+  ResultantForces forces;            // applied, contact and reaction forces and their balance
   double wn_plus_L2 = 0, wn_plus_inf = 0;
   double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order

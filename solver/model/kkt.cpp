@@ -14,13 +14,14 @@ double KktResiduals::max() const {
 KktResiduals kkt_residuals(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
                            const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
                            const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda,
-                           const Eigen::VectorXd& h) {
+                           const Eigen::VectorXd& h, const Eigen::VectorXd& offset) {
   KktResiduals res;
   auto safe_div = [](double a, double b) { return b > 0 ? a / b : a; };
   const Eigen::VectorXd Btl = B.transpose() * lambda;
   res.equilibrium = safe_div((K * w - f + Btl).norm(), std::max(f.norm(), Btl.norm()));
   if (r == 0) return res;
-  const Eigen::VectorXd d = B * w;
+  Eigen::VectorXd d = B * w;
+  if (offset.size() == d.size()) d += offset;
   const double scale_d = std::max(d.norm(), h.norm());
   const double scale_lambda = with_friction ? std::max(lambda.norm(), radius.norm()) : lambda.norm();
   const double scale = scale_lambda * scale_d;

@@ -1,6 +1,7 @@
 // Residuals of the discrete optimality conditions (5.4) of a computed (w, λ), each scaled to
-// be dimensionless, so that a run reports how well it solved its own problem. With d = 𝔹w,
-// s_d = max(‖d‖, ‖h‖) (h = 𝔹K⁻¹f, the unconstrained d: never ~0 when the body is loaded, unlike
+// be dimensionless, so that a run reports how well it solved its own problem. With d = 𝔹w + b
+// (b the rows' offset: prescribed displacements on Γc and the initial gap, see ContactOperator),
+// s_d = max(‖d‖, ‖h‖) (h = 𝔹K⁻¹f + b, the unconstrained d: never ~0 when the body is loaded, unlike
 // ‖d‖ in a fully stuck contact) and s_λ = max(‖λ‖, ‖c‖):
 //   equilibrium             ‖K w − f + 𝔹ᵀλ‖ / max(‖f‖, ‖𝔹ᵀλ‖)
 //   normal_feasibility      ‖max(0, d_n)‖ / s_d                     (∫_{R_i} w_n <= 0)
@@ -23,6 +24,6 @@ struct KktResiduals {
 KktResiduals kkt_residuals(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
                            const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
                            const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda,
-                           const Eigen::VectorXd& h);
+                           const Eigen::VectorXd& h, const Eigen::VectorXd& offset = Eigen::VectorXd());
 
 }  // namespace contact3d

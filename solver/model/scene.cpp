@@ -99,6 +99,92 @@ Eigen::Vector3d get_vector(const toml::node* n, const std::string& name) {
   return v;
 }
 
+Eigen::Matrix3d get_matrix(const toml::node* n, const std::string& name) {
+  if (!n || !n->is_array() || n->as_array()->size() != 3)
+    throw InputError("scene key '" + name + "' must be a 3×3 matrix: three rows of three numbers");
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r) m.row(r) = get_vector(n->as_array()->get(r), name + " row " + std::to_string(r + 1));
+  return m;
+}
+
+// The tables of an array of tables `[[where.key]]` (none when absent).
+std::vector<const toml::table*> get_tables(const toml::table& t, const std::string& where, const std::string& key) {
+  std::vector<const toml::table*> out;
+  const toml::node* n = t.get(key);
+  if (!n) return out;
+  const bool empty_list = n->is_array() && n->as_array()->empty();
+  if (!empty_list && !n->is_array_of_tables())
+    throw InputError(where + "." + key + " must be an array of tables ([[" + where + "." + key + "]])");
+  for (const auto& e : *n->as_array()) out.push_back(e.as_table());
+  return out;
+}
+
+std::string get_group(const toml::table& t, const std::string& where) {
+  const std::string group = get_string(t, where, "group", "");
+  if (group.empty()) throw InputError(where + " needs a group");
+  return group;
+}
+
+Material get_material(const toml::table& t, const std::string& where) {
+  Material m;
+  m.young = get_number(t, where, "young", 0, true);
+  m.poisson = get_number(t, where, "poisson", 0, true);
+  if (!(m.young > 0)) throw InputError(where + ".young must be > 0 (Pa), got " + number(m.young));
+  if (!(m.poisson > -1 && m.poisson < 0.5))
+    throw InputError(where + ".poisson must lie in (-1, 0.5), got " + number(m.poisson));
+  return m;
+}
+
+// [material]: the default material, body force, and [[material.region]] per volume group.
+void parse_material(const toml::table& mat, Scene& s) {
+  check_keys(mat, "material", {"young", "poisson", "body_force", "region"});
+  s.material = get_material(mat, "material");
+  if (mat.contains("body_force")) s.body_force = get_vector(mat.get("body_force"), "material.body_force");
+  for (const toml::table* t : get_tables(mat, "material", "region")) {
+    check_keys(*t, "material.region", {"group", "young", "poisson"});
+    s.regions.push_back({get_group(*t, "material.region"), get_material(*t, "material.region")});
+  }
+}
+
+// [boundary]: clamped and contact groups, [[boundary.displacement]], [[boundary.traction]],
+// [[boundary.pressure]].
+void parse_boundary(const toml::table& bnd, Scene& s) {
+  check_keys(bnd, "boundary", {"clamped", "contact", "traction", "pressure", "displacement"});
+  s.clamped = get_strings(bnd, "boundary", "clamped");
+  s.contact = get_strings(bnd, "boundary", "contact");
+  for (const toml::table* t : get_tables(bnd, "boundary", "displacement")) {
+    const std::string where = "boundary.displacement";
+    check_keys(*t, where, {"group", "x", "y", "z"});
+    PrescribedDisplacement d{get_group(*t, where), {}};
+    const char* const axes[3] = {"x", "y", "z"};
+    for (int c = 0; c < 3; ++c)
+      if (t->contains(axes[c])) d.value[c] = get_number(*t, where, axes[c], 0, true);
+    if (!d.value[0] && !d.value[1] && !d.value[2])
+      throw InputError(where + " on '" + d.group + "' prescribes no component: give any of x, y, z (m)");
+    s.displacements.push_back(d);
+  }
+  if (s.clamped.empty() && s.displacements.empty())
+    throw InputError("the scene has no boundary.clamped group and no [[boundary.displacement]]: something must keep the "
+                     "body from rigid motions");
+  for (const toml::table* t : get_tables(bnd, "boundary", "traction")) {
+    check_keys(*t, "boundary.traction", {"group", "value", "gradient"});
+    Traction tr;
+    tr.group = get_group(*t, "boundary.traction");
+    if (!t->contains("value") && !t->contains("gradient"))
+      throw InputError("boundary.traction on '" + tr.group + "' needs a value (Pa) and/or a gradient (Pa/m)");
+    if (t->contains("value")) tr.value = get_vector(t->get("value"), "boundary.traction.value");
+    if (t->contains("gradient")) tr.gradient = get_matrix(t->get("gradient"), "boundary.traction.gradient");
+    s.tractions.push_back(tr);
+  }
+  for (const toml::table* t : get_tables(bnd, "boundary", "pressure")) {
+    check_keys(*t, "boundary.pressure", {"group", "value"});
+    Traction tr;
+    tr.group = get_group(*t, "boundary.pressure");
+    tr.pressure = get_number(*t, "boundary.pressure", "value", 0, true);
+    s.tractions.push_back(tr);
+  }
+}
+
 std::filesystem::path resolve(const std::filesystem::path& base, const std::string& p) {
   std::filesystem::path path(p);
   return path.is_absolute() ? path : (base / path).lexically_normal();
@@ -209,31 +295,10 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
 
   const toml::table* mat = table_at(root, "material");
   if (!mat) throw InputError("the scene has no [material] table");
-  check_keys(*mat, "material", {"young", "poisson", "body_force"});
-  s.material.young = get_number(*mat, "material", "young", 0, true);
-  s.material.poisson = get_number(*mat, "material", "poisson", 0, true);
-  if (!(s.material.young > 0)) throw InputError("material.young must be > 0 (Pa), got " + number(s.material.young));
-  if (!(s.material.poisson > -1 && s.material.poisson < 0.5))
-    throw InputError("material.poisson must lie in (-1, 0.5), got " + number(s.material.poisson));
-  if (mat->contains("body_force")) s.body_force = get_vector(mat->get("body_force"), "material.body_force");
-
+  parse_material(*mat, s);
   const toml::table* bnd = table_at(root, "boundary");
   if (!bnd) throw InputError("the scene has no [boundary] table");
-  check_keys(*bnd, "boundary", {"clamped", "contact", "traction"});
-  s.clamped = get_strings(*bnd, "boundary", "clamped");
-  s.contact = get_strings(*bnd, "boundary", "contact");
-  if (s.clamped.empty()) throw InputError("boundary.clamped must name at least one group (Γu keeps the body from rigid motions)");
-  if (const toml::node* tr = bnd->get("traction")) {
-    const bool empty_list = tr->is_array() && tr->as_array()->empty();
-    if (!empty_list && !tr->is_array_of_tables()) throw InputError("boundary.traction must be an array of tables ([[boundary.traction]])");
-    for (const auto& e : *tr->as_array()) {
-      const toml::table& t = *e.as_table();
-      check_keys(t, "boundary.traction", {"group", "value"});
-      const std::string group = get_string(t, "boundary.traction", "group", "");
-      if (group.empty()) throw InputError("boundary.traction needs a group");
-      s.tractions.push_back({group, get_vector(t.get("value"), "boundary.traction.value")});
-    }
-  }
+  parse_boundary(*bnd, s);
 
   const toml::table* fr = table_at(root, "friction");
   s.law = parse_law(fr ? *fr : empty);
@@ -296,8 +361,34 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   return s;
 }
 
+TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
+  if (scene.regions.empty()) return TetMaterials(scene.material);
+  std::vector<Material> per_tet(mesh.tets.size(), scene.material);
+  std::vector<int> region_of(mesh.tets.size(), -1);
+  for (std::size_t k = 0; k < scene.regions.size(); ++k) {
+    const auto& region = scene.regions[k];
+    const PhysicalGroup* g = mesh.find_group(region.group, 3);
+    if (g == nullptr)
+      throw InputError("material.region '" + region.group + "' is not a volume (3-D) group of the mesh; it has: " +
+                       mesh.describe_groups());
+    std::size_t count = 0;
+    for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+      if (mesh.tet_group[e] != g->tag) continue;
+      if (region_of[e] >= 0)
+        throw InputError("material.region '" + region.group + "' and '" + scene.regions[region_of[e]].group +
+                         "' both claim tetrahedron " + std::to_string(mesh.tet_tags[e]));
+      region_of[e] = static_cast<int>(k);
+      per_tet[e] = region.material;
+      ++count;
+    }
+    if (count == 0) throw InputError("material.region '" + region.group + "' holds no tetrahedra");
+  }
+  return TetMaterials(std::move(per_tet));
+}
+
 MeshRoles mesh_roles(const Scene& scene) {
-  MeshRoles roles{scene.clamped, scene.contact, {}};
+  MeshRoles roles{scene.clamped, scene.contact, {}, {}};
+  for (const auto& d : scene.displacements) roles.displaced.push_back(d.group);
   for (const auto& t : scene.tractions) roles.loaded.push_back(t.group);
   return roles;
 }

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "fem/assembly.hpp"
+#include "fem/dof_map.hpp"
 #include "fem/elasticity.hpp"
 #include "friction/fixed_point.hpp"
 #include "friction/friction_law.hpp"
@@ -56,13 +57,21 @@ struct SolverSettings {
   bool reference_factorization = false; // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
 };
 
+// [[material.region]]: the material of one volume (3-D) group's tetrahedra.
+struct MaterialRegion {
+  std::string group;
+  Material material;
+};
+
 struct Scene {
   std::filesystem::path source;       // the scene file (relative paths are resolved against its folder)
   MeshSource mesh;
-  Material material;
+  Material material;                  // [material]: every tetrahedron not in a region
+  std::vector<MaterialRegion> regions;
   Eigen::Vector3d body_force = Eigen::Vector3d::Zero();  // N/m³
-  std::vector<std::string> clamped, contact;
-  std::vector<Traction> tractions;
+  std::vector<std::string> clamped, contact;             // clamped: u = 0 on the group (Γu)
+  std::vector<PrescribedDisplacement> displacements;     // [[boundary.displacement]]: group, any of x, y, z (m)
+  std::vector<Traction> tractions;    // [[boundary.traction]] (value, gradient) and [[boundary.pressure]]
   double slip_bound = 0;              // g, Pa
   FrictionLaw law;
   double cell_size = 2;               // H: a length in m, or a multiple of h when relative
@@ -79,6 +88,10 @@ struct Scene {
 
 // The roles the scene gives the mesh's groups (for check_mesh_meaning).
 MeshRoles mesh_roles(const Scene& scene);
+
+// The material of every tetrahedron: regions by volume group, the rest [material]. Throws
+// InputError for a region whose group is missing, not a volume group, or overlapping another.
+TetMaterials tet_materials(const Scene& scene, const Mesh& mesh);
 
 // Reads the scene; `overrides` are "dotted.key=value" strings (value in TOML syntax; a bare
 // word is taken as a string).

@@ -5,7 +5,12 @@
 
 #include <Eigen/Dense>
 
+#include <optional>
+#include <set>
+
+#include "base/errors.hpp"
 #include "fem/assembly.hpp"
+#include "fem/dof_map.hpp"
 #include "fem/elasticity.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "mesh/brick_generator.hpp"
@@ -59,56 +64,193 @@ TEST(Elasticity, LinearFieldGivesItsExactStrain) {
   EXPECT_NEAR(eps[5], G(0, 1) + G(1, 0), 1e-14);
 }
 
-// Patch test on the paper's brick mesh: clamp x = 0 only in x (we clamp the whole face, so
-// use a load that the exact solution satisfies): uniaxial tension with free lateral
-// contraction is not representable with a fully clamped face, so instead impose the exact
-// linear field on all boundary nodes and check the interior nodes reproduce it.
-TEST(Assembly, PatchTestLinearFieldIsReproducedInside) {
-  const Mesh mesh = make_paper_brick({2});
+// A dof map with every node free except `fixed` nodes, whose three components are prescribed
+// by `value(node)`.
+template <class Value>
+DofMap dofs_fixing(const Mesh& mesh, const std::set<int>& fixed, Value value) {
   DofMap dofs;
   dofs.n_nodes = static_cast<int>(mesh.nodes.size());
-  dofs.clamped_node.assign(dofs.n_nodes, 0);
-  for (const auto& f : boundary_faces(mesh))
-    for (int v : f) dofs.clamped_node[v] = 1;
+  dofs.fixed.assign(dofs.n_nodes, 0);
+  dofs.used.assign(dofs.n_nodes, 1);
+  dofs.prescribed.assign(3 * dofs.n_nodes, 0.0);
+  dofs.fixed_by.assign(3 * dofs.n_nodes, -1);
+  dofs.conditions = {"test"};
   dofs.free_index.assign(3 * dofs.n_nodes, -1);
-  for (int v = 0; v < dofs.n_nodes; ++v)
-    if (!dofs.clamped_node[v])
-      for (int c = 0; c < 3; ++c) dofs.free_index[3 * v + c] = dofs.n_free++;
-  ASSERT_GT(dofs.n_free, 0);
-  // Full stiffness (all dofs) to move the prescribed boundary values to the right-hand side.
-  DofMap all = dofs;
-  all.n_free = 0;
-  for (int i = 0; i < 3 * all.n_nodes; ++i) all.free_index[i] = all.n_free++;
-  const Material mat{1e9, 0.3};
-  const Eigen::SparseMatrix<double> Kall = assemble_stiffness(mesh, all, mat);
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    const bool fix = fixed.count(v) > 0;
+    const Eigen::Vector3d g = value(v);
+    for (int c = 0; c < 3; ++c) {
+      if (fix) {
+        dofs.prescribed[3 * v + c] = g[c];
+        dofs.fixed_by[3 * v + c] = 0;
+      } else {
+        dofs.free_index[3 * v + c] = dofs.n_free++;
+      }
+    }
+    if (fix) dofs.fixed[v] = 7;
+  }
+  return dofs;
+}
+
+// Patch test on the paper's brick mesh: prescribe an exact linear field on every boundary node;
+// the lift −K_fc·u_c and the free solve reproduce it inside, interior nodes carry no residual and
+// the boundary's reactions (a homogeneous stress) sum to zero.
+TEST(Assembly, PatchTestLinearFieldIsReproducedInside) {
+  const Mesh mesh = make_paper_brick({2});
+  std::set<int> boundary;
+  for (const auto& f : boundary_faces(mesh)) boundary.insert(f.begin(), f.end());
   Eigen::Matrix3d G;
   G << 1e-3, 2e-3, -1e-3, 0.5e-3, -2e-3, 3e-3, 1e-3, 0, 4e-3;
-  Eigen::VectorXd exact(3 * all.n_nodes), prescribed = Eigen::VectorXd::Zero(3 * all.n_nodes);
-  for (int v = 0; v < all.n_nodes; ++v) exact.segment<3>(3 * v) = G * mesh.nodes[v];
-  for (int i = 0; i < 3 * all.n_nodes; ++i)
-    if (dofs.free_index[i] < 0) prescribed[i] = exact[i];
-  const Eigen::VectorXd rhs_all = -(Kall * prescribed);
-  Eigen::VectorXd f(dofs.n_free);
-  for (int i = 0; i < 3 * all.n_nodes; ++i)
-    if (dofs.free_index[i] >= 0) f[dofs.free_index[i]] = rhs_all[i];
+  const DofMap dofs = dofs_fixing(mesh, boundary, [&](int v) { return Eigen::Vector3d(G * mesh.nodes[v]); });
+  ASSERT_GT(dofs.n_free, 0);
+  const Material mat{1e9, 0.3};
   const SparseCholesky K(assemble_stiffness(mesh, dofs, mat));
-  const Eigen::VectorXd u = K.solve(f);
-  for (int i = 0; i < 3 * all.n_nodes; ++i)
-    if (dofs.free_index[i] >= 0) {
-      EXPECT_NEAR(u[dofs.free_index[i]], exact[i], 1e-12);
+  const Eigen::VectorXd u = expand_to_nodes(dofs, K.solve(assemble_lift(mesh, dofs, mat)));
+  for (int v = 0; v < dofs.n_nodes; ++v)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(u[3 * v + c], (G * mesh.nodes[v])[c], 1e-12);
+  const Eigen::VectorXd r = internal_minus_external(mesh, mat, {}, Eigen::Vector3d::Zero(), u);
+  const auto reactions = reaction_forces(dofs, r);
+  ASSERT_EQ(reactions.size(), 1u);
+  EXPECT_LT(reactions[0].force.norm(), 1e-6 * r.cwiseAbs().maxCoeff());  // a homogeneous stress is self-balanced
+  for (int v = 0; v < dofs.n_nodes; ++v)  // interior nodes carry no residual
+    if (!boundary.count(v)) {
+      EXPECT_LT(r.segment<3>(3 * v).norm(), 1e-9 * r.cwiseAbs().maxCoeff());
     }
 }
 
 TEST(Assembly, TractionLoadSumsToForce) {
   const Mesh mesh = make_paper_brick({2});
-  DofMap all;
-  all.n_nodes = static_cast<int>(mesh.nodes.size());
-  all.clamped_node.assign(all.n_nodes, 0);
-  for (int i = 0; i < 3 * all.n_nodes; ++i) all.free_index.push_back(all.n_free++);
-  const Eigen::VectorXd f = assemble_load(mesh, all, {{"load_top", Eigen::Vector3d(0, 0, -3e7)}}, Eigen::Vector3d(0, 0, -10));
+  const DofMap all = dofs_fixing(mesh, {}, [](int) { return Eigen::Vector3d::Zero(); });
+  Traction top;
+  top.group = "load_top";
+  top.value = Eigen::Vector3d(0, 0, -3e7);
+  const Eigen::VectorXd f = assemble_load(mesh, all, {top}, Eigen::Vector3d(0, 0, -10));
   double fz = 0;
   for (int v = 0; v < all.n_nodes; ++v) fz += f[3 * v + 2];
   EXPECT_NEAR(fz, -3e7 * 3.0 - 10 * 3.0, 1e-6);  // top face area 3 m², volume 3 m³
+}
+
+// Sum over the nodes of a nodal load vector (3 per node).
+Eigen::Vector3d total_force(const Eigen::VectorXd& f) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (Eigen::Index v = 0; v < f.size() / 3; ++v) sum += f.segment<3>(3 * v);
+  return sum;
+}
+
+// A pressure pushes along the inward normal of each face, whatever the triangles' orientation; an
+// affine traction is integrated exactly (∫ G x dS = G x̄ |S|, and the first moment too).
+TEST(Assembly, PressureAndAffineTractionsIntegrateExactly) {
+  const Mesh mesh = make_paper_brick({2});
+  const DofMap all = dofs_fixing(mesh, {}, [](int) { return Eigen::Vector3d::Zero(); });
+  Traction top;  // z = 1, area 3, centroid (1.5, 0.5, 1)
+  top.group = "load_top";
+  top.pressure = 2e6;
+  Eigen::Vector3d f = total_force(assemble_load(mesh, all, {top}, Eigen::Vector3d::Zero()));
+  EXPECT_NEAR(f.z(), -2e6 * 3.0, 1e-6);
+  EXPECT_NEAR(f.head<2>().norm(), 0.0, 1e-6);
+  Traction end;  // x = 3, area 1: outward normal +x, so the pressure pushes along −x
+  end.group = "load_end";
+  end.pressure = 5.0;
+  f = total_force(assemble_load(mesh, all, {end}, Eigen::Vector3d::Zero()));
+  EXPECT_NEAR(f.x(), -5.0, 1e-12);
+  Traction torsion;  // τ (−y, x, 0) on the top face
+  torsion.group = "load_top";
+  torsion.gradient << 0, -7, 0, 7, 0, 0, 0, 0, 0;
+  const Eigen::VectorXd load = assemble_load(mesh, all, {torsion}, Eigen::Vector3d::Zero());
+  f = total_force(load);
+  EXPECT_NEAR(f.x(), -7 * 0.5 * 3.0, 1e-9);
+  EXPECT_NEAR(f.y(), 7 * 1.5 * 3.0, 1e-9);
+  // The moment about the z axis: ∫ x t_y − y t_x = 7 ∫ (x² + y²) dS over [0,3]×[0,1] = 7 (9 + 1).
+  double mz = 0;
+  for (int v = 0; v < all.n_nodes; ++v) mz += mesh.nodes[v].x() * load[3 * v + 1] - mesh.nodes[v].y() * load[3 * v];
+  EXPECT_NEAR(mz, 7 * (9.0 + 1.0), 1e-9);
+  Traction wrong;
+  wrong.group = "no_such_group";
+  wrong.pressure = 1;
+  EXPECT_THROW(assemble_load(mesh, all, {wrong}, Eigen::Vector3d::Zero()), InputError);
+}
+
+// Clamped brick under load: the clamp's reaction balances the applied load.
+TEST(Assembly, ReactionBalancesTheLoad) {
+  const Mesh mesh = make_paper_brick({2});
+  const DofMap dofs = make_dof_map(mesh, {"clamped"});
+  const Material mat{2e11, 0.3};
+  Traction end;
+  end.group = "load_end";
+  end.value = Eigen::Vector3d(1e7, 0, 2e7);
+  const Eigen::Vector3d body(0, 0, -7e4);
+  const SparseCholesky K(assemble_stiffness(mesh, dofs, mat));
+  const Eigen::VectorXd u = expand_to_nodes(dofs, K.solve(assemble_load(mesh, dofs, {end}, body)));
+  const auto reactions = reaction_forces(dofs, internal_minus_external(mesh, mat, {end}, body, u));
+  ASSERT_EQ(reactions.size(), 1u);
+  EXPECT_EQ(reactions[0].condition, "boundary.clamped 'clamped'");
+  const Eigen::Vector3d applied = Eigen::Vector3d(1e7, 0, 2e7) + body * 3.0;
+  EXPECT_LT((reactions[0].force + applied).norm(), 1e-6 * applied.norm());
+}
+
+// Per-component conditions: the dof map fixes only the named components, conflicting values are
+// refused, and the node-ordered fast assembly equals the triplet assembly with partly free nodes
+// and with one material per tetrahedron.
+TEST(Assembly, PerComponentConditionsAndMaterials) {
+  const Mesh mesh = make_paper_brick({2});
+  PrescribedDisplacement roller{"contact", {std::nullopt, std::nullopt, 0.0}};
+  PrescribedDisplacement push{"load_end", {-1e-3, std::nullopt, std::nullopt}};
+  const DofMap dofs = make_dof_map(mesh, {"clamped"}, {roller, push});
+  int partly = 0;
+  for (int v = 0; v < dofs.n_nodes; ++v) partly += dofs.fixed[v] != 0 && dofs.fixed[v] != 7;
+  EXPECT_GT(partly, 0);
+  EXPECT_TRUE(dofs.has_nonzero_prescribed());
+  EXPECT_EQ(dofs.conditions.size(), 3u);
+  std::vector<Material> per_tet(mesh.tets.size(), Material{2e11, 0.3});
+  for (std::size_t e = 0; e < per_tet.size(); e += 3) per_tet[e] = Material{7e10, 0.33};
+  const TetMaterials mixed(per_tet);
+  const Eigen::SparseMatrix<double> fast = assemble_stiffness(mesh, dofs, mixed);
+  const Eigen::SparseMatrix<double> ref = assemble_stiffness_triplets(mesh, dofs, mixed);
+  ASSERT_EQ(fast.rows(), dofs.n_free);
+  EXPECT_LT((fast - ref).norm(), 1e-13 * ref.norm());
+  PrescribedDisplacement clash{"load_end", {+1e-3, std::nullopt, std::nullopt}};
+  try {
+    make_dof_map(mesh, {"clamped"}, {push, clash});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("prescribed twice"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("load_end"), std::string::npos) << e.what();
+  }
+}
+
+// Free rigid motions are found and named before any factorization.
+TEST(Assembly, FreeRigidMotionsAreNamed) {
+  const Mesh mesh = make_paper_brick({2});
+  auto message = [&](const std::vector<std::string>& clamped, const std::vector<PrescribedDisplacement>& d) {
+    try {
+      require_rigid_motions_fixed(mesh, make_dof_map(mesh, clamped, d));
+      return std::string();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_EQ(message({"clamped"}, {}), "");
+  // Rollers on z = 0 (u_z) and x = 0 (u_x): the body can still slide along y.
+  const PrescribedDisplacement floor{"contact", {std::nullopt, std::nullopt, 0.0}};
+  const PrescribedDisplacement wall{"clamped", {0.0, std::nullopt, std::nullopt}};
+  const std::string slide = message({}, {floor, wall});
+  EXPECT_NE(slide.find("translation along (0, 1, 0)"), std::string::npos) << slide;
+  // u_y on x = 0 with u_x, u_z on z = 0 hold every rigid motion.
+  const PrescribedDisplacement floor_xz{"contact", {0.0, std::nullopt, 0.0}};
+  const PrescribedDisplacement wall_y{"clamped", {std::nullopt, 0.0, std::nullopt}};
+  EXPECT_EQ(message({}, {floor_xz, wall_y}), "");
+  // All components fixed on the edge x = 0, z = 0 only: the body turns about that edge.
+  std::set<int> edge;
+  for (int v = 0; v < static_cast<int>(mesh.nodes.size()); ++v)
+    if (mesh.nodes[v].x() == 0 && mesh.nodes[v].z() == 0) edge.insert(v);
+  try {
+    require_rigid_motions_fixed(mesh, dofs_fixing(mesh, edge, [](int) { return Eigen::Vector3d::Zero(); }));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("rotation about the axis along (0, "), std::string::npos) << what;
+    EXPECT_NE(what.find("through (0, 0.5, 0)"), std::string::npos) << what;
+  }
 }
 
 TEST(Assembly, RejectsInvertedTets) {
@@ -123,7 +265,7 @@ TEST(Assembly, RejectsInvertedTets) {
   }
 }
 
-TEST(Assembly, BlockPatternAssemblyEqualsTripletAssembly) {
+TEST(Assembly, NodeOrderedAssemblyEqualsTripletAssembly) {
   for (int n : {1, 3}) {
     const Mesh mesh = make_paper_brick({n});
     const DofMap dofs = make_dof_map(mesh, {"clamped"});

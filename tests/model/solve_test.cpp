@@ -99,3 +99,67 @@ TEST(SolvePaperBrick, InexactFixedPointConvergesWithALooseTolerance) {
   ASSERT_TRUE(res.converged) << res.status;
   EXPECT_LE(res.fixed_point.iterations(), 8);
 }
+
+namespace {
+
+SolveResult solve_with(const std::string& extra, const std::vector<std::string>& overrides = {}) {
+  const Scene scene = parse_scene_text(std::string(kPaperScene) + "\n" + extra, ".", overrides);
+  return solve_scene(scene, make_paper_brick({scene.mesh.n}));
+}
+
+double max_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).cwiseAbs().maxCoeff(); }
+
+}  // namespace
+
+// The resultant forces of the paper solve balance: applied + contact + clamp reaction = 0.
+TEST(SolveUserConditions, ResultantForcesBalance) {
+  const SolveResult res = solve_text();
+  ASSERT_EQ(res.forces.reactions.size(), 1u);
+  EXPECT_LT(res.forces.balance, 1e-10);
+  EXPECT_GT(res.forces.contact.z(), 0.5 * -res.forces.applied.z());  // the foundation carries most of the weight
+}
+
+// One region covering the whole body with E' equals the default material E'; a region with
+// another E changes the answer.
+TEST(SolveUserConditions, MaterialRegionsAssignByVolumeGroup) {
+  const SolveResult stiff = solve_text({"material.young=42.38e10"});
+  const SolveResult region = solve_with("[[material.region]]\ngroup = \"body\"\nyoung = 42.38e10\npoisson = 0.277\n");
+  ASSERT_TRUE(stiff.converged && region.converged);
+  EXPECT_LT(max_difference(stiff.u, region.u), 1e-12 * stiff.u.cwiseAbs().maxCoeff());
+  EXPECT_GT(max_difference(solve_text().u, region.u), 0.1 * stiff.u.cwiseAbs().maxCoeff());
+}
+
+// A pressure p on the top face is the traction (0, 0, −p) there (outward normal +z).
+TEST(SolveUserConditions, PressureIsTheInwardNormalTraction) {
+  const std::string scene_without_top = [] {
+    std::string s = kPaperScene;
+    const std::string top = "[[boundary.traction]]\ngroup = \"load_top\"\nvalue = [0, 0, -3e7]\n";
+    const auto at = s.find(top);
+    EXPECT_NE(at, std::string::npos);
+    return s.erase(at, top.size());
+  }();
+  const Scene scene = parse_scene_text(scene_without_top + "\n[[boundary.pressure]]\ngroup = \"load_top\"\nvalue = 3e7\n", ".");
+  const SolveResult pressed = solve_scene(scene, make_paper_brick({scene.mesh.n}));
+  const SolveResult reference = solve_text();
+  ASSERT_TRUE(pressed.converged);
+  EXPECT_LT(max_difference(pressed.u, reference.u), 1e-12 * reference.u.cwiseAbs().maxCoeff());
+}
+
+// A prescribed displacement is met exactly, its lift enters the load, and the solve stays sound:
+// pushing the end face down by 10 µm presses the brick harder on the foundation.
+TEST(SolveUserConditions, PrescribedDisplacementIsMetAndPressesHarder) {
+  const SolveResult pushed = solve_with("[[boundary.displacement]]\ngroup = \"load_end\"\nz = -1e-5\n");
+  ASSERT_TRUE(pushed.converged) << pushed.status;
+  int on_group = 0;
+  for (int v = 0; v < pushed.dofs.n_nodes; ++v)
+    if (pushed.dofs.fixed[v] == 4) {
+      EXPECT_DOUBLE_EQ(pushed.u[3 * v + 2], -1e-5);
+      ++on_group;
+    }
+  EXPECT_GT(on_group, 0);
+  EXPECT_LT(pushed.kkt.max(), 1e-5);
+  EXPECT_LT(pushed.forces.balance, 1e-10);
+  EXPECT_GT(pushed.forces.contact.z(), solve_text().forces.contact.z());
+  ASSERT_EQ(pushed.forces.reactions.size(), 2u);
+  EXPECT_EQ(pushed.forces.reactions[1].condition, "boundary.displacement 'load_end'");
+}

@@ -1,0 +1,36 @@
+// ResultantForces: the forces on the body as a whole, summed from the solution — the applied loads,
+// the contact force, the reaction of every prescribing condition (clamp, displacement group) — and
+// how well they balance (a check of the solve that needs no reference solution).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "fem/assembly.hpp"
+#include "fem/dof_map.hpp"
+#include "mesh/mesh.hpp"
+
+namespace contact3d {
+
+struct ResultantForces {
+  Eigen::Vector3d applied = Eigen::Vector3d::Zero();  // tractions, pressures and body force (N)
+  // The foundation's force on the body, −𝔹ᵀλ summed over the free components (where a contact
+  // node's component is prescribed, its share of the contact force is in that condition's reaction).
+  Eigen::Vector3d contact = Eigen::Vector3d::Zero();
+  std::vector<ReactionForce> reactions;                // the supports' forces on the body (N)
+  // |applied + contact + Σ reactions| / max(|applied|, |contact|, max |reaction|): 0 in exact
+  // equilibrium; of the order of the solver's tolerances otherwise.
+  double balance = 0;
+};
+
+// `u_nodes` the whole displacement (3 per node), `B`/`lambda` the contact operator and multipliers
+// (empty without contact).
+ResultantForces resultant_forces(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials,
+                                 const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force,
+                                 const Eigen::VectorXd& u_nodes, const Eigen::SparseMatrix<double>& B,
+                                 const Eigen::VectorXd& lambda);
+
+}  // namespace contact3d
