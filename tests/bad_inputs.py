@@ -542,6 +542,14 @@ def c_material_region_not_volume(c):
     return ["check", c.write("scene.toml", text)], ["load_top", "volume"]
 
 
+def c_friction_model_unknown(c):
+    return ["check", c.scene(), "--set", "friction.model=amontons"], ["friction.model", "'tresca' or 'coulomb'", "amontons"]
+
+
+def c_coulomb_with_slip_bound(c):
+    return ["check", c.scene(), "--set", "friction.model=coulomb"], ["slip_bound", "coulomb", "normal pressure"]
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

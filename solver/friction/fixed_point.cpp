@@ -31,6 +31,18 @@ double relative_change(const Eigen::VectorXd& next, const Eigen::VectorXd& prev)
   return diff / denom;
 }
 
+// The largest relative change over the blocks (the whole vector when `blocks` is empty).
+double relative_change(const Eigen::VectorXd& next, const Eigen::VectorXd& prev, const std::vector<int>& blocks) {
+  if (blocks.empty()) return relative_change(next, prev);
+  double worst = 0;
+  Eigen::Index start = 0;
+  for (int size : blocks) {
+    worst = std::max(worst, relative_change(next.segment(start, size), prev.segment(start, size)));
+    start += size;
+  }
+  return worst;
+}
+
 // Anderson mixing (type II) over the last pairs (x_j, G(x_j)).
 class AndersonMixer {
  public:
@@ -166,7 +178,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     n_mult += eval.hessian_products;
     FixedPointStep step;
     step.k = k;
-    step.err = relative_change(eval.slip, x);
+    step.err = relative_change(eval.slip, x, settings.blocks);
     step.qp_iterations = eval.qp_iterations;
     step.n_mult = n_mult;
     step.qp_rtol = rtol_k;

@@ -51,6 +51,10 @@ struct FixedPointSettings {
   // Noise-aware inner tolerance (see above); off: the QP tolerance stays qp_rtol (the paper's).
   bool adaptive_qp_tolerance = true;
   double qp_rtol_floor = 1e-12;
+  // Sizes of the blocks of the state (empty: one block). err(k) is the largest of the blocks'
+  // relative changes, so a state made of quantities with different units (Coulomb's slip and
+  // normal pressure) converges only when each of them has.
+  std::vector<int> blocks;
 };
 
 // One evaluation of G: what the Tresca solve reports back.

@@ -9,7 +9,16 @@
 #include <utility>
 #include <vector>
 
+#include "base/named_enum.hpp"
+
 namespace contact3d {
+
+// What bounds the tangential multiplier: Tresca (the paper's): ‖λ_t‖ <= F·g with a given slip
+// bound g; Coulomb: ‖λ_t‖ <= F·λ_n, the bound is the normal pressure itself (successive
+// approximations on (φ, g = λ_n)).
+enum class FrictionModel { Tresca, Coulomb };
+inline constexpr NameTable<FrictionModel, 2> kFrictionModelNames{
+    {{FrictionModel::Tresca, "tresca"}, {FrictionModel::Coulomb, "coulomb"}}};
 
 struct FrictionLaw {
   enum class Kind { None, Constant, Ramp, Table };

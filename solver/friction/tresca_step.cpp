@@ -3,12 +3,12 @@
 namespace contact3d {
 
 TrescaStep::TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs& face_dofs, const ContactFace& face,
-                       RadiusRule radii)
+                       RadiusRule radii, Eigen::VectorXd slip_bound)
     : dual_(dual), qp_(qp), face_dofs_(face_dofs), face_(face), radii_(std::move(radii)),
-      lambda_(Eigen::VectorXd::Zero(dual.size())) {}
+      slip_bound_(std::move(slip_bound)), lambda_(Eigen::VectorXd::Zero(dual.size())) {}
 
-SlipEvaluation TrescaStep::operator()(const Eigen::VectorXd& phi, double qp_rtol) {
-  radius_ = radii_(phi);
+SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol) {
+  radius_ = radii_(phi, g);
   last_qp_ = qp_.solve(radius_, lambda_, qp_rtol);
   Eigen::VectorXd u_face = face_dofs_.scatter(dual_.face_displacement(lambda_));
   SlipEvaluation eval;
@@ -20,6 +20,7 @@ SlipEvaluation TrescaStep::operator()(const Eigen::VectorXd& phi, double qp_rtol
   eval.slip = face_dofs_.slip(face_, u_face);
   face_history_.push_back(std::move(u_face));
   slip_input_ = phi;
+  slip_bound_input_ = g;
   return eval;
 }
 

@@ -16,21 +16,26 @@
 
 namespace contact3d {
 
-// The radii c_i for a slip φ at the contact nodes (size r; unused when frictionless).
-using RadiusRule = std::function<Eigen::VectorXd(const Eigen::VectorXd& phi_contact)>;
+// The radii c_i (5.3) for a slip φ at the contact nodes and a slip bound g per cell (size r;
+// unused when frictionless).
+using RadiusRule = std::function<Eigen::VectorXd(const Eigen::VectorXd& phi_contact, const Eigen::VectorXd& g)>;
 
 class TrescaStep {
  public:
-  // `dual`, `qp`, `face_dofs` and `face` must outlive the step.
+  // `dual`, `qp`, `face_dofs` and `face` must outlive the step; `slip_bound`: Tresca's g per cell.
   TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs& face_dofs, const ContactFace& face,
-             RadiusRule radii);
+             RadiusRule radii, Eigen::VectorXd slip_bound);
 
   // G(φ): one Tresca solve with the QP tolerance `qp_rtol` (the SlipMap of the fixed point).
-  SlipEvaluation operator()(const Eigen::VectorXd& phi, double qp_rtol);
+  SlipEvaluation operator()(const Eigen::VectorXd& phi, double qp_rtol) { return solve(phi, slip_bound_, qp_rtol); }
+  // One Tresca solve with radii c(φ, g) for a given slip bound g per cell (Coulomb: g = λ_n).
+  SlipEvaluation solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol);
 
   const Eigen::VectorXd& lambda() const { return lambda_; }
   const Eigen::VectorXd& radius() const { return radius_; }
   const Eigen::VectorXd& slip_input() const { return slip_input_; }  // φ of the last radii
+  const Eigen::VectorXd& slip_bound_input() const { return slip_bound_input_; }  // g of the last radii
+  Eigen::VectorXd normal_pressure() const { return lambda_.head(slip_bound_.size()); }  // λ_n per cell
   const QpResult& last_qp() const { return last_qp_; }
   int products() const { return products_; }          // K⁻¹ applications in the paper's sense
   int qp_iterations() const { return qp_iterations_; }
@@ -44,7 +49,8 @@ class TrescaStep {
   const FaceDofs& face_dofs_;
   const ContactFace& face_;
   RadiusRule radii_;
-  Eigen::VectorXd lambda_, radius_, slip_input_;
+  Eigen::VectorXd slip_bound_;
+  Eigen::VectorXd lambda_, radius_, slip_input_, slip_bound_input_;
   QpResult last_qp_;
   int products_ = 0, qp_iterations_ = 0;
   std::vector<Eigen::VectorXd> face_history_;

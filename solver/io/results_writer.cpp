@@ -286,6 +286,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
     j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
     j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
+    j.value("friction_model", scene.frictionless() ? std::string("none") : name_of(scene.friction_model, kFrictionModelNames));
     j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
     j.begin_array("err_history");
     for (const auto& s : solve_history(res)) j.element(s.err);
@@ -294,6 +295,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       const FixedPointResult& fp = res.fixed_point;
       j.begin_object("fixed_point");
       j.value("contraction_factor", fp.contraction_factor);  // null before three steps
+      j.value("contracted", fp.contraction_factor < 1);         // q < 1 observed over the last steps
       j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err; null when q >= 1 (no bound)
       j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
       j.value("final_qp_rtol", fp.history.back().qp_rtol);
@@ -319,6 +321,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
     j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
     j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
+    if (scene.coulomb()) j.value("coulomb_relation", res.coulomb_relation);  // max |c − F̄λ_n| / max c
     j.end_object();
     write_solver_settings(j, scene.solver);
     j.value("scene", scene.echo);

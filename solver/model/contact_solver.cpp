@@ -12,6 +12,7 @@
 #include "contact/contact_operator.hpp"
 #include "contact/face_dofs.hpp"
 #include "fem/assembly.hpp"
+#include "friction/coulomb_map.hpp"
 #include "friction/slip_bound.hpp"
 #include "friction/tresca_step.hpp"
 #include "mesh/mesh_checks.hpp"
@@ -122,29 +123,42 @@ double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partit
                    "\nuse a larger contact.cell_size (H), e.g. twice the current one");
 }
 
-// The radii c(φ) of (5.3) for the scene's law and slip bound; zeros when frictionless (unused).
+// F̄_i(φ) = ∫_{R_i} F(φ_h) dS / meas(R_i) per cell, for φ at the contact nodes.
+Eigen::VectorXd mean_coefficient(const Scene& scene, const Mesh& mesh, const SolveResult& res,
+                                 const Eigen::VectorXd& phi_contact) {
+  Eigen::VectorXd phi_nodes = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.nodes.size()));
+  for (std::size_t k = 0; k < res.face.nodes.size(); ++k) phi_nodes[res.face.nodes[k]] = phi_contact[k];
+  return disc_radii(res.face, res.partition, scene.law, 1.0, phi_nodes);
+}
+
+// The radii c_i = F̄_i(φ)·g_i of (5.3); zeros when frictionless (unused).
 RadiusRule radius_rule(const Scene& scene, const Mesh& mesh, const SolveResult& res) {
-  if (scene.frictionless()) return [r = res.n_cells](const Eigen::VectorXd&) { return Eigen::VectorXd::Zero(r); };
-  return [&scene, &res, n = mesh.nodes.size()](const Eigen::VectorXd& phi_contact) {
-    Eigen::VectorXd phi_nodes = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-    for (std::size_t k = 0; k < res.face.nodes.size(); ++k) phi_nodes[res.face.nodes[k]] = phi_contact[k];
-    return disc_radii(res.face, res.partition, scene.law, scene.slip_bound, phi_nodes);
+  if (scene.frictionless())
+    return [r = res.n_cells](const Eigen::VectorXd&, const Eigen::VectorXd&) { return Eigen::VectorXd::Zero(r); };
+  return [&scene, &mesh, &res](const Eigen::VectorXd& phi_contact, const Eigen::VectorXd& g) {
+    return Eigen::VectorXd(mean_coefficient(scene, mesh, res, phi_contact).cwiseProduct(g));
   };
 }
 
-// The successive approximations (5.7) when F depends on the slip; otherwise one Tresca (or
-// frictionless) solve, which is then the whole answer.
+// The successive approximations (5.7) when F depends on the slip (on (φ, g = λ_n) for Coulomb);
+// otherwise one Tresca (or frictionless) solve, which is then the whole answer.
 void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes, const ProgressCallback& progress,
                      SolveResult& res) {
   const Eigen::VectorXd phi0 = Eigen::VectorXd::Zero(n_contact_nodes);
-  if (scene.law.depends_on_slip() && !scene.frictionless()) {
+  if (scene.needs_fixed_point()) {
     FixedPointSettings fp;
     fp.tol = scene.solver.fixed_point_tol;
     fp.max_iterations = scene.solver.fixed_point_max_iter;
     fp.variant = scene.solver.fixed_point;
     fp.anderson_depth = scene.solver.anderson_depth;
     fp.inexact = scene.solver.inexact_fixed_point;
-    res.fixed_point = solve_fixed_point(std::ref(tresca), n_contact_nodes, fp, scene.solver.qp_rtol, progress);
+    if (scene.coulomb()) {
+      CoulombMap coulomb(tresca, n_contact_nodes, res.n_cells);
+      fp.blocks = coulomb.blocks();
+      res.fixed_point = solve_fixed_point(std::ref(coulomb), coulomb.size(), fp, scene.solver.qp_rtol, progress);
+    } else {
+      res.fixed_point = solve_fixed_point(std::ref(tresca), n_contact_nodes, fp, scene.solver.qp_rtol, progress);
+    }
     res.status = to_string(res.fixed_point.status);
     res.converged = res.fixed_point.status == FixedPointStatus::Converged;
   } else {
@@ -153,6 +167,18 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     res.status = eval.ok ? "converged" : "qp_" + to_string(tresca.last_qp().status);
     if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, 0.0});
   }
+}
+
+// max_i |c_i − F̄_i(φ)·λ_n,i| / max_i c_i at the end of a Coulomb solve, φ the final slip: how far
+// the last Tresca problem's radii are from Coulomb's law for the solution it produced.
+double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult& res, const DualProblem& dual,
+                        const TrescaStep& tresca) {
+  const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
+  const Eigen::VectorXd u_face = face_dofs.scatter(dual.face_displacement(tresca.lambda()));
+  const Eigen::VectorXd bound =
+      mean_coefficient(scene, mesh, res, face_dofs.slip(res.face, u_face)).cwiseProduct(tresca.normal_pressure());
+  const double scale = std::max(res.radius.cwiseAbs().maxCoeff(), bound.cwiseAbs().maxCoeff());
+  return scale > 0 ? (res.radius - bound).cwiseAbs().maxCoeff() / scale : 0.0;
 }
 
 // The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
@@ -169,6 +195,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.kkt = kkt_residuals(disc.K, disc.f, op.B, op.r, op.with_friction, res.radius, w, res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
+  if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, dual, tresca);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError("the solution is not finite: the scene's loads, material or friction values overflow double "
                      "precision (check their units); no results were written");
@@ -230,7 +257,8 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   clock.lap("stability");
 
   DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp);
-  TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res));
+  TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
+                    Eigen::VectorXd::Constant(op.r, scene.slip_bound));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), progress, res);
   clock.lap("dual_solve");
 

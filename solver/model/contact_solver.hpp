@@ -53,6 +53,9 @@ struct SolveResult {
   int n_mult = 0;                    // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
   int qp_iterations = 0;
   KktResiduals kkt;
+  // Coulomb: max_i |c_i − F̄_i(φ) λ_n,i| / max_i c_i for the final (λ, φ) — the fixed point's own
+  // residual (of the order of fixed_point_tol), not part of kkt.max(); 0 for Tresca.
+  double coulomb_relation = 0;
   ResultantForces forces;            // applied, contact and reaction forces and their balance
   double wn_plus_L2 = 0, wn_plus_inf = 0;
   double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots

@@ -223,7 +223,7 @@ FrictionLaw parse_law(const toml::table& fr) {
   FrictionLaw law;
   // Keys of every law are accepted whatever the law (so `--set friction.law=none` works on a
   // scene written for "ramp"); the chosen law's own keys are the ones read.
-  check_keys(fr, "friction", {"law", "slip_bound", "value", "high", "low", "t0", "param", "points"});
+  check_keys(fr, "friction", {"model", "law", "slip_bound", "value", "high", "low", "t0", "param", "points"});
   const std::string kind = get_string(fr, "friction", "law", "none");
   const std::string w = "friction";
   if (kind == "none") {
@@ -302,10 +302,18 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
 
   const toml::table* fr = table_at(root, "friction");
   s.law = parse_law(fr ? *fr : empty);
+  const std::string model = fr ? get_string(*fr, "friction", "model", "tresca") : "tresca";
+  if (!value_of(model, kFrictionModelNames, s.friction_model))
+    throw InputError("friction.model must be " + names_list(kFrictionModelNames) + ", got '" + model + "'");
   s.slip_bound = fr ? get_number(*fr, "friction", "slip_bound", 0) : 0;
   if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + number(s.slip_bound));
-  if (s.law.kind != FrictionLaw::Kind::None && fr && !fr->contains("slip_bound"))
-    throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() + "'");
+  if (s.friction_model == FrictionModel::Coulomb && s.slip_bound != 0)
+    throw InputError("friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
+                     "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
+  if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
+      !fr->contains("slip_bound"))
+    throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() +
+                     "' (or model = \"coulomb\", whose bound is the normal pressure)");
 
   if (const toml::table* ct = table_at(root, "contact")) {
     check_keys(*ct, "contact", {"cell_size"});

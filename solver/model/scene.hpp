@@ -72,7 +72,8 @@ struct Scene {
   std::vector<std::string> clamped, contact;             // clamped: u = 0 on the group (Γu)
   std::vector<PrescribedDisplacement> displacements;     // [[boundary.displacement]]: group, any of x, y, z (m)
   std::vector<Traction> tractions;    // [[boundary.traction]] (value, gradient) and [[boundary.pressure]]
-  double slip_bound = 0;              // g, Pa
+  FrictionModel friction_model = FrictionModel::Tresca;  // friction.model
+  double slip_bound = 0;              // g, Pa (Tresca only)
   FrictionLaw law;
   double cell_size = 2;               // H: a length in m, or a multiple of h when relative
   bool cell_size_relative = true;
@@ -81,9 +82,12 @@ struct Scene {
   std::string echo;                   // the scene as solved, TOML text (overrides applied)
 
   bool frictionless() const {
-    return law.kind == FrictionLaw::Kind::None || slip_bound == 0 ||
+    return law.kind == FrictionLaw::Kind::None || (friction_model == FrictionModel::Tresca && slip_bound == 0) ||
            (law.kind == FrictionLaw::Kind::Constant && law.value == 0);
   }
+  bool coulomb() const { return friction_model == FrictionModel::Coulomb && !frictionless(); }
+  // Successive approximations are needed: F depends on the slip, or the bound is λ_n (Coulomb).
+  bool needs_fixed_point() const { return !frictionless() && (law.depends_on_slip() || coulomb()); }
 };
 
 // The roles the scene gives the mesh's groups (for check_mesh_meaning).

@@ -163,3 +163,45 @@ TEST(SolveUserConditions, PrescribedDisplacementIsMetAndPressesHarder) {
   ASSERT_EQ(pushed.forces.reactions.size(), 2u);
   EXPECT_EQ(pushed.forces.reactions[1].condition, "boundary.displacement 'load_end'");
 }
+
+// Coulomb: at the fixed point each cell's disc radius is the coefficient times that cell's normal
+// pressure, c_i = F·λ_n,i (constant F), and the tangential multipliers lie in those discs.
+TEST(SolveCoulomb, RadiusIsCoefficientTimesNormalPressureOnEveryCell) {
+  const SolveResult res = solve_text({"friction.model=\"coulomb\"", "friction.slip_bound=0", "friction.law=\"constant\"",
+                                      "friction.value=0.3"});
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_GE(res.fixed_point.iterations(), 3);  // g⁰ = 0 (frictionless), then g = λ_n until it settles
+  EXPECT_LT(res.fixed_point.contraction_factor, 1);
+  const int r = res.n_cells;
+  const double max_radius = res.radius.maxCoeff();
+  ASSERT_GT(max_radius, 0);
+  int slipping = 0;
+  for (int i = 0; i < r; ++i) {
+    EXPECT_NEAR(res.radius[i], 0.3 * res.lambda[i], 1e-3 * max_radius) << "cell " << i;
+    const double tangential = std::hypot(res.lambda[r + i], res.lambda[2 * r + i]);
+    EXPECT_LE(tangential, res.radius[i] * (1 + 1e-12) + 1e-12 * max_radius);
+    if (res.radius[i] > 0.01 * max_radius && tangential > (1 - 1e-6) * res.radius[i]) ++slipping;
+  }
+  EXPECT_GT(slipping, 0);  // the end load drags part of the face into slip
+  EXPECT_LT(res.coulomb_relation, 1e-3);
+  EXPECT_LT(res.kkt.max(), 1e-5);
+  EXPECT_LT(res.forces.balance, 1e-10);
+}
+
+// With the slip-dependent law the fixed point runs on (φ, g) together; F̄(φ)·λ_n is met to the
+// fixed-point tolerance, and where the face lifts off (λ_n = 0) there is no friction at all.
+TEST(SolveCoulomb, SlipDependentLawMeetsTheRelationAndLiftOffIsFree) {
+  const SolveResult res = solve_text({"friction.model=\"coulomb\"", "friction.slip_bound=0"});
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_LT(res.coulomb_relation, 1e-3);
+  const int r = res.n_cells;
+  const double max_pressure = res.lambda.head(r).maxCoeff();
+  for (int i = 0; i < r; ++i)
+    if (res.lambda[i] < 1e-9 * max_pressure) {
+      EXPECT_LT(res.radius[i], 1e-6 * res.radius.maxCoeff()) << "cell " << i;
+      EXPECT_LT(std::hypot(res.lambda[r + i], res.lambda[2 * r + i]), 1e-6 * max_pressure) << "cell " << i;
+    }
+  // Tresca with g = 2e7 everywhere keeps friction on the lifted end; Coulomb does not, so the
+  // answers differ.
+  EXPECT_GT(max_difference(res.u, solve_text().u), 1e-3 * res.u.cwiseAbs().maxCoeff());
+}

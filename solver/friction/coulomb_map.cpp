@@ -1,0 +1,33 @@
+#include "friction/coulomb_map.hpp"
+
+namespace contact3d {
+namespace {
+
+double scale_of(const Eigen::VectorXd& v) {
+  const double s = v.size() ? v.cwiseAbs().maxCoeff() : 0.0;
+  return s > 0 ? s : 1.0;
+}
+
+}  // namespace
+
+CoulombMap::CoulombMap(TrescaStep& tresca, int n_contact_nodes, int n_cells)
+    : tresca_(tresca), n_nodes_(n_contact_nodes), n_cells_(n_cells) {}
+
+SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rtol) {
+  const bool first = phi_scale_ == 0;
+  const double s_phi = first ? 1.0 : phi_scale_, s_g = first ? 1.0 : g_scale_;
+  const Eigen::VectorXd phi = s_phi * state.head(n_nodes_);
+  const Eigen::VectorXd g = s_g * state.tail(n_cells_);
+  SlipEvaluation eval = tresca_.solve(phi, g, qp_rtol);
+  const Eigen::VectorXd pressure = tresca_.normal_pressure();
+  if (first) {
+    phi_scale_ = scale_of(eval.slip);
+    g_scale_ = scale_of(pressure);
+  }
+  Eigen::VectorXd next(size());
+  next << eval.slip / phi_scale_, pressure / g_scale_;
+  eval.slip = std::move(next);
+  return eval;
+}
+
+}  // namespace contact3d
