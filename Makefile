@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps build pipeline test tables crosscheck figures bench robustness stress fuzz sanitize clean
+.PHONY: deps build pipeline test tables crosscheck figures coulomb-getfem bench robustness stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -37,6 +37,10 @@ crosscheck: build
 # The paper's figures for a run (Fig. 3, 6-11), copied into results/figures with the report.
 figures: build
 	$(PY) pipeline/run_scene.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --out results/runs/$(SCENE) --figures $(REPORTS)/figures --compare-params 2e4,3e5
+
+# Coulomb friction against GetFEM's contact brick on the paper's brick, n = 4..16 ($(REPORTS)/coulomb_getfem.md).
+coulomb-getfem: build
+	$(PY) pipeline/getfem_coulomb.py --bin $(BIN) --n 4 8 12 16 --out $(REPORTS)/coulomb_getfem.md
 
 bench: build
 	$(PY) pipeline/bench.py --bin $(BIN) --out $(REPORTS)/bench

@@ -24,16 +24,19 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
     for (int t : tris) {
       const auto& tri = mesh.triangles[t];
       for (int v : tri)
-        if (std::abs(mesh.nodes[v].z()) > plane_tol)
+        if (mesh.nodes[v].z() < -plane_tol)
           throw InputError("contact group '" + name + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
                            " has a node at z = " + number(mesh.nodes[v].z()) +
-                           "; Γc must lie in the plane z = 0");
+                           " below the foundation plane z = 0 (initial penetration); Γc must lie on or above it");
       std::array<int, 3> key = tri;
       std::sort(key.begin(), key.end());
       if (seen.insert(key).second) face.triangles.push_back(tri);
     }
   }
   face.contact_index.assign(mesh.nodes.size(), -1);
+  face.gap.assign(mesh.nodes.size(), 0.0);
+  for (const auto& tri : face.triangles)
+    for (int v : tri) face.gap[v] = mesh.nodes[v].z() <= plane_tol ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
   std::vector<double> shortest, extent_x, extent_y;
   face.lo = mesh.nodes[face.triangles[0][0]].head<2>();
   face.hi = face.lo;

@@ -1,6 +1,8 @@
-// ContactFace: the triangles of Γc (all contact groups merged), which must lie in the plane
-// z = 0, and the contact nodes: nodes of closure(Γc) with a free displacement component (not
-// clamped, nor prescribed in all three components).
+// ContactFace: the triangles of Γc (all contact groups merged) and the contact nodes: nodes of
+// closure(Γc) with a free displacement component (not clamped, nor prescribed in all three
+// components). Γc lies on or above the foundation plane z = 0 and is a graph over it (checked in
+// mesh_checks: its outward normal points down everywhere); everything in the plane — cells,
+// weights, the face's extent — uses its projection (x, y), and its height z is the initial gap d.
 #pragma once
 
 #include <array>
@@ -23,12 +25,13 @@ struct ContactFace {
   // Typical element size per direction: medians of the triangles' x- and y-extents, at least h.
   // "cell_size = 2h" uses these, so anisotropic contact meshes get matching rectangles.
   Eigen::Vector2d h_xy = Eigen::Vector2d::Zero();
-  double area = 0;
+  double area = 0;                            // of the projection onto the plane
+  std::vector<double> gap;                    // mesh node -> initial gap d (height z above the plane) on Γc, else 0
 
   Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }
 };
 
-// Throws InputError if a group is missing, empty, or not in z = 0 (naming the triangle).
+// Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle).
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups,
                               const DofMap& dofs);
 

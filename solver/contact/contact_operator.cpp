@@ -19,6 +19,7 @@ ContactOperator make_contact_operator(const ContactFace& face, const Partition& 
   for (int i = 0; i < op.r; ++i)
     for (const auto& [node, w] : weights[i]) {
       add(layout.normal(i), node, 2, -w);  // v_n = -v_3
+      op.offset[layout.normal(i)] -= w * face.gap[node];  // ∫_{R_i} (w_n − d) <= 0
       if (!with_friction) continue;
       add(layout.t1(i), node, 0, w);
       add(layout.t2(i), node, 1, w);

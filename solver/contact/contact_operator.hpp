@@ -1,6 +1,7 @@
 // The contact operator 𝔹 = [M B¹; M B²; M B³] of (5.4): row i of the normal block is the
-// functional v ↦ ∫_{R_i} v_n dS with v_n = -v_3 (Γc in z = 0, outward normal (0,0,-1)); rows of
-// the tangential blocks are v ↦ ∫_{R_i} v_1 dS and v ↦ ∫_{R_i} v_2 dS. Columns are free dofs.
+// functional v ↦ ∫_{R_i} v_n dS with v_n = -v_3 (the foundation's outward normal is (0,0,-1) as
+// seen from the body); rows of the tangential blocks are v ↦ ∫_{R_i} v_1 dS and v ↦ ∫_{R_i} v_2 dS.
+// The integrals are over R_i in the plane, of the P1 fields on Γc's projection. Columns are free dofs.
 // A frictionless scene has the normal block only.
 #pragma once
 

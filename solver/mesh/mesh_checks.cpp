@@ -91,11 +91,35 @@ void check_duplicate_triangles(const Mesh& mesh, const MeshRoles& roles) {
   }
 }
 
+// Γc must be a graph over the foundation plane: its outward normal points down (n_z < 0) on every
+// triangle. A triangle facing up or sideways means the face folds over itself, or rises
+// vertically, above the plane, where the projection onto the cells would count it twice.
+void check_contact_is_graph(const Mesh& mesh, const std::map<std::array<int, 3>, std::vector<std::size_t>>& wanted,
+                            std::map<std::array<int, 3>, int>& count, std::map<std::array<int, 3>, int>& opposite,
+                            const std::map<int, std::string>& group_names) {
+  for (const auto& [face, tris] : wanted) {
+    if (count[face] != 1) continue;  // orphans and interior faces are reported below
+    const Eigen::Vector3d a = mesh.nodes[face[0]], b = mesh.nodes[face[1]], c = mesh.nodes[face[2]];
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    if (n.dot(mesh.nodes[opposite[face]] - a) > 0) n = -n;  // outward: away from the tet
+    if (n.z() < -1e-6 * n.norm()) continue;
+    const std::size_t t = tris.front();
+    throw InputError("contact group '" + group_names.at(mesh.triangle_group[t]) + "': triangle " +
+                     std::to_string(mesh.triangle_tags[t]) + " faces away from the foundation (outward normal (" + number(n.x() / n.norm()) + ", " +
+                     number(n.y() / n.norm()) + ", " + number(n.z() / n.norm()) +
+                     ")): Γc must be a graph over the plane z = 0, seen from below — it folds over itself or "
+                     "rises vertically there; put only the part of the surface that faces the foundation in the "
+                     "contact group");
+  }
+}
+
 // Every contact triangle must be the face of exactly one tetrahedron.
 void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
   std::map<std::array<int, 3>, std::vector<std::size_t>> wanted;
+  std::map<int, std::string> group_names;
   for (const auto& name : roles.contact) {
     const int tag = group_tag(mesh, name);
+    group_names[tag] = name;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
       if (mesh.triangle_group[t] == tag) wanted[sorted(mesh.triangles[t])].push_back(t);
   }
@@ -104,6 +128,7 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
   for (const auto& [face, tris] : wanted)
     for (int v : face) on_face[v] = 1;
   std::map<std::array<int, 3>, int> count;
+  std::map<std::array<int, 3>, int> opposite;  // the tet's fourth node: fixes the outward side
   for (const auto& tet : mesh.tets)
     for (int skip = 0; skip < 4; ++skip) {
       std::array<int, 3> f{};
@@ -111,8 +136,12 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
         if (a != skip) f[j++] = tet[a];
       if (!on_face[f[0]] || !on_face[f[1]] || !on_face[f[2]]) continue;
       f = sorted(f);
-      if (wanted.count(f)) ++count[f];
+      if (wanted.count(f)) {
+        ++count[f];
+        opposite[f] = tet[skip];
+      }
     }
+  check_contact_is_graph(mesh, wanted, count, opposite, group_names);
   std::vector<std::size_t> orphans, interior;
   for (const auto& [face, tris] : wanted) {
     const int n = count.count(face) ? count[face] : 0;

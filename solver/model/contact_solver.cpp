@@ -226,7 +226,9 @@ std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& 
   double l2sq = 0, inf = 0;
   for (const auto& tri : face.triangles) {
     Polygon poly = triangle_polygon(mesh.nodes[tri[0]].head<2>(), mesh.nodes[tri[1]].head<2>(), mesh.nodes[tri[2]].head<2>());
-    const Eigen::Vector3d wn(-u[3 * tri[0] + 2], -u[3 * tri[1] + 2], -u[3 * tri[2] + 2]);
+    // Penetration w_n − d: the normal displacement beyond the initial gap.
+    const Eigen::Vector3d wn(-u[3 * tri[0] + 2] - face.gap[tri[0]], -u[3 * tri[1] + 2] - face.gap[tri[1]],
+                             -u[3 * tri[2] + 2] - face.gap[tri[2]]);
     inf = std::max(inf, wn.maxCoeff());
     if (wn.maxCoeff() <= 0) continue;
     std::vector<double> levels = {-wn[0], -wn[1], -wn[2]};

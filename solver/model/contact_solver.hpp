@@ -70,7 +70,7 @@ using ProgressCallback = std::function<void(const FixedPointStep&)>;
 
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& progress = {});
 
-// Positive part of w_n = −u_3 on Γc: (L2 norm integrated exactly over the contact triangles, max).
+// Positive part of the penetration w_n − d = −u_3 − z on Γc: (L2 norm integrated exactly over the contact triangles, max).
 std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u);
 
 }  // namespace contact3d

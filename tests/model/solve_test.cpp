@@ -205,3 +205,27 @@ TEST(SolveCoulomb, SlipDependentLawMeetsTheRelationAndLiftOffIsFree) {
   // answers differ.
   EXPECT_GT(max_difference(res.u, solve_text().u), 1e-3 * res.u.cwiseAbs().maxCoeff());
 }
+
+// An initial gap: the brick lifted by d above the foundation, its clamp moved down by d, is the
+// paper's problem translated — u + d e_z equals the paper's u (the constraint ∫(w_n − d) <= 0
+// carries the gap; the prescribed clamp carries the translation).
+TEST(SolveContactGeometry, LiftedBrickWithLoweredClampIsThePaperProblemTranslated) {
+  const double d = 2e-5;
+  std::string text = kPaperScene;
+  const std::string clamp = "clamped = [\"clamped\"]";
+  ASSERT_NE(text.find(clamp), std::string::npos);
+  text.replace(text.find(clamp), clamp.size(), "clamped = []");
+  text += "\n[[boundary.displacement]]\ngroup = \"clamped\"\nx = 0\ny = 0\nz = -2e-5\n";
+  const std::vector<std::string> tight = {"solver.qp_rtol=1e-10", "solver.fixed_point_tol=1e-8"};
+  const Scene scene = parse_scene_text(text, ".", tight);
+  Mesh lifted = make_paper_brick({scene.mesh.n});
+  for (auto& x : lifted.nodes) x.z() += d;
+  const SolveResult res = solve_scene(scene, lifted);
+  const SolveResult paper = solve_text(tight);
+  ASSERT_TRUE(res.converged && paper.converged) << res.status;
+  Eigen::VectorXd translated = res.u;
+  for (Eigen::Index v = 0; v < translated.size() / 3; ++v) translated[3 * v + 2] += d;
+  EXPECT_LT(max_difference(translated, paper.u), 1e-6 * paper.u.cwiseAbs().maxCoeff());
+  EXPECT_EQ(res.fixed_point.iterations(), paper.fixed_point.iterations());
+  EXPECT_NEAR(res.wn_plus_inf, paper.wn_plus_inf, 1e-6 * paper.u.cwiseAbs().maxCoeff());  // w_n − d, not w_n
+}
