@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps build pipeline test tables crosscheck figures coulomb-getfem bench robustness stress fuzz sanitize clean
+.PHONY: deps build pipeline test tables crosscheck figures coulomb-getfem hertz bench robustness stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -41,6 +41,10 @@ figures: build
 # Coulomb friction against GetFEM's contact brick on the paper's brick, n = 4..16 ($(REPORTS)/coulomb_getfem.md).
 coulomb-getfem: build
 	$(PY) pipeline/getfem_coulomb.py --bin $(BIN) --n 4 8 12 16 --out $(REPORTS)/coulomb_getfem.md
+
+# Hertz validation on a finer mesh than the test's ($(REPORTS)/hertz/: table, JSON, pressure profile figure).
+hertz: build
+	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --cell-size 0.01 --report $(REPORTS)/hertz
 
 bench: build
 	$(PY) pipeline/bench.py --bin $(BIN) --out $(REPORTS)/bench

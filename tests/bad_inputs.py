@@ -550,6 +550,10 @@ def c_coulomb_with_slip_bound(c):
     return ["check", c.scene(), "--set", "friction.model=coulomb"], ["slip_bound", "coulomb", "normal pressure"]
 
 
+def c_contact_not_a_graph(c):
+    return ["check", c.scene(contact='["free"]')], ["free", "graph over the plane"]
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 
