@@ -59,5 +59,11 @@ with tempfile.TemporaryDirectory() as tmp:
         fail(f"contact force x, z: whole {sw['contact']} half {sh['contact']}")
     if not close([x / 2 for x in sw["reactions"][0]["force"][::2]], sh["reactions"][0]["force"][::2], 1e-6):
         fail(f"clamp reaction x, z: whole {sw['reactions'][0]} half {sh['reactions'][0]}")
+    aw, ah = summary(whole)["contact_area"], summary(half)["contact_area"]
+    if not (close([aw["in_contact"]], [aw["stick"] + aw["slip"]], 1e-12) and aw["in_contact"] > 0
+            and close([aw["in_contact"] + aw["separated"]], [3.0], 1e-9)):
+        fail(f"whole: contact areas do not add up: {aw}")
+    if not close([aw[k] / 2 for k in ("in_contact", "stick", "slip")], [ah[k] for k in ("in_contact", "stick", "slip")], 1e-9):
+        fail(f"contact areas: whole {aw} half {ah}")
     print(f"ok: n={n}: half = whole on y <= 0.5 to {diff / scale:.2g}; contact force z {sh['contact'][2]:.6g} N "
           f"(whole {sw['contact'][2]:.6g} N); symmetry-plane reaction {sh['reactions'][1]['force']}")

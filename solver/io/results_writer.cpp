@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <fstream>
@@ -312,6 +313,15 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       if (has_friction(res)) { force_t1 += a * res.lambda[res.n_cells + i]; force_t2 += a * res.lambda[2 * res.n_cells + i]; }
     }
     j.begin_object("contact_force").value("normal", force_n).value("t1", force_t1).value("t2", force_t2).end_object();
+    {  // areas of the cells by status (in the plane; the cells' own areas)
+      double area[3] = {0, 0, 0};
+      const std::vector<int> status = cell_status(res);
+      for (int i = 0; i < res.n_cells; ++i) area[status[i]] += res.partition.cells[i].area;
+      const double no_friction = std::numeric_limits<double>::quiet_NaN();  // null: no stick/slip without friction
+      j.begin_object("contact_area").value("in_contact", area[1] + area[2]);
+      j.value("stick", has_friction(res) ? area[1] : no_friction).value("slip", has_friction(res) ? area[2] : no_friction);
+      j.value("separated", area[0]).end_object();
+    }
     write_forces(j, res.forces);
     j.begin_object("time_s");
     j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);
