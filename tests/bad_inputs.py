@@ -554,6 +554,16 @@ def c_contact_not_a_graph(c):
     return ["check", c.scene(contact='["free"]')], ["free", "graph over the plane"]
 
 
+def c_plane_normal_zero(c):
+    return ["check", c.scene(), "--set", "contact.plane_normal=[0, 0, 0]"], ["contact.plane_normal", "non-zero"]
+
+
+def c_tilted_plane_penetration(c):
+    # The brick n=2 on a foundation tilted about y: its far end lies below the tilted plane.
+    return (["check", c.scene(), "--set", "contact.plane_normal=[-0.3, 0, 1]"],
+            ["below the foundation plane", "initial penetration"])
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

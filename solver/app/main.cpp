@@ -20,6 +20,7 @@
 #include "mesh/read_mesh.hpp"
 #include "mesh/msh_writer.hpp"
 #include "model/contact_solver.hpp"
+#include "model/plane_frame.hpp"
 #include "model/mesh_source.hpp"
 #include "model/scene.hpp"
 
@@ -110,7 +111,7 @@ int run_solve(const SolveArgs& args) {
 }
 
 int run_check(const SolveArgs& args) {
-  const Scene scene = load_scene(args.scene, args.sets);
+  const Scene user_scene = load_scene(args.scene, args.sets);
   const fs::path work = fs::temp_directory_path() / ("contact3d_check_" + std::to_string(::getpid()));
   struct RemoveOnExit {  // gmsh's scratch folder goes away even when meshing throws
     fs::path dir;
@@ -120,21 +121,25 @@ int run_check(const SolveArgs& args) {
     }
   } cleanup{work};
   std::string description;
-  const Mesh mesh = scene_mesh(scene, args.mesh, work, description);
-  fmt::print("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description, mesh.nodes.size(),
-             mesh.tets.size(), mesh.triangles.size());
-  fmt::print("physical groups: {}\n", mesh.describe_groups());
+  const Mesh user_mesh = scene_mesh(user_scene, args.mesh, work, description);
+  fmt::print("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description, user_mesh.nodes.size(),
+             user_mesh.tets.size(), user_mesh.triangles.size());
+  fmt::print("physical groups: {}\n", user_mesh.describe_groups());
   // Each group as a scene names it (a label or an unnamed gmsh group by its number), with its size.
-  for (const auto& g : mesh.groups) {
+  for (const auto& g : user_mesh.groups) {
     std::size_t count = 0;
     if (g.dim == 2) {
-      for (int t : mesh.triangle_group) count += (t == g.tag);
+      for (int t : user_mesh.triangle_group) count += (t == g.tag);
     } else {
-      for (int t : mesh.tet_group) count += (t == g.tag);
+      for (int t : user_mesh.tet_group) count += (t == g.tag);
     }
     const std::string name = g.name.empty() ? std::to_string(g.tag) : g.name;
     fmt::print("  {:<16} dim {}  {} {}\n", "\"" + name + "\"", g.dim, count, g.dim == 2 ? "triangles" : "tetrahedra");
   }
+  // A tilted or shifted foundation: the checks below see the problem in the plane's frame, as the solve does.
+  const PlaneFrameProblem local = to_plane_frame(user_scene, user_mesh);
+  const Scene& scene = local.scene;
+  const Mesh& mesh = local.mesh;
   check_coordinates_in_range(mesh);
   check_tet_orientation(mesh);
   check_mesh_meaning(mesh, mesh_roles(scene));

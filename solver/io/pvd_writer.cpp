@@ -6,6 +6,7 @@
 
 #include "base/errors.hpp"
 #include "io/atomic_file.hpp"
+#include "io/results_writer.hpp"
 #include "io/vtu_format.hpp"
 
 namespace contact3d {
@@ -38,15 +39,20 @@ int write_solution_steps(const std::filesystem::path& dir, const Scene& scene, c
   for (int k = 1; k <= count; ++k) {
     const Eigen::VectorXd& u = res.u_history[k - 1];
     auto ui = [&](std::size_t i, int c) { return u[3 * history_index[global[i]] + c]; };
+    auto in_plane = [&](std::size_t i) -> Eigen::Vector3d {  // in the foundation plane's frame
+      return res.frame.to_local(u.segment<3>(3 * history_index[global[i]]));
+    };
     write_file(steps / step_name(k), [&](std::ostream& out) {
       vtu::begin_piece(out, n, m);
       out << "      <PointData Scalars=\"slip_norm\" Vectors=\"displacement\">\n";
       vtu::data_array(out, "displacement", 3, n, ui);
-      vtu::data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[global[i]].z() + ui(i, 2); });
-      vtu::data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return c < 2 ? ui(i, c) : 0.0; });
-      vtu::data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(ui(i, 0), ui(i, 1)); });
+      vtu::data_array(out, "gap", 1, n, [&](std::size_t i, int) {
+        return res.frame.to_local_point(mesh.nodes[global[i]]).z() + in_plane(i).z();
+      });
+      vtu::data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return tangential_part(res.frame, in_plane(i))[c]; });
+      vtu::data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(in_plane(i).x(), in_plane(i).y()); });
       vtu::data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) {
-        return scene.frictionless() ? 0.0 : scene.law(std::hypot(ui(i, 0), ui(i, 1)));
+        return scene.frictionless() ? 0.0 : scene.law(std::hypot(in_plane(i).x(), in_plane(i).y()));
       });
       out << "      </PointData>\n";
       vtu::geometry(

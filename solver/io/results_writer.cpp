@@ -93,11 +93,13 @@ template <class Index>
 void contact_point_data(std::ostream& out, const Mesh& mesh, const SolveResult& res, const ContactNodeFields& nf,
                         std::size_t n, Index global) {
   auto u = [&](std::size_t i, int c) { return res.u[3 * global(i) + c]; };
+  // Normal and tangential parts are taken in the foundation plane's frame (u'_3 along its normal).
+  auto local = [&](std::size_t i) -> Eigen::Vector3d { return res.frame.to_local(res.u.segment<3>(3 * global(i))); };
   data_array(out, "displacement", 3, n, u);
-  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[global(i)].z() + u(i, 2); });
-  data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -u(i, 2); });
-  data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return c < 2 ? u(i, c) : 0.0; });
-  data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(u(i, 0), u(i, 1)); });
+  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return plane_gap(mesh, res, global(i)); });
+  data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -local(i).z(); });
+  data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return tangential_part(res.frame, local(i))[c]; });
+  data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(local(i).x(), local(i).y()); });
   data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[global(i)]; });
   data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
     return c == 0 ? nf.traction_t1[global(i)] : c == 1 ? nf.traction_t2[global(i)] : 0.0;
@@ -120,8 +122,10 @@ void write_body_vtu(const std::filesystem::path& file, const Mesh& mesh, const S
     auto u = [&](std::size_t i, int c) { return res.u[3 * i + c]; };
     data_array(out, "displacement", 3, n, u);
     data_array(out, "displacement_norm", 1, n, [&](std::size_t i, int) { return res.u.segment<3>(3 * i).norm(); });
-    data_array(out, "gap", 1, n, [&](std::size_t i, int) { return mesh.nodes[i].z() + u(i, 2); });
-    data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return on_face[i] && c < 2 ? u(i, c) : 0.0; });
+    data_array(out, "gap", 1, n, [&](std::size_t i, int) { return plane_gap(mesh, res, static_cast<int>(i)); });
+    data_array(out, "slip", 3, n, [&](std::size_t i, int c) {
+      return on_face[i] ? tangential_part(res.frame, res.frame.to_local(res.u.segment<3>(3 * i)))[c] : 0.0;
+    });
     data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[i]; });
     data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
       return c == 0 ? nf.traction_t1[i] : c == 1 ? nf.traction_t2[i] : 0.0;
@@ -188,7 +192,9 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
     const std::vector<int> cs = cell_status(res);
     data_array(out, "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, "Int32");
     out << "      </CellData>\n      <Points>\n";
-    data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) { return c < 2 ? pts[i][c] : 0.0; });
+    data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) {  // the cells lie in the foundation plane
+      return res.frame.to_global_point(Eigen::Vector3d(pts[i].x(), pts[i].y(), 0.0))[c];
+    });
     out << "      </Points>\n      <Cells>\n";
     data_array(out, "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, "Int64");
     data_array(out, "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, "Int64");
@@ -198,6 +204,14 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
 }
 
 }  // namespace
+
+double plane_gap(const Mesh& mesh, const SolveResult& res, int v) {
+  return res.frame.to_local_point(mesh.nodes[v]).z() + res.frame.to_local(res.u.segment<3>(3 * v)).z();
+}
+
+Eigen::Vector3d tangential_part(const FoundationFrame& frame, const Eigen::Vector3d& local) {
+  return frame.to_global(Eigen::Vector3d(local.x(), local.y(), 0.0));
+}
 
 std::vector<int> cell_status(const SolveResult& res) {
   const int r = res.n_cells;
@@ -241,7 +255,7 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
     nf.traction_t1[v] /= weight[v];
     nf.traction_t2[v] /= weight[v];
     nf.radius[v] /= weight[v];
-    const double slip = std::hypot(res.u[3 * v], res.u[3 * v + 1]);
+    const double slip = res.frame.to_local(res.u.segment<3>(3 * v)).head<2>().norm();
     nf.friction[v] = scene.frictionless() ? 0.0 : scene.law(slip);
     // The status of the cells around the node, weighted by their share of its hat function (ties
     // go to the higher status): averaging the traction vectors instead would call a node between
@@ -348,8 +362,9 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
     for (int v : res.face.nodes) {
       const auto& x = mesh.nodes[v];
       const double u1 = res.u[3 * v], u2 = res.u[3 * v + 1], u3 = res.u[3 * v + 2];
+      const Eigen::Vector3d local = res.frame.to_local(res.u.segment<3>(3 * v));  // wn, wt in the plane's frame
       out << mesh.node_tags[v] << ',' << x.x() << ',' << x.y() << ',' << x.z() << ',' << u1 << ',' << u2 << ',' << u3 << ','
-          << -u3 << ',' << std::hypot(u1, u2) << ',' << nf.friction[v] << ',' << nf.pressure[v] << ',' << nf.status[v] << '\n';
+          << -local.z() << ',' << local.head<2>().norm() << ',' << nf.friction[v] << ',' << nf.pressure[v] << ',' << nf.status[v] << '\n';
     }
   });
   write_file(dir / "contact_cells.csv", [&](std::ostream& out) {

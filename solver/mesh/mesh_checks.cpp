@@ -168,9 +168,11 @@ void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
   for (std::size_t v = 1; v < mesh.nodes.size(); ++v)
     if (mesh.nodes[v].z() < mesh.nodes[deepest].z()) deepest = v;
   if (mesh.nodes[deepest].z() < -tol)
-    throw InputError("the body reaches below the foundation plane z = 0 (initial penetration): node " +
-                     std::to_string(mesh.node_tags[deepest]) + " lies at z = " + number(mesh.nodes[deepest].z()) +
-                     "; move the mesh so that the contact face lies in z = 0 and the body above it");
+    throw InputError("the body reaches below the foundation plane (initial penetration): node " +
+                     std::to_string(mesh.node_tags[deepest]) + " lies " + number(-mesh.nodes[deepest].z()) +
+                     " below it (height z = " + number(mesh.nodes[deepest].z()) +
+                     " above the plane z = 0, or the plane of contact.plane_point / plane_normal); move the mesh or the "
+                     "plane so that the contact face lies on or above it and the body above it");
 }
 
 // Constrained nodes that all lie on one line (or at one point) leave a rigid rotation free.

@@ -18,6 +18,7 @@
 #include "mesh/mesh_checks.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "model/plane_frame.hpp"
 #include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
@@ -242,6 +243,12 @@ std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& 
 }
 
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& progress) {
+  if (!scene.foundation.is_identity()) {  // a tilted or shifted foundation: solve in its frame
+    const PlaneFrameProblem local = to_plane_frame(scene, mesh);
+    SolveResult res = solve_scene(local.scene, local.mesh, progress);
+    result_to_user_frame(scene.foundation, res);
+    return res;
+  }
   SolveResult res;
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   const Discretisation disc = discretise(scene, mesh, res);

@@ -15,6 +15,7 @@
 #include <Eigen/SparseCore>
 
 #include "contact/contact_face.hpp"
+#include "contact/foundation_frame.hpp"
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
 #include "friction/fixed_point.hpp"
@@ -33,6 +34,9 @@ struct SolveResult {
   Partition partition;
   int n_primal = 0, n_dual = 0, n_cells = 0;
   double cell_size = 0;              // H actually requested (m)
+  // The foundation plane's frame: face, partition, λ and the contact force's (normal, t1, t2) live
+  // in it; u, its history and the resultant forces are in the user's axes.
+  FoundationFrame frame;
 
   // Solution.
   Eigen::VectorXd u;                 // nodal displacement, 3 per mesh node

@@ -316,7 +316,13 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
                      "' (or model = \"coulomb\", whose bound is the normal pressure)");
 
   if (const toml::table* ct = table_at(root, "contact")) {
-    check_keys(*ct, "contact", {"cell_size"});
+    check_keys(*ct, "contact", {"cell_size", "plane_point", "plane_normal"});
+    const Eigen::Vector3d plane_point =
+        ct->contains("plane_point") ? get_vector(ct->get("plane_point"), "contact.plane_point") : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d plane_normal = ct->contains("plane_normal")
+                                             ? get_vector(ct->get("plane_normal"), "contact.plane_normal")
+                                             : Eigen::Vector3d::UnitZ();
+    s.foundation = FoundationFrame::from_plane(plane_point, plane_normal);
     if (const toml::node* n = ct->get("cell_size")) {
       if (n->is_string()) {
         std::string v = *n->value<std::string>();

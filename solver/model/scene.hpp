@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "contact/foundation_frame.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/elasticity.hpp"
@@ -77,6 +78,8 @@ struct Scene {
   FrictionLaw law;
   double cell_size = 2;               // H: a length in m, or a multiple of h when relative
   bool cell_size_relative = true;
+  // [contact] plane_point (m, default origin) and plane_normal (towards the body, default +z).
+  FoundationFrame foundation;
   SolverSettings solver;
   std::filesystem::path output_dir;
   std::string echo;                   // the scene as solved, TOML text (overrides applied)

@@ -4,8 +4,12 @@
 // near the end lifted by the end load, symmetry about y = 1/2.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include "base/errors.hpp"
 #include "mesh/brick_generator.hpp"
 #include "model/contact_solver.hpp"
+#include "model/plane_frame.hpp"
 #include "model/scene.hpp"
 #include "test_support.hpp"
 
@@ -228,4 +232,45 @@ TEST(SolveContactGeometry, LiftedBrickWithLoweredClampIsThePaperProblemTranslate
   EXPECT_LT(max_difference(translated, paper.u), 1e-6 * paper.u.cwiseAbs().maxCoeff());
   EXPECT_EQ(res.fixed_point.iterations(), paper.fixed_point.iterations());
   EXPECT_NEAR(res.wn_plus_inf, paper.wn_plus_inf, 1e-6 * paper.u.cwiseAbs().maxCoeff());  // w_n − d, not w_n
+}
+
+// The paper's brick turned and moved together with its foundation plane and its loads gives the
+// paper's solution turned: u_rotated = Q u at every node (the plane's frame undoes Q exactly).
+TEST(SolveContactGeometry, RotatedBrickOnRotatedFoundationGivesTheRotatedSolution) {
+  const std::vector<std::string> tight = {"solver.qp_rtol=1e-10", "solver.fixed_point_tol=1e-8"};
+  const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  const Eigen::Vector3d shift(0.3, -0.2, 0.5);
+  Scene scene = parse_scene_text(kPaperScene, ".", tight);
+  for (auto& t : scene.tractions) t.value = Q * t.value;
+  scene.foundation = FoundationFrame::from_plane(shift, Q * Eigen::Vector3d::UnitZ());
+  Mesh turned = make_paper_brick({scene.mesh.n});
+  for (auto& x : turned.nodes) x = Q * x + shift;
+  const SolveResult res = solve_scene(scene, turned);
+  const SolveResult paper = solve_text(tight);
+  ASSERT_TRUE(res.converged && paper.converged) << res.status;
+  Eigen::VectorXd expected = paper.u;
+  for (Eigen::Index v = 0; v < expected.size() / 3; ++v) expected.segment<3>(3 * v) = Q * paper.u.segment<3>(3 * v);
+  EXPECT_LT(max_difference(res.u, expected), 1e-7 * paper.u.cwiseAbs().maxCoeff());
+  EXPECT_EQ(res.fixed_point.iterations(), paper.fixed_point.iterations());
+  EXPECT_LT((res.forces.contact - Q * paper.forces.contact).norm(), 1e-6 * paper.forces.contact.norm());
+  EXPECT_LT(res.forces.balance, 1e-10);
+}
+
+// A condition on one component is kept when its axis stays an axis of the plane's frame, and
+// refused (naming the group) when the tilt mixes it with the others.
+TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) {
+  Scene scene = parse_scene_text(std::string(kPaperScene) + "\n[[boundary.displacement]]\ngroup = \"free\"\ny = 0\n", ".");
+  scene.foundation = FoundationFrame::from_plane(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 0, 1));  // turns about y
+  const PlaneFrameProblem local = to_plane_frame(scene, make_paper_brick({4}));
+  ASSERT_EQ(local.scene.displacements.size(), 1u);
+  EXPECT_FALSE(local.scene.displacements[0].value[0] || local.scene.displacements[0].value[2]);
+  ASSERT_TRUE(local.scene.displacements[0].value[1]);
+  EXPECT_DOUBLE_EQ(*local.scene.displacements[0].value[1], 0.0);
+  scene.foundation = FoundationFrame::from_plane(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 1));  // mixes y and z
+  try {
+    to_plane_frame(scene, make_paper_brick({4}));
+    FAIL() << "a y-only condition under a tilt about x was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'free'"), std::string::npos) << e.what();
+  }
 }

@@ -1,0 +1,65 @@
+#include "model/plane_frame.hpp"
+
+#include <cmath>
+
+#include "base/errors.hpp"
+#include "model/contact_solver.hpp"
+
+namespace contact3d {
+namespace {
+
+const char* const kAxis[3] = {"x", "y", "z"};
+
+// A condition on some components in the user's axes, expressed on the plane frame's axes.
+PrescribedDisplacement rotate_condition(const PrescribedDisplacement& given, const Eigen::Matrix3d& R) {
+  PrescribedDisplacement out{given.group, {}};
+  if (given.value[0] && given.value[1] && given.value[2]) {
+    const Eigen::Vector3d v = R * Eigen::Vector3d(*given.value[0], *given.value[1], *given.value[2]);
+    for (int k = 0; k < 3; ++k) out.value[k] = v[k];
+    return out;
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (!given.value[c]) continue;
+    const Eigen::Vector3d axis = R.col(c);  // e_c in the plane's frame
+    int k = 0;
+    axis.cwiseAbs().maxCoeff(&k);
+    if (std::abs(axis[k]) < 1 - 1e-12)
+      throw InputError("boundary.displacement '" + given.group + "': the condition on " + kAxis[c] +
+                       " alone is not along an axis of the tilted foundation's frame; give all three components "
+                       "(x, y, z) there, or a foundation plane whose normal is a coordinate axis");
+    out.value[k] = axis[k] * *given.value[c];
+  }
+  return out;
+}
+
+}  // namespace
+
+PlaneFrameProblem to_plane_frame(const Scene& scene, const Mesh& mesh) {
+  const FoundationFrame& f = scene.foundation;
+  const Eigen::Matrix3d& R = f.rotation;
+  PlaneFrameProblem local{scene, mesh};
+  local.scene.foundation = FoundationFrame();
+  for (auto& x : local.mesh.nodes) x = f.to_local_point(x);
+  local.scene.body_force = R * scene.body_force;
+  for (auto& t : local.scene.tractions) {  // t(x) = v + G x, x = Rᵀx' + p
+    t.value = R * (t.value + t.gradient * f.point);
+    t.gradient = R * t.gradient * R.transpose();
+  }
+  for (auto& d : local.scene.displacements) d = rotate_condition(d, R);
+  return local;
+}
+
+void result_to_user_frame(const FoundationFrame& frame, SolveResult& res) {
+  const Eigen::Matrix3d Rt = frame.rotation.transpose();
+  auto rotate_nodal = [&](Eigen::VectorXd& v) {
+    for (Eigen::Index k = 0; k + 2 < v.size(); k += 3) v.segment<3>(k) = Rt * v.segment<3>(k);
+  };
+  rotate_nodal(res.u);
+  for (auto& h : res.u_history) rotate_nodal(h);
+  res.forces.applied = Rt * res.forces.applied;
+  res.forces.contact = Rt * res.forces.contact;
+  for (auto& r : res.forces.reactions) r.force = Rt * r.force;
+  res.frame = frame;
+}
+
+}  // namespace contact3d
