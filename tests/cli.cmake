@@ -22,5 +22,9 @@ set_tests_properties(coulomb_against_getfem_n4_n8 PROPERTIES LABELS crosscheck)
 add_test(NAME hertz_quarter_hemisphere
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/hertz_hemisphere.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
                  --h-pole 0.0085 --cell-size 0.017)
+# Rotation: the brick turned and moved with its foundation plane (contact.plane_point/normal) and
+# its loads, through the whole command line, gives Q·u, the same wn, wt and contact forces.
+add_test(NAME rotated_brick_n4
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/rotated_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
 add_test(NAME symmetry_half_brick_n4
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/symmetry_half_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
