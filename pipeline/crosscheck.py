@@ -2,7 +2,8 @@
 """Cross-check contact3d against an independent FreeFEM reference on the same mesh.
 
 For a scene (TOML) this script
-  1. meshes the scene's .geo with gmsh into MSH 2.2 (or uses its mesh file),
+  1. meshes the scene's .geo with gmsh into MSH 2.2 (or runs its FreeFEM .edp into a Medit .mesh, or uses
+     its mesh file),
   2. runs the FreeFEM reference pipeline/freefem/contact_ref.edp on that mesh: nodal multipliers
      with lumped boundary mass, semi-smooth Newton iterated to a relative change <= 1e-10 (for a
      slip-dependent coefficient inside successive approximations on the nodal slip, err <= 1e-8),
@@ -194,6 +195,37 @@ def read_msh22(path: Path):
     return {"names": names, "coords": coords, "tris": tri_idx, "tri_tags": np.array(tri_tags, dtype=np.int64)}
 
 
+def read_medit(path: Path):
+    """ASCII Medit .mesh (FreeFEM's savemesh): the same dict as read_msh22; groups are the integer labels."""
+    tokens = Path(path).read_text(errors="replace").split()
+    coords = tris = None
+    tri_tags = []
+    i = 0
+    while i < len(tokens):
+        key = tokens[i]
+        if key in ("Vertices", "Triangles", "Tetrahedra", "Edges", "Corners", "Ridges", "RequiredVertices"):
+            n = int(tokens[i + 1])
+            width = {"Vertices": 4, "Triangles": 4, "Tetrahedra": 5, "Edges": 3}.get(key, 1)
+            block = np.array(tokens[i + 2:i + 2 + n * width], dtype=float).reshape(n, width)
+            if key == "Vertices":
+                coords = block[:, :3]
+            elif key == "Triangles":
+                tris = block[:, :3].astype(np.int64) - 1
+                tri_tags = block[:, 3].astype(np.int64)
+            i += 2 + n * width
+        elif key == "Dimension" or key == "MeshVersionFormatted":
+            i += 2
+        else:
+            i += 1
+    if coords is None or tris is None:
+        raise SideFailed(f"{path}: not a Medit mesh with Vertices and Triangles")
+    return {"names": {}, "coords": coords, "tris": tris, "tri_tags": np.asarray(tri_tags, dtype=np.int64)}
+
+
+def read_mesh(path: Path):
+    return read_medit(path) if Path(path).suffix == ".mesh" else read_msh22(path)
+
+
 def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bool = False) -> tuple[Path, dict]:
     m = scene.get("mesh", {})
     if "geo" in m:
@@ -215,9 +247,25 @@ def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bo
         if r.returncode != 0 or not out.exists():
             raise SideFailed(f"gmsh failed ({' '.join(cmd)}):\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
         return out, params
+    if "edp" in m:  # FreeFEM makes the mesh; both solvers read its .mesh
+        edp = (scene_path.parent / m["edp"]).resolve()
+        params = dict(m.get("parameters", {}))
+        if n is not None:
+            params["n"] = n
+        tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
+        out = work / f"{edp.stem}-{tag}.mesh"
+        if reuse and out.exists():
+            return out, params
+        cmd = ["FreeFem++", "-nw", str(edp), "-out", str(out)]
+        for k, v in params.items():
+            cmd += [f"-{k}", str(v)]
+        r = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, FF_LOADPATH="/usr/lib/freefem++"))
+        if r.returncode != 0 or not out.exists():
+            raise SideFailed(f"FreeFEM failed ({' '.join(cmd)}):\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
+        return out, params
     if "file" in m:
         if n is not None:
-            raise SideFailed("--n needs a scene meshed from a .geo ([mesh] geo = ...)")
+            raise SideFailed("--n needs a scene meshed from a .geo or .edp ([mesh] geo/edp = ...)")
         src = (scene_path.parent / m["file"]).resolve()
         if not src.exists():
             raise SideFailed(f"{scene_path}: [mesh] file = {m['file']!r}: {src} does not exist")
@@ -247,6 +295,9 @@ def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
     def tags(groups, role):
         out = []
         for g in groups:
+            if g not in names and str(g).isdigit():  # a Medit label or an unnamed gmsh group
+                out.append(int(g))
+                continue
             if g not in names:
                 raise SideFailed(f"{scene_path}: [boundary] {role}: group {g!r} is not a physical "
                                  f"surface of the mesh (have: {', '.join(sorted(names))})")
@@ -631,7 +682,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
         shutil.rmtree(work)
     work.mkdir(parents=True, exist_ok=True)
     msh, params = make_mesh(scene, scene_path, n, work, args.gmsh, reuse=args.reuse_freefem)
-    mesh = read_msh22(msh)
+    mesh = read_mesh(msh)
     prob = problem_data(scene, scene_path, mesh)
     case = {"scene": name, "n": params.get("n", n), "variant": variant, "friction": label, "slip_bound_s": s,
             "ff_law": ff_law,
@@ -852,7 +903,7 @@ def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) ->
         shutil.rmtree(work)
     work.mkdir(parents=True)
     msh, _ = make_mesh(scene, scene_path, n, work, args.gmsh)
-    mesh = read_msh22(msh)
+    mesh = read_mesh(msh)
     prob = problem_data(scene, scene_path, mesh)
     problems = []
 
