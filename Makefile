@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps build pipeline test tables crosscheck figures coulomb-getfem hertz bench robustness stress fuzz sanitize clean
+.PHONY: deps build pipeline test tables crosscheck figures coulomb-getfem hertz validation bench robustness stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -45,6 +45,10 @@ coulomb-getfem: build
 # Hertz validation on a finer mesh than the test's ($(REPORTS)/hertz/: table, JSON, pressure profile figure).
 hertz: build
 	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --cell-size 0.01 --report $(REPORTS)/hertz
+
+# Symmetry plane and rotated foundation at n = 4 and 8 ($(REPORTS)/validation.md).
+validation: build
+	$(PY) pipeline/validation_report.py --bin $(BIN) --ns 4 8 --out $(REPORTS)/validation.md
 
 bench: build
 	$(PY) pipeline/bench.py --bin $(BIN) --out $(REPORTS)/bench
