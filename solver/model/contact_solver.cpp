@@ -1,5 +1,6 @@
 #include "model/contact_solver.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -163,10 +164,12 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     res.status = to_string(res.fixed_point.status);
     res.converged = res.fixed_point.status == FixedPointStatus::Converged;
   } else {
+    const auto t0 = std::chrono::steady_clock::now();
     const SlipEvaluation eval = tresca(phi0, scene.solver.qp_rtol);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     res.converged = eval.ok;
     res.status = eval.ok ? "converged" : "qp_" + to_string(tresca.last_qp().status);
-    if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, 0.0});
+    if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, seconds, scene.solver.qp_rtol});
   }
 }
 
