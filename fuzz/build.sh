@@ -15,7 +15,8 @@ libs=($(pkg-config --libs tomlplusplus))
 "$CXX" "${flags[@]}" -o "$out/fuzz_msh" "$root/fuzz/fuzz_msh.cpp" \
   "$root/solver/mesh/msh_reader.cpp" "$root/solver/mesh/mesh.cpp"
 "$CXX" "${flags[@]}" -o "$out/fuzz_scene" "$root/fuzz/fuzz_scene.cpp" \
-  "$root/solver/model/scene.cpp" "$root/solver/friction/friction_law.cpp" "${libs[@]}"
+  "$root/solver/model/scene.cpp" "$root/solver/friction/friction_law.cpp" "$root/solver/contact/foundation_frame.cpp" \
+  "$root/solver/mesh/mesh.cpp" "${libs[@]}"
 "$CXX" "${flags[@]}" -o "$out/fuzz_medit" "$root/fuzz/fuzz_medit.cpp" \
   "$root/solver/mesh/medit_reader.cpp" "$root/solver/mesh/mesh.cpp"
 echo "built $out/fuzz_msh $out/fuzz_scene $out/fuzz_medit"
