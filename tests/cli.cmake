@@ -28,3 +28,14 @@ add_test(NAME rotated_brick_n4
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/rotated_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
 add_test(NAME symmetry_half_brick_n4
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/symmetry_half_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
+
+# cond(Q) beyond 1e10 is reported as a warning (stderr and summary.json "warnings"): the thin slab
+# with cells as small as its elements (cond ≈ 1e16); the paper's brick (cond ≈ 1e4) has none.
+add_test(NAME warns_ill_conditioned_dual
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/slab.toml --set mesh.parameters.h=0.1
+                 --set contact.cell_size=\"1h\" --out ${CMAKE_BINARY_DIR}/cli-tests/slab-1h --quiet)
+set_tests_properties(warns_ill_conditioned_dual PROPERTIES PASS_REGULAR_EXPRESSION "warning: the dual operator Q is ill-conditioned")
+add_test(NAME no_warning_on_the_paper_brick
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/brick-n4-warnings --quiet)
+set_tests_properties(no_warning_on_the_paper_brick PROPERTIES FAIL_REGULAR_EXPRESSION "warning:")

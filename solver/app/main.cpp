@@ -106,6 +106,7 @@ int run_solve(const SolveArgs& args) {
                res.wn_plus_L2, res.wn_plus_inf, res.kkt.max(), info.total_seconds);
     fmt::print("results in {}\n", out.string());
   }
+  for (const auto& w : res.warnings) std::cerr << "warning: " << w << "\n";
   if (!res.converged && !res.fixed_point.hint.empty()) std::cerr << "hint: " << res.fixed_point.hint << "\n";
   return res.converged ? 0 : 1;
 }

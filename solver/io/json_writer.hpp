@@ -22,6 +22,7 @@ class JsonWriter {
   JsonWriter& value(const std::string& key, const std::string& v);
   JsonWriter& value(const std::string& key, const char* v) { return value(key, std::string(v)); }
   JsonWriter& element(double v) { return value("", v); }
+  JsonWriter& element(const std::string& v) { return value("", v); }
 
   static std::string quote(const std::string& s);
 

@@ -319,6 +319,9 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     }
     j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
     j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
+    j.begin_array("warnings");
+    for (const auto& w : res.warnings) j.element(w);
+    j.end_array();
     j.value("step_solve_fraction", res.step_solve_fraction);
     double force_n = 0, force_t1 = 0, force_t2 = 0;
     for (int i = 0; i < res.n_cells; ++i) {

@@ -85,6 +85,10 @@ void time_reference_factorizations(const Eigen::SparseMatrix<double>& K, StageCl
   clock.lap("reference_factorization_nd");
 }
 
+// Above this estimate of cond(Q) the multipliers lose most of their digits to rounding and to the
+// QP's stopping tolerance; the paper's brick has 1.5e4, the bodies of results/bodies at most ~1e6.
+constexpr double kIllConditionedDual = 1e10;
+
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
 // estimate of cond(Q) (power iterations on Q and Q⁻¹); when its Cholesky fails or is
 // near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws).
@@ -266,6 +270,11 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
       make_cholmod_dual_problem(scene.solver.dual_method, {disc.K, op.B, disc.f, face_dofs.dofs, op.offset}, clock);
   const double q_norm = estimate_norm(dual->Q());  // once: for cond(Q) and for MPGP's step ᾱ
   res.stability_condition = check_stability(dual->Q(), q_norm, res.partition, op.r);
+  if (res.stability_condition > kIllConditionedDual)
+    res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
+                           "): some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or a "
+                           "body thinner than a cell), so λ and the contact pressure are unreliable although the "
+                           "residuals are small; use a larger contact.cell_size (H)");
   clock.lap("stability");
 
   DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp);

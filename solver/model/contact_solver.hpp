@@ -63,6 +63,7 @@ struct SolveResult {
   ResultantForces forces;            // applied, contact and reaction forces and their balance
   double wn_plus_L2 = 0, wn_plus_inf = 0;
   double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
+  std::vector<std::string> warnings; // what makes this answer less trustworthy than its residuals say
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   double factor_nonzeros = 0;
   double step_solve_fraction = 1;  // share of nnz(L) one fixed-point step back-substitutes through (DisplacementTrace); 1: a full solve
