@@ -39,3 +39,5 @@ add_test(NAME no_warning_on_the_paper_brick
          COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
                  --out ${CMAKE_BINARY_DIR}/cli-tests/brick-n4-warnings --quiet)
 set_tests_properties(no_warning_on_the_paper_brick PROPERTIES FAIL_REGULAR_EXPRESSION "warning:")
+add_test(NAME version_flag COMMAND contact3d --version)
+set_tests_properties(version_flag PROPERTIES PASS_REGULAR_EXPRESSION "^contact3d [0-9]+\\.[0-9]+\\.[0-9]+")

@@ -173,6 +173,7 @@ int run_check(const SolveArgs& args) {
 
 int main(int argc, char** argv) {
   CLI::App app{"contact3d: 3D contact with solution-dependent Tresca friction (Haslinger & Ligurský 2009)"};
+  app.set_version_flag("--version", std::string("contact3d ") + CONTACT3D_VERSION);
   app.require_subcommand(1);
   SolveArgs args;
   auto* solve = app.add_subcommand("solve", "solve a scene");
