@@ -26,6 +26,10 @@ add_test(NAME hertz_quarter_hemisphere
 # its loads, through the whole command line, gives Q·u, the same wn, wt and contact forces.
 add_test(NAME rotated_brick_n4
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/rotated_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
+# Two polyhedral bodies meshed by FreeFEM (geo/lblock.edp, geo/hexprism.edp) give the contact forces
+# of their gmsh twins (issue 15).
+add_test(NAME freefem_meshed_bodies
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/freefem_bodies.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 add_test(NAME symmetry_half_brick_n4
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/symmetry_half_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
 
