@@ -65,5 +65,9 @@ with tempfile.TemporaryDirectory() as tmp:
         fail(f"whole: contact areas do not add up: {aw}")
     if not close([aw[k] / 2 for k in ("in_contact", "stick", "slip")], [ah[k] for k in ("in_contact", "stick", "slip")], 1e-9):
         fail(f"contact areas: whole {aw} half {ah}")
+    whole_summary = summary(whole)
+    torque, t1 = whole_summary["friction_torque"], whole_summary["contact_force"]["t1"]
+    if not abs(torque) <= 1e-6 * abs(t1) * 1.0:  # mirror-symmetric friction: no moment about the normal (arm ~1 m)
+        fail(f"whole: friction torque {torque} N m on a mirror-symmetric solve (friction force {t1} N)")
     print(f"ok: n={n}: half = whole on y <= 0.5 to {diff / scale:.2g}; contact force z {sh['contact'][2]:.6g} N "
           f"(whole {sw['contact'][2]:.6g} N); symmetry-plane reaction {sh['reactions'][1]['force']}")

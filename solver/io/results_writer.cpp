@@ -330,6 +330,20 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       if (has_friction(res)) { force_t1 += a * res.lambda[res.n_cells + i]; force_t2 += a * res.lambda[2 * res.n_cells + i]; }
     }
     j.begin_object("contact_force").value("normal", force_n).value("t1", force_t1).value("t2", force_t2).end_object();
+    if (has_friction(res)) {  // moment of the foundation's friction on the body about Γc's centroid, along n
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+      double area = 0;
+      for (const auto& c : res.partition.cells) { centre += c.area * c.centroid; area += c.area; }
+      if (area > 0) centre /= area;
+      double torque = 0;
+      for (int i = 0; i < res.n_cells; ++i) {
+        const auto& c = res.partition.cells[i];
+        const Eigen::Vector2d arm = c.centroid - centre;
+        torque -= c.area * (arm.x() * res.lambda[2 * res.n_cells + i] - arm.y() * res.lambda[res.n_cells + i]);
+      }
+      j.value("friction_torque", torque);
+    }
+    j.value("max_penetration", res.wn_plus_inf);  // max nodal (w_n − d)⁺ on Γc, m
     {  // areas of the cells by status (in the plane; the cells' own areas)
       double area[3] = {0, 0, 0};
       const std::vector<int> status = cell_status(res);
