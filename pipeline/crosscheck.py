@@ -226,17 +226,22 @@ def read_mesh(path: Path):
     return read_medit(path) if Path(path).suffix == ".mesh" else read_msh22(path)
 
 
+def mesh_parameters(m: dict, n, work: Path, script: Path, suffix: str) -> tuple[dict, Path]:
+    """The script's parameters (`n` overridden when given) and the mesh file they name in `work`."""
+    params = dict(m.get("parameters", {}))
+    if n is not None:
+        params["n"] = n
+    tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
+    return params, work / f"{script.stem}-{tag}{suffix}"
+
+
 def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bool = False) -> tuple[Path, dict]:
     m = scene.get("mesh", {})
     if "geo" in m:
         geo = (scene_path.parent / m["geo"]).resolve()
         if not geo.exists():
             raise SideFailed(f"{scene_path}: [mesh] geo = {m['geo']!r}: {geo} does not exist")
-        params = dict(m.get("parameters", {}))
-        if n is not None:
-            params["n"] = n
-        tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
-        out = work / f"{geo.stem}-{tag}.msh"
+        params, out = mesh_parameters(m, n, work, geo, ".msh")
         if reuse and out.exists():
             return out, params
         cmd = [gmsh, "-3", "-format", "msh22"]
@@ -249,11 +254,7 @@ def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bo
         return out, params
     if "edp" in m:  # FreeFEM makes the mesh; both solvers read its .mesh
         edp = (scene_path.parent / m["edp"]).resolve()
-        params = dict(m.get("parameters", {}))
-        if n is not None:
-            params["n"] = n
-        tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
-        out = work / f"{edp.stem}-{tag}.mesh"
+        params, out = mesh_parameters(m, n, work, edp, ".mesh")
         if reuse and out.exists():
             return out, params
         cmd = ["FreeFem++", "-nw", str(edp), "-out", str(out)]
