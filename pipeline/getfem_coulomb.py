@@ -45,7 +45,7 @@ LOAD_END, LOAD_TOP = (1e7, 0.0, 2e7), (0.0, 0.0, -3e7)
 # by 1e-8. The line search is the fallback when the plain Newton does not converge.
 # Tried in turn, from zero, with the augmentation r = E and then r = E/10 (GetFEM's Newton on this
 # nonsmooth system has been seen to stall in one of them and converge in another).
-SOLVE_OPTIONS = [("max_res", 1e-13, "max_iter", 300), ("max_res", 1e-13, "max_iter", 300, "lsearch", "simplest")]
+SOLVE_OPTIONS = [("max_res", 1e-13, "max_iter", 100), ("max_res", 1e-13, "max_iter", 100, "lsearch", "simplest")]
 AUGMENTATIONS = [1.0, 0.1]
 APPLIED = np.array(LOAD_END) * 1.0 + np.array(LOAD_TOP) * 3.0  # the faces' areas: 1 m^2 and 3 m^2
 
