@@ -179,10 +179,9 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
 
 // max_i |c_i − F̄_i(φ)·λ_n,i| / max_i c_i at the end of a Coulomb solve, φ the final slip: how far
 // the last Tresca problem's radii are from Coulomb's law for the solution it produced.
-double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult& res, const DualProblem& dual,
-                        const TrescaStep& tresca) {
+double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult& res, const TrescaStep& tresca) {
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  const Eigen::VectorXd u_face = face_dofs.scatter(dual.face_displacement(tresca.lambda()));
+  const Eigen::VectorXd& u_face = tresca.face_history().back();  // the last solve's u on Γc: no new K⁻¹ solve
   const Eigen::VectorXd bound =
       mean_coefficient(scene, mesh, res, face_dofs.slip(res.face, u_face)).cwiseProduct(tresca.normal_pressure());
   const double scale = std::max(res.radius.cwiseAbs().maxCoeff(), bound.cwiseAbs().maxCoeff());
@@ -203,7 +202,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.kkt = kkt_residuals(disc.K, disc.f, op.B, op.r, op.with_friction, res.radius, w, res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
-  if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, dual, tresca);
+  if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError("the solution is not finite: the scene's loads, material or friction values overflow double "
                      "precision (check their units); no results were written");
