@@ -156,23 +156,26 @@ def main():
     # The normal force: λ_n integrated over the cells equals ∫ contact_pressure roughly (both are the same load).
     check(summary["contact_force"]["normal"] > 0, "no normal contact force")
 
-    # The collection: one contact step per fixed-point step, each file there, the last one = final u.
+    # The collection: per fixed-point step the body (part 0) and the contact face (part 1); the
+    # last step's files equal body.vtu and contact.vtu.
     pvd = ET.parse(os.path.join(out, "solution.pvd")).getroot()
     sets = pvd.findall("./Collection/DataSet")
-    steps = [d for d in sets if d.get("part", "0") == "0"]
-    check(len(steps) == len(history) and len(history) > 1,
-          f"solution.pvd lists {len(steps)} steps, history.csv has {len(history)} rows")
-    check([float(d.get("timestep")) for d in steps] == [float(r["k"]) for r in history], "pvd timesteps are not k")
+    bodies = [d for d in sets if d.get("part", "0") == "0"]
+    faces = [d for d in sets if d.get("part") == "1"]
+    check(len(bodies) == len(faces) == len(history) and len(history) > 1,
+          f"solution.pvd lists {len(bodies)} body and {len(faces)} contact steps, history.csv has {len(history)} rows")
+    check([float(d.get("timestep")) for d in bodies] == [float(r["k"]) for r in history], "pvd timesteps are not k")
     for d in sets:
         check(os.path.isfile(os.path.join(out, d.get("file"))), f"solution.pvd names missing file {d.get('file')}")
-    if steps and not failures:
-        first = meshio.read(os.path.join(out, steps[0].get("file")))
-        last = meshio.read(os.path.join(out, steps[-1].get("file")))
-        check(len(last.points) == len(contact.points), "step file and contact.vtu differ in points")
-        check(np.allclose(last.point_data["displacement"], contact.point_data["displacement"], rtol=1e-9, atol=1e-15),
-              "the last step's displacement is not the final displacement")
-        check(not np.allclose(first.point_data["displacement"], last.point_data["displacement"], rtol=1e-6, atol=0),
-              "the first and last fixed-point steps have identical displacements")
+    if bodies and faces and not failures:
+        for steps, final in ((bodies, body), (faces, contact)):
+            first = meshio.read(os.path.join(out, steps[0].get("file")))
+            last = meshio.read(os.path.join(out, steps[-1].get("file")))
+            check(len(last.points) == len(final.points), f"{steps[-1].get('file')} and the final file differ in points")
+            check(np.allclose(last.point_data["displacement"], final.point_data["displacement"], rtol=1e-9, atol=1e-15),
+                  f"{steps[-1].get('file')}: the last step's displacement is not the final displacement")
+            check(not np.allclose(first.point_data["displacement"], last.point_data["displacement"], rtol=1e-6, atol=0),
+                  f"{steps[0].get('file')}: the first and last fixed-point steps have identical displacements")
     check_single_solve(args, out)
     return report(out)
 

@@ -41,7 +41,7 @@ double since(std::chrono::steady_clock::time_point t0) {
 
 fs::path output_dir_for(const Scene& scene, const SolveArgs& args) {
   if (!args.out.empty()) return args.out;
-  if (!scene.output_dir.empty()) return scene.output_dir;
+  if (!scene.output.dir.empty()) return scene.output.dir;
   return fs::path("results/runs") / fs::path(args.scene).stem();
 }
 

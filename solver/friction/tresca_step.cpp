@@ -18,7 +18,8 @@ SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::Vector
   products_ += eval.hessian_products;
   qp_iterations_ += last_qp_.iterations;
   eval.slip = face_dofs_.slip(face_, u_face);
-  face_history_.push_back(std::move(u_face));
+  last_face_ = std::move(u_face);
+  history_.push_back({lambda_, radius_});
   slip_input_ = phi;
   slip_bound_input_ = g;
   return eval;

@@ -1,7 +1,8 @@
 // TrescaStep: one evaluation of the map G of the successive approximations (5.7). For the slip φ
 // at the contact nodes it sets the disc radii c(φ) (5.3), solves the dual QP (5.5) warm-started
 // from the previous multipliers, and returns the slip ‖w_t‖ of w = K⁻¹(f − 𝔹ᵀλ) on Γc. It keeps
-// the state the fixed point carries between steps (λ, the radii, counts, the face history).
+// the state the fixed point carries between steps (λ, the radii, counts) and, for the output, the
+// multipliers and radii of every solve.
 #pragma once
 
 #include <functional>
@@ -39,9 +40,13 @@ class TrescaStep {
   const QpResult& last_qp() const { return last_qp_; }
   int products() const { return products_; }          // K⁻¹ applications in the paper's sense
   int qp_iterations() const { return qp_iterations_; }
-  // u on Γc after each solve (FaceDofs order, 3 per node).
-  const std::vector<Eigen::VectorXd>& face_history() const { return face_history_; }
-  std::vector<Eigen::VectorXd> take_face_history() { return std::move(face_history_); }
+  // u on Γc after the last solve (FaceDofs order, 3 per node).
+  const Eigen::VectorXd& last_face_displacement() const { return last_face_; }
+  // λ and the radii of every solve so far, in order (one value per multiplier: small).
+  struct Solve {
+    Eigen::VectorXd lambda, radius;
+  };
+  const std::vector<Solve>& history() const { return history_; }
 
  private:
   const DualProblem& dual_;
@@ -53,7 +58,8 @@ class TrescaStep {
   Eigen::VectorXd lambda_, radius_, slip_input_, slip_bound_input_;
   QpResult last_qp_;
   int products_ = 0, qp_iterations_ = 0;
-  std::vector<Eigen::VectorXd> face_history_;
+  Eigen::VectorXd last_face_;
+  std::vector<Solve> history_;
 };
 
 }  // namespace contact3d

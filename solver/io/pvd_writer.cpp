@@ -1,76 +1,65 @@
 #include "io/pvd_writer.hpp"
 
-#include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <string>
+#include <vector>
 
 #include "base/errors.hpp"
 #include "io/atomic_file.hpp"
-#include "io/results_writer.hpp"
-#include "io/vtu_format.hpp"
 
 namespace contact3d {
 namespace {
 
-std::string step_name(int k) {
+std::string step_file(const char* what, int k) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "contact_step_%03d.vtu", k);
+  std::snprintf(buf, sizeof buf, "steps/%s_%03d.vtu", what, k);
   return buf;
+}
+
+struct TimeStep {
+  int k;
+  std::string body, contact;  // files relative to the run folder; contact empty without Γc
+};
+
+void write_pvd(const std::filesystem::path& file, const std::vector<TimeStep>& steps) {
+  write_file(file, [&](std::ostream& pvd) {
+    pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        << "  <Collection>\n";
+    for (const auto& s : steps) {
+      pvd << "    <DataSet timestep=\"" << s.k << "\" group=\"\" part=\"0\" name=\"body\" file=\"" << s.body << "\"/>\n";
+      if (!s.contact.empty())
+        pvd << "    <DataSet timestep=\"" << s.k << "\" group=\"\" part=\"1\" name=\"contact\" file=\"" << s.contact
+            << "\"/>\n";
+    }
+    pvd << "  </Collection>\n</VTKFile>\n";
+  });
 }
 
 }  // namespace
 
-int write_solution_steps(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res) {
-  if (res.face.triangles.empty()) return 0;
-  std::vector<int> local(mesh.nodes.size(), -1), global;
-  for (const auto& tri : res.face.triangles)
-    for (int v : tri)
-      if (local[v] < 0) { local[v] = static_cast<int>(global.size()); global.push_back(v); }
-  const std::size_t n = global.size(), m = res.face.triangles.size();
-  const std::filesystem::path steps = dir / "steps";
+int write_solution_collection(const std::filesystem::path& dir, const VtuContext& ctx) {
+  const SolveResult& res = ctx.res;
+  const bool has_face = !res.face.triangles.empty();
+  const std::filesystem::path steps_dir = dir / "steps";
   std::error_code ec;
-  std::filesystem::remove_all(steps, ec);  // stale steps of an earlier, longer run would mislead
-  std::filesystem::create_directories(steps, ec);
-  if (ec) throw InputError("cannot create '" + steps.string() + "': " + ec.message());
-
-  const int count = static_cast<int>(res.u_history.size());
-  std::vector<int> history_index(mesh.nodes.size(), 0);
-  for (std::size_t j = 0; j < res.history_nodes.size(); ++j) history_index[res.history_nodes[j]] = static_cast<int>(j);
-  for (int k = 1; k <= count; ++k) {
-    const Eigen::VectorXd& u = res.u_history[k - 1];
-    auto ui = [&](std::size_t i, int c) { return u[3 * history_index[global[i]] + c]; };
-    auto in_plane = [&](std::size_t i) -> Eigen::Vector3d {  // in the foundation plane's frame
-      return res.frame.to_local(u.segment<3>(3 * history_index[global[i]]));
-    };
-    write_file(steps / step_name(k), [&](std::ostream& out) {
-      vtu::begin_piece(out, n, m);
-      out << "      <PointData Scalars=\"slip_norm\" Vectors=\"displacement\">\n";
-      vtu::data_array(out, "displacement", 3, n, ui);
-      vtu::data_array(out, "gap", 1, n, [&](std::size_t i, int) {
-        return res.frame.to_local_point(mesh.nodes[global[i]]).z() + in_plane(i).z();
-      });
-      vtu::data_array(out, "slip", 3, n, [&](std::size_t i, int c) { return tangential_part(res.frame, in_plane(i))[c]; });
-      vtu::data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return std::hypot(in_plane(i).x(), in_plane(i).y()); });
-      vtu::data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) {
-        return scene.frictionless() ? 0.0 : scene.law(std::hypot(in_plane(i).x(), in_plane(i).y()));
-      });
-      out << "      </PointData>\n";
-      vtu::geometry(
-          out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
-          [&](std::size_t e, int a) { return local[res.face.triangles[e][a]]; }, 5);
-      vtu::end_piece(out);
-    });
+  std::filesystem::remove_all(steps_dir, ec);  // stale steps of an earlier, longer run would mislead
+  const int count = std::max<int>(1, static_cast<int>(res.steps.size()));
+  std::vector<TimeStep> steps;
+  if (ctx.scene.output.steps == StepOutput::Final || res.steps.empty()) {
+    steps.push_back({count, "body.vtu", has_face ? "contact.vtu" : ""});
+  } else {
+    std::filesystem::create_directories(steps_dir, ec);
+    if (ec) throw InputError("cannot create '" + steps_dir.string() + "': " + ec.message());
+    for (int k = 1; k <= count; ++k) {
+      const StateView state = step_state(res.steps[k - 1]);
+      TimeStep t{k, step_file("body", k), has_face ? step_file("contact", k) : ""};
+      write_body_vtu(dir / t.body, ctx, state);
+      if (has_face) write_contact_vtu(dir / t.contact, ctx, state);
+      steps.push_back(std::move(t));
+    }
   }
-
-  write_file(dir / "solution.pvd", [&](std::ostream& pvd) {
-    pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-        << "  <Collection>\n";
-    for (int k = 1; k <= count; ++k)
-      pvd << "    <DataSet timestep=\"" << k << "\" group=\"\" part=\"0\" file=\"steps/" << step_name(k) << "\"/>\n";
-    if (count > 0) pvd << "    <DataSet timestep=\"" << count << "\" group=\"\" part=\"1\" file=\"body.vtu\"/>\n";
-    pvd << "  </Collection>\n</VTKFile>\n";
-  });
-  return count;
+  write_pvd(dir / "solution.pvd", steps);
+  return static_cast<int>(steps.size());
 }
 
 }  // namespace contact3d

@@ -1,19 +1,18 @@
-// The fixed-point history for ParaView: steps/contact_step_<k>.vtu (the contact face Γc with
-// the displacement after the k-th Tresca solve, its slip ‖u_t‖ and F(‖u_t‖)) and solution.pvd,
-// a collection with one time step per fixed-point step (time = k) plus the final body.vtu
-// (part 1, at the last step). The multipliers of intermediate steps are not kept, so the
-// per-step files carry kinematic fields only; contact.vtu has the final tractions.
+// The run as a ParaView collection, solution.pvd: one time step per Tresca (or frictionless) solve
+// — the fixed point's steps k = 1, 2, … (time = k), or the one solve — each with two parts, the
+// whole body (part 0) and the contact face Γc (part 1), and every field on both
+// (steps/body_<k>.vtu, steps/contact_<k>.vtu; the last step is the answer, also in body.vtu and
+// contact.vtu). With [output] steps = "final", only the answer, as one time step (time = number
+// of solves) of body.vtu and contact.vtu.
 #pragma once
 
 #include <filesystem>
 
-#include "mesh/mesh.hpp"
-#include "model/contact_solver.hpp"
-#include "model/scene.hpp"
+#include "io/vtu_writer.hpp"
 
 namespace contact3d {
 
-// Writes nothing when the scene has no contact face. Returns the number of steps written.
-int write_solution_steps(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res);
+// Returns the number of time steps written.
+int write_solution_collection(const std::filesystem::path& dir, const VtuContext& ctx);
 
 }  // namespace contact3d

@@ -181,7 +181,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
 // the last Tresca problem's radii are from Coulomb's law for the solution it produced.
 double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult& res, const TrescaStep& tresca) {
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  const Eigen::VectorXd& u_face = tresca.face_history().back();  // the last solve's u on Γc: no new K⁻¹ solve
+  const Eigen::VectorXd& u_face = tresca.last_face_displacement();  // the last solve's u on Γc: no new K⁻¹ solve
   const Eigen::VectorXd bound =
       mean_coefficient(scene, mesh, res, face_dofs.slip(res.face, u_face)).cwiseProduct(tresca.normal_pressure());
   const double scale = std::max(res.radius.cwiseAbs().maxCoeff(), bound.cwiseAbs().maxCoeff());
@@ -206,6 +206,20 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError("the solution is not finite: the scene's loads, material or friction values overflow double "
                      "precision (check their units); no results were written");
+}
+
+// The state after every solve, for the per-step output: λ and the radii as the Tresca step kept
+// them, and (for [output] steps = "all") the whole displacement, one back substitution per step
+// before the last (whose displacement is the answer's).
+void record_steps(const Scene& scene, const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
+  const auto& solves = tresca.history();
+  res.steps.clear();
+  for (std::size_t k = 0; k < solves.size(); ++k) {
+    SolveStep step{solves[k].lambda, solves[k].radius, Eigen::VectorXd()};
+    if (scene.output.steps == StepOutput::All)
+      step.u = k + 1 == solves.size() ? res.u : expand_to_nodes(res.dofs, dual.displacement(step.lambda));
+    res.steps.push_back(std::move(step));
+  }
 }
 
 // No contact group: one linear solve.
@@ -283,13 +297,13 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   clock.lap("dual_solve");
 
   recover(scene, mesh, disc, op, *dual, tresca, res);
-  res.history_nodes = face_dofs.nodes;
-  res.u_history = tresca.take_face_history();
+  clock.lap("postprocess");
+  record_steps(scene, *dual, tresca, res);
+  clock.lap("step_fields");
   res.schur_method = dual->method;
   res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
-  clock.lap("postprocess");
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
     dual->release_factor();                     // two big factors need not fit at once
     time_reference_factorizations(disc.K, clock);

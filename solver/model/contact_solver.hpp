@@ -27,6 +27,13 @@
 
 namespace contact3d {
 
+// One Tresca (or frictionless) solve of a run: its multipliers and radii, and the whole nodal
+// displacement (3 per mesh node) when the scene keeps per-step fields ([output] steps = "all"),
+// else empty.
+struct SolveStep {
+  Eigen::VectorXd lambda, radius, u;
+};
+
 struct SolveResult {
   // Inputs as discretised.
   DofMap dofs;
@@ -43,11 +50,9 @@ struct SolveResult {
   Eigen::VectorXd lambda;            // [λ_n | λ_t1 | λ_t2] per cell (λ_t empty when frictionless)
   Eigen::VectorXd radius;            // disc radii c_i of the last Tresca problem
   Eigen::VectorXd slip_input;        // φ used for the last radii, at contact nodes
-  // Displacement of the contact-face nodes after each Tresca solve (fixed-point steps):
-  // u_history[k][3 j + c] is component c at mesh node history_nodes[j] (face nodes only, so long
-  // runs on big meshes stay small).
-  std::vector<int> history_nodes;
-  std::vector<Eigen::VectorXd> u_history;
+  // The state after each Tresca (or frictionless) solve, in order — the fixed point's steps, or the
+  // one solve; the last one is the answer above.
+  std::vector<SolveStep> steps;
 
   // How it went.
   bool converged = false;

@@ -55,7 +55,7 @@ void result_to_user_frame(const FoundationFrame& frame, SolveResult& res) {
     for (Eigen::Index k = 0; k + 2 < v.size(); k += 3) v.segment<3>(k) = Rt * v.segment<3>(k);
   };
   rotate_nodal(res.u);
-  for (auto& h : res.u_history) rotate_nodal(h);
+  for (auto& s : res.steps) rotate_nodal(s.u);  // λ stays in the plane's frame, as res.lambda
   res.forces.applied = Rt * res.forces.applied;
   res.forces.contact = Rt * res.forces.contact;
   for (auto& r : res.forces.reactions) r.force = Rt * r.force;

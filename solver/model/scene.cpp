@@ -369,10 +369,21 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     }
   }
   if (const toml::table* out = table_at(root, "output")) {
-    check_keys(*out, "output", {"dir"});
-    if (out->contains("dir")) s.output_dir = resolve(base, get_string(*out, "output", "dir", ""));
+    check_keys(*out, "output", {"dir", "steps", "units"});
+    if (out->contains("dir")) s.output.dir = resolve(base, get_string(*out, "output", "dir", ""));
+    get_enum(*out, "output", "steps", kStepOutputNames, s.output.steps);
+    get_enum(*out, "output", "units", kUnitSystemNames, s.output.units);
   }
   return s;
+}
+
+UnitLabels unit_labels(UnitSystem units) {
+  switch (units) {
+    case UnitSystem::MillimetreNewtonMegapascal: return {"mm", "N", "MPa"};
+    case UnitSystem::MetreKilonewtonKilopascal: return {"m", "kN", "kPa"};
+    case UnitSystem::MetreNewtonPascal: break;
+  }
+  return {"m", "N", "Pa"};
 }
 
 TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {

@@ -58,6 +58,28 @@ struct SolverSettings {
   bool reference_factorization = false; // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
 };
 
+// [output]: where the run is written and what it keeps.
+// steps: "all" (default) writes the body and the contact face after every solve (a ParaView time
+// step each; one extra back substitution per step), "final" only the answer.
+enum class StepOutput { All, Final };
+inline constexpr NameTable<StepOutput, 2> kStepOutputNames{{{StepOutput::All, "all"}, {StepOutput::Final, "final"}}};
+// units: the labels of the figures, report and VTU files. The solver is unit-agnostic: the scene's
+// lengths, forces and moduli must be given in this consistent system.
+enum class UnitSystem { MetreNewtonPascal, MillimetreNewtonMegapascal, MetreKilonewtonKilopascal };
+inline constexpr NameTable<UnitSystem, 3> kUnitSystemNames{{{UnitSystem::MetreNewtonPascal, "m-N-Pa"},
+                                                           {UnitSystem::MillimetreNewtonMegapascal, "mm-N-MPa"},
+                                                           {UnitSystem::MetreKilonewtonKilopascal, "m-kN-kPa"}}};
+struct UnitLabels {
+  const char *length, *force, *stress;
+};
+UnitLabels unit_labels(UnitSystem units);
+
+struct OutputSettings {
+  std::filesystem::path dir;          // default results/runs/<scene name> (or --out)
+  StepOutput steps = StepOutput::All;
+  UnitSystem units = UnitSystem::MetreNewtonPascal;
+};
+
 // [[material.region]]: the material of one volume (3-D) group's tetrahedra.
 struct MaterialRegion {
   std::string group;
@@ -81,7 +103,7 @@ struct Scene {
   // [contact] plane_point (m, default origin) and plane_normal (towards the body, default +z).
   FoundationFrame foundation;
   SolverSettings solver;
-  std::filesystem::path output_dir;
+  OutputSettings output;
   std::string echo;                   // the scene as solved, TOML text (overrides applied)
 
   bool frictionless() const {

@@ -270,7 +270,7 @@ TEST(FastPaths, ConstantLawIsOneTrescaSolve) {
   const SolveResult res = solve_scene(scene, make_paper_brick({4}));
   ASSERT_TRUE(res.converged);
   EXPECT_EQ(res.fixed_point.iterations(), 0);
-  EXPECT_EQ(res.u_history.size(), 1u);
+  EXPECT_EQ(res.steps.size(), 1u);
   EXPECT_EQ(res.n_dual, 3 * res.n_cells);
 }
 

@@ -1,0 +1,164 @@
+#include "io/vtu_writer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "io/atomic_file.hpp"
+#include "io/vtu_format.hpp"
+
+namespace contact3d {
+namespace {
+
+using vtu::data_array;
+
+std::array<int, 3> sorted3(std::array<int, 3> t) {
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+// For each contact triangle: the tetrahedron it bounds and the contact group it was taken from.
+struct FaceTriangleOwners {
+  std::vector<int> tet, group;
+};
+
+FaceTriangleOwners face_triangle_owners(const Scene& scene, const Mesh& mesh, const ContactFace& face) {
+  std::set<int> contact_tags;
+  for (const auto& name : scene.contact)
+    if (const auto* g = mesh.find_group(name, 2)) contact_tags.insert(g->tag);
+  std::map<std::array<int, 3>, int> tri_group;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (contact_tags.count(mesh.triangle_group[t])) tri_group.emplace(sorted3(mesh.triangles[t]), mesh.triangle_group[t]);
+  std::map<std::array<int, 3>, int> owner;
+  for (const auto& tri : face.triangles) owner.emplace(sorted3(tri), -1);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f{};
+      for (int a = 0, j = 0; a < 4; ++a)
+        if (a != skip) f[j++] = t[a];
+      auto it = owner.find(sorted3(f));
+      if (it != owner.end()) it->second = static_cast<int>(e);
+    }
+  }
+  FaceTriangleOwners out;
+  for (const auto& tri : face.triangles) {
+    const auto key = sorted3(tri);
+    const auto g = tri_group.find(key);
+    out.group.push_back(g == tri_group.end() ? 0 : g->second);
+    out.tet.push_back(owner[key]);
+  }
+  return out;
+}
+
+// The contact traction on the body at node v, in the user's axes: the pressure along the plane's
+// normal (into the body) and the friction traction −λ_t.
+Eigen::Vector3d traction_on_body(const FoundationFrame& frame, const ContactNodeFields& nf, int v, bool with_normal) {
+  const Eigen::Vector3d local(-nf.traction_t1[v], -nf.traction_t2[v], with_normal ? nf.pressure[v] : 0.0);
+  return frame.to_global(local);
+}
+
+// Point data shared by body.vtu (every node; contact fields zero off Γc) and contact.vtu.
+// `node(i)` is the mesh node of point i.
+template <class NodeOf>
+void contact_point_data(std::ostream& out, const VtuContext& ctx, const StateView& s, const ContactNodeFields& nf,
+                        const std::vector<char>& on_face, std::size_t n, NodeOf node) {
+  const FoundationFrame& frame = ctx.res.frame;
+  auto local = [&](std::size_t i) -> Eigen::Vector3d { return frame.to_local(s.u.segment<3>(3 * node(i))); };
+  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return plane_gap(ctx.mesh, frame, s.u, node(i)); });
+  data_array(out, "slip", 3, n, [&](std::size_t i, int c) {
+    return on_face[node(i)] ? tangential_part(frame, local(i))[c] : 0.0;
+  });
+  data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[node(i)]; });
+  data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
+    return traction_on_body(frame, nf, node(i), false)[c];
+  });
+  data_array(out, "traction_on_body", 3, n, [&](std::size_t i, int c) {
+    return traction_on_body(frame, nf, node(i), true)[c];
+  });
+  data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[node(i)]; });
+  data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[node(i)]; }, "Int32");
+}
+
+// Cell data: the stress of tetrahedron tet(e) for cell e.
+template <class TetOf>
+void stress_cell_data(std::ostream& out, const TetStress& stress, std::size_t m, TetOf tet) {
+  data_array(out, "stress", 9, m, [&](std::size_t e, int c) {
+    const int t = tet(e);
+    return t < 0 ? 0.0 : stress.tensor(static_cast<std::size_t>(t))(c / 3, c % 3);
+  });
+  data_array(out, "von_mises", 1, m, [&](std::size_t e, int) {
+    const int t = tet(e);
+    return t < 0 ? 0.0 : stress.von_mises[static_cast<std::size_t>(t)];
+  });
+}
+
+std::vector<char> face_nodes_mask(const Mesh& mesh, const ContactFace& face) {
+  std::vector<char> on_face(mesh.nodes.size(), 0);
+  for (const auto& tri : face.triangles)
+    for (int v : tri) on_face[v] = 1;
+  return on_face;
+}
+
+}  // namespace
+
+void write_body_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& s) {
+  const Mesh& mesh = ctx.mesh;
+  const ContactNodeFields nf = contact_node_fields(mesh, ctx.scene, ctx.res, s);
+  const TetStress stress = tet_stresses(mesh, ctx.materials, s.u);
+  const std::vector<char> on_face = face_nodes_mask(mesh, ctx.res.face);
+  write_file(file, [&](std::ostream& out) {
+    const std::size_t n = mesh.nodes.size(), m = mesh.tets.size();
+    vtu::begin_piece(out, n, m);
+    out << "      <PointData Vectors=\"displacement\">\n";
+    data_array(out, "displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * i + c]; });
+    data_array(out, "displacement_norm", 1, n, [&](std::size_t i, int) { return s.u.segment<3>(3 * i).norm(); });
+    contact_point_data(out, ctx, s, nf, on_face, n, [](std::size_t i) { return static_cast<int>(i); });
+    data_array(out, "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, "Int32");
+    out << "      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n";
+    stress_cell_data(out, stress, m, [](std::size_t e) { return static_cast<int>(e); });
+    data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
+    out << "      </CellData>\n";
+    vtu::geometry(
+        out, n, [&](std::size_t i, int c) { return mesh.nodes[i][c]; }, m, 4,
+        [&](std::size_t e, int a) { return mesh.tets[e][a]; }, 10);
+    vtu::end_piece(out);
+  });
+}
+
+void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& s) {
+  const Mesh& mesh = ctx.mesh;
+  const ContactFace& face = ctx.res.face;
+  if (face.triangles.empty()) return;
+  std::vector<int> local(mesh.nodes.size(), -1), global;  // the face's own numbering of its nodes
+  for (const auto& tri : face.triangles)
+    for (int v : tri)
+      if (local[v] < 0) { local[v] = static_cast<int>(global.size()); global.push_back(v); }
+  const std::size_t n = global.size(), m = face.triangles.size();
+  const FaceTriangleOwners owners = face_triangle_owners(ctx.scene, mesh, face);
+  const ContactNodeFields nf = contact_node_fields(mesh, ctx.scene, ctx.res, s);
+  const TetStress stress = tet_stresses(mesh, ctx.materials, s.u);
+  const std::vector<char> on_face = face_nodes_mask(mesh, face);
+  write_file(file, [&](std::ostream& out) {
+    vtu::begin_piece(out, n, m);
+    out << "      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
+    auto node = [&](std::size_t i) { return global[i]; };
+    auto local_u = [&](std::size_t i) -> Eigen::Vector3d { return ctx.res.frame.to_local(s.u.segment<3>(3 * node(i))); };
+    data_array(out, "displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * node(i) + c]; });
+    data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -local_u(i).z(); });
+    data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return local_u(i).head<2>().norm(); });
+    contact_point_data(out, ctx, s, nf, on_face, n, node);
+    out << "      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n";
+    stress_cell_data(out, stress, m, [&](std::size_t e) { return owners.tet[e]; });
+    data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return owners.group[e]; }, "Int32");
+    out << "      </CellData>\n";
+    vtu::geometry(
+        out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
+        [&](std::size_t e, int a) { return local[face.triangles[e][a]]; }, 5);
+    vtu::end_piece(out);
+  });
+}
+
+}  // namespace contact3d

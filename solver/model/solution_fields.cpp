@@ -1,0 +1,126 @@
+#include "model/solution_fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "base/multiplier_layout.hpp"
+#include "contact/partition.hpp"
+
+namespace contact3d {
+
+bool has_friction(int n_cells, const Eigen::VectorXd& lambda) { return n_cells > 0 && lambda.size() == 3 * n_cells; }
+
+std::vector<int> cell_status(int n_cells, const Eigen::VectorXd& lambda, const Eigen::VectorXd& radius) {
+  std::vector<int> status(n_cells, kSeparated);
+  if (n_cells == 0) return status;
+  const MultiplierLayout at{n_cells, has_friction(n_cells, lambda)};
+  const double pmax = lambda.head(n_cells).maxCoeff();
+  for (int i = 0; i < n_cells; ++i) {
+    if (lambda[at.normal(i)] <= 1e-6 * pmax) status[i] = kSeparated;
+    else if (at.with_friction && std::hypot(lambda[at.t1(i)], lambda[at.t2(i)]) >= (1 - 1e-3) * radius[i]) status[i] = kSlip;
+    else status[i] = kStick;
+  }
+  return status;
+}
+
+ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res, const StateView& s) {
+  const std::size_t nn = mesh.nodes.size();
+  ContactNodeFields nf{Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn),
+                       Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn), std::vector<int>(nn, kSeparated)};
+  const int r = res.n_cells;
+  if (r == 0) return nf;
+  const MultiplierLayout at{r, has_friction(r, s.lambda)};
+  const std::vector<int> cs = cell_status(r, s.lambda, s.radius);
+  Eigen::VectorXd weight = Eigen::VectorXd::Zero(nn);
+  std::vector<std::array<double, 3>> status_weight(nn, {0.0, 0.0, 0.0});
+  const auto rows = cell_node_weights(res.face, res.partition);
+  for (int i = 0; i < r; ++i)
+    for (const auto& [node, w] : rows[i]) {
+      weight[node] += w;
+      status_weight[node][cs[i]] += w;
+      nf.pressure[node] += w * s.lambda[at.normal(i)];
+      if (at.with_friction) {
+        nf.traction_t1[node] += w * s.lambda[at.t1(i)];
+        nf.traction_t2[node] += w * s.lambda[at.t2(i)];
+        nf.radius[node] += w * s.radius[i];
+      }
+    }
+  for (std::size_t v = 0; v < nn; ++v) {
+    if (weight[v] <= 0) continue;
+    nf.pressure[v] /= weight[v];
+    nf.traction_t1[v] /= weight[v];
+    nf.traction_t2[v] /= weight[v];
+    nf.radius[v] /= weight[v];
+    const double slip = res.frame.to_local(s.u.segment<3>(3 * v)).head<2>().norm();
+    nf.friction[v] = scene.frictionless() ? 0.0 : scene.law(slip);
+    // The status of the cells around the node, weighted by their share of its hat function (ties
+    // go to the higher status): averaging the traction vectors instead would call a node between
+    // slipping cells whose λ_t point in different directions "stick".
+    const auto& sw = status_weight[v];
+    nf.status[v] = sw[kSlip] >= sw[kStick] && sw[kSlip] >= sw[kSeparated] ? kSlip
+                   : sw[kStick] >= sw[kSeparated]                        ? kStick
+                                                                         : kSeparated;
+  }
+  return nf;
+}
+
+Eigen::Matrix3d TetStress::tensor(std::size_t tet) const {
+  const auto& v = voigt[tet];
+  Eigen::Matrix3d s;
+  s << v[0], v[5], v[4],  //
+      v[5], v[1], v[3],   //
+      v[4], v[3], v[2];
+  return s;
+}
+
+TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Eigen::VectorXd& u) {
+  TetStress out;
+  out.voigt.resize(mesh.tets.size());
+  out.von_mises.resize(mesh.tets.size());
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    const TetCoords x{mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]};
+    Eigen::Matrix<double, 12, 1> ue;
+    for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u.segment<3>(3 * t[a]);
+    const Eigen::Matrix<double, 6, 1> s = hooke_matrix(materials[e]) * (strain_matrix(x) * ue);
+    out.voigt[e] = s;
+    out.von_mises[e] = std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
+                                        (s[2] - s[0]) * (s[2] - s[0])) +
+                                 3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+  }
+  return out;
+}
+
+double plane_gap(const Mesh& mesh, const FoundationFrame& frame, const Eigen::VectorXd& u, int v) {
+  return frame.to_local_point(mesh.nodes[v]).z() + frame.to_local(u.segment<3>(3 * v)).z();
+}
+
+Eigen::Vector3d tangential_part(const FoundationFrame& frame, const Eigen::Vector3d& local) {
+  return frame.to_global(Eigen::Vector3d(local.x(), local.y(), 0.0));
+}
+
+ContactResultants contact_resultants(const SolveResult& res, const StateView& s) {
+  ContactResultants out;
+  const int r = res.n_cells;
+  if (r == 0) return out;
+  const MultiplierLayout at{r, has_friction(r, s.lambda)};
+  const std::vector<int> status = cell_status(r, s.lambda, s.radius);
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double area = 0;
+  for (const auto& c : res.partition.cells) { centre += c.area * c.centroid; area += c.area; }
+  if (area > 0) centre /= area;
+  for (int i = 0; i < r; ++i) {
+    const auto& c = res.partition.cells[i];
+    out.area[status[i]] += c.area;
+    out.normal += c.area * s.lambda[at.normal(i)];
+    if (!at.with_friction) continue;
+    out.t1 += c.area * s.lambda[at.t1(i)];
+    out.t2 += c.area * s.lambda[at.t2(i)];
+    // The foundation's friction on the body about the centroid, along the plane's normal.
+    const Eigen::Vector2d arm = c.centroid - centre;
+    out.friction_torque -= c.area * (arm.x() * s.lambda[at.t2(i)] - arm.y() * s.lambda[at.t1(i)]);
+  }
+  return out;
+}
+
+}  // namespace contact3d
