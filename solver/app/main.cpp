@@ -4,11 +4,14 @@
 //   contact3d check SCENE.toml [--mesh FILE.msh]  (validate scene and mesh without solving)
 // Exit codes: 0 solved and converged, 1 solved but not converged, 2 bad input or failure.
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -23,6 +26,7 @@
 #include "model/plane_frame.hpp"
 #include "model/mesh_source.hpp"
 #include "model/scene.hpp"
+#include "model/solution_fields.hpp"
 
 namespace fs = std::filesystem;
 using namespace contact3d;
@@ -74,6 +78,22 @@ void require_constrained_triangles(const Scene& scene, const Mesh& mesh) {
       throw InputError("boundary.displacement: the group '" + d.group + "' holds no triangles");
 }
 
+// The numbers engineers look for, on the CLI's last lines (all of them also in summary.json).
+void print_engineering_summary(const Scene& scene, const SolveResult& res) {
+  const UnitLabels u = unit_labels(scene.output.units);
+  if (res.n_cells > 0) {
+    const ContactResultants cr = contact_resultants(res, final_state(res));
+    const bool friction = has_friction(res.n_cells, res.lambda);
+    fmt::print("contact: normal force {:.4g} {}, tangential {:.4g} {}; area in contact {:.4g} {}²", cr.normal, u.force,
+               std::hypot(cr.t1, cr.t2), u.force, cr.area[kStick] + cr.area[kSlip], u.length);
+    if (friction) fmt::print(" (stick {:.4g}, slip {:.4g}); friction torque {:.4g} {} {}", cr.area[kStick], cr.area[kSlip],
+                             cr.friction_torque, u.force, u.length);
+    fmt::print("; max penetration {:.3g} {}\n", res.wn_plus_inf, u.length);
+  }
+  for (const auto& r : res.forces.reactions)
+    fmt::print("reaction on {}: ({:.4g}, {:.4g}, {:.4g}) {}\n", r.condition, r.force.x(), r.force.y(), r.force.z(), u.force);
+}
+
 int run_solve(const SolveArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   // The folder is claimed before anything can fail, so a failed rerun never leaves the previous
@@ -96,7 +116,13 @@ int run_solve(const SolveArgs& args) {
                  s.seconds);
     std::fflush(stdout);
   };
-  const SolveResult res = solve_scene(scene, mesh, progress);
+  // Stage lines and the QP's heartbeat (every 2 s on a terminal, every 10 s into a log file).
+  auto print_line = [](const std::string& line) {
+    fmt::print("{}\n", line);
+    std::fflush(stdout);
+  };
+  Progress stages = args.quiet ? Progress() : Progress(print_line, print_line, ::isatty(STDOUT_FILENO) ? 2.0 : 10.0);
+  const SolveResult res = solve_scene(scene, mesh, progress, &stages);
   info.total_seconds = since(t0);
   write_results(out, scene, mesh, res, info);
   folder->finish();
@@ -104,6 +130,7 @@ int run_solve(const SolveArgs& args) {
     fmt::print("{}: n_p={} n_d={} it={} n_mult={} |wn+|_L2={:.2e} |wn+|_inf={:.2e} kkt_max={:.1e} total {:.2f} s\n",
                res.status, res.n_primal, res.n_dual, std::max(1, res.fixed_point.iterations()), res.n_mult,
                res.wn_plus_L2, res.wn_plus_inf, res.kkt.max(), info.total_seconds);
+    print_engineering_summary(scene, res);
     fmt::print("results in {}\n", out.string());
   }
   for (const auto& w : res.warnings) std::cerr << "warning: " << w << "\n";

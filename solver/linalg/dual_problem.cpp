@@ -19,9 +19,10 @@ class CholmodDualProblem final : public DualProblem {
     if (in.B.rows() == 0) m = DualMethod::BlockSolve;  // nothing to form: a plain factor of K
     if (m == DualMethod::Auto) m = DualMethod::Augmented;
     method = m == DualMethod::Augmented ? "augmented" : m == DualMethod::ContactLast ? "contactlast" : "blocksolve";
-    factor_ = m == DualMethod::ContactLast ? std::make_unique<SparseCholesky>(in.K, contact_dofs(in.B))
-              : m == DualMethod::Augmented ? std::make_unique<SparseCholesky>(in.K, in.B)
-                                           : std::make_unique<SparseCholesky>(in.K);
+    factor_ = m == DualMethod::ContactLast ? std::make_unique<SparseCholesky>(in.K, contact_dofs(in.B), in.on_analysis)
+              : m == DualMethod::Augmented
+                  ? std::make_unique<SparseCholesky>(in.K, in.B, 0.0, in.on_analysis)
+                  : std::make_unique<SparseCholesky>(in.K, FillOrdering::QuotientNestedDissection, in.on_analysis);
     factor_nonzeros = factor_->factor_nonzeros();
     clock.lap("factorization");
 

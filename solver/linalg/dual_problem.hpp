@@ -13,6 +13,7 @@
 #include <Eigen/SparseCore>
 
 #include "base/stage_clock.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace contact3d {
 
@@ -33,6 +34,7 @@ struct DualProblemInput {
   const Eigen::VectorXd& f;
   std::vector<int> face_dofs;
   Eigen::VectorXd offset = Eigen::VectorXd();
+  AnalysisObserver on_analysis = {};  // the factor's predicted size, before the numeric factorization
 };
 
 class DualProblem {

@@ -152,8 +152,9 @@ struct SparseCholesky::Impl {
   cholmod_common common;
   cholmod_factor* factor = nullptr;
   double analyze_seconds = 0, factorize_seconds = 0;
+  AnalysisObserver observe;
 
-  Impl() {
+  explicit Impl(const AnalysisObserver& observer) : observe(observer) {
     cholmod_l_start(&common);
     common.supernodal = CHOLMOD_SUPERNODAL;
     common.final_ll = 1;
@@ -197,6 +198,7 @@ struct SparseCholesky::Impl {
       }
     }
     analyze_seconds = seconds_since(t0);
+    if (factor && observe) observe(double(common.lnz), double(common.fl));
     const auto t1 = std::chrono::steady_clock::now();
     if (factor) cholmod_l_factorize(&A, factor, &common);
     factorize_seconds = seconds_since(t1);
@@ -207,7 +209,11 @@ struct SparseCholesky::Impl {
                      std::to_string(factor ? factor->minor : -1) + " of " + std::to_string(n) +
                      (in_trailing && n_trailing > 0 ? ", in the trailing block" : "") +
                      "): the clamped part Γu must prevent rigid motions"
-               : "CHOLMOD failed (status " + std::to_string(common.status) + ", out of memory?)");
+           : common.status == CHOLMOD_OUT_OF_MEMORY
+               ? "out of memory in the factorization: its factor has " + std::to_string(static_cast<long long>(common.lnz)) +
+                     " nonzeros (about " + std::to_string(static_cast<long long>(12.0 * common.lnz / (1 << 20))) +
+                     " MiB); use a coarser mesh or a machine with more memory"
+               : "CHOLMOD failed (status " + std::to_string(common.status) + ")");
     }
   }
 };
@@ -219,8 +225,8 @@ void SparseCholesky::record_times() {
   factorize_seconds = impl_->factorize_seconds;
 }
 
-SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrdering ordering)
-    : impl_(new Impl), n_(static_cast<int>(K.rows())), n_aug_(n_) {
+SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrdering ordering, const AnalysisObserver& observe)
+    : impl_(new Impl(observe)), n_(static_cast<int>(K.rows())), n_aug_(n_) {
   UpperCsc upper = upper_csc(K);
   const auto t0 = std::chrono::steady_clock::now();
   if (ordering == FillOrdering::CholmodDefault) {
@@ -232,8 +238,9 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrderin
   record_times();
 }
 
-SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma)
-    : impl_(new Impl), n_(static_cast<int>(K.rows())) {
+SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma,
+                               const AnalysisObserver& observe)
+    : impl_(new Impl(observe)), n_(static_cast<int>(K.rows())) {
   const int n = n_, m = static_cast<int>(B.rows());
   if (B.cols() != n) throw std::invalid_argument("augmented factor: 𝔹 and K sizes differ");
   if (!(sigma > 0)) {
@@ -252,8 +259,9 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen
   record_times();
 }
 
-SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing)
-    : impl_(new Impl), n_(static_cast<int>(K.rows())), n_aug_(n_) {
+SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing,
+                               const AnalysisObserver& observe)
+    : impl_(new Impl(observe)), n_(static_cast<int>(K.rows())), n_aug_(n_) {
   const int n = n_;
   std::vector<int> is_trailing(n, -1);
   for (std::size_t k = 0; k < trailing.size(); ++k) {

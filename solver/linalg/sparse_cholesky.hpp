@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -17,21 +18,28 @@ namespace contact3d {
 // (one vertex per mesh node; what every other constructor uses).
 enum class FillOrdering { CholmodDefault, QuotientNestedDissection };
 
+// Called between the symbolic analysis and the numeric factorization with the nnz(L) and flop
+// count CHOLMOD predicts: progress lines, and a memory check before the long part. May throw.
+using AnalysisObserver = std::function<void(double factor_nonzeros, double flops)>;
+
 class SparseCholesky {
  public:
   // Analyze + factorize. Throws std::runtime_error if K is not positive definite (e.g. the
   // clamped part Γu is empty or does not prevent rigid motions).
   explicit SparseCholesky(const Eigen::SparseMatrix<double>& K,
-                          FillOrdering ordering = FillOrdering::QuotientNestedDissection);
+                          FillOrdering ordering = FillOrdering::QuotientNestedDissection,
+                          const AnalysisObserver& observe = {});
   // Same factorization with the dofs `trailing` ordered last (nested dissection on the others): the trailing diagonal block L_tt of the factor then satisfies
   // L_tt L_ttᵀ = S, the Schur complement of K onto those dofs, and (K⁻¹)_tt = S⁻¹.
-  SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing);
+  SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing,
+                 const AnalysisObserver& observe = {});
   // Factor of the augmented SPD matrix [K 𝔹ᵀ; 𝔹 σI] with the rows of 𝔹 ordered last (nested dissection
   // on K's dofs). Its leading block is a Cholesky factor of K — solve() applies K⁻¹ through it —
   // and its off-diagonal block L_21 = 𝔹 (L_11)⁻ᵀ gives 𝔹K⁻¹𝔹ᵀ = L_21 L_21ᵀ (trailing_gram()).
   // σ only has to make the trailing block positive definite and never enters L_21, so a huge
   // σ (the default, from ‖𝔹‖_F² / max diag K · 1e20) costs no accuracy.
-  SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma = 0);
+  SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma = 0,
+                 const AnalysisObserver& observe = {});
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;

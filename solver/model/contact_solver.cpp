@@ -222,11 +222,35 @@ void record_steps(const Scene& scene, const DualProblem& dual, const TrescaStep&
   }
 }
 
+double stage_seconds(const SolveResult& res, const std::string& stage) {
+  for (const auto& [name, sec] : res.seconds)
+    if (name == stage) return sec;
+  return 0;
+}
+
+// After CHOLMOD's symbolic analysis: the factor's predicted size on the progress line, and a clear
+// error before the numeric factorization when the factor cannot fit in the memory available.
+AnalysisObserver factor_size_check(Progress& report) {
+  return [&report](double lnz, double flops) {
+    const double bytes = 8.0 * lnz;  // values; CHOLMOD's row indices add up to another half of that
+    report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + number(bytes / (1 << 30), 3) + " GiB), " +
+                 number(flops / 1e9, 3) + " GFlop");
+    const double available = static_cast<double>(available_memory_bytes());
+    if (available > 0 && 1.2 * bytes > available)
+      throw InputError("not enough memory for the factorization: its factor has " + number(lnz, 3) + " nonzeros (about " +
+                       number(1.2 * bytes / (1 << 30), 3) + " GiB) and this machine has " +
+                       number(available / (1 << 30), 3) + " GiB available; use a coarser mesh (mesh.n, or the "
+                       "mesh parameters' h) or a machine with more memory");
+  };
+}
+
 // No contact group: one linear solve.
 SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretisation& disc, StageClock& clock,
-                                  SolveResult res) {
+                                  SolveResult res, Progress& report) {
   const Eigen::SparseMatrix<double> no_rows(0, disc.K.cols());
-  const auto dual = make_cholmod_dual_problem(DualMethod::BlockSolve, {disc.K, no_rows, disc.f, {}}, clock);
+  report.stage("no contact group: one linear solve (CHOLMOD), " + count(res.n_primal) + " rows");
+  const auto dual = make_cholmod_dual_problem(
+      DualMethod::BlockSolve, {disc.K, no_rows, disc.f, {}, Eigen::VectorXd(), factor_size_check(report)}, clock);
   res.factor_nonzeros = dual->factor_nonzeros;
   const Eigen::VectorXd w = dual->displacement(Eigen::VectorXd());
   res.u = expand_to_nodes(res.dofs, w);
@@ -262,25 +286,39 @@ std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& 
   return {std::sqrt(l2sq), std::max(inf, 0.0)};
 }
 
-SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& progress) {
+SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress* progress) {
   if (!scene.foundation.is_identity()) {  // a tilted or shifted foundation: solve in its frame
     const PlaneFrameProblem local = to_plane_frame(scene, mesh);
-    SolveResult res = solve_scene(local.scene, local.mesh, progress);
+    SolveResult res = solve_scene(local.scene, local.mesh, on_step, progress);
     result_to_user_frame(scene.foundation, res);
     return res;
   }
   SolveResult res;
+  Progress silent;
+  Progress& report = progress ? *progress : silent;
   StageClock clock(res.seconds, scene.solver.reference_factorization);
+  report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
   const Discretisation disc = discretise(scene, mesh, res);
   clock.lap("assembly");
-  if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, std::move(res));
+  report.stage("  " + count(res.n_primal) + " unknowns, nnz(K) = " + count(disc.K.nonZeros()) + " (" +
+               number(res.seconds.back().second, 3) + " s)");
+  if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, std::move(res), report);
 
   const ContactOperator op = contact_stage(scene, mesh, res);
   clock.lap("contact");
+  report.stage("contact: " + count(res.face.triangles.size()) + " triangles and " + count(res.face.nodes.size()) +
+               " nodes on Γc; " + count(op.r) + " cells of T_H (H = " + number(res.cell_size, 3) + "), " +
+               count(op.rows()) + " multipliers");
   require_memory_for_dense_dual(op);
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  std::unique_ptr<DualProblem> dual =
-      make_cholmod_dual_problem(scene.solver.dual_method, {disc.K, op.B, disc.f, face_dofs.dofs, op.offset}, clock);
+  const DualMethod method = scene.solver.dual_method == DualMethod::Auto ? DualMethod::Augmented : scene.solver.dual_method;
+  report.stage("factorization (CHOLMOD, " + name_of(method, kDualMethodNames) + "): " +
+               count(res.n_primal + (method == DualMethod::Augmented ? op.rows() : 0)) + " rows");
+  DualProblemInput input{disc.K, op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report)};
+  std::unique_ptr<DualProblem> dual = make_cholmod_dual_problem(scene.solver.dual_method, input, clock);
+  report.stage("  done in " + number(stage_seconds(res, "factorization"), 3) + " s; dual operator Q: " +
+               count(op.rows()) + " x " + count(op.rows()) + " dense (" +
+               number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB, " + number(stage_seconds(res, "dual"), 3) + " s)");
   const double q_norm = estimate_norm(dual->Q());  // once: for cond(Q) and for MPGP's step ᾱ
   res.stability_condition = check_stability(dual->Q(), q_norm, res.partition, op.r);
   if (res.stability_condition > kIllConditionedDual)
@@ -290,11 +328,22 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
                            "residuals are small; use a larger contact.cell_size (H)");
   clock.lap("stability");
 
+  report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3));
+
   DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp);
+  qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));
-  iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), progress, res);
+  report.stage(std::string("dual solve: ") + (scene.needs_fixed_point() ? "successive approximations (5.7), one QP per step"
+                                              : scene.frictionless()    ? "one frictionless QP"
+                                                                        : "one Tresca QP") +
+               " (" + name_of(scene.solver.qp.variant, kQpVariantNames) + ")");
+  iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
   clock.lap("dual_solve");
+  report.stage("recovery: displacement, residuals, forces" +
+               std::string(scene.output.steps == StepOutput::All && tresca.history().size() > 1
+                               ? " and the fields of " + std::to_string(tresca.history().size()) + " steps"
+                               : ""));
 
   recover(scene, mesh, disc, op, *dual, tresca, res);
   clock.lap("postprocess");

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "base/progress.hpp"
 #include "contact/contact_face.hpp"
 #include "contact/foundation_frame.hpp"
 #include "contact/partition.hpp"
@@ -78,7 +79,9 @@ struct SolveResult {
 
 using ProgressCallback = std::function<void(const FixedPointStep&)>;
 
-SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& progress = {});
+// `progress` (may be null) gets a line per stage (what starts, how big) and the QP's heartbeat.
+SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step = {},
+                        Progress* progress = nullptr);
 
 // Positive part of the penetration w_n − d = −u_3 − z on Γc: (L2 norm integrated exactly over the contact triangles, max).
 std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u);

@@ -21,15 +21,18 @@ QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lam
   const BoxDiscQP& problem = jacobi_ ? jacobi_->scaled(qp_.radius) : qp_;
   Eigen::VectorXd x = jacobi_ ? jacobi_->to_scaled(lambda) : lambda;
   QpResult result;
+  if (progress_) progress_->restart();
   if (settings_.variant == QpVariant::Ssn) {
     SsnSettings ssn;
     ssn.rtol = rtol;
     ssn.max_iterations = settings_.max_iterations;
+    ssn.progress = progress_;
     result = solve_ssn(problem, x, ssn);
   } else {
     MpgpSettings mpgp;
     mpgp.rtol = rtol;
     mpgp.max_iterations = settings_.max_iterations;
+    mpgp.progress = progress_;
     mpgp.expansion = settings_.variant == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
     result = solve_mpgp(problem, x, mpgp);
   }

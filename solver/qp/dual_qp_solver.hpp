@@ -36,11 +36,14 @@ class DualQpSolver {
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
   // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
+  // Heartbeat lines of long solves go to `progress` (must outlive the solver; null: none).
+  void report_progress_to(Progress* progress) { progress_ = progress; }
 
  private:
   BoxDiscQP qp_;
   std::optional<JacobiScaledQP> jacobi_;
   QpSettings settings_;
+  Progress* progress_ = nullptr;
 };
 
 }  // namespace contact3d

@@ -1,6 +1,7 @@
 #include "qp/mpgp.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace contact3d {
 
@@ -11,6 +12,13 @@ std::string to_string(QpStatus s) {
     case QpStatus::Breakdown: return "breakdown";
   }
   return "?";
+}
+
+std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "  qp (%s): iteration %d, %d products, projected gradient %.2e (target %.0e), %.1f s", method,
+                so_far.iterations, so_far.hessian_products, so_far.projected_gradient, rtol, progress.elapsed());
+  return buf;
 }
 
 namespace {
@@ -58,6 +66,7 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
     result.projected_gradient = std::sqrt(free_sq + chopped_sq) / h_norm;
     if (!std::isfinite(result.projected_gradient)) { result.status = QpStatus::Breakdown; return result; }
     if (std::sqrt(free_sq + chopped_sq) <= tol) { result.status = QpStatus::Converged; return result; }
+    if (settings.progress) settings.progress->beat([&] { return qp_heartbeat_line("mpgp", result, settings.rtol, *settings.progress); });
 
     if (chopped_sq <= settings.gamma * settings.gamma * free_sq) {
       // Proportional iterate: conjugate-gradient step on the free set, or expansion.

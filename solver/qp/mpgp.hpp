@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "base/progress.hpp"
+
 #include "qp/box_disc_qp.hpp"
 
 namespace contact3d {
@@ -30,6 +32,7 @@ struct MpgpSettings {
   double gamma = 1.0;            // proportioning parameter Γ
   double alpha_scale = 1.8;      // ᾱ = alpha_scale / ‖Q‖ (must be < 2)
   ExpansionKind expansion = ExpansionKind::FullGradient;
+  Progress* progress = nullptr;  // heartbeat: iterations and ‖gᴾ‖/‖h‖ every few seconds (none: silent)
 };
 
 struct QpResult {
@@ -39,6 +42,9 @@ struct QpResult {
   int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
   double projected_gradient = 0; // final ‖gᴾ‖ / ‖h‖
 };
+
+// The heartbeat line of an inner QP solve: "qp (mpgp): iteration 1200, ‖gᴾ‖/‖h‖ = 3.2e-04 → 1e-06, 4.1 s".
+std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress);
 
 // Solves from the warm start `lambda` (projected first); on return `lambda` holds the result.
 QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSettings& settings);

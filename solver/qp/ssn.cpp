@@ -68,6 +68,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       result.status = QpStatus::Converged;
       return result;
     }
+    if (settings.progress) settings.progress->beat([&] { return qp_heartbeat_line("ssn", result, settings.rtol, *settings.progress); });
     // Generalized Jacobian of F: J = I − D + ρ D Q, D block-diagonal ∂P(z) (0 for an inactive
     // normal or a point disc, I inside, (c/‖z‖)(I − ννᵀ) sliding). Built as Jᵀ = I − D + ρ Q D
     // column by column (Q symmetric, column-major) and solved transposed.
@@ -141,6 +142,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   MpgpSettings fallback;
   fallback.rtol = settings.rtol;
   fallback.max_iterations = settings.max_iterations;
+  fallback.progress = settings.progress;
   const int newton = result.iterations, products = result.hessian_products;
   result = solve_mpgp(qp, lambda, fallback);
   result.iterations += newton;

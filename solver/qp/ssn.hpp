@@ -19,6 +19,7 @@ struct SsnSettings {
   double rtol = 1e-6;          // same criterion as MpgpSettings::rtol
   int max_newton = 40;         // Newton steps before falling back to MPGP
   int max_iterations = 100000; // for the MPGP fallback
+  Progress* progress = nullptr;  // heartbeat (none: silent)
 };
 
 // Warm start from `lambda`; on return it holds the (feasible) solution. iterations counts
