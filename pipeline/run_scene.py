@@ -34,6 +34,42 @@ def read_history(out):
         return list(csv.DictReader(f))
 
 
+def engineering_results(s):
+    """Forces, areas, torque, penetration, reactions, warnings and notes of summary.json, in the scene's units."""
+    u = s.get("units", {"length": "m", "force": "N", "stress": "Pa"})
+    L, F, A = u["length"], u["force"], f"{u['length']}²"
+    f = s.get("forces", {})
+    def vec(v):
+        return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+    rows = []
+    if f:
+        rows.append(f"| applied load (x, y, z) [{F}] | {vec(f['applied'])} |")
+        rows.append(f"| contact force on the body (x, y, z) [{F}] | {vec(f['contact'])} |")
+        rows += [f"| reaction on {r['condition']} (x, y, z) [{F}] | {vec(r['force'])} |" for r in f.get("reactions", [])]
+        rows.append(f"| force balance (relative) | {f.get('balance', 0):.2e} |")
+    cf = s.get("contact_force")
+    if cf and s.get("n_cells", 0) > 0:
+        rows.append(f"| total normal / tangential contact force [{F}] | {cf['normal']:.4g} / {cf.get('tangential', 0):.4g} |")
+        ca = s.get("contact_area", {})
+        stick, slip = ca.get("stick"), ca.get("slip")
+        rows.append(f"| area in contact / separated [{A}] | {ca.get('in_contact', 0):.4g} / {ca.get('separated', 0):.4g} |")
+        if stick is not None:
+            rows.append(f"| stick / slip area [{A}] | {stick:.4g} / {slip:.4g} |")
+        if s.get("friction_torque") is not None:
+            rows.append(f"| friction torque about Γc's centroid [{F} {L}] | {s['friction_torque']:.4g} |")
+        rows.append(f"| max penetration (nodal w_n⁺) [{L}] | {s.get('max_penetration', 0):.3g} |")
+        if s.get("friction_where_separated_area"):
+            rows.append(f"| Tresca friction where lifted off [{A}] | {s['friction_where_separated_area']:.4g} |")
+    if not rows:
+        return []
+    out = ["", f"## Results (units: {u.get('system', 'm-N-Pa')})", "", "| quantity | value |", "|---|---|"] + rows
+    for w in s.get("warnings", []):
+        out.append(f"\n**Warning:** {w}")
+    for n in s.get("notes", []):
+        out.append(f"\n**Note:** {n}")
+    return out
+
+
 def report(scene_path, out, cmd, rc, figures, notes):
     s = json.load(open(os.path.join(out, "summary.json")))
     hist = read_history(out)
@@ -56,6 +92,7 @@ def report(scene_path, out, cmd, rc, figures, notes):
     if cf:
         L.append(f"| contact force (normal, t1, t2) [N] | {cf.get('normal', 0):.4g}, {cf.get('t1', 0):.4g}, "
                  f"{cf.get('t2', 0):.4g} |")
+    L += engineering_results(s)
     L += ["", "## Timings per stage", "", "| stage | seconds |", "|---|---|"]
     L += [f"| {k} | {v:.3f} |" for k, v in s.get("time_s", {}).items()]
     L += ["", "## Convergence of the fixed point (history.csv)", ""]

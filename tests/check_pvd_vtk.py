@@ -170,6 +170,14 @@ def main():
         old_style_collection(run, old)
         if not check_collection(old, summary):
             fails.append("negative check: a collection without the body at every step was accepted")
+        # [output] steps = "final": one time step, the answer's own files, still body and contact.
+        final = os.path.join(tmp, "final")
+        if subprocess.run(cmd[:5] + [final] + cmd[6:] + ["--set", "output.steps=final"]).returncode != 0:
+            fails.append("the solve with output.steps = final failed")
+        else:
+            steps = time_steps(final)
+            if list(steps.values()) != [{0: "body.vtu", 1: "contact.vtu"}] or os.path.exists(os.path.join(final, "steps")):
+                fails.append(f"output.steps = final: collection {steps}, expected body.vtu and contact.vtu only")
         if fails:
             print(f"FAIL ({len(fails)}):\n  " + "\n  ".join(fails[:30]))
             return 1

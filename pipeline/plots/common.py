@@ -52,6 +52,40 @@ class Run:
             return f"param = {fr.get('param', 0):.0e}".replace("e+0", "e")
         return os.path.basename(os.path.normpath(self.dir))
 
+    def units(self):
+        """The scene's unit system (summary.json "units"; SI for runs written before it existed)."""
+        return self.summary.get("units", {"system": "m-N-Pa", "length": "m", "force": "N", "stress": "Pa"})
+
+    def stress_in_mpa(self, values):
+        """Stresses (multipliers, pressures) converted to MPa, whatever the scene's units."""
+        factor = {"Pa": 1e-6, "kPa": 1e-3, "MPa": 1.0}[self.units()["stress"]]
+        return np.asarray(values, dtype=float) * factor
+
+    def length_in_um(self, values):
+        """Small lengths (displacements, slips) converted to µm."""
+        factor = {"m": 1e6, "mm": 1e3}[self.units()["length"]]
+        return np.asarray(values, dtype=float) * factor
+
+    def length_label(self):
+        return self.units()["length"]
+
+    def cell_polygons(self):
+        """The pieces of the cells of T_H as drawn in contact_cells.vtu: a list of (cell, (k, 2) array of
+        x, y) — each cell's true polygon (clipped to Γc), not its bounding rectangle."""
+        import xml.etree.ElementTree as ET
+        piece = ET.parse(self.path("contact_cells.vtu")).getroot().find("./UnstructuredGrid/Piece")
+
+        def array(parent, name):
+            node = piece.find(f"./{parent}/DataArray[@Name='{name}']")
+            return np.array(node.text.split(), dtype=float)
+
+        points = array("Points", "Points").reshape(-1, 3)
+        conn = array("Cells", "connectivity").astype(int)
+        offsets = array("Cells", "offsets").astype(int)
+        owner = array("CellData", "cell").astype(int)
+        starts = np.concatenate([[0], offsets[:-1]])
+        return [(owner[k], points[conn[a:b], :2]) for k, (a, b) in enumerate(zip(starts, offsets))]
+
     def mesh_text(self):
         s = self.summary
         return f"{s.get('mesh', '?')}: {s.get('n_nodes')} nodes, {s.get('n_tets')} tets"
@@ -97,26 +131,28 @@ def face_triangulation(run):
     return mtri.Triangulation(m.points[:, 0], m.points[:, 1], tris), m
 
 
-def cell_rectangles(ax, cells, values, cmap="viridis", label="", vmin=None):
-    """Draws the cells of T_H as rectangles coloured by a piecewise-constant value; returns the collection."""
-    from matplotlib.collections import PatchCollection
-    from matplotlib.patches import Rectangle
-    patches = [Rectangle((x0, y0), x1 - x0, y1 - y0)
-               for x0, x1, y0, y1 in zip(cells["xmin"], cells["xmax"], cells["ymin"], cells["ymax"])]
-    pc = PatchCollection(patches, cmap=cmap, edgecolor="k", linewidth=0.3)
-    pc.set_array(np.asarray(values))
+def cell_patches(ax, run, values, cmap="viridis", vmin=None):
+    """Draws the cells of T_H as their polygons (contact_cells.vtu) coloured by a piecewise-constant
+    value per cell; returns the collection."""
+    from matplotlib.collections import PolyCollection
+    polys = run.cell_polygons()
+    values = np.asarray(values)
+    pc = PolyCollection([p for _, p in polys], cmap=cmap, edgecolor="face", linewidth=0.2)  # pieces: no inner edges
+    pc.set_array(values[[c for c, _ in polys]])
     if vmin is not None:
         pc.set_clim(vmin=vmin)
     ax.add_collection(pc)
-    ax.set_xlim(cells["xmin"].min(), cells["xmax"].max())
-    ax.set_ylim(cells["ymin"].min(), cells["ymax"].max())
+    xy = np.concatenate([p for _, p in polys])
+    ax.set_xlim(xy[:, 0].min(), xy[:, 0].max())
+    ax.set_ylim(xy[:, 1].min(), xy[:, 1].max())
     return pc
 
 
-def face_axes(ax):
+def face_axes(ax, run=None):
+    unit = run.length_label() if run is not None else "m"
     ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    ax.set_xlabel(f"x [{unit}]")
+    ax.set_ylabel(f"y [{unit}]")
 
 
 def save(fig, out_dir, name):

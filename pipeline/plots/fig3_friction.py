@@ -21,18 +21,18 @@ def plot(run, out_dir):
         for p in params:
             law = friction_law({**fr, "param": p})
             own = abs(p - float(fr.get("param", 0))) <= 1e-9 * p
-            ax.plot(t * 1e6, law(t), lw=2.4 if own else 1.4, ls="-" if own else "--",
-                    label=f"param = {p:.0e} 1/m" + (" (this scene)" if own else ""))
-        ax.axvline(t0 * 1e6, color="0.6", lw=0.8)
-        ax.text(t0 * 1e6, float(fr.get("low", 0.2)), " t0", color="0.4", va="bottom")
+            ax.plot(run.length_in_um(t), law(t), lw=2.4 if own else 1.4, ls="-" if own else "--",
+                    label=f"param = {p:.0e} 1/{run.length_label()}" + (" (this scene)" if own else ""))
+        ax.axvline(run.length_in_um(t0), color="0.6", lw=0.8)
+        ax.text(run.length_in_um(t0), float(fr.get("low", 0.2)), " t0", color="0.4", va="bottom")
     else:
         law = friction_law(fr)
         nodes = run.nodes()
-        tmax = max(1e-5, 1.2 * float(nodes["wt_norm"].max())) if nodes else 1e-4
+        tmax = max(1e-5 if run.length_label() == "m" else 1e-2, 1.2 * float(nodes["wt_norm"].max())) if nodes else 1e-4
         if fr.get("law") == "table":
             tmax = max(tmax, 1.2 * max(p[0] for p in fr["points"]))
         t = np.linspace(0, tmax, 600)
-        ax.plot(t * 1e6, law(t), lw=2, label=f"law = {fr.get('law', 'none')}")
+        ax.plot(run.length_in_um(t), law(t), lw=2, label=f"law = {fr.get('law', 'none')}")
     ax.set_xlabel("slip t = ‖u_t‖ [µm]")
     ax.set_ylabel("coefficient of friction F(t) [–]")
     ax.set_title("Fig. 3 — coefficients of friction")

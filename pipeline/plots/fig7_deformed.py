@@ -17,7 +17,7 @@ def plot(run, out_dir, scale=500.0):
     u = np.asarray(m.point_data["displacement"], dtype=float)
     tris = boundary_triangles(tets)
     x = m.points + scale * u
-    mag = np.linalg.norm(u, axis=1) * 1e6  # µm
+    mag = run.length_in_um(np.linalg.norm(u, axis=1))
     face_mag = mag[tris].mean(axis=1)
     norm = colors.Normalize(vmin=mag.min(), vmax=mag.max())
     cmap = plt.get_cmap("viridis")
@@ -29,7 +29,8 @@ def plot(run, out_dir, scale=500.0):
     ax.set_xlim(lo[0], hi[0]); ax.set_ylim(lo[1], hi[1]); ax.set_zlim(lo[2], hi[2])
     ax.set_box_aspect(hi - lo)
     ax.view_init(elev=22, azim=-60)
-    ax.set_xlabel("x [m]"); ax.set_ylabel("y [m]"); ax.set_zlabel("z [m]", labelpad=-2)
+    unit = run.length_label()
+    ax.set_xlabel(f"x [{unit}]"); ax.set_ylabel(f"y [{unit}]"); ax.set_zlabel(f"z [{unit}]", labelpad=-2)
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
     fig.colorbar(sm, ax=ax, shrink=0.6, pad=0.1, label="|u| [µm]")
     ax.set_title(f"Fig. 7 — deformed body (displacement × {scale:g})")

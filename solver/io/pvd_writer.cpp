@@ -45,7 +45,8 @@ int write_solution_collection(const std::filesystem::path& dir, const VtuContext
   std::filesystem::remove_all(steps_dir, ec);  // stale steps of an earlier, longer run would mislead
   const int count = std::max<int>(1, static_cast<int>(res.steps.size()));
   std::vector<TimeStep> steps;
-  if (ctx.scene.output.steps == StepOutput::Final || res.steps.empty()) {
+  if (resolved(ctx.scene.output.steps, ctx.mesh.nodes.size()) == StepOutput::Final || res.steps.empty() ||
+      res.steps.front().u.size() == 0) {
     steps.push_back({count, "body.vtu", has_face ? "contact.vtu" : ""});
   } else {
     std::filesystem::create_directories(steps_dir, ec);

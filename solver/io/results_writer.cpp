@@ -130,6 +130,9 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.begin_array("warnings");
     for (const auto& w : res.warnings) j.element(w);
     j.end_array();
+    j.begin_array("notes");
+    for (const auto& n : res.notes) j.element(n);
+    j.end_array();
     j.value("step_solve_fraction", res.step_solve_fraction);
     const ContactResultants cr = contact_resultants(res, final_state(res));
     // ∫λ over the cells in the plane's frame: the normal force on the body, and (t1, t2) = ∫λ_t,
@@ -138,6 +141,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.value("tangential", std::hypot(cr.t1, cr.t2)).end_object();
     if (has_friction(res)) j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
     j.value("max_penetration", res.wn_plus_inf);  // max nodal (w_n − d)⁺ on Γc
+    j.value("friction_where_separated_area", res.friction_where_separated_area);  // Tresca's bound where λ_n = 0
     {  // areas of the cells by status (in the plane; the cells' own areas)
       const double no_friction = std::numeric_limits<double>::quiet_NaN();  // null: no stick/slip without friction
       j.begin_object("contact_area").value("in_contact", cr.area[kStick] + cr.area[kSlip]);
@@ -148,6 +152,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     const UnitLabels units = unit_labels(scene.output.units);
     j.begin_object("units").value("system", name_of(scene.output.units, kUnitSystemNames)).value("length", units.length);
     j.value("force", units.force).value("stress", units.stress).end_object();
+    j.value("output_steps", name_of(resolved(scene.output.steps, mesh.nodes.size()), kStepOutputNames));  // as resolved
     write_forces(j, res.forces);
     j.begin_object("time_s");
     j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);

@@ -20,6 +20,8 @@
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "model/plane_frame.hpp"
+#include "model/solution_fields.hpp"
+#include "base/multiplier_layout.hpp"
 #include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
@@ -188,6 +190,29 @@ double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult&
   return scale > 0 ? (res.radius - bound).cwiseAbs().maxCoeff() / scale : 0.0;
 }
 
+// Tresca's bound F·g does not depend on the contact pressure, so (the paper's model) friction
+// acts also where the body has lifted off (λ_n = 0). Said in a warning with the area, since a
+// user may expect Coulomb's behaviour there.
+void flag_friction_where_separated(const Scene& scene, SolveResult& res) {
+  const int r = res.n_cells;
+  if (scene.coulomb() || !has_friction(r, res.lambda)) return;
+  const MultiplierLayout at{r, true};
+  const std::vector<int> status = cell_status(r, res.lambda, res.radius);
+  const double t_max = res.lambda.tail(2 * r).cwiseAbs().maxCoeff();
+  double area = 0;
+  int cells = 0;
+  for (int i = 0; i < r; ++i)
+    if (status[i] == kSeparated && std::hypot(res.lambda[at.t1(i)], res.lambda[at.t2(i)]) > 1e-3 * t_max) {
+      area += res.partition.cells[i].area;
+      ++cells;
+    }
+  res.friction_where_separated_area = area;
+  if (cells > 0)
+    res.notes.push_back("Tresca friction acts on " + std::to_string(cells) + " cells (area " + number(area, 4) +
+                        ") where the body has lifted off (λ_n = 0): the bound F·g does not depend on the contact "
+                        "pressure (the paper's model); friction.model = \"coulomb\" ties it to the pressure");
+}
+
 // The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
 void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, const ContactOperator& op,
              const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
@@ -203,6 +228,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
+  flag_friction_where_separated(scene, res);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError("the solution is not finite: the scene's loads, material or friction values overflow double "
                      "precision (check their units); no results were written");
@@ -216,7 +242,7 @@ void record_steps(const Scene& scene, const DualProblem& dual, const TrescaStep&
   res.steps.clear();
   for (std::size_t k = 0; k < solves.size(); ++k) {
     SolveStep step{solves[k].lambda, solves[k].radius, Eigen::VectorXd()};
-    if (scene.output.steps == StepOutput::All)
+    if (resolved(scene.output.steps, static_cast<std::size_t>(res.dofs.n_nodes)) == StepOutput::All)
       step.u = k + 1 == solves.size() ? res.u : expand_to_nodes(res.dofs, dual.displacement(step.lambda));
     res.steps.push_back(std::move(step));
   }
@@ -341,7 +367,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
   clock.lap("dual_solve");
   report.stage("recovery: displacement, residuals, forces" +
-               std::string(scene.output.steps == StepOutput::All && tresca.history().size() > 1
+               std::string(resolved(scene.output.steps, mesh.nodes.size()) == StepOutput::All && tresca.history().size() > 1
                                ? " and the fields of " + std::to_string(tresca.history().size()) + " steps"
                                : ""));
 

@@ -70,6 +70,8 @@ struct SolveResult {
   double wn_plus_L2 = 0, wn_plus_inf = 0;
   double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
   std::vector<std::string> warnings; // what makes this answer less trustworthy than its residuals say
+  std::vector<std::string> notes;    // what the model does that a user may not expect
+  double friction_where_separated_area = 0;  // Tresca: area of cells with friction but λ_n = 0
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   double factor_nonzeros = 0;
   double step_solve_fraction = 1;  // share of nnz(L) one fixed-point step back-substitutes through (DisplacementTrace); 1: a full solve

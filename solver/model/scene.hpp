@@ -59,10 +59,18 @@ struct SolverSettings {
 };
 
 // [output]: where the run is written and what it keeps.
-// steps: "all" (default) writes the body and the contact face after every solve (a ParaView time
-// step each; one extra back substitution per step), "final" only the answer.
-enum class StepOutput { All, Final };
-inline constexpr NameTable<StepOutput, 2> kStepOutputNames{{{StepOutput::All, "all"}, {StepOutput::Final, "final"}}};
+// steps: "all" writes the body and the contact face after every solve (a ParaView time step each;
+// one extra back substitution per step), "final" only the answer; "auto" (default) is "all" for
+// meshes up to kStepOutputAutoNodes nodes and "final" above (each step of a big body is hundreds
+// of MB of ASCII VTU).
+enum class StepOutput { Auto, All, Final };
+inline constexpr NameTable<StepOutput, 3> kStepOutputNames{
+    {{StepOutput::Auto, "auto"}, {StepOutput::All, "all"}, {StepOutput::Final, "final"}}};
+inline constexpr std::size_t kStepOutputAutoNodes = 100000;
+inline StepOutput resolved(StepOutput steps, std::size_t n_nodes) {
+  if (steps != StepOutput::Auto) return steps;
+  return n_nodes <= kStepOutputAutoNodes ? StepOutput::All : StepOutput::Final;
+}
 // units: the labels of the figures, report and VTU files. The solver is unit-agnostic: the scene's
 // lengths, forces and moduli must be given in this consistent system.
 enum class UnitSystem { MetreNewtonPascal, MillimetreNewtonMegapascal, MetreKilonewtonKilopascal };
@@ -76,7 +84,7 @@ UnitLabels unit_labels(UnitSystem units);
 
 struct OutputSettings {
   std::filesystem::path dir;          // default results/runs/<scene name> (or --out)
-  StepOutput steps = StepOutput::All;
+  StepOutput steps = StepOutput::Auto;
   UnitSystem units = UnitSystem::MetreNewtonPascal;
 };
 
