@@ -248,24 +248,31 @@ void record_steps(const Scene& scene, const DualProblem& dual, const TrescaStep&
   }
 }
 
-double stage_seconds(const SolveResult& res, const std::string& stage) {
-  for (const auto& [name, sec] : res.seconds)
-    if (name == stage) return sec;
-  return 0;
-}
+// The stage running now and what it holds, for an out-of-memory message that says where and why.
+struct RunningStage {
+  std::string name = "assembly";
+  std::string holds;  // e.g. "a factor with 2.3e+07 nonzeros (0.17 GiB)"
+  void enter(std::string stage, std::string what) {
+    name = std::move(stage);
+    holds = std::move(what);
+  }
+};
+
+std::string gib(double bytes) { return number(bytes / (1 << 30), 3) + " GiB"; }
 
 // After CHOLMOD's symbolic analysis: the factor's predicted size on the progress line, and a clear
 // error before the numeric factorization when the factor cannot fit in the memory available.
-AnalysisObserver factor_size_check(Progress& report) {
-  return [&report](double lnz, double flops) {
+AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr) {
+  return [&report, stage](double lnz, double flops) {
+    if (stage) stage->holds = "a factor with " + number(lnz, 3) + " nonzeros (" + number(8.0 * lnz / (1 << 30), 3) + " GiB)";
     const double bytes = 8.0 * lnz;  // values; CHOLMOD's row indices add up to another half of that
     report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + number(bytes / (1 << 30), 3) + " GiB), " +
                  number(flops / 1e9, 3) + " GFlop");
     const double available = static_cast<double>(available_memory_bytes());
     if (available > 0 && 1.2 * bytes > available)
       throw InputError("not enough memory for the factorization: its factor has " + number(lnz, 3) + " nonzeros (about " +
-                       number(1.2 * bytes / (1 << 30), 3) + " GiB) and this machine has " +
-                       number(available / (1 << 30), 3) + " GiB available; use a coarser mesh (mesh.n, or the "
+                       number(1.2 * bytes / (1 << 30), 3) + " GiB) and this process can get only " +
+                       number(available / (1 << 30), 3) + " GiB; use a coarser mesh (mesh.n, or the "
                        "mesh parameters' h) or a machine with more memory");
   };
 }
@@ -312,65 +319,75 @@ std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& 
   return {std::sqrt(l2sq), std::max(inf, 0.0)};
 }
 
-SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress* progress) {
-  if (!scene.foundation.is_identity()) {  // a tilted or shifted foundation: solve in its frame
-    const PlaneFrameProblem local = to_plane_frame(scene, mesh);
-    SolveResult res = solve_scene(local.scene, local.mesh, on_step, progress);
-    result_to_user_frame(scene.foundation, res);
-    return res;
-  }
-  SolveResult res;
-  Progress silent;
-  Progress& report = progress ? *progress : silent;
-  StageClock clock(res.seconds, scene.solver.reference_factorization);
-  report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
-  const Discretisation disc = discretise(scene, mesh, res);
-  clock.lap("assembly");
-  report.stage("  " + count(res.n_primal) + " unknowns, nnz(K) = " + count(disc.K.nonZeros()) + " (" +
-               number(res.seconds.back().second, 3) + " s)");
-  if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, std::move(res), report);
+namespace {
 
-  const ContactOperator op = contact_stage(scene, mesh, res);
-  clock.lap("contact");
+void describe_contact(Progress& report, const SolveResult& res, const ContactOperator& op) {
   report.stage("contact: " + count(res.face.triangles.size()) + " triangles and " + count(res.face.nodes.size()) +
                " nodes on Γc; " + count(op.r) + " cells of T_H (H = " + number(res.cell_size, 3) + "), " +
                count(op.rows()) + " multipliers");
-  require_memory_for_dense_dual(op);
-  const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  const DualMethod method = scene.solver.dual_method == DualMethod::Auto ? DualMethod::Augmented : scene.solver.dual_method;
-  report.stage("factorization (CHOLMOD, " + name_of(method, kDualMethodNames) + "): " +
-               count(res.n_primal + (method == DualMethod::Augmented ? op.rows() : 0)) + " rows");
-  DualProblemInput input{disc.K, op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report)};
-  std::unique_ptr<DualProblem> dual = make_cholmod_dual_problem(scene.solver.dual_method, input, clock);
-  report.stage("  done in " + number(stage_seconds(res, "factorization"), 3) + " s; dual operator Q: " +
-               count(op.rows()) + " x " + count(op.rows()) + " dense (" +
-               number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB, " + number(stage_seconds(res, "dual"), 3) + " s)");
-  const double q_norm = estimate_norm(dual->Q());  // once: for cond(Q) and for MPGP's step ᾱ
-  res.stability_condition = check_stability(dual->Q(), q_norm, res.partition, op.r);
+}
+
+std::string describe_dual_solve(const Scene& scene) {
+  return std::string("dual solve: ") +
+         (scene.needs_fixed_point() ? "successive approximations (5.7), one QP per step"
+          : scene.frictionless()    ? "one frictionless QP"
+                                    : "one Tresca QP") +
+         " (" + name_of(scene.solver.qp.variant, kQpVariantNames) + ")";
+}
+
+// Stability (5.1) and its warning; cond(Q) on the progress line.
+void check_dual_stability(const DualProblem& dual, double q_norm, const ContactOperator& op, Progress& report,
+                          SolveResult& res) {
+  res.stability_condition = check_stability(dual.Q(), q_norm, res.partition, op.r);
   if (res.stability_condition > kIllConditionedDual)
     res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
                            "): some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or a "
                            "body thinner than a cell), so λ and the contact pressure are unreliable although the "
                            "residuals are small; use a larger contact.cell_size (H)");
+  report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3));
+}
+
+// The stages of one solve in the foundation plane's frame (the README's data flow).
+SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress& report,
+                         RunningStage& stage) {
+  SolveResult res;
+  StageClock clock(res.seconds, scene.solver.reference_factorization);
+  report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
+  const Discretisation disc = discretise(scene, mesh, res);
+  clock.lap("assembly");
+  report.stage("  " + count(res.n_primal) + " unknowns, nnz(K) = " + count(disc.K.nonZeros()));
+  if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, std::move(res), report);
+
+  stage.enter("contact", "the contact face and its partition");
+  const ContactOperator op = contact_stage(scene, mesh, res);
+  clock.lap("contact");
+  describe_contact(report, res, op);
+  require_memory_for_dense_dual(op);
+
+  stage.enter("factorization", "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
+  const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
+  report.stage("factorization (CHOLMOD, " + name_of(scene.solver.dual_method, kDualMethodNames) + ")");
+  DualProblemInput input{disc.K, op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report, &stage)};
+  std::unique_ptr<DualProblem> dual = make_cholmod_dual_problem(scene.solver.dual_method, input, clock);
+  report.stage("  done; dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +
+               number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
+
+  stage.enter("stability check", "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
+  const double q_norm = estimate_norm(dual->Q());  // once: for cond(Q) and for MPGP's step ᾱ
+  check_dual_stability(*dual, q_norm, op, report, res);
   clock.lap("stability");
 
-  report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3));
-
+  stage.enter("dual solve", "the QP's copy of Q (" + gib(8.0 * op.rows() * op.rows()) + ")");
   DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp);
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));
-  report.stage(std::string("dual solve: ") + (scene.needs_fixed_point() ? "successive approximations (5.7), one QP per step"
-                                              : scene.frictionless()    ? "one frictionless QP"
-                                                                        : "one Tresca QP") +
-               " (" + name_of(scene.solver.qp.variant, kQpVariantNames) + ")");
+  report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
   clock.lap("dual_solve");
-  report.stage("recovery: displacement, residuals, forces" +
-               std::string(resolved(scene.output.steps, mesh.nodes.size()) == StepOutput::All && tresca.history().size() > 1
-                               ? " and the fields of " + std::to_string(tresca.history().size()) + " steps"
-                               : ""));
 
+  stage.enter("recovery", "the displacement of every step (" + gib(8.0 * 3 * mesh.nodes.size() * tresca.history().size()) + ")");
+  report.stage("recovery: displacement, residuals, forces");
   recover(scene, mesh, disc, op, *dual, tresca, res);
   clock.lap("postprocess");
   record_steps(scene, *dual, tresca, res);
@@ -384,6 +401,30 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     time_reference_factorizations(disc.K, clock);
   }
   return res;
+}
+
+}  // namespace
+
+SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress* progress) {
+  if (!scene.foundation.is_identity()) {  // a tilted or shifted foundation: solve in its frame
+    const PlaneFrameProblem local = to_plane_frame(scene, mesh);
+    SolveResult res = solve_scene(local.scene, local.mesh, on_step, progress);
+    result_to_user_frame(scene.foundation, res);
+    return res;
+  }
+  Progress silent;
+  RunningStage stage;
+  stage.holds = "K for " + count(3 * static_cast<long long>(mesh.nodes.size())) + " unknowns";
+  try {
+    return solve_stages(scene, mesh, on_step, progress ? *progress : silent, stage);
+  } catch (const std::bad_alloc&) {
+    const bool dual_sized = stage.name == "contact" || stage.name == "stability check" || stage.name == "dual solve";
+    throw InputError("out of memory in the " + stage.name + " stage, which holds " + stage.holds + "; " +
+                     gib(static_cast<double>(available_memory_bytes())) + " are available to this process now; " +
+                     (dual_sized ? "use a larger contact.cell_size (H: fewer multipliers)"
+                                 : "use a coarser mesh (mesh.n, or the mesh parameters' h)") +
+                     " or a machine with more memory");
+  }
 }
 
 }  // namespace contact3d
