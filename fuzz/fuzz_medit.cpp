@@ -20,7 +20,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (const auto& t : m.triangles)
       for (int v : t)
         if (v < 0 || v >= n) std::abort();
-  } catch (const contact3d::InputError&) {
-  }
+  } catch (const contact3d::InputError&) {}
   return 0;
 }

@@ -19,7 +19,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   try {
     contact3d::parse_scene_text(text, "/nonexistent", overrides);
-  } catch (const contact3d::InputError&) {
-  }
+  } catch (const contact3d::InputError&) {}
   return 0;
 }

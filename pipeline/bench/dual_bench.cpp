@@ -32,8 +32,9 @@ Problem brick(int n) {
   Problem p;
   const DofMap dofs = make_dof_map(mesh, {"clamped"});
   p.K = assemble_stiffness(mesh, dofs, Material{21.19e10, 0.277});
-  p.f = assemble_load(mesh, dofs, {{"load_end", Eigen::Vector3d(1e7, 0, 2e7)}, {"load_top", Eigen::Vector3d(0, 0, -3e7)}},
-                      Eigen::Vector3d::Zero());
+  p.f =
+      assemble_load(mesh, dofs, {{"load_end", Eigen::Vector3d(1e7, 0, 2e7)}, {"load_top", Eigen::Vector3d(0, 0, -3e7)}},
+                    Eigen::Vector3d::Zero());
   const ContactFace face = make_contact_face(mesh, {"contact"}, dofs);
   const Partition part = make_grid_partition(mesh, face, {2 * face.h});
   const ContactOperator op = make_contact_operator(face, part, dofs, true);
@@ -108,8 +109,10 @@ void BM_Qp(benchmark::State& st) {
   int iterations = 0;
   for (auto _ : st) {
     Eigen::VectorXd lambda;
-    if constexpr (Ssn) iterations = solve_ssn(qp, lambda, SsnSettings{}).iterations;
-    else iterations = solve_mpgp(qp, lambda, MpgpSettings{}).iterations;
+    if constexpr (Ssn)
+      iterations = solve_ssn(qp, lambda, SsnSettings{}).iterations;
+    else
+      iterations = solve_mpgp(qp, lambda, MpgpSettings{}).iterations;
     benchmark::DoNotOptimize(lambda.data());
   }
   st.counters["iterations"] = iterations;

@@ -13,18 +13,18 @@
 
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <CLI/CLI.hpp>
 
 #include "base/errors.hpp"
 #include "io/results_writer.hpp"
 #include "io/run_folder.hpp"
 #include "mesh/brick_generator.hpp"
-#include "mesh/read_mesh.hpp"
 #include "mesh/msh_writer.hpp"
+#include "mesh/read_mesh.hpp"
 #include "model/contact_solver.hpp"
-#include "model/plane_frame.hpp"
 #include "model/mesh_source.hpp"
+#include "model/plane_frame.hpp"
 #include "model/scene.hpp"
 #include "model/solution_fields.hpp"
 
@@ -49,7 +49,8 @@ fs::path output_dir_for(const Scene& scene, const SolveArgs& args) {
   return fs::path("results/runs") / fs::path(args.scene).stem();
 }
 
-Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::path& work_dir, std::string& description) {
+Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::path& work_dir,
+                std::string& description) {
   if (!mesh_override.empty()) {
     description = mesh_override;
     return read_mesh_file(mesh_override);
@@ -86,12 +87,14 @@ void print_engineering_summary(const Scene& scene, const SolveResult& res) {
     const bool friction = has_friction(res.n_cells, res.lambda);
     fmt::print("contact: normal force {:.4g} {}, tangential {:.4g} {}; area in contact {:.4g} {}²", cr.normal, u.force,
                std::hypot(cr.t1, cr.t2), u.force, cr.area[kStick] + cr.area[kSlip], u.length);
-    if (friction) fmt::print(" (stick {:.4g}, slip {:.4g}); friction torque {:.4g} {} {}", cr.area[kStick], cr.area[kSlip],
-                             cr.friction_torque, u.force, u.length);
+    if (friction)
+      fmt::print(" (stick {:.4g}, slip {:.4g}); friction torque {:.4g} {} {}", cr.area[kStick], cr.area[kSlip],
+                 cr.friction_torque, u.force, u.length);
     fmt::print("; max penetration {:.3g} {}\n", res.wn_plus_inf, u.length);
   }
   for (const auto& r : res.forces.reactions)
-    fmt::print("reaction on {}: ({:.4g}, {:.4g}, {:.4g}) {}\n", r.condition, r.force.x(), r.force.y(), r.force.z(), u.force);
+    fmt::print("reaction on {}: ({:.4g}, {:.4g}, {:.4g}) {}\n", r.condition, r.force.x(), r.force.y(), r.force.z(),
+               u.force);
 }
 
 int run_solve(const SolveArgs& args) {
@@ -112,8 +115,8 @@ int run_solve(const SolveArgs& args) {
                mesh.triangles.size(), info.mesh_seconds);
   auto progress = [&](const FixedPointStep& s) {
     if (!args.quiet)
-      fmt::print("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s\n", s.k, s.err, s.qp_iterations, s.n_mult,
-                 s.seconds);
+      fmt::print("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s\n", s.k, s.err, s.qp_iterations,
+                 s.n_mult, s.seconds);
     std::fflush(stdout);
   };
   // Stage lines and the QP's heartbeat (every 2 s on a terminal, every 10 s into a log file).
@@ -150,8 +153,8 @@ int run_check(const SolveArgs& args) {
   } cleanup{work};
   std::string description;
   const Mesh user_mesh = scene_mesh(user_scene, args.mesh, work, description);
-  fmt::print("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description, user_mesh.nodes.size(),
-             user_mesh.tets.size(), user_mesh.triangles.size());
+  fmt::print("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description,
+             user_mesh.nodes.size(), user_mesh.tets.size(), user_mesh.triangles.size());
   fmt::print("physical groups: {}\n", user_mesh.describe_groups());
   // Each group as a scene names it (a label or an unnamed gmsh group by its number), with its size.
   for (const auto& g : user_mesh.groups) {
@@ -205,17 +208,19 @@ int main(int argc, char** argv) {
   SolveArgs args;
   auto* solve = app.add_subcommand("solve", "solve a scene");
   solve->add_option("scene", args.scene, "scene file (TOML)")->required();
-  solve->add_option("--mesh", args.mesh, "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
+  solve->add_option("--mesh", args.mesh,
+                    "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
   solve->add_option("--set", args.sets, "override a scene key, e.g. --set friction.param=2e4");
   solve->add_option("--out", args.out, "output folder");
   solve->add_flag("--quiet", args.quiet, "print nothing but errors");
   solve->footer("Solver choices (scene keys, also for --set): solver.qp = " + names_list(kQpVariantNames) +
-                 "; solver.qp_scaling = " + names_list(kQpScalingNames) + "; solver.fixed_point = " +
-                 names_list(kFixedPointVariantNames) + "; solver.schur = " + names_list(kDualMethodNames) +
-                 ". summary.json records the resolved settings under \"settings\".");
+                "; solver.qp_scaling = " + names_list(kQpScalingNames) + "; solver.fixed_point = " +
+                names_list(kFixedPointVariantNames) + "; solver.schur = " + names_list(kDualMethodNames) +
+                ". summary.json records the resolved settings under \"settings\".");
   auto* check = app.add_subcommand("check", "validate a scene and its mesh without solving");
   check->add_option("scene", args.scene, "scene file (TOML)")->required();
-  check->add_option("--mesh", args.mesh, "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
+  check->add_option("--mesh", args.mesh,
+                    "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
   check->add_option("--set", args.sets, "override a scene key");
   auto* mesh_cmd = app.add_subcommand("mesh", "write a built-in mesh");
   std::string kind, out_file;
@@ -228,12 +233,11 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
+  } catch (const CLI::CallForHelp& e) { return app.exit(e); } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "error: " << e.what() << "\n" << "run 'contact3d --help' (or 'contact3d solve --help') for the usage\n";
+    std::cerr << "error: " << e.what() << "\n"
+              << "run 'contact3d --help' (or 'contact3d solve --help') for the usage\n";
     return 2;
   }
   try {

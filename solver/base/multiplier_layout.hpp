@@ -5,7 +5,7 @@
 namespace contact3d {
 
 struct MultiplierLayout {
-  int r = 0;                 // number of cells
+  int r = 0;  // number of cells
   bool with_friction = true;
 
   int size() const { return with_friction ? 3 * r : r; }

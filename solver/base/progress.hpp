@@ -16,8 +16,8 @@ class Progress {
 
   Progress() = default;
   // `stages` gets the stage lines; `heartbeat` (may be empty) at most one line per `period_s`.
-  Progress(Sink stages, Sink heartbeat, double period_s) : stages_(std::move(stages)), heartbeat_(std::move(heartbeat)),
-                                                            period_(period_s) {}
+  Progress(Sink stages, Sink heartbeat, double period_s)
+      : stages_(std::move(stages)), heartbeat_(std::move(heartbeat)), period_(period_s) {}
 
   void stage(const std::string& line) const {
     if (stages_) stages_(line);

@@ -9,12 +9,14 @@
 
 namespace contact3d {
 
-ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups,
-                              const DofMap& dofs) {
+ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs) {
   ContactFace face;
   if (mesh.nodes.empty()) throw InputError("the mesh has no nodes");
   Eigen::Vector3d lo = mesh.nodes.front(), hi = mesh.nodes.front();
-  for (const auto& x : mesh.nodes) { lo = lo.cwiseMin(x); hi = hi.cwiseMax(x); }
+  for (const auto& x : mesh.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
   const double plane_tol = 1e-8 * std::max((hi - lo).norm(), 1e-300);
 
   std::set<std::array<int, 3>> seen;
@@ -36,7 +38,8 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   face.contact_index.assign(mesh.nodes.size(), -1);
   face.gap.assign(mesh.nodes.size(), 0.0);
   for (const auto& tri : face.triangles)
-    for (int v : tri) face.gap[v] = mesh.nodes[v].z() <= plane_tol ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
+    for (int v : tri)
+      face.gap[v] = mesh.nodes[v].z() <= plane_tol ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
   std::vector<double> shortest, extent_x, extent_y;
   face.lo = mesh.nodes[face.triangles[0][0]].head<2>();
   face.hi = face.lo;

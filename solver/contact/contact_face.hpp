@@ -25,14 +25,13 @@ struct ContactFace {
   // Typical element size per direction: medians of the triangles' x- and y-extents, at least h.
   // "cell_size = 2h" uses these, so anisotropic contact meshes get matching rectangles.
   Eigen::Vector2d h_xy = Eigen::Vector2d::Zero();
-  double area = 0;                            // of the projection onto the plane
-  std::vector<double> gap;                    // mesh node -> initial gap d (height z above the plane) on Γc, else 0
+  double area = 0;          // of the projection onto the plane
+  std::vector<double> gap;  // mesh node -> initial gap d (height z above the plane) on Γc, else 0
 
   Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }
 };
 
 // Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle).
-ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups,
-                              const DofMap& dofs);
+ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs);
 
 }  // namespace contact3d

@@ -15,18 +15,18 @@
 namespace contact3d {
 
 struct ContactOperator {
-  Eigen::SparseMatrix<double> B;   // (r or 3r) x n_free
+  Eigen::SparseMatrix<double> B;  // (r or 3r) x n_free
   // b: the rows at w = 0, so that the constraints read on 𝔹w + b — the prescribed displacement
   // components of contact nodes (∫_{R_i} of their share) minus, in the normal rows, ∫_{R_i} d dS
   // with d the initial gap (Γc's height above the foundation).
   Eigen::VectorXd offset;
-  int r = 0;                       // number of cells
+  int r = 0;  // number of cells
   bool with_friction = true;
   MultiplierLayout layout() const { return {r, with_friction}; }
   int rows() const { return layout().size(); }
 };
 
-ContactOperator make_contact_operator(const ContactFace& face, const Partition& partition,
-                                      const DofMap& dofs, bool with_friction);
+ContactOperator make_contact_operator(const ContactFace& face, const Partition& partition, const DofMap& dofs,
+                                      bool with_friction);
 
 }  // namespace contact3d

@@ -10,8 +10,9 @@ namespace contact3d {
 
 FoundationFrame FoundationFrame::from_plane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
   if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0))
-    throw InputError("contact.plane_normal must be a non-zero, finite vector (the foundation's normal, pointing "
-                     "towards the body)");
+    throw InputError(
+        "contact.plane_normal must be a non-zero, finite vector (the foundation's normal, pointing "
+        "towards the body)");
   FoundationFrame frame;
   frame.point = point;
   const Eigen::Vector3d n = normal.normalized();

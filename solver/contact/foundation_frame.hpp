@@ -11,7 +11,7 @@ namespace contact3d {
 
 struct FoundationFrame {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // R: global -> plane frame
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();           // p, global
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();         // p, global
 
   // Throws InputError for a zero or non-finite normal.
   static FoundationFrame from_plane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal);

@@ -80,7 +80,10 @@ std::vector<int> unmatched_rows(const std::vector<std::vector<int>>& adj, int n_
     stack.assign(1, Frame{root, 0, -1});
     while (!stack.empty()) {
       Frame& top = stack.back();
-      if (top.next == adj[top.row].size()) { stack.pop_back(); continue; }
+      if (top.next == adj[top.row].size()) {
+        stack.pop_back();
+        continue;
+      }
       const int c = adj[top.row][top.next++];
       if (seen[c] == stamp) continue;
       seen[c] = stamp;
@@ -100,7 +103,11 @@ std::vector<int> unmatched_rows(const std::vector<std::vector<int>>& adj, int n_
   std::vector<char> done(adj.size(), 0);
   for (std::size_t r = 0; r < adj.size(); ++r)
     for (int c : adj[r])
-      if (match_col[c] < 0) { match_col[c] = static_cast<int>(r); done[r] = 1; break; }
+      if (match_col[c] < 0) {
+        match_col[c] = static_cast<int>(r);
+        done[r] = 1;
+        break;
+      }
   for (std::size_t r = 0; r < adj.size(); ++r)
     if (!done[r] && !augment(static_cast<int>(r), static_cast<int>(r))) unmatched.push_back(static_cast<int>(r));
   return unmatched;
@@ -111,8 +118,8 @@ std::vector<int> unmatched_rows(const std::vector<std::vector<int>>& adj, int n_
 std::string describe_cell(const Partition& part, int i) {
   const auto& c = part.cells[i];
   std::ostringstream s;
-  s << "cell " << i << " [" << c.lo.x() << ", " << c.hi.x() << "] x [" << c.lo.y() << ", " << c.hi.y()
-    << "], area " << c.area;
+  s << "cell " << i << " [" << c.lo.x() << ", " << c.hi.x() << "] x [" << c.lo.y() << ", " << c.hi.y() << "], area "
+    << c.area;
   return s.str();
 }
 
@@ -128,8 +135,8 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
   const double nx = std::max(1.0, std::ceil(extent.x() / opt.cell_size - 1e-9));
   const double ny = std::max(1.0, std::ceil(extent.y() / size_y - 1e-9));
   if (nx * ny > max_cells)
-    throw InputError("contact.cell_size " + std::to_string(opt.cell_size) + " m gives " +
-                     std::to_string(nx * ny) + " cells; choose a larger H");
+    throw InputError("contact.cell_size " + std::to_string(opt.cell_size) + " m gives " + std::to_string(nx * ny) +
+                     " cells; choose a larger H");
   part.grid_nx = static_cast<int>(nx);
   part.grid_ny = static_cast<int>(ny);
   part.hx = extent.x() / nx;
@@ -144,7 +151,10 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
     const auto& tri = face.triangles[t];
     const Polygon whole = triangle_polygon(xy(mesh, tri[0]), xy(mesh, tri[1]), xy(mesh, tri[2]));
     Eigen::Vector2d lo = whole[0].xy, hi = whole[0].xy;
-    for (const auto& v : whole) { lo = lo.cwiseMin(v.xy); hi = hi.cwiseMax(v.xy); }
+    for (const auto& v : whole) {
+      lo = lo.cwiseMin(v.xy);
+      hi = hi.cwiseMax(v.xy);
+    }
     const int i0 = std::clamp(static_cast<int>(std::floor((lo.x() - face.lo.x()) / part.hx)), 0, part.grid_nx - 1);
     const int i1 = std::clamp(static_cast<int>(std::floor((hi.x() - face.lo.x()) / part.hx)), 0, part.grid_nx - 1);
     const int j0 = std::clamp(static_cast<int>(std::floor((lo.y() - face.lo.y()) / part.hy)), 0, part.grid_ny - 1);
@@ -242,7 +252,10 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
     std::sort(small.begin(), small.end(), [&](int a, int b) { return area[a] < area[b]; });
     for (int r : small) {
       if (uf.find(r) != r || area[r] >= opt.sliver_fraction * full) continue;
-      if (merge_into_largest_neighbour(r)) { ++part.merged_slivers; changed = true; }
+      if (merge_into_largest_neighbour(r)) {
+        ++part.merged_slivers;
+        changed = true;
+      }
     }
   }
 
@@ -273,8 +286,8 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
     for (int round = 0;; ++round) {
       const std::vector<int> bad = cells_without_own_node(face, part);
       if (bad.empty()) break;
-      const bool repairable = round < 1000 && static_cast<double>(bad.size()) <=
-                                                  std::max(1.0, opt.max_repair_fraction * part.cells.size());
+      const bool repairable =
+          round < 1000 && static_cast<double>(bad.size()) <= std::max(1.0, opt.max_repair_fraction * part.cells.size());
       bool merged = false;
       if (repairable)
         for (int c : bad)
@@ -288,9 +301,9 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
         for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part, bad[k]);
         throw InputError("the multiplier partition violates the stability condition (5.1): " +
                          std::to_string(bad.size()) + " of " + std::to_string(part.cells.size()) +
-                         " cells have no free contact node of their own (rectangles H = " + number(part.hx) +
-                         " x " + number(part.hy) + " m, contact mesh size h = " + number(face.h) +
-                         " m), e.g." + cells + "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
+                         " cells have no free contact node of their own (rectangles H = " + number(part.hx) + " x " +
+                         number(part.hy) + " m, contact mesh size h = " + number(face.h) + " m), e.g." + cells +
+                         "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
       }
       root_of_cell = build();
     }

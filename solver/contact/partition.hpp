@@ -37,7 +37,7 @@ struct CellPiece {
 struct ContactCell {
   Eigen::Vector2d lo, hi;  // bounding box of the cell's pieces
   Eigen::Vector2d centroid;
-  double area = 0;         // meas_2(R_i ∩ Γc)
+  double area = 0;  // meas_2(R_i ∩ Γc)
   std::vector<CellPiece> pieces;
 };
 
@@ -53,18 +53,17 @@ struct PartitionOptions {
 struct Partition {
   std::vector<ContactCell> cells;
   int grid_nx = 0, grid_ny = 0;
-  double hx = 0, hy = 0;         // actual rectangle sides (<= H)
-  int merged_slivers = 0;        // cells merged into a neighbour because they were small
-  int split_cells = 0;           // extra cells created by splitting disconnected rectangles
-  int stability_merges = 0;      // cells merged into a neighbour to satisfy the matching test
+  double hx = 0, hy = 0;     // actual rectangle sides (<= H)
+  int merged_slivers = 0;    // cells merged into a neighbour because they were small
+  int split_cells = 0;       // extra cells created by splitting disconnected rectangles
+  int stability_merges = 0;  // cells merged into a neighbour to satisfy the matching test
 };
 
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& options);
 
 // For cell i: the pairs (mesh node, ∫_{R_i} φ_node dS) — the entries of one row of 𝔹 before
 // the component and the sign are applied. Nodes on Γu are included.
-std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face,
-                                                                   const Partition& partition);
+std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face, const Partition& partition);
 
 // The structural test of (5.1): cells that a maximum matching of cells to free contact nodes
 // (face.contact_index >= 0, positive hat integral over the cell) leaves unmatched. Empty iff

@@ -17,8 +17,7 @@ Polygon clip_by_levels(const Polygon& poly, const std::vector<double>& levels) {
     if (li <= 0) out.push_back(poly[i]);
     if ((li < 0 && lj > 0) || (li > 0 && lj < 0)) {
       const double s = li / (li - lj);
-      out.push_back({poly[i].xy + s * (poly[j].xy - poly[i].xy),
-                     poly[i].bary + s * (poly[j].bary - poly[i].bary)});
+      out.push_back({poly[i].xy + s * (poly[j].xy - poly[i].xy), poly[i].bary + s * (poly[j].bary - poly[i].bary)});
     }
   }
   if (out.size() < 3) out.clear();
@@ -59,8 +58,7 @@ Eigen::Vector3d hat_integrals(const Polygon& poly) {
 
 double integral_linear(const Polygon& poly, const std::vector<double>& v) {
   double sum = 0;
-  for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-    sum += std::abs(fan_area(poly, k)) * (v[0] + v[k] + v[k + 1]) / 3.0;
+  for (std::size_t k = 1; k + 1 < poly.size(); ++k) sum += std::abs(fan_area(poly, k)) * (v[0] + v[k] + v[k + 1]) / 3.0;
   return sum;
 }
 
@@ -72,8 +70,6 @@ double integral_linear_squared(const Polygon& poly, const std::vector<double>& v
   }
   return sum;
 }
-
-
 
 double integral_of_linear_composed(const Polygon& poly, const std::vector<double>& v,
                                    const std::function<double(double)>& G) {

@@ -35,8 +35,10 @@ void check_tet_orientation(const Mesh& mesh) {
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) h = std::max(h, (x[a] - x[b]).norm());
     const double v = tet_volume(x);
-    if (!std::isfinite(v) || std::abs(v) <= 1e-10 * h * h * h) degenerate.push_back(mesh.tet_tags[e]);
-    else if (v < 0) inverted.push_back(mesh.tet_tags[e]);
+    if (!std::isfinite(v) || std::abs(v) <= 1e-10 * h * h * h)
+      degenerate.push_back(mesh.tet_tags[e]);
+    else if (v < 0)
+      inverted.push_back(mesh.tet_tags[e]);
   }
   if (!degenerate.empty())
     throw InputError("degenerate (zero-volume) tetrahedra, element tags: " + list_tags(degenerate));
@@ -85,7 +87,10 @@ int free_components(const DofMap& dofs, int node) {
 template <class Fn>
 void parallel_for(std::size_t count, Fn fn) {
   const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
-  if (threads == 1 || count < 2048) { fn(std::size_t(0), count); return; }
+  if (threads == 1 || count < 2048) {
+    fn(std::size_t(0), count);
+    return;
+  }
   std::vector<std::thread> pool;
   std::vector<std::exception_ptr> errors(threads);
   const std::size_t chunk = (count + threads - 1) / threads;
@@ -93,7 +98,9 @@ void parallel_for(std::size_t count, Fn fn) {
     const std::size_t lo = t * chunk, hi = std::min(count, lo + chunk);
     if (lo < hi)
       pool.emplace_back([&, t, lo, hi] {
-        try { fn(lo, hi); } catch (...) { errors[t] = std::current_exception(); }
+        try {
+          fn(lo, hi);
+        } catch (...) { errors[t] = std::current_exception(); }
       });
   }
   for (auto& th : pool) th.join();
@@ -119,7 +126,8 @@ struct NodeTets {
 // isotropic D of hooke_matrix, from the hat gradients g_a, g_b:
 //   |T| (λ g_a g_bᵀ + μ g_b g_aᵀ + μ (g_a·g_b) I)   (λ, μ the Lamé constants).
 // Equal to the block of element_stiffness (tested against the triplet assembly).
-Eigen::Matrix3d isotropic_block(const Eigen::Vector3d& ga, const Eigen::Vector3d& gb, double lame_lambda, double mu, double volume) {
+Eigen::Matrix3d isotropic_block(const Eigen::Vector3d& ga, const Eigen::Vector3d& gb, double lame_lambda, double mu,
+                                double volume) {
   Eigen::Matrix3d block = lame_lambda * ga * gb.transpose() + mu * gb * ga.transpose();
   block.diagonal().array() += mu * ga.dot(gb);
   return volume * block;
@@ -130,8 +138,7 @@ Eigen::Matrix3d isotropic_block(const Eigen::Vector3d& ga, const Eigen::Vector3d
 // Column-block assembly: every free node owns the 3 columns of its dofs and fills them from its
 // own tets (the block |T| B_aᵀ D B_b for each node a of a tet around it), so nodes are independent —
 // parallel without colouring — and every write goes to the node's own contiguous columns.
-Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
-                                               const TetMaterials& material) {
+Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material) {
   if (!has_node_ordered_layout(dofs)) return assemble_stiffness_triplets(mesh, dofs, material);
   const int n_nodes = dofs.n_nodes;
   const NodeTets around(mesh);
@@ -192,7 +199,10 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
         Eigen::Index k = col_ptr[d];
         for (int a : list)
           for (int r = 0; r < 3; ++r)
-            if (const int row = dofs.dof(a, r); row >= 0) { row_idx[k] = row; values[k++] = 0.0; }
+            if (const int row = dofs.dof(a, r); row >= 0) {
+              row_idx[k] = row;
+              values[k++] = 0.0;
+            }
       }
       for (int k = around.first[v]; k < around.first[v + 1]; ++k) {
         const int e = around.tet[k];
@@ -240,11 +250,13 @@ std::vector<Eigen::Vector3d> outward_normals(const Mesh& mesh, const std::string
     std::sort(key.begin(), key.end());
     const int inner = opposite[key];
     if (inner < 0)
-      throw InputError("boundary.pressure on '" + group + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
-                       (inner == -1 ? " is not a face of any tetrahedron" : " is an interior face (two tetrahedra share it)") +
-                       "; a pressure acts on the body's boundary");
+      throw InputError(
+          "boundary.pressure on '" + group + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
+          (inner == -1 ? " is not a face of any tetrahedron" : " is an interior face (two tetrahedra share it)") +
+          "; a pressure acts on the body's boundary");
     const auto& tri = mesh.triangles[t];
-    Eigen::Vector3d n = (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).normalized();
+    Eigen::Vector3d n =
+        (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).normalized();
     if (n.dot(mesh.nodes[inner] - mesh.nodes[tri[0]]) > 0) n = -n;
     normals.push_back(n);
   }
@@ -252,11 +264,13 @@ std::vector<Eigen::Vector3d> outward_normals(const Mesh& mesh, const std::string
 }
 
 // Adds the loads at the nodes (3 per node) of every surface load and the body force.
-Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force) {
+Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tractions,
+                            const Eigen::Vector3d& body_force) {
   Eigen::VectorXd load = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(mesh.nodes.size()));
   for (const auto& tr : tractions) {
     if (mesh.find_group(tr.group, 2) == nullptr && mesh.find_group(tr.group, 3) != nullptr)
-      throw InputError("the load on '" + tr.group + "' names a volume (3-D) group; tractions and pressures act on "
+      throw InputError("the load on '" + tr.group +
+                       "' names a volume (3-D) group; tractions and pressures act on "
                        "boundary (2-D) groups");
     const std::vector<int> tris = mesh.triangles_of_group(tr.group);
     const std::vector<Eigen::Vector3d> normals =
@@ -265,7 +279,8 @@ Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tract
       const auto& tri = mesh.triangles[tris[k]];
       const double area =
           0.5 * (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).norm();
-      const Eigen::Vector3d shift = tr.pressure != 0 ? Eigen::Vector3d(-tr.pressure * normals[k]) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d shift =
+          tr.pressure != 0 ? Eigen::Vector3d(-tr.pressure * normals[k]) : Eigen::Vector3d::Zero();
       std::array<Eigen::Vector3d, 3> t;  // the traction at the corners; ∫ t φ_i = |T|/12 (2 t_i + t_j + t_k)
       for (int a = 0; a < 3; ++a) t[a] = tr.value + shift + tr.gradient * mesh.nodes[tri[a]];
       for (int a = 0; a < 3; ++a)
@@ -282,8 +297,7 @@ Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tract
 
 }  // namespace
 
-Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
-                              const std::vector<Traction>& tractions,
+Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs, const std::vector<Traction>& tractions,
                               const Eigen::Vector3d& body_force) {
   const Eigen::VectorXd load = nodal_loads(mesh, tractions, body_force);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs.n_free);
@@ -291,8 +305,9 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
     if (const int d = dofs.free_index[i]; d >= 0) f[d] += load[i];
   // Loads so large that |f|² overflows would turn every norm in the dual QP into inf/NaN.
   if (!std::isfinite(f.squaredNorm()))
-    throw InputError("the load vector overflows double precision (|f|² is not finite): tractions or body force too "
-                     "large; rescale the units");
+    throw InputError(
+        "the load vector overflows double precision (|f|² is not finite): tractions or body force too "
+        "large; rescale the units");
   return f;
 }
 
@@ -311,7 +326,8 @@ Eigen::VectorXd assemble_lift(const Mesh& mesh, const DofMap& dofs, const TetMat
         if (const int d = dofs.dof(t[a], c); d >= 0) f[d] -= Kg[3 * a + c];
   }
   if (!std::isfinite(f.squaredNorm()))
-    throw InputError("the prescribed displacements overflow the load vector (|K u_c|² is not finite); rescale the units");
+    throw InputError(
+        "the prescribed displacements overflow the load vector (|K u_c|² is not finite); rescale the units");
   return f;
 }
 
@@ -333,7 +349,8 @@ std::vector<ReactionForce> reaction_forces(const DofMap& dofs, const Eigen::Vect
   std::vector<ReactionForce> out(dofs.conditions.size());
   for (std::size_t k = 0; k < out.size(); ++k) out[k].condition = dofs.conditions[k];
   for (std::size_t i = 0; i < dofs.fixed_by.size(); ++i)
-    if (dofs.fixed_by[i] >= 0) out[dofs.fixed_by[i]].force[static_cast<int>(i % 3)] += residual[static_cast<Eigen::Index>(i)];
+    if (dofs.fixed_by[i] >= 0)
+      out[dofs.fixed_by[i]].force[static_cast<int>(i % 3)] += residual[static_cast<Eigen::Index>(i)];
   return out;
 }
 

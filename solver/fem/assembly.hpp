@@ -23,7 +23,7 @@ struct Traction {
   std::string group;
   Eigen::Vector3d value = Eigen::Vector3d::Zero();
   Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero();  // Pa/m
-  double pressure = 0;                                  // Pa
+  double pressure = 0;                                 // Pa
 };
 
 struct ElasticSystem {
@@ -34,16 +34,14 @@ struct ElasticSystem {
 // Throws InputError naming the tets (file tags) that are inverted or degenerate.
 void check_tet_orientation(const Mesh& mesh);
 
-Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs,
-                                               const TetMaterials& material);
+Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material);
 // The same matrix by plain triplet assembly (the reference the fast path is tested against,
 // and the fallback for dof maps without the node-block layout of make_dof_map).
 Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const DofMap& dofs,
                                                         const TetMaterials& material);
 // The external loads at the free dofs (tractions integrated exactly for affine t). Throws
 // InputError for a pressure on a group that is not a boundary face of the body.
-Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs,
-                              const std::vector<Traction>& tractions,
+Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs, const std::vector<Traction>& tractions,
                               const Eigen::Vector3d& body_force);
 // −K_fc·u_c: what the prescribed displacements add to the free dofs' load (zero for clamps).
 Eigen::VectorXd assemble_lift(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material);

@@ -43,9 +43,9 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_gr
     const int i = 3 * v + c;
     if (map.fixed_by[i] >= 0) {
       if (map.prescribed[i] != value)
-        throw InputError("u_" + std::string(kAxis[c]) + " at " + where(mesh, v) + " is prescribed twice with different values: " +
-                         number(map.prescribed[i]) + " by " + map.conditions[map.fixed_by[i]] + " and " + number(value) +
-                         " by " + map.conditions.back());
+        throw InputError("u_" + std::string(kAxis[c]) + " at " + where(mesh, v) +
+                         " is prescribed twice with different values: " + number(map.prescribed[i]) + " by " +
+                         map.conditions[map.fixed_by[i]] + " and " + number(value) + " by " + map.conditions.back());
       return;
     }
     map.fixed[v] |= static_cast<unsigned char>(1u << c);
@@ -97,11 +97,10 @@ void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
     if (!dofs.used[v] || !dofs.fixed[v]) continue;
     const Eigen::Vector3d x = (mesh.nodes[v] - centre) / size;
     // Row c of the rigid-motion basis at x: translations e_c, rotations e_a × x.
-    const Eigen::Matrix<double, 3, 6> basis =
-        (Eigen::Matrix<double, 3, 6>() << 1, 0, 0, 0, x.z(), -x.y(),  //
-         0, 1, 0, -x.z(), 0, x.x(),                                   //
-         0, 0, 1, x.y(), -x.x(), 0)
-            .finished();
+    const Eigen::Matrix<double, 3, 6> basis = (Eigen::Matrix<double, 3, 6>() << 1, 0, 0, 0, x.z(), -x.y(),  //
+                                               0, 1, 0, -x.z(), 0, x.x(),                                   //
+                                               0, 0, 1, x.y(), -x.x(), 0)
+                                                  .finished();
     for (int c = 0; c < 3; ++c)
       if (dofs.fixed[v] >> c & 1) gram += basis.row(c).transpose() * basis.row(c);
   }

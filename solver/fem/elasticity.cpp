@@ -17,9 +17,7 @@ Matrix6d hooke_matrix(const Material& m) {
   return D;
 }
 
-double tet_volume(const TetCoords& x) {
-  return (x[1] - x[0]).dot((x[2] - x[0]).cross(x[3] - x[0])) / 6.0;
-}
+double tet_volume(const TetCoords& x) { return (x[1] - x[0]).dot((x[2] - x[0]).cross(x[3] - x[0])) / 6.0; }
 
 Matrix6x12d strain_matrix(const TetCoords& x) {
   // Gradients of the barycentric hat functions: rows of the inverse Jacobian.
@@ -36,9 +34,12 @@ Matrix6x12d strain_matrix(const TetCoords& x) {
     B(0, c) = g.x();
     B(1, c + 1) = g.y();
     B(2, c + 2) = g.z();
-    B(3, c + 1) = g.z(); B(3, c + 2) = g.y();
-    B(4, c) = g.z();     B(4, c + 2) = g.x();
-    B(5, c) = g.y();     B(5, c + 1) = g.x();
+    B(3, c + 1) = g.z();
+    B(3, c + 2) = g.y();
+    B(4, c) = g.z();
+    B(4, c + 2) = g.x();
+    B(5, c) = g.y();
+    B(5, c + 1) = g.x();
   }
   return B;
 }

@@ -1,8 +1,8 @@
 #include "friction/fixed_point.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <algorithm>
 #include <cstdio>
 #include <deque>
 #include <limits>
@@ -14,10 +14,14 @@ namespace contact3d {
 
 std::string to_string(FixedPointStatus s) {
   switch (s) {
-    case FixedPointStatus::Converged: return "converged";
-    case FixedPointStatus::IterationLimit: return "iteration_limit";
-    case FixedPointStatus::Stagnation: return "stagnation";
-    case FixedPointStatus::InnerSolverFailed: return "inner_solver_failed";
+    case FixedPointStatus::Converged:
+      return "converged";
+    case FixedPointStatus::IterationLimit:
+      return "iteration_limit";
+    case FixedPointStatus::Stagnation:
+      return "stagnation";
+    case FixedPointStatus::InnerSolverFailed:
+      return "inner_solver_failed";
   }
   return "?";
 }
@@ -47,11 +51,17 @@ double relative_change(const Eigen::VectorXd& next, const Eigen::VectorXd& prev,
 class AndersonMixer {
  public:
   explicit AndersonMixer(int depth) : depth_(depth) {}
-  void reset() { xs_.clear(); gs_.clear(); }
+  void reset() {
+    xs_.clear();
+    gs_.clear();
+  }
   Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& gx) {
     xs_.push_back(x);
     gs_.push_back(gx);
-    if (static_cast<int>(xs_.size()) > depth_ + 1) { xs_.pop_front(); gs_.pop_front(); }
+    if (static_cast<int>(xs_.size()) > depth_ + 1) {
+      xs_.pop_front();
+      gs_.pop_front();
+    }
     const int m = static_cast<int>(xs_.size()) - 1;
     if (m == 0) return gx;
     const Eigen::VectorXd f = gx - x;
@@ -61,7 +71,10 @@ class AndersonMixer {
       dG.col(j) = gs_[j + 1] - gs_[j];
     }
     const Eigen::VectorXd gamma = dF.colPivHouseholderQr().solve(f);
-    if (!gamma.allFinite()) { reset(); return gx; }
+    if (!gamma.allFinite()) {
+      reset();
+      return gx;
+    }
     return (gx - dG * gamma).cwiseMax(0.0);  // slips are norms: keep them non-negative
   }
 
@@ -100,7 +113,8 @@ std::string format_g(double v) {
 
 std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
   switch (status) {
-    case FixedPointStatus::Converged: return "";
+    case FixedPointStatus::Converged:
+      return "";
     case FixedPointStatus::IterationLimit:
       if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol);
       return "the successive approximations contract slowly (q = " + format_g(q) +
@@ -133,11 +147,13 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   auto next_iterate = [&](const Eigen::VectorXd& xk, const Eigen::VectorXd& gx, const std::vector<double>& lengths,
                           bool err_grew) -> Eigen::VectorXd {
     switch (settings.variant) {
-      case FixedPointVariant::Plain: return gx;
+      case FixedPointVariant::Plain:
+        return gx;
       case FixedPointVariant::Anderson:
         if (err_grew) mixer.reset();  // safeguard
         return mixer.next(xk, gx);
-      case FixedPointVariant::Accelerated: break;
+      case FixedPointVariant::Accelerated:
+        break;
     }
     if (mixing && lengths.back() > accepted_length) {  // the mixed point did worse: plain step from the last good one
       mixer.reset();
@@ -148,8 +164,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     }
     accepted_image = gx;
     accepted_length = lengths.back();
-    if (plain_steps_before_mixing > 0) --plain_steps_before_mixing;
-    else if (!mixing && contracts_slowly(lengths)) mixing = true;
+    if (plain_steps_before_mixing > 0)
+      --plain_steps_before_mixing;
+    else if (!mixing && contracts_slowly(lengths))
+      mixing = true;
     const Eigen::VectorXd mixed = mixer.next(xk, gx);  // fed from the start, used once the map contracts slowly
     return mixing ? mixed : gx;
   };
@@ -163,7 +181,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     result.contraction_factor = contraction_factor(step_lengths);
     const double q = result.contraction_factor, err = result.history.back().err;
     result.distance_bound = status == FixedPointStatus::Converged && result.history.size() == 1 ? err
-                            : q < 1 ? q / (1 - q) * err
+                            : q < 1                                                             ? q / (1 - q) * err
                                     : std::numeric_limits<double>::infinity();
     result.hint = hint_for(status, q, rtol);
     return result;

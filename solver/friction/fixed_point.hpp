@@ -9,9 +9,9 @@
 // most max(5, 1/20 of the first step's) iterations) is taken as inner noise, and the QP tolerance
 // is tightened 100× (down to `qp_rtol_floor`) before anything else is concluded. Stagnation — no
 // new minimum of err for `stagnation_window` steps — is only declared when inner noise is ruled
-// out (the QP is at the floor, or busy with every step), i.e. when the map itself does not contract. The observed contraction factor q (the largest ratio of successive
-// steps ‖φᵏ⁺¹ − φᵏ‖ / ‖φᵏ − φᵏ⁻¹‖ over the last three) gives the a posteriori bound
-// ‖φ* − φᵏ‖ <= q / (1 − q) ‖φᵏ − φᵏ⁻¹‖ on the distance to the fixed point when q < 1.
+// out (the QP is at the floor, or busy with every step), i.e. when the map itself does not contract. The observed
+// contraction factor q (the largest ratio of successive steps ‖φᵏ⁺¹ − φᵏ‖ / ‖φᵏ − φᵏ⁻¹‖ over the last three) gives the
+// a posteriori bound ‖φ* − φᵏ‖ <= q / (1 − q) ‖φᵏ − φᵏ⁻¹‖ on the distance to the fixed point when q < 1.
 #pragma once
 
 #include <functional>
@@ -34,9 +34,10 @@ enum class FixedPointStatus { Converged, IterationLimit, Stagnation, InnerSolver
 // mixed step kept only if it shrinks the step length ‖G(φ) − φ‖ below the last accepted one (else
 // the plain step from the last accepted point, and the mixing restarts).
 enum class FixedPointVariant { Plain, Anderson, Accelerated };
-inline constexpr NameTable<FixedPointVariant, 3> kFixedPointVariantNames{{{FixedPointVariant::Plain, "plain"},
-                                                                        {FixedPointVariant::Anderson, "anderson"},
-                                                                        {FixedPointVariant::Accelerated, "accelerated"}}};
+inline constexpr NameTable<FixedPointVariant, 3> kFixedPointVariantNames{
+    {{FixedPointVariant::Plain, "plain"},
+     {FixedPointVariant::Anderson, "anderson"},
+     {FixedPointVariant::Accelerated, "accelerated"}}};
 std::string to_string(FixedPointStatus s);
 
 struct FixedPointSettings {
@@ -59,8 +60,8 @@ struct FixedPointSettings {
 
 // One evaluation of G: what the Tresca solve reports back.
 struct SlipEvaluation {
-  Eigen::VectorXd slip;       // G(φ) at the contact nodes
-  bool ok = true;             // false when the inner QP failed
+  Eigen::VectorXd slip;  // G(φ) at the contact nodes
+  bool ok = true;        // false when the inner QP failed
   int qp_iterations = 0;
   int hessian_products = 0;
 };
@@ -69,15 +70,15 @@ struct FixedPointStep {
   int k = 0;
   double err = 0;
   int qp_iterations = 0;
-  int n_mult = 0;             // cumulative multiplications by K⁻¹ (paper's count)
-  double seconds = 0;         // wall time of this step
-  double qp_rtol = 0;         // the QP tolerance this step was solved to
+  int n_mult = 0;      // cumulative multiplications by K⁻¹ (paper's count)
+  double seconds = 0;  // wall time of this step
+  double qp_rtol = 0;  // the QP tolerance this step was solved to
 };
 
 struct FixedPointResult {
   FixedPointStatus status = FixedPointStatus::IterationLimit;
   std::vector<FixedPointStep> history;
-  Eigen::VectorXd phi;        // the last input φ (the final Tresca solve used c(phi))
+  Eigen::VectorXd phi;  // the last input φ (the final Tresca solve used c(phi))
   // Observed contraction factor q (NaN before three steps) and the a posteriori bound on the
   // relative distance of the last G(φ) to the fixed point, q/(1 − q)·err (∞ when q >= 1).
   double contraction_factor = std::numeric_limits<double>::quiet_NaN();

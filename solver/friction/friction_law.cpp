@@ -10,8 +10,10 @@ namespace contact3d {
 
 double FrictionLaw::operator()(double t) const {
   switch (kind) {
-    case Kind::None: return 0;
-    case Kind::Constant: return value;
+    case Kind::None:
+      return 0;
+    case Kind::Constant:
+      return value;
     case Kind::Ramp: {
       if (t <= t0) return high;
       const double end = t0 + 2.0 / param;
@@ -22,8 +24,7 @@ double FrictionLaw::operator()(double t) const {
       if (t <= points.front().first) return points.front().second;
       if (t >= points.back().first) return points.back().second;
       // First k with t_k > t; the segment [k-1, k] is linear (a jump has t_{k-1} = t_k).
-      auto it = std::upper_bound(points.begin(), points.end(), t,
-                                 [](double x, const auto& p) { return x < p.first; });
+      auto it = std::upper_bound(points.begin(), points.end(), t, [](double x, const auto& p) { return x < p.first; });
       const auto& [t1, f1] = *std::prev(it);
       const auto& [t2, f2] = *it;
       return f1 + (f2 - f1) * (t - t1) / (t2 - t1);
@@ -34,23 +35,29 @@ double FrictionLaw::operator()(double t) const {
 
 std::vector<double> FrictionLaw::breakpoints() const {
   switch (kind) {
-    case Kind::Ramp: return {t0, t0 + 2.0 / param};
+    case Kind::Ramp:
+      return {t0, t0 + 2.0 / param};
     case Kind::Table: {
       std::vector<double> out;
       for (const auto& p : points)
         if (out.empty() || p.first > out.back()) out.push_back(p.first);
       return out;
     }
-    default: return {};
+    default:
+      return {};
   }
 }
 
 std::string FrictionLaw::name() const {
   switch (kind) {
-    case Kind::None: return "none";
-    case Kind::Constant: return "constant";
-    case Kind::Ramp: return "ramp";
-    case Kind::Table: return "table";
+    case Kind::None:
+      return "none";
+    case Kind::Constant:
+      return "constant";
+    case Kind::Ramp:
+      return "ramp";
+    case Kind::Table:
+      return "table";
   }
   return "?";
 }
@@ -66,7 +73,8 @@ void FrictionLaw::validate() const {
       bad(key + " (a coefficient: finite, in [0, " + number(kMaxCoefficient) + "])", v);
   };
   switch (kind) {
-    case Kind::None: return;
+    case Kind::None:
+      return;
     case Kind::Constant:
       coefficient("value", value);
       return;

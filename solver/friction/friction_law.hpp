@@ -23,7 +23,7 @@ inline constexpr NameTable<FrictionModel, 2> kFrictionModelNames{
 struct FrictionLaw {
   enum class Kind { None, Constant, Ramp, Table };
   Kind kind = Kind::None;
-  double value = 0;                      // constant
+  double value = 0;                                      // constant
   double high = 0.3, low = 0.2, t0 = 1e-5, param = 6e4;  // ramp (6.1)
   std::vector<std::pair<double, double>> points;         // table
 

@@ -19,7 +19,10 @@ double integrate_law(Polygon poly, const Eigen::Vector3d& phi, const FrictionLaw
     if (poly.empty()) break;
     const std::vector<double> values = vertex_values(poly, phi);
     std::vector<double> below(values.size()), above(values.size());
-    for (std::size_t k = 0; k < values.size(); ++k) { below[k] = values[k] - b; above[k] = b - values[k]; }
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      below[k] = values[k] - b;
+      above[k] = b - values[k];
+    }
     const Polygon lower = clip_by_levels(poly, below);
     if (!lower.empty()) total += integral_of_linear_composed(lower, vertex_values(lower, phi), F);
     poly = clip_by_levels(poly, above);

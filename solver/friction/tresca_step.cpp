@@ -4,8 +4,13 @@ namespace contact3d {
 
 TrescaStep::TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs& face_dofs, const ContactFace& face,
                        RadiusRule radii, Eigen::VectorXd slip_bound)
-    : dual_(dual), qp_(qp), face_dofs_(face_dofs), face_(face), radii_(std::move(radii)),
-      slip_bound_(std::move(slip_bound)), lambda_(Eigen::VectorXd::Zero(dual.size())) {}
+    : dual_(dual),
+      qp_(qp),
+      face_dofs_(face_dofs),
+      face_(face),
+      radii_(std::move(radii)),
+      slip_bound_(std::move(slip_bound)),
+      lambda_(Eigen::VectorXd::Zero(dual.size())) {}
 
 SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol) {
   radius_ = radii_(phi, g);

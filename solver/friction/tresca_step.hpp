@@ -34,11 +34,11 @@ class TrescaStep {
 
   const Eigen::VectorXd& lambda() const { return lambda_; }
   const Eigen::VectorXd& radius() const { return radius_; }
-  const Eigen::VectorXd& slip_input() const { return slip_input_; }  // φ of the last radii
-  const Eigen::VectorXd& slip_bound_input() const { return slip_bound_input_; }  // g of the last radii
+  const Eigen::VectorXd& slip_input() const { return slip_input_; }                     // φ of the last radii
+  const Eigen::VectorXd& slip_bound_input() const { return slip_bound_input_; }         // g of the last radii
   Eigen::VectorXd normal_pressure() const { return lambda_.head(slip_bound_.size()); }  // λ_n per cell
   const QpResult& last_qp() const { return last_qp_; }
-  int products() const { return products_; }          // K⁻¹ applications in the paper's sense
+  int products() const { return products_; }  // K⁻¹ applications in the paper's sense
   int qp_iterations() const { return qp_iterations_; }
   // u on Γc after the last solve (FaceDofs order, 3 per node).
   const Eigen::VectorXd& last_face_displacement() const { return last_face_; }

@@ -9,11 +9,21 @@ std::string JsonWriter::quote(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char buf[8];
@@ -67,8 +77,20 @@ JsonWriter& JsonWriter::value(const std::string& key, double v) {
   }
   return *this;
 }
-JsonWriter& JsonWriter::value(const std::string& key, long long v) { prefix(key); out_ << v; return *this; }
-JsonWriter& JsonWriter::value(const std::string& key, bool v) { prefix(key); out_ << (v ? "true" : "false"); return *this; }
-JsonWriter& JsonWriter::value(const std::string& key, const std::string& v) { prefix(key); out_ << quote(v); return *this; }
+JsonWriter& JsonWriter::value(const std::string& key, long long v) {
+  prefix(key);
+  out_ << v;
+  return *this;
+}
+JsonWriter& JsonWriter::value(const std::string& key, bool v) {
+  prefix(key);
+  out_ << (v ? "true" : "false");
+  return *this;
+}
+JsonWriter& JsonWriter::value(const std::string& key, const std::string& v) {
+  prefix(key);
+  out_ << quote(v);
+  return *this;
+}
 
 }  // namespace contact3d

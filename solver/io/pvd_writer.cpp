@@ -26,7 +26,8 @@ void write_pvd(const std::filesystem::path& file, const std::vector<TimeStep>& s
     pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
         << "  <Collection>\n";
     for (const auto& s : steps) {
-      pvd << "    <DataSet timestep=\"" << s.k << "\" group=\"\" part=\"0\" name=\"body\" file=\"" << s.body << "\"/>\n";
+      pvd << "    <DataSet timestep=\"" << s.k << "\" group=\"\" part=\"0\" name=\"body\" file=\"" << s.body
+          << "\"/>\n";
       if (!s.contact.empty())
         pvd << "    <DataSet timestep=\"" << s.k << "\" group=\"\" part=\"1\" name=\"contact\" file=\"" << s.contact
             << "\"/>\n";

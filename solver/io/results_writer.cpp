@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <set>
-#include <fstream>
 #include <stdexcept>
 
 #include "base/errors.hpp"
@@ -52,22 +52,26 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
         << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << pts.size() << "\" NumberOfCells=\"" << owner.size()
         << "\">\n      <CellData Scalars=\"lambda_n\">\n";
-    data_array(out, "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, "Int64");
+    data_array(
+        out, "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, "Int64");
     data_array(out, "lambda_n", 1, owner.size(), [&](std::size_t k, int) { return res.lambda[owner[k]]; });
-    data_array(out, "lambda_t", 3, owner.size(), [&](std::size_t k, int c) {
-      return fr && c < 2 ? res.lambda[(c + 1) * r + owner[k]] : 0.0;
-    });
+    data_array(out, "lambda_t", 3, owner.size(),
+               [&](std::size_t k, int c) { return fr && c < 2 ? res.lambda[(c + 1) * r + owner[k]] : 0.0; });
     data_array(out, "radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
     const std::vector<int> cs = cell_status(res.n_cells, res.lambda, res.radius);
-    data_array(out, "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, "Int32");
+    data_array(
+        out, "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, "Int32");
     out << "      </CellData>\n      <Points>\n";
     data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) {  // the cells lie in the foundation plane
       return res.frame.to_global_point(Eigen::Vector3d(pts[i].x(), pts[i].y(), 0.0))[c];
     });
     out << "      </Points>\n      <Cells>\n";
-    data_array(out, "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, "Int64");
-    data_array(out, "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, "Int64");
-    data_array(out, "types", 1, owner.size(), [](std::size_t, int) { return 7; }, "UInt8");
+    data_array(
+        out, "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, "Int64");
+    data_array(
+        out, "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, "Int64");
+    data_array(
+        out, "types", 1, owner.size(), [](std::size_t, int) { return 7; }, "UInt8");
     out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   });
 }
@@ -101,16 +105,22 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.begin_object();
     j.value("status", res.status).value("converged", res.converged);
     j.value("mesh", info.mesh_description);
-    j.value("n_nodes", static_cast<long long>(mesh.nodes.size())).value("n_tets", static_cast<long long>(mesh.tets.size()));
+    j.value("n_nodes", static_cast<long long>(mesh.nodes.size()))
+        .value("n_tets", static_cast<long long>(mesh.tets.size()));
     j.value("n_primal", res.n_primal).value("n_dual", res.n_dual);
     j.value("n_contact_nodes", static_cast<long long>(res.face.nodes.size())).value("n_cells", res.n_cells);
-    j.value("contact_h", res.face.h).value("cell_size", res.cell_size).value("cells_merged", res.partition.merged_slivers);
-    j.value("cells_split", res.partition.split_cells).value("cells_merged_for_stability", res.partition.stability_merges);
+    j.value("contact_h", res.face.h)
+        .value("cell_size", res.cell_size)
+        .value("cells_merged", res.partition.merged_slivers);
+    j.value("cells_split", res.partition.split_cells)
+        .value("cells_merged_for_stability", res.partition.stability_merges);
     j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
     j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
     j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
-    j.value("friction_model", scene.frictionless() ? std::string("none") : name_of(scene.friction_model, kFrictionModelNames));
-    j.value("qp_last_status", to_string(res.last_qp.status)).value("qp_last_projected_gradient", res.last_qp.projected_gradient);
+    j.value("friction_model",
+            scene.frictionless() ? std::string("none") : name_of(scene.friction_model, kFrictionModelNames));
+    j.value("qp_last_status", to_string(res.last_qp.status))
+        .value("qp_last_projected_gradient", res.last_qp.projected_gradient);
     j.begin_array("err_history");
     for (const auto& s : solve_history(res)) j.element(s.err);
     j.end_array();
@@ -118,7 +128,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       const FixedPointResult& fp = res.fixed_point;
       j.begin_object("fixed_point");
       j.value("contraction_factor", fp.contraction_factor);  // null before three steps
-      j.value("contracted", fp.contraction_factor < 1);         // q < 1 observed over the last steps
+      j.value("contracted", fp.contraction_factor < 1);      // q < 1 observed over the last steps
       j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err; null when q >= 1 (no bound)
       j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
       j.value("final_qp_rtol", fp.history.back().qp_rtol);
@@ -139,8 +149,9 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     // minus the friction force on the body (forces.contact has the whole force on the body, user axes).
     j.begin_object("contact_force").value("normal", cr.normal).value("t1", cr.t1).value("t2", cr.t2);
     j.value("tangential", std::hypot(cr.t1, cr.t2)).end_object();
-    if (has_friction(res)) j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
-    j.value("max_penetration", res.wn_plus_inf);  // max nodal (w_n − d)⁺ on Γc
+    if (has_friction(res))
+      j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
+    j.value("max_penetration", res.wn_plus_inf);       // max nodal (w_n − d)⁺ on Γc
     j.value("friction_where_separated_area", res.friction_where_separated_area);  // Tresca's bound where λ_n = 0
     {  // areas of the cells by status (in the plane; the cells' own areas)
       const double no_friction = std::numeric_limits<double>::quiet_NaN();  // null: no stick/slip without friction
@@ -150,7 +161,9 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       j.value("separated", cr.area[kSeparated]).end_object();
     }
     const UnitLabels units = unit_labels(scene.output.units);
-    j.begin_object("units").value("system", name_of(scene.output.units, kUnitSystemNames)).value("length", units.length);
+    j.begin_object("units")
+        .value("system", name_of(scene.output.units, kUnitSystemNames))
+        .value("length", units.length);
     j.value("force", units.force).value("stress", units.stress).end_object();
     j.value("output_steps", name_of(resolved(scene.output.steps, mesh.nodes.size()), kStepOutputNames));  // as resolved
     write_forces(j, res.forces);
@@ -160,7 +173,8 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.end_object();
     j.begin_object("kkt");
     j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
-    j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
+    j.value("normal_complementarity", res.kkt.normal_complementarity)
+        .value("disc_feasibility", res.kkt.disc_feasibility);
     j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
     if (scene.coulomb()) j.value("coulomb_relation", res.coulomb_relation);  // max |c − F̄λ_n| / max c
     j.end_object();
@@ -180,8 +194,9 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
       const auto& x = mesh.nodes[v];
       const double u1 = res.u[3 * v], u2 = res.u[3 * v + 1], u3 = res.u[3 * v + 2];
       const Eigen::Vector3d local = res.frame.to_local(res.u.segment<3>(3 * v));  // wn, wt in the plane's frame
-      out << mesh.node_tags[v] << ',' << x.x() << ',' << x.y() << ',' << x.z() << ',' << u1 << ',' << u2 << ',' << u3 << ','
-          << -local.z() << ',' << local.head<2>().norm() << ',' << nf.friction[v] << ',' << nf.pressure[v] << ',' << nf.status[v] << '\n';
+      out << mesh.node_tags[v] << ',' << x.x() << ',' << x.y() << ',' << x.z() << ',' << u1 << ',' << u2 << ',' << u3
+          << ',' << -local.z() << ',' << local.head<2>().norm() << ',' << nf.friction[v] << ',' << nf.pressure[v] << ','
+          << nf.status[v] << '\n';
     }
   });
   write_file(dir / "contact_cells.csv", [&](std::ostream& out) {

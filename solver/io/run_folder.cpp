@@ -19,8 +19,7 @@ RunFolder::RunFolder(const std::filesystem::path& dir, const std::string& what) 
     throw InputError("output folder '" + dir.string() + "' cannot be written: it is a file");
   const std::filesystem::path lock = dir / ".contact3d.lock";
   lock_fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd_ < 0)
-    throw InputError("output folder '" + dir.string() + "' cannot be written: " + std::strerror(errno));
+  if (lock_fd_ < 0) throw InputError("output folder '" + dir.string() + "' cannot be written: " + std::strerror(errno));
   if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(lock_fd_);
     lock_fd_ = -1;

@@ -27,8 +27,8 @@ class RunFolder {
 };
 
 // The files a solve writes into its folder (summary.json first: removed first, written last).
-const char* const kRunOutputs[] = {"summary.json", "history.csv",       "contact_nodes.csv", "contact_cells.csv",
-                                   "body.vtu",     "contact.vtu",       "contact_cells.vtu", "solution.pvd",
-                                   "report.md"};
+const char* const kRunOutputs[] = {"summary.json",      "history.csv",  "contact_nodes.csv",
+                                   "contact_cells.csv", "body.vtu",     "contact.vtu",
+                                   "contact_cells.vtu", "solution.pvd", "report.md"};
 
 }  // namespace contact3d

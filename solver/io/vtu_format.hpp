@@ -35,10 +35,13 @@ void geometry(std::ostream& out, std::size_t points, PointFn point, std::size_t 
   out << "      <Points>\n";
   data_array(out, "Points", 3, points, point);
   out << "      </Points>\n      <Cells>\n";
-  data_array(out, "connectivity", 1, static_cast<std::size_t>(per_cell) * cells,
-             [&](std::size_t k, int) { return vertex(k / per_cell, static_cast<int>(k % per_cell)); }, "Int64");
-  data_array(out, "offsets", 1, cells, [&](std::size_t e, int) { return per_cell * (e + 1); }, "Int64");
-  data_array(out, "types", 1, cells, [&](std::size_t, int) { return vtk_type; }, "UInt8");
+  data_array(
+      out, "connectivity", 1, static_cast<std::size_t>(per_cell) * cells,
+      [&](std::size_t k, int) { return vertex(k / per_cell, static_cast<int>(k % per_cell)); }, "Int64");
+  data_array(
+      out, "offsets", 1, cells, [&](std::size_t e, int) { return per_cell * (e + 1); }, "Int64");
+  data_array(
+      out, "types", 1, cells, [&](std::size_t, int) { return vtk_type; }, "UInt8");
   out << "      </Cells>\n";
 }
 

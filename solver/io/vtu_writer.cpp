@@ -30,7 +30,8 @@ FaceTriangleOwners face_triangle_owners(const Scene& scene, const Mesh& mesh, co
     if (const auto* g = mesh.find_group(name, 2)) contact_tags.insert(g->tag);
   std::map<std::array<int, 3>, int> tri_group;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (contact_tags.count(mesh.triangle_group[t])) tri_group.emplace(sorted3(mesh.triangles[t]), mesh.triangle_group[t]);
+    if (contact_tags.count(mesh.triangle_group[t]))
+      tri_group.emplace(sorted3(mesh.triangles[t]), mesh.triangle_group[t]);
   std::map<std::array<int, 3>, int> owner;
   for (const auto& tri : face.triangles) owner.emplace(sorted3(tri), -1);
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
@@ -68,18 +69,16 @@ void contact_point_data(std::ostream& out, const VtuContext& ctx, const StateVie
   const FoundationFrame& frame = ctx.res.frame;
   auto local = [&](std::size_t i) -> Eigen::Vector3d { return frame.to_local(s.u.segment<3>(3 * node(i))); };
   data_array(out, "gap", 1, n, [&](std::size_t i, int) { return plane_gap(ctx.mesh, frame, s.u, node(i)); });
-  data_array(out, "slip", 3, n, [&](std::size_t i, int c) {
-    return on_face[node(i)] ? tangential_part(frame, local(i))[c] : 0.0;
-  });
+  data_array(out, "slip", 3, n,
+             [&](std::size_t i, int c) { return on_face[node(i)] ? tangential_part(frame, local(i))[c] : 0.0; });
   data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[node(i)]; });
-  data_array(out, "tangential_traction", 3, n, [&](std::size_t i, int c) {
-    return traction_on_body(frame, nf, node(i), false)[c];
-  });
-  data_array(out, "traction_on_body", 3, n, [&](std::size_t i, int c) {
-    return traction_on_body(frame, nf, node(i), true)[c];
-  });
+  data_array(out, "tangential_traction", 3, n,
+             [&](std::size_t i, int c) { return traction_on_body(frame, nf, node(i), false)[c]; });
+  data_array(out, "traction_on_body", 3, n,
+             [&](std::size_t i, int c) { return traction_on_body(frame, nf, node(i), true)[c]; });
   data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[node(i)]; });
-  data_array(out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[node(i)]; }, "Int32");
+  data_array(
+      out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[node(i)]; }, "Int32");
 }
 
 // Cell data: the stress of tetrahedron tet(e) for cell e.
@@ -116,10 +115,12 @@ void write_body_vtu(const std::filesystem::path& file, const VtuContext& ctx, co
     data_array(out, "displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * i + c]; });
     data_array(out, "displacement_norm", 1, n, [&](std::size_t i, int) { return s.u.segment<3>(3 * i).norm(); });
     contact_point_data(out, ctx, s, nf, on_face, n, [](std::size_t i) { return static_cast<int>(i); });
-    data_array(out, "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, "Int32");
+    data_array(
+        out, "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, "Int32");
     out << "      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n";
     stress_cell_data(out, stress, m, [](std::size_t e) { return static_cast<int>(e); });
-    data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
+    data_array(
+        out, "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
     out << "      </CellData>\n";
     vtu::geometry(
         out, n, [&](std::size_t i, int c) { return mesh.nodes[i][c]; }, m, 4,
@@ -135,7 +136,10 @@ void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx,
   std::vector<int> local(mesh.nodes.size(), -1), global;  // the face's own numbering of its nodes
   for (const auto& tri : face.triangles)
     for (int v : tri)
-      if (local[v] < 0) { local[v] = static_cast<int>(global.size()); global.push_back(v); }
+      if (local[v] < 0) {
+        local[v] = static_cast<int>(global.size());
+        global.push_back(v);
+      }
   const std::size_t n = global.size(), m = face.triangles.size();
   const FaceTriangleOwners owners = face_triangle_owners(ctx.scene, mesh, face);
   const ContactNodeFields nf = contact_node_fields(mesh, ctx.scene, ctx.res, s);
@@ -145,14 +149,17 @@ void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx,
     vtu::begin_piece(out, n, m);
     out << "      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
     auto node = [&](std::size_t i) { return global[i]; };
-    auto local_u = [&](std::size_t i) -> Eigen::Vector3d { return ctx.res.frame.to_local(s.u.segment<3>(3 * node(i))); };
+    auto local_u = [&](std::size_t i) -> Eigen::Vector3d {
+      return ctx.res.frame.to_local(s.u.segment<3>(3 * node(i)));
+    };
     data_array(out, "displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * node(i) + c]; });
     data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -local_u(i).z(); });
     data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return local_u(i).head<2>().norm(); });
     contact_point_data(out, ctx, s, nf, on_face, n, node);
     out << "      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n";
     stress_cell_data(out, stress, m, [&](std::size_t e) { return owners.tet[e]; });
-    data_array(out, "physical_group", 1, m, [&](std::size_t e, int) { return owners.group[e]; }, "Int32");
+    data_array(
+        out, "physical_group", 1, m, [&](std::size_t e, int) { return owners.group[e]; }, "Int32");
     out << "      </CellData>\n";
     vtu::geometry(
         out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,

@@ -20,7 +20,8 @@ std::int64_t leading_columns(const SparseCholesky::Supernodes& L, std::int64_t s
 
 }  // namespace
 
-DisplacementTrace::DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f, const std::vector<int>& dofs)
+DisplacementTrace::DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f,
+                                     const std::vector<int>& dofs)
     : L_(factor.supernodes()), n_(factor.size()), dofs_(dofs) {
   if (!factor.augmented()) throw std::logic_error("DisplacementTrace needs the augmented factor SparseCholesky(K, 𝔹)");
   if (f.size() != n_) throw std::invalid_argument("DisplacementTrace: load vector and K sizes differ");
@@ -49,7 +50,10 @@ DisplacementTrace::DisplacementTrace(const SparseCholesky& factor, const Eigen::
   for (std::int64_t s : all_) {
     const double entries = double(leading_columns(L_, s, first_trailing_)) * double(L_.pi[s + 1] - L_.pi[s]);
     total += entries;
-    if (mark[s]) { needed_.push_back(s); touched += entries; }
+    if (mark[s]) {
+      needed_.push_back(s);
+      touched += entries;
+    }
   }
   work_fraction_ = total > 0 ? touched / total : 0;
 

@@ -38,9 +38,9 @@ class DisplacementTrace {
   std::int64_t n_ = 0, first_trailing_ = 0;  // K's size; first multiplier column of L
   std::vector<std::int64_t> position_;       // row of the factored matrix -> pivot position
   std::vector<int> dofs_;
-  std::vector<std::int64_t> needed_;         // supernodes for at(), descending
-  std::vector<std::int64_t> all_;            // every supernode with leading columns, descending
-  Eigen::VectorXd z_;                        // L₁₁⁻¹ P f, in pivot order (trailing part unused)
+  std::vector<std::int64_t> needed_;  // supernodes for at(), descending
+  std::vector<std::int64_t> all_;     // every supernode with leading columns, descending
+  Eigen::VectorXd z_;                 // L₁₁⁻¹ P f, in pivot order (trailing part unused)
   double work_fraction_ = 1;
 
   Eigen::VectorXd back_substitute(const Eigen::VectorXd& lambda, const std::vector<std::int64_t>& supernodes) const;

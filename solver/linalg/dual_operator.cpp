@@ -12,8 +12,8 @@ void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, con
 
 namespace contact3d {
 
-DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
-                                const Eigen::VectorXd& f, int block_columns) {
+DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B, const Eigen::VectorXd& f,
+                                int block_columns) {
   DualOperator op;
   const int m = static_cast<int>(B.rows());
   op.u_free = K.solve(f);
@@ -68,7 +68,10 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
       X(p, it.row()) = it.value();
     }
   op.Q.resize(m, m);
-  if (nt == 0 || m == 0) { op.Q.setZero(); return op; }
+  if (nt == 0 || m == 0) {
+    op.Q.setZero();
+    return op;
+  }
   const double one = 1, zero = 0;
   dtrsm_("L", "L", "N", "N", &nt, &m, &one, Ltt.data(), &nt, X.data(), &nt);
   dsyrk_("U", "T", &m, &nt, &one, X.data(), &nt, &zero, op.Q.data(), &m);

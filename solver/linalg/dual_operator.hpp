@@ -22,8 +22,8 @@ struct DualOperator {
 
 // Solves K X = 𝔹ᵀ in blocks of at most `block_columns` right-hand sides, fewer on big meshes so a
 // block stays near 64 MiB.
-DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
-                                const Eigen::VectorXd& f, int block_columns = 256);
+DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B, const Eigen::VectorXd& f,
+                                int block_columns = 256);
 
 // The same from a factor built with the dofs touched by 𝔹 ordered last (see
 // contact_dofs / SparseCholesky(K, trailing)): Q = (L_tt⁻¹𝔹_tᵀ)ᵀ(L_tt⁻¹𝔹_tᵀ) by one dense

@@ -14,8 +14,7 @@ namespace {
 // by the restricted back substitution of DisplacementTrace.
 class CholmodDualProblem final : public DualProblem {
  public:
-  CholmodDualProblem(DualMethod m, const DualProblemInput& in, StageClock& clock)
-      : B_(in.B), face_dofs_(in.face_dofs) {
+  CholmodDualProblem(DualMethod m, const DualProblemInput& in, StageClock& clock) : B_(in.B), face_dofs_(in.face_dofs) {
     if (in.B.rows() == 0) m = DualMethod::BlockSolve;  // nothing to form: a plain factor of K
     if (m == DualMethod::Auto) m = DualMethod::Augmented;
     method = m == DualMethod::Augmented ? "augmented" : m == DualMethod::ContactLast ? "contactlast" : "blocksolve";
@@ -74,7 +73,8 @@ class CholmodDualProblem final : public DualProblem {
 
 }  // namespace
 
-std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input, StageClock& clock) {
+std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input,
+                                                       StageClock& clock) {
   return std::make_unique<CholmodDualProblem>(method, input, clock);
 }
 

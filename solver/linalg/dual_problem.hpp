@@ -62,6 +62,7 @@ class DualProblem {
 };
 
 // The CHOLMOD backend. Laps `clock` at "factorization" and at "dual" (forming Q and h).
-std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input, StageClock& clock);
+std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input,
+                                                       StageClock& clock);
 
 }  // namespace contact3d

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <utility>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <cholmod.h>
@@ -26,7 +26,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 struct UpperCsc {
   std::vector<SuiteSparse_long> col_ptr{0}, row_idx;
   std::vector<double> values;
-  void push(SuiteSparse_long row, double value) { row_idx.push_back(row); values.push_back(value); }
+  void push(SuiteSparse_long row, double value) {
+    row_idx.push_back(row);
+    values.push_back(value);
+  }
   void end_column() { col_ptr.push_back(static_cast<SuiteSparse_long>(row_idx.size())); }
   cholmod_sparse view() {
     cholmod_sparse A{};
@@ -85,7 +88,8 @@ UpperCsc augmented_upper_csc(const Eigen::SparseMatrix<double>& K, const Eigen::
 }
 
 // K restricted to the dofs with new_index[j] >= 0 (both triangles, renumbered).
-Eigen::SparseMatrix<double> leading_block(const Eigen::SparseMatrix<double>& K, const std::vector<int>& new_index, int n_sub) {
+Eigen::SparseMatrix<double> leading_block(const Eigen::SparseMatrix<double>& K, const std::vector<int>& new_index,
+                                          int n_sub) {
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(K.nonZeros());
   for (int j = 0; j < K.outerSize(); ++j) {
@@ -104,14 +108,18 @@ Eigen::SparseMatrix<double> leading_block(const Eigen::SparseMatrix<double>& K, 
 // CHOLMOD's METIS on K (0.09 s against 0.2 s on the n = 16 brick), at equal or smaller fill.
 std::vector<SuiteSparse_long> quotient_nested_dissection(const Eigen::SparseMatrix<double>& K_in, cholmod_common* c) {
   Eigen::SparseMatrix<double> compressed;  // the pattern comparison reads the compressed arrays
-  if (!K_in.isCompressed()) { compressed = K_in; compressed.makeCompressed(); }
+  if (!K_in.isCompressed()) {
+    compressed = K_in;
+    compressed.makeCompressed();
+  }
   const Eigen::SparseMatrix<double>& K = K_in.isCompressed() ? K_in : compressed;
   const int n = static_cast<int>(K.cols());
   if (n == 0) return {};
   auto same_pattern = [&](int a, int b) {
     const auto* ia = K.innerIndexPtr() + K.outerIndexPtr()[a];
     const auto* ib = K.innerIndexPtr() + K.outerIndexPtr()[b];
-    const auto na = K.outerIndexPtr()[a + 1] - K.outerIndexPtr()[a], nb = K.outerIndexPtr()[b + 1] - K.outerIndexPtr()[b];
+    const auto na = K.outerIndexPtr()[a + 1] - K.outerIndexPtr()[a],
+               nb = K.outerIndexPtr()[b + 1] - K.outerIndexPtr()[b];
     return na == nb && std::equal(ia, ia + na, ib);
   };
   std::vector<int> group(n), first;  // dof -> vertex; vertex -> its first dof
@@ -138,7 +146,8 @@ std::vector<SuiteSparse_long> quotient_nested_dissection(const Eigen::SparseMatr
   // 9.3 GFlop against 12.1 for plain METIS on the n = 16 brick, and 1.06-1.12 plain
   // factorizations for the augmented matrix at n = 16-24 against 1.1-1.2 with METIS.
   const bool ok = cholmod_l_nested_dissection(&G, nullptr, 0, vertex_perm.data(), parent.data(), member.data(), c) >= 0;
-  if (!ok && !cholmod_l_amd(&G, nullptr, 0, vertex_perm.data(), c)) fail("CHOLMOD could not order the stiffness matrix");
+  if (!ok && !cholmod_l_amd(&G, nullptr, 0, vertex_perm.data(), c))
+    fail("CHOLMOD could not order the stiffness matrix");
   std::vector<SuiteSparse_long> perm;
   perm.reserve(n);
   for (int k = 0; k < m; ++k)
@@ -205,13 +214,13 @@ struct SparseCholesky::Impl {
     if (!factor || common.status == CHOLMOD_NOT_POSDEF || common.status < 0) {
       const bool in_trailing = factor && static_cast<SuiteSparse_long>(factor->minor) >= n - n_trailing;
       fail(common.status == CHOLMOD_NOT_POSDEF
-               ? "the stiffness matrix is not positive definite (pivot " +
-                     std::to_string(factor ? factor->minor : -1) + " of " + std::to_string(n) +
-                     (in_trailing && n_trailing > 0 ? ", in the trailing block" : "") +
+               ? "the stiffness matrix is not positive definite (pivot " + std::to_string(factor ? factor->minor : -1) +
+                     " of " + std::to_string(n) + (in_trailing && n_trailing > 0 ? ", in the trailing block" : "") +
                      "): the clamped part Γu must prevent rigid motions"
            : common.status == CHOLMOD_OUT_OF_MEMORY
-               ? "out of memory in the factorization: its factor has " + std::to_string(static_cast<long long>(common.lnz)) +
-                     " nonzeros (about " + std::to_string(static_cast<long long>(12.0 * common.lnz / (1 << 20))) +
+               ? "out of memory in the factorization: its factor has " +
+                     std::to_string(static_cast<long long>(common.lnz)) + " nonzeros (about " +
+                     std::to_string(static_cast<long long>(12.0 * common.lnz / (1 << 20))) +
                      " MiB); use a coarser mesh or a machine with more memory"
                : "CHOLMOD failed (status " + std::to_string(common.status) + ")");
     }
@@ -225,7 +234,8 @@ void SparseCholesky::record_times() {
   factorize_seconds = impl_->factorize_seconds;
 }
 
-SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrdering ordering, const AnalysisObserver& observe)
+SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrdering ordering,
+                               const AnalysisObserver& observe)
     : impl_(new Impl(observe)), n_(static_cast<int>(K.rows())), n_aug_(n_) {
   UpperCsc upper = upper_csc(K);
   const auto t0 = std::chrono::steady_clock::now();
@@ -254,7 +264,7 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen
   UpperCsc upper = augmented_upper_csc(K, B, sigma);
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<SuiteSparse_long> perm = quotient_nested_dissection(K, &impl_->common);  // K's dofs first
-  for (int i = 0; i < m; ++i) perm.push_back(n + i);                                    // then the multipliers
+  for (int i = 0; i < m; ++i) perm.push_back(n + i);                                   // then the multipliers
   impl_->analyze_and_factorize(upper, &perm, m, t0);
   record_times();
 }
@@ -277,7 +287,10 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::
   std::vector<int> lead_index(n, -1), lead_dofs;
   lead_dofs.reserve(n_lead);
   for (int d = 0; d < n; ++d)
-    if (is_trailing[d] < 0) { lead_index[d] = static_cast<int>(lead_dofs.size()); lead_dofs.push_back(d); }
+    if (is_trailing[d] < 0) {
+      lead_index[d] = static_cast<int>(lead_dofs.size());
+      lead_dofs.push_back(d);
+    }
   std::vector<SuiteSparse_long> perm(n);
   if (n_lead > 0) {
     const std::vector<SuiteSparse_long> lead_perm =
@@ -292,7 +305,10 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::
 Eigen::MatrixXd SparseCholesky::trailing_factor(std::vector<int>& order) const {
   const cholmod_factor* L = impl_->factor;
   const int nt = n_trailing_, first = n_aug_ - nt;
-  if (nt == 0) { order.clear(); return {}; }
+  if (nt == 0) {
+    order.clear();
+    return {};
+  }
   if (!L->is_super) throw std::logic_error("trailing_factor: factor is not supernodal");
   const auto* P = static_cast<const SuiteSparse_long*>(L->Perm);
   order.assign(P + first, P + n_aug_);
@@ -375,7 +391,10 @@ Eigen::MatrixXd SparseCholesky::trailing_gram() const {
     idx.clear();
     std::vector<SuiteSparse_long> pos;
     for (SuiteSparse_long p = 0; p < nrows; ++p)
-      if (rows[pi[s] + p] >= first) { idx.push_back(static_cast<int>(rows[pi[s] + p] - first)); pos.push_back(p); }
+      if (rows[pi[s] + p] >= first) {
+        idx.push_back(static_cast<int>(rows[pi[s] + p] - first));
+        pos.push_back(p);
+      }
     if (idx.empty()) continue;
     const int nr = static_cast<int>(idx.size()), nc = static_cast<int>(k2 - k1);
     const bool tail = pos.front() == nrows - nr;  // trailing rows are the supernode's last rows (sorted)
@@ -412,7 +431,10 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
     padded.topRows(n) = B;
     auto apply = [&](int sys, const Eigen::MatrixXd& in) {
       cholmod_dense rhs{};
-      rhs.nrow = in.rows(); rhs.ncol = in.cols(); rhs.nzmax = in.size(); rhs.d = in.rows();
+      rhs.nrow = in.rows();
+      rhs.ncol = in.cols();
+      rhs.nzmax = in.size();
+      rhs.d = in.rows();
       rhs.x = const_cast<double*>(in.data());
       rhs.xtype = CHOLMOD_REAL;
       rhs.dtype = CHOLMOD_DOUBLE;
@@ -442,8 +464,6 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   return out;
 }
 
-Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
-  return solve(Eigen::MatrixXd(b)).col(0);
-}
+Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const { return solve(Eigen::MatrixXd(b)).col(0); }
 
 }  // namespace contact3d

@@ -29,8 +29,9 @@ class SparseCholesky {
   explicit SparseCholesky(const Eigen::SparseMatrix<double>& K,
                           FillOrdering ordering = FillOrdering::QuotientNestedDissection,
                           const AnalysisObserver& observe = {});
-  // Same factorization with the dofs `trailing` ordered last (nested dissection on the others): the trailing diagonal block L_tt of the factor then satisfies
-  // L_tt L_ttᵀ = S, the Schur complement of K onto those dofs, and (K⁻¹)_tt = S⁻¹.
+  // Same factorization with the dofs `trailing` ordered last (nested dissection on the others): the trailing diagonal
+  // block L_tt of the factor then satisfies L_tt L_ttᵀ = S, the Schur complement of K onto those dofs, and (K⁻¹)_tt =
+  // S⁻¹.
   SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing,
                  const AnalysisObserver& observe = {});
   // Factor of the augmented SPD matrix [K 𝔹ᵀ; 𝔹 σI] with the rows of 𝔹 ordered last (nested dissection

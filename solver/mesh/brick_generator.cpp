@@ -30,7 +30,8 @@ const std::array<std::array<Corner, 4>, 5> kEvenSplit = {{
 }  // namespace
 
 Mesh make_paper_brick(const BrickSize& s) {
-  if (s.n < 1 || s.n > 64) throw InputError("brick: n must be between 1 and 64 (n = 64: 3.9M tets), got " + std::to_string(s.n));
+  if (s.n < 1 || s.n > 64)
+    throw InputError("brick: n must be between 1 and 64 (n = 64: 3.9M tets), got " + std::to_string(s.n));
   const int nx = 3 * s.n, ny = s.n, nz = s.n;
   Mesh m;
   auto node_id = [&](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
@@ -61,12 +62,19 @@ Mesh make_paper_brick(const BrickSize& s) {
   const double eps = 1e-9;
   for (const auto& f : boundary_faces(m)) {
     Eigen::Vector3d lo = m.nodes[f[0]], hi = m.nodes[f[0]];
-    for (int v : f) { lo = lo.cwiseMin(m.nodes[v]); hi = hi.cwiseMax(m.nodes[v]); }
+    for (int v : f) {
+      lo = lo.cwiseMin(m.nodes[v]);
+      hi = hi.cwiseMax(m.nodes[v]);
+    }
     int tag = 5;
-    if (hi.x() < eps) tag = 1;
-    else if (lo.x() > s.lx - eps) tag = 2;
-    else if (lo.z() > s.lz - eps) tag = 3;
-    else if (hi.z() < eps) tag = 4;
+    if (hi.x() < eps)
+      tag = 1;
+    else if (lo.x() > s.lx - eps)
+      tag = 2;
+    else if (lo.z() > s.lz - eps)
+      tag = 3;
+    else if (hi.z() < eps)
+      tag = 4;
     m.triangles.push_back(f);
     m.triangle_tags.push_back(m.tets.size() + m.triangles.size());
     m.triangle_group.push_back(tag);

@@ -10,7 +10,7 @@
 namespace contact3d {
 
 struct BrickSize {
-  int n = 4;               // cubes per unit length (3n x n x n cubes)
+  int n = 4;  // cubes per unit length (3n x n x n cubes)
   double lx = 3.0, ly = 1.0, lz = 1.0;
 };
 

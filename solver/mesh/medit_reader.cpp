@@ -35,9 +35,12 @@ struct Skipped {
   const char* name;
   int code, ints, reals;
 };
-constexpr Skipped kSkipped[] = {{"Edges", 5, 3, 0},           {"Corners", 13, 1, 0},
-                                {"Ridges", 14, 1, 0},         {"RequiredVertices", 15, 1, 0},
-                                {"RequiredEdges", 16, 1, 0},  {"RequiredTriangles", 17, 1, 0},
+constexpr Skipped kSkipped[] = {{"Edges", 5, 3, 0},
+                                {"Corners", 13, 1, 0},
+                                {"Ridges", 14, 1, 0},
+                                {"RequiredVertices", 15, 1, 0},
+                                {"RequiredEdges", 16, 1, 0},
+                                {"RequiredTriangles", 17, 1, 0},
                                 {"NormalAtVertices", 20, 2, 0}};
 // Element sections contact3d cannot use: named in the error.
 struct Rejected {
@@ -79,7 +82,8 @@ class AsciiParser {
       } else if (same_word(word, "Dimension")) {
         data_.dimension = static_cast<int>(integer(where));
         if (data_.dimension != 3)
-          fail(where, "dimension " + std::to_string(data_.dimension) + ": contact3d needs a 3-D mesh (a FreeFEM mesh3)");
+          fail(where,
+               "dimension " + std::to_string(data_.dimension) + ": contact3d needs a 3-D mesh (a FreeFEM mesh3)");
       } else if (same_word(word, "Vertices")) {
         vertices(where);
       } else if (same_word(word, "Tetrahedra")) {
@@ -203,8 +207,9 @@ class AsciiParser {
           for (int j = 0; j < s.ints + s.reals; ++j) j < s.ints ? (void)integer(where) : (void)real(where);
         return;
       }
-    fail(here(), "unknown keyword '" + std::string(word) + "' (expected a Medit section such as Vertices, "
-                 "Tetrahedra, Triangles or End)");
+    fail(here(), "unknown keyword '" + std::string(word) +
+                     "' (expected a Medit section such as Vertices, "
+                     "Tetrahedra, Triangles or End)");
   }
 };
 
@@ -232,8 +237,9 @@ class BinaryParser {
         data_.has_end = true;
         break;
       }
-      if (next_pos <= pos || next_pos > d_.size()) fail(pos, "keyword " + std::to_string(kwd) + " points to byte " +
-                                                                 std::to_string(next_pos) + ", outside the file");
+      if (next_pos <= pos || next_pos > d_.size())
+        fail(pos,
+             "keyword " + std::to_string(kwd) + " points to byte " + std::to_string(next_pos) + ", outside the file");
       section(kwd, body, next_pos, where);
       pos = next_pos;
     }
@@ -325,9 +331,16 @@ class BinaryParser {
         }
         return;
       }
-      case 8: data_.tets_where = where; elements<4>(at, end, data_.tets, data_.tet_labels); return;
-      case 6: data_.triangles_where = where; elements<3>(at, end, data_.triangles, data_.triangle_labels); return;
-      default: break;
+      case 8:
+        data_.tets_where = where;
+        elements<4>(at, end, data_.tets, data_.tet_labels);
+        return;
+      case 6:
+        data_.triangles_where = where;
+        elements<3>(at, end, data_.triangles, data_.triangle_labels);
+        return;
+      default:
+        break;
     }
     for (const auto& r : kRejected)
       if (r.code == kwd) {
@@ -337,12 +350,14 @@ class BinaryParser {
       }
     for (const auto& s : kSkipped)
       if (s.code == kwd) return;  // the chain of positions skips it
-    fail(at, "keyword code " + std::to_string(kwd) + " is not a section contact3d knows (Vertices 4, Triangles 6, "
-             "Tetrahedra 8, ...)");
+    fail(at, "keyword code " + std::to_string(kwd) +
+                 " is not a section contact3d knows (Vertices 4, Triangles 6, "
+                 "Tetrahedra 8, ...)");
   }
 
   template <std::size_t N>
-  void elements(std::size_t at, std::size_t end, std::vector<std::array<long long, N>>& out, std::vector<long long>& labels) {
+  void elements(std::size_t at, std::size_t end, std::vector<std::array<long long, N>>& out,
+                std::vector<long long>& labels) {
     const std::size_t ib = version_ >= 4 ? 8 : 4;
     const std::size_t n = count(at, end, (N + 1) * ib);
     for (std::size_t k = 0; k < n; ++k) {
@@ -406,8 +421,8 @@ bool is_binary(std::string_view data) {
 }  // namespace
 
 Mesh parse_medit(std::string_view contents, const std::string& source_name) {
-  MeditData d = is_binary(contents) ? BinaryParser(contents, source_name).parse()
-                                    : AsciiParser(contents, source_name).parse();
+  MeditData d =
+      is_binary(contents) ? BinaryParser(contents, source_name).parse() : AsciiParser(contents, source_name).parse();
   return build_mesh(std::move(d), source_name);
 }
 

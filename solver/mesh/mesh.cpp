@@ -19,7 +19,8 @@ std::string Mesh::describe_groups() const {
   std::string out;
   for (const auto& g : groups) {
     if (!out.empty()) out += ", ";
-    out += (g.name.empty() ? "unnamed " + std::to_string(g.tag) : "'" + g.name + "'") + " (dim " + std::to_string(g.dim) + ")";
+    out += (g.name.empty() ? "unnamed " + std::to_string(g.tag) : "'" + g.name + "'") + " (dim " +
+           std::to_string(g.dim) + ")";
   }
   return out;
 }

@@ -23,16 +23,16 @@ struct PhysicalGroup {
 
 struct Mesh {
   std::vector<Eigen::Vector3d> nodes;
-  std::vector<std::size_t> node_tags;        // file tag of each node (for messages)
+  std::vector<std::size_t> node_tags;  // file tag of each node (for messages)
 
-  std::vector<std::array<int, 4>> tets;      // node indices
-  std::vector<std::size_t> tet_tags;         // file element tag of each tet
-  std::vector<int> tet_group;                // physical tag of each tet (0 if none)
+  std::vector<std::array<int, 4>> tets;  // node indices
+  std::vector<std::size_t> tet_tags;     // file element tag of each tet
+  std::vector<int> tet_group;            // physical tag of each tet (0 if none)
 
   // Boundary triangles. A triangle that belongs to several physical groups appears once per group.
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::size_t> triangle_tags;
-  std::vector<int> triangle_group;           // physical tag (0 if none)
+  std::vector<int> triangle_group;  // physical tag (0 if none)
 
   std::vector<PhysicalGroup> groups;
 

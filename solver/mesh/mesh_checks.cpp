@@ -35,7 +35,8 @@ void check_coordinates_in_range(const Mesh& mesh) {
     for (int c = 0; c < 3; ++c)
       if (!(std::abs(mesh.nodes[v][c]) <= kMaxCoordinate))
         throw InputError("node " + std::to_string(mesh.node_tags[v]) + " has coordinate " + "xyz"[c] + " = " +
-                         number(mesh.nodes[v][c]) + ", beyond ±1e15: the mesh's units are wrong or the file is corrupt");
+                         number(mesh.nodes[v][c]) +
+                         ", beyond ±1e15: the mesh's units are wrong or the file is corrupt");
 }
 
 namespace {
@@ -105,8 +106,8 @@ void check_contact_is_graph(const Mesh& mesh, const std::map<std::array<int, 3>,
     if (n.z() < -1e-6 * n.norm()) continue;
     const std::size_t t = tris.front();
     throw InputError("contact group '" + group_names.at(mesh.triangle_group[t]) + "': triangle " +
-                     std::to_string(mesh.triangle_tags[t]) + " faces away from the foundation (outward normal (" + number(n.x() / n.norm()) + ", " +
-                     number(n.y() / n.norm()) + ", " + number(n.z() / n.norm()) +
+                     std::to_string(mesh.triangle_tags[t]) + " faces away from the foundation (outward normal (" +
+                     number(n.x() / n.norm()) + ", " + number(n.y() / n.norm()) + ", " + number(n.z() / n.norm()) +
                      ")): Γc must be a graph over the plane z = 0, seen from below — it folds over itself or "
                      "rises vertically there; put only the part of the surface that faces the foundation in the "
                      "contact group");
@@ -154,8 +155,10 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
     throw InputError(std::to_string(orphans.size()) + " contact triangle(s) are not a face of any tetrahedron (tags " +
                      tag_list(orphans) + "): the contact group does not lie on the body's surface");
   if (!interior.empty())
-    throw InputError(std::to_string(interior.size()) + " contact triangle(s) are interior faces, shared by two "
-                     "tetrahedra (tags " + tag_list(interior) + "): Γc must be part of the body's boundary");
+    throw InputError(std::to_string(interior.size()) +
+                     " contact triangle(s) are interior faces, shared by two "
+                     "tetrahedra (tags " +
+                     tag_list(interior) + "): Γc must be part of the body's boundary");
 }
 
 // Initial penetration: the body must lie on or above the foundation plane z = 0.
@@ -168,11 +171,12 @@ void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
   for (std::size_t v = 1; v < mesh.nodes.size(); ++v)
     if (mesh.nodes[v].z() < mesh.nodes[deepest].z()) deepest = v;
   if (mesh.nodes[deepest].z() < -tol)
-    throw InputError("the body reaches below the foundation plane (initial penetration): node " +
-                     std::to_string(mesh.node_tags[deepest]) + " lies " + number(-mesh.nodes[deepest].z()) +
-                     " below it (height z = " + number(mesh.nodes[deepest].z()) +
-                     " above the plane z = 0, or the plane of contact.plane_point / plane_normal); move the mesh or the "
-                     "plane so that the contact face lies on or above it and the body above it");
+    throw InputError(
+        "the body reaches below the foundation plane (initial penetration): node " +
+        std::to_string(mesh.node_tags[deepest]) + " lies " + number(-mesh.nodes[deepest].z()) +
+        " below it (height z = " + number(mesh.nodes[deepest].z()) +
+        " above the plane z = 0, or the plane of contact.plane_point / plane_normal); move the mesh or the "
+        "plane so that the contact face lies on or above it and the body above it");
 }
 
 // Constrained nodes that all lie on one line (or at one point) leave a rigid rotation free.

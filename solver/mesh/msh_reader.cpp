@@ -31,13 +31,10 @@ namespace {
 
 static_assert(sizeof(std::size_t) == 8, "the MSH reader assumes a 64-bit size_t");
 
-bool is_space(char c) {
-  return c == ' ' || c == '\n' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
-}
+bool is_space(char c) { return c == ' ' || c == '\n' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
-constexpr const char* kCoordinateNames[3] = {"the x coordinate of a node",
-                                             "the y coordinate of a node",
+constexpr const char* kCoordinateNames[3] = {"the x coordinate of a node", "the y coordinate of a node",
                                              "the z coordinate of a node"};
 
 // ---------------------------------------------------------------------------------------------
@@ -54,57 +51,109 @@ constexpr std::size_t kNode22Bytes = 4 + 3 * 8;
 // Number of nodes of the element types this reader accepts (kept or skipped), 0 otherwise.
 int accepted_type_nodes(int type) {
   switch (type) {
-    case kPoint: return 1;
-    case kLine2: return 2;
-    case kTri3: return 3;
-    case kTet4: return 4;
-    default: return 0;
+    case kPoint:
+      return 1;
+    case kLine2:
+      return 2;
+    case kTri3:
+      return 3;
+    case kTet4:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 const char* element_type_name(int type) {
   switch (type) {
-    case 1: return "2-node line";
-    case 2: return "3-node triangle";
-    case 3: return "4-node quadrangle";
-    case 4: return "4-node tetrahedron";
-    case 5: return "8-node hexahedron";
-    case 6: return "6-node prism";
-    case 7: return "5-node pyramid";
-    case 8: return "3-node line";
-    case 9: return "6-node triangle";
-    case 10: return "9-node quadrangle";
-    case 11: return "10-node tetrahedron";
-    case 12: return "27-node hexahedron";
-    case 13: return "18-node prism";
-    case 14: return "14-node pyramid";
-    case 15: return "1-node point";
-    case 16: return "8-node quadrangle";
-    case 17: return "20-node hexahedron";
-    case 18: return "15-node prism";
-    case 19: return "13-node pyramid";
-    case 20: return "9-node triangle";
-    case 21: return "10-node triangle";
-    case 22: return "12-node triangle";
-    case 23: return "15-node triangle";
-    case 24: return "15-node triangle";
-    case 25: return "21-node triangle";
-    case 26: return "4-node line";
-    case 27: return "5-node line";
-    case 28: return "6-node line";
-    case 29: return "20-node tetrahedron";
-    case 30: return "35-node tetrahedron";
-    case 31: return "56-node tetrahedron";
-    case 92: return "64-node hexahedron";
-    case 93: return "125-node hexahedron";
-    default: return nullptr;
+    case 1:
+      return "2-node line";
+    case 2:
+      return "3-node triangle";
+    case 3:
+      return "4-node quadrangle";
+    case 4:
+      return "4-node tetrahedron";
+    case 5:
+      return "8-node hexahedron";
+    case 6:
+      return "6-node prism";
+    case 7:
+      return "5-node pyramid";
+    case 8:
+      return "3-node line";
+    case 9:
+      return "6-node triangle";
+    case 10:
+      return "9-node quadrangle";
+    case 11:
+      return "10-node tetrahedron";
+    case 12:
+      return "27-node hexahedron";
+    case 13:
+      return "18-node prism";
+    case 14:
+      return "14-node pyramid";
+    case 15:
+      return "1-node point";
+    case 16:
+      return "8-node quadrangle";
+    case 17:
+      return "20-node hexahedron";
+    case 18:
+      return "15-node prism";
+    case 19:
+      return "13-node pyramid";
+    case 20:
+      return "9-node triangle";
+    case 21:
+      return "10-node triangle";
+    case 22:
+      return "12-node triangle";
+    case 23:
+      return "15-node triangle";
+    case 24:
+      return "15-node triangle";
+    case 25:
+      return "21-node triangle";
+    case 26:
+      return "4-node line";
+    case 27:
+      return "5-node line";
+    case 28:
+      return "6-node line";
+    case 29:
+      return "20-node tetrahedron";
+    case 30:
+      return "35-node tetrahedron";
+    case 31:
+      return "56-node tetrahedron";
+    case 92:
+      return "64-node hexahedron";
+    case 93:
+      return "125-node hexahedron";
+    default:
+      return nullptr;
   }
 }
 
 bool is_higher_order_simplex(int type) {
   switch (type) {
-    case 8: case 9: case 11: case 20: case 21: case 22: case 23: case 24: case 25: case 26:
-    case 27: case 28: case 29: case 30: case 31:
+    case 8:
+    case 9:
+    case 11:
+    case 20:
+    case 21:
+    case 22:
+    case 23:
+    case 24:
+    case 25:
+    case 26:
+    case 27:
+    case 28:
+    case 29:
+    case 30:
+    case 31:
       return true;
     default:
       return false;
@@ -112,15 +161,15 @@ bool is_higher_order_simplex(int type) {
 }
 
 std::string unsupported_type_message(long long type) {
-  const char* name = (type >= 0 && type <= 1000) ? element_type_name(static_cast<int>(type))
-                                                 : nullptr;
-  std::string msg = "element type " + std::to_string(type) + " (" +
-                    (name ? name : "unknown to this reader") + ") is not supported; ";
+  const char* name = (type >= 0 && type <= 1000) ? element_type_name(static_cast<int>(type)) : nullptr;
+  std::string msg =
+      "element type " + std::to_string(type) + " (" + (name ? name : "unknown to this reader") + ") is not supported; ";
   if (name && is_higher_order_simplex(static_cast<int>(type)))
     msg += "mesh with first-order elements (gmsh -order 1)";
   else
-    msg += "contact3d reads 4-node tetrahedra (type 4) and 3-node triangles (type 2), and "
-           "skips points and 2-node lines; mesh the volume with tetrahedra only (no Recombine)";
+    msg +=
+        "contact3d reads 4-node tetrahedra (type 4) and 3-node triangles (type 2), and "
+        "skips points and 2-node lines; mesh the volume with tetrahedra only (no Recombine)";
   return msg;
 }
 
@@ -147,8 +196,7 @@ class NodeIndex {
       for (std::size_t i = 0; i < tags.size(); ++i) sparse_[i] = {tags[i], static_cast<int>(i)};
       std::sort(sparse_.begin(), sparse_.end());
       for (std::size_t i = 1; i < sparse_.size(); ++i)
-        if (sparse_[i].first == sparse_[i - 1].first)
-          return std::max(sparse_[i].second, sparse_[i - 1].second);
+        if (sparse_[i].first == sparse_[i - 1].first) return std::max(sparse_[i].second, sparse_[i - 1].second);
     }
     return -1;
   }
@@ -177,9 +225,7 @@ class Parser {
 
  private:
   // ---- errors
-  std::size_t line_of(const char* pos) const {
-    return 1 + static_cast<std::size_t>(std::count(begin_, pos, '\n'));
-  }
+  std::size_t line_of(const char* pos) const { return 1 + static_cast<std::size_t>(std::count(begin_, pos, '\n')); }
   std::string where(const char* pos) const {
     if (binary_) return name_ + ", byte offset " + std::to_string(pos - begin_);
     return name_ + ", line " + std::to_string(line_of(pos));
@@ -223,8 +269,7 @@ class Parser {
     while (e < end_ && !is_space(*e)) ++e;
     const std::string_view tok(s, static_cast<std::size_t>(e - s));
     std::string msg = "expected " + std::string(what) + ", found " + quote(tok);
-    if (!tok.empty() && tok[0] == '$')
-      msg += " (the section ends before the count given in its header is reached)";
+    if (!tok.empty() && tok[0] == '$') msg += " (the section ends before the count given in its header is reached)";
     fail(s, msg);
   }
   // Moves to the first token of the next record (skipping line breaks and blank lines).
@@ -235,8 +280,8 @@ class Parser {
     if (p_ < end_ && *p_ != '\n') {
       const char* e = p_;
       while (e < end_ && !is_space(*e)) ++e;
-      fail(p_, std::string("unexpected ") + quote({p_, static_cast<std::size_t>(e - p_)}) +
-                   " after " + after + " (the line has more values than expected)");
+      fail(p_, std::string("unexpected ") + quote({p_, static_cast<std::size_t>(e - p_)}) + " after " + after +
+                   " (the line has more values than expected)");
     }
     if (p_ < end_) ++p_;
   }
@@ -311,8 +356,7 @@ class Parser {
     check_count(s, n, min_bytes, what);
     return static_cast<std::size_t>(n);
   }
-  void check_count(const char* pos, std::uint64_t n, std::size_t min_bytes,
-                   std::string_view what) const {
+  void check_count(const char* pos, std::uint64_t n, std::size_t min_bytes, std::string_view what) const {
     const auto remaining = static_cast<std::uint64_t>(end_ - p_);
     if (n > remaining / min_bytes)
       fail(pos, std::string(what) + " " + std::to_string(n) +
@@ -336,8 +380,7 @@ class Parser {
     if (tok != end_tag) {
       if (p_ >= end_) fail(p_, "unexpected end of file; expected " + std::string(end_tag));
       std::string msg = "expected " + std::string(end_tag) + ", found " + quote(tok);
-      if (tok.empty() || tok[0] != '$')
-        msg += " (the section holds more data than the counts in its header say)";
+      if (tok.empty() || tok[0] != '$') msg += " (the section holds more data than the counts in its header say)";
       fail(p_, msg);
     }
     p_ += tok.size();
@@ -384,8 +427,8 @@ class Parser {
   int node_ref(std::size_t tag, const char* pos, std::size_t element_tag) const {
     const int idx = nodes_.find(tag);
     if (idx < 0)
-      fail(pos, "element " + std::to_string(element_tag) + " refers to node " +
-                    std::to_string(tag) + ", which $Nodes does not define");
+      fail(pos, "element " + std::to_string(element_tag) + " refers to node " + std::to_string(tag) +
+                    ", which $Nodes does not define");
     return idx;
   }
   // The nn node tags ending an ASCII element record (both MSH versions), as node indices.
@@ -487,12 +530,18 @@ Mesh Parser::parse() {
       fail(header, "partitioned meshes are not supported; save the mesh without partitions");
     } else if (name == "Nodes") {
       if (have_nodes_) fail(header, "second $Nodes section");
-      if (version_ == 41) read_nodes41(); else read_nodes22();
+      if (version_ == 41)
+        read_nodes41();
+      else
+        read_nodes22();
       finish_nodes(header);
     } else if (name == "Elements") {
       if (have_elements_) fail(header, "second $Elements section");
       if (!have_nodes_) fail(header, "$Elements comes before $Nodes");
-      if (version_ == 41) read_elements41(); else read_elements22();
+      if (version_ == 41)
+        read_elements41();
+      else
+        read_elements22();
     } else if (name.size() > 3 && name.substr(0, 3) == "End") {
       fail(header, "unexpected " + quote(tok) + " without a matching section start");
     } else {
@@ -546,10 +595,8 @@ void Parser::read_mesh_format() {
     const char* opos = p_;
     const std::int32_t one = raw<std::int32_t>("the endianness marker (int 1)");
     if (one != 1) {
-      if (one == 0x01000000)
-        fail(opos, "big-endian binary MSH files are not supported");
-      fail(opos, "corrupt binary header: the endianness marker is " + std::to_string(one) +
-                     ", expected 1");
+      if (one == 0x01000000) fail(opos, "big-endian binary MSH files are not supported");
+      fail(opos, "corrupt binary header: the endianness marker is " + std::to_string(one) + ", expected 1");
     }
   }
   expect_section_end("$EndMeshFormat");
@@ -569,8 +616,7 @@ void Parser::read_physical_names() {
     const char* rec = p_;
     const char* dpos = p_;
     const int dim = int_value("the dimension of a physical group");
-    if (dim < 0 || dim > 3) fail(dpos, "physical group dimension " + std::to_string(dim) +
-                                           " is not 0, 1, 2 or 3");
+    if (dim < 0 || dim > 3) fail(dpos, "physical group dimension " + std::to_string(dim) + " is not 0, 1, 2 or 3");
     const int tag = int_value("the tag of a physical group");
     skip_blank();
     const char* s = p_;
@@ -580,16 +626,14 @@ void Parser::read_physical_names() {
     std::string name;
     if (s < e && *s == '"') {
       if (e - s < 2 || e[-1] != '"')
-        fail(s, "the name of physical group " + std::to_string(tag) +
-                    " lacks its closing quote");
+        fail(s, "the name of physical group " + std::to_string(tag) + " lacks its closing quote");
       name.assign(s + 1, e - 1);
     } else {
       name.assign(s, e);
     }
     if (name.empty() && s == e) fail(s, "expected the name of physical group " + std::to_string(tag));
     if (!named_set_.insert({dim, tag}).second)
-      fail(rec, "physical group " + std::to_string(tag) + " of dimension " + std::to_string(dim) +
-                    " is named twice");
+      fail(rec, "physical group " + std::to_string(tag) + " of dimension " + std::to_string(dim) + " is named twice");
     named_.push_back(PhysicalGroup{dim, tag, std::move(name)});
     p_ = eol < end_ ? eol + 1 : end_;
   }
@@ -602,8 +646,8 @@ const std::vector<int>& Parser::entity_physicals(int dim, int tag, const char* p
   const auto it = entities_[dim].find(tag);
   if (it == entities_[dim].end()) {
     static const char* kinds[] = {"point", "curve", "surface", "volume"};
-    fail(pos, "the block refers to " + std::string(kinds[dim]) + " entity " +
-                  std::to_string(tag) + ", which $Entities does not define");
+    fail(pos, "the block refers to " + std::string(kinds[dim]) + " entity " + std::to_string(tag) +
+                  ", which $Entities does not define");
   }
   return it->second;
 }
@@ -653,8 +697,7 @@ void Parser::read_entities() {
       }
       for (int t : phys) note_used_group(d, t);
       if (!entities_[d].emplace(tag, std::move(phys)).second)
-        fail(rec, std::string("entity ") + std::to_string(tag) + " is defined twice among the " +
-                      kinds[d]);
+        fail(rec, std::string("entity ") + std::to_string(tag) + " is defined twice among the " + kinds[d]);
     }
   }
   expect_section_end("$EndEntities");
@@ -714,8 +757,8 @@ void Parser::read_nodes41() {
       end_record("the node block header");
     }
     if (n > num_nodes - total)
-      fail(bpos, "the node blocks hold more nodes than the " + std::to_string(num_nodes) +
-                     " announced in the $Nodes header");
+      fail(bpos,
+           "the node blocks hold more nodes than the " + std::to_string(num_nodes) + " announced in the $Nodes header");
     const int params = parametric ? dim : 0;
     const std::size_t first = mesh_.node_tags.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -739,8 +782,7 @@ void Parser::read_nodes41() {
       if (binary_) {
         const char* cpos = p_;
         for (int k = 0; k < 3; ++k) x[k] = raw<double>("a node coordinate");
-        if (!x.allFinite())
-          fail(cpos, "node " + std::to_string(tag) + " has a non-finite coordinate");
+        if (!x.allFinite()) fail(cpos, "node " + std::to_string(tag) + " has a non-finite coordinate");
         p_ += 8 * static_cast<std::size_t>(params);  // guarded by raw_count
       } else {
         next_record();
@@ -753,8 +795,8 @@ void Parser::read_nodes41() {
     total += n;
   }
   if (total != num_nodes)
-    fail(p_, "the $Nodes header announces " + std::to_string(num_nodes) +
-                 " nodes but its blocks hold " + std::to_string(total));
+    fail(p_, "the $Nodes header announces " + std::to_string(num_nodes) + " nodes but its blocks hold " +
+                 std::to_string(total));
   expect_section_end("$EndNodes");
   section_ = {};
 }
@@ -778,15 +820,14 @@ void Parser::read_nodes22() {
       // Binary: int node-number, then 3 doubles; the count line is ASCII.
       tpos = p_;
       if (at_section_end("$EndNodes"))
-        fail(tpos, "the $Nodes header announces " + std::to_string(n) +
-                       " nodes but the section ends after " + std::to_string(i));
+        fail(tpos, "the $Nodes header announces " + std::to_string(n) + " nodes but the section ends after " +
+                       std::to_string(i));
       const int t = raw_int("a node tag");
       if (t <= 0) fail(tpos, "node tag " + std::to_string(t) + " is not valid (tags start at 1)");
       tag = static_cast<std::uint64_t>(t);
       const char* cpos = p_;
       for (int k = 0; k < 3; ++k) x[k] = raw<double>("a node coordinate");
-      if (!x.allFinite())
-        fail(cpos, "node " + std::to_string(tag) + " has a non-finite coordinate");
+      if (!x.allFinite()) fail(cpos, "node " + std::to_string(tag) + " has a non-finite coordinate");
     } else {
       next_record();
       tpos = p_;
@@ -806,8 +847,8 @@ void Parser::finish_nodes(const char* section_pos) {
   const long long dup = nodes_.build(mesh_.node_tags);
   if (dup >= 0) {
     section_ = "Nodes";
-    fail(section_pos, "node tag " + std::to_string(mesh_.node_tags[static_cast<std::size_t>(dup)]) +
-                          " is defined twice");
+    fail(section_pos,
+         "node tag " + std::to_string(mesh_.node_tags[static_cast<std::size_t>(dup)]) + " is defined twice");
   }
   have_nodes_ = true;
 }
@@ -848,8 +889,8 @@ void Parser::read_elements41() {
     if (dim < 0 || dim > 3) fail(bpos, "entity dimension " + std::to_string(dim) + " in an element block");
     const int nn = accepted_type_nodes(type);
     if (nn == 0) fail(bpos, unsupported_type_message(type));
-    const std::size_t min_bytes = binary_ ? (1 + static_cast<std::size_t>(nn)) * size_bytes_
-                                          : 2 * (1 + static_cast<std::size_t>(nn));
+    const std::size_t min_bytes =
+        binary_ ? (1 + static_cast<std::size_t>(nn)) * size_bytes_ : 2 * (1 + static_cast<std::size_t>(nn));
     if (binary_) {
       n = raw_count("the number of elements in the block", min_bytes);
     } else {
@@ -900,17 +941,17 @@ void Parser::read_elements41() {
       const std::size_t limit = static_cast<std::size_t>(end_ - begin_) + (std::size_t{1} << 20);
       const std::size_t room = limit - std::min(limit, mesh_.triangles.size());
       if (block > 0 && phys.size() - 1 > room / block)
-        fail(bpos, "surface entity " + std::to_string(etag) + " has " +
-                       std::to_string(phys.size()) + " physical tags; storing its " +
-                       std::to_string(block) + " triangles once per tag is more than this "
+        fail(bpos, "surface entity " + std::to_string(etag) + " has " + std::to_string(phys.size()) +
+                       " physical tags; storing its " + std::to_string(block) +
+                       " triangles once per tag is more than this "
                        "reader allows for a file of this size");
       duplicate_triangles(first_tri, mesh_.triangles.size(), phys);
     }
     total += n;
   }
   if (total != num_elements)
-    fail(p_, "the $Elements header announces " + std::to_string(num_elements) +
-                 " elements but its blocks hold " + std::to_string(total));
+    fail(p_, "the $Elements header announces " + std::to_string(num_elements) + " elements but its blocks hold " +
+                 std::to_string(total));
   expect_section_end("$EndElements");
   section_ = {};
 }
@@ -956,8 +997,8 @@ void Parser::read_elements22() {
     while (total < n) {
       const char* bpos = p_;
       if (at_section_end("$EndElements"))
-        fail(bpos, "the $Elements header announces " + std::to_string(n) +
-                       " elements but its blocks hold " + std::to_string(total));
+        fail(bpos, "the $Elements header announces " + std::to_string(n) + " elements but its blocks hold " +
+                       std::to_string(total));
       const int type = raw_int("the element type of an element block");
       const int nn = accepted_type_nodes(type);
       if (nn == 0) fail(bpos, unsupported_type_message(type));
@@ -965,19 +1006,14 @@ void Parser::read_elements22() {
       const int count = raw_int("the number of elements in the block");
       const char* tpos = p_;
       const int ntags = raw_int("the number of tags per element of the block");
-      if (count < 0)
-        fail(cpos, "the number of elements in the block is negative (" + std::to_string(count) +
-                       ")");
-      if (ntags < 0)
-        fail(tpos, "the number of tags per element is negative (" + std::to_string(ntags) + ")");
+      if (count < 0) fail(cpos, "the number of elements in the block is negative (" + std::to_string(count) + ")");
+      if (ntags < 0) fail(tpos, "the number of tags per element is negative (" + std::to_string(ntags) + ")");
       // The block must fit in the rest of the file: first without tags (else the file is
       // truncated or the count corrupt), then with them (else the tag count is corrupt).
       const std::size_t bare = 4 * (1 + static_cast<std::size_t>(nn));
-      check_count(cpos, static_cast<std::uint64_t>(count), bare,
-                  "the number of elements in the block");
+      check_count(cpos, static_cast<std::uint64_t>(count), bare, "the number of elements in the block");
       if (count > 0) {
-        const std::size_t room =
-            static_cast<std::size_t>(end_ - p_) / static_cast<std::size_t>(count) - bare;
+        const std::size_t room = static_cast<std::size_t>(end_ - p_) / static_cast<std::size_t>(count) - bare;
         if (static_cast<std::size_t>(ntags) > room / 4)
           fail(tpos, "the number of tags per element " + std::to_string(ntags) +
                          " is larger than the rest of the file can hold (truncated file or corrupt "
@@ -991,8 +1027,7 @@ void Parser::read_elements22() {
       for (int i = 0; i < count; ++i) {
         const char* epos = p_;
         const int tag = raw_int("an element tag");
-        if (tag <= 0)
-          fail(epos, "element tag " + std::to_string(tag) + " is not valid (tags start at 1)");
+        if (tag <= 0) fail(epos, "element tag " + std::to_string(tag) + " is not valid (tags start at 1)");
         int physical = 0, elementary = 0;
         for (int k = 0; k < ntags; ++k) {
           const int t = raw_int("an element tag (physical or elementary)");

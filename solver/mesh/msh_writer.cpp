@@ -50,8 +50,7 @@ class Output {
     flush();
     std::FILE* f = f_;
     f_ = nullptr;
-    if (std::fclose(f) != 0)
-      throw InputError("cannot write mesh file '" + path_ + "': " + std::strerror(errno));
+    if (std::fclose(f) != 0) throw InputError("cannot write mesh file '" + path_ + "': " + std::strerror(errno));
   }
 
  private:
@@ -78,11 +77,9 @@ class Output {
 struct Entity {
   int tag = 0;
   int group = 0;  // physical tag, 0 = none
-  std::array<double, 3> lo{std::numeric_limits<double>::infinity(),
-                           std::numeric_limits<double>::infinity(),
+  std::array<double, 3> lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                            std::numeric_limits<double>::infinity()};
-  std::array<double, 3> hi{-std::numeric_limits<double>::infinity(),
-                           -std::numeric_limits<double>::infinity(),
+  std::array<double, 3> hi{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
                            -std::numeric_limits<double>::infinity()};
   void add(const Eigen::Vector3d& x) {
     for (int k = 0; k < 3; ++k) {
@@ -99,9 +96,8 @@ class Prepared {
     const std::size_t n = m.nodes.size(), nt = m.triangles.size(), nk = m.tets.size();
     auto check_size = [](std::size_t got, std::size_t want, const char* what) {
       if (got != 0 && got != want)
-        throw std::invalid_argument(std::string("write_msh: ") + what + " has " +
-                                    std::to_string(got) + " entries, expected " +
-                                    std::to_string(want) + " (or none)");
+        throw std::invalid_argument(std::string("write_msh: ") + what + " has " + std::to_string(got) +
+                                    " entries, expected " + std::to_string(want) + " (or none)");
     };
     check_size(m.node_tags.size(), n, "Mesh::node_tags");
     check_size(m.triangle_tags.size(), nt, "Mesh::triangle_tags");
@@ -110,8 +106,7 @@ class Prepared {
     check_size(m.tet_group.size(), nk, "Mesh::tet_group");
     for (std::size_t i = 0; i < n; ++i) {
       if (!m.nodes[i].allFinite())
-        throw std::invalid_argument("write_msh: node " + std::to_string(i) +
-                                    " has a non-finite coordinate");
+        throw std::invalid_argument("write_msh: node " + std::to_string(i) + " has a non-finite coordinate");
       if (!m.node_tags.empty() && m.node_tags[i] == 0)
         throw std::invalid_argument("write_msh: node " + std::to_string(i) + " has tag 0");
     }
@@ -119,9 +114,8 @@ class Prepared {
       for (std::size_t e = 0; e < elems.size(); ++e)
         for (int v : elems[e])
           if (v < 0 || static_cast<std::size_t>(v) >= n)
-            throw std::invalid_argument(std::string("write_msh: ") + what + " " +
-                                        std::to_string(e) + " refers to node index " +
-                                        std::to_string(v) + " (the mesh has " +
+            throw std::invalid_argument(std::string("write_msh: ") + what + " " + std::to_string(e) +
+                                        " refers to node index " + std::to_string(v) + " (the mesh has " +
                                         std::to_string(n) + " nodes)");
     };
     check_nodes(m.triangles, "triangle");
@@ -168,9 +162,7 @@ class Prepared {
 
   const Mesh& mesh() const { return m_; }
   std::size_t node_tag(std::size_t i) const { return m_.node_tags.empty() ? i + 1 : m_.node_tags[i]; }
-  std::size_t tri_tag(std::size_t i) const {
-    return m_.triangle_tags.empty() ? tri_tags_[i] : m_.triangle_tags[i];
-  }
+  std::size_t tri_tag(std::size_t i) const { return m_.triangle_tags.empty() ? tri_tags_[i] : m_.triangle_tags[i]; }
   std::size_t tet_tag(std::size_t i) const { return m_.tet_tags.empty() ? tet_tags_[i] : m_.tet_tags[i]; }
   int tri_group(std::size_t i) const { return m_.triangle_group.empty() ? 0 : m_.triangle_group[i]; }
   int tet_group(std::size_t i) const { return m_.tet_group.empty() ? 0 : m_.tet_group[i]; }
@@ -211,9 +203,7 @@ void write_physical_names(Output& out, const Mesh& m) {
   out << "$EndPhysicalNames\n";
 }
 
-void write_point(Output& out, const Eigen::Vector3d& x) {
-  out << x[0] << ' ' << x[1] << ' ' << x[2];
-}
+void write_point(Output& out, const Eigen::Vector3d& x) { out << x[0] << ' ' << x[1] << ' ' << x[2]; }
 
 // Runs of consecutive elements with the same group: (first, count).
 template <class GroupOf>
@@ -285,8 +275,8 @@ void write_msh41(const Mesh& mesh, const std::string& path) {
   }
   if (hi == 0) lo = 0;
   out << "$Elements\n"
-      << tri_runs.size() + tet_runs.size() << ' ' << m.triangles.size() + m.tets.size() << ' '
-      << lo << ' ' << hi << '\n';
+      << tri_runs.size() + tet_runs.size() << ' ' << m.triangles.size() + m.tets.size() << ' ' << lo << ' ' << hi
+      << '\n';
   for (const auto& [first, count] : tri_runs) {
     out << "2 " << p.surface_entity(p.tri_group(first)) << " 2 " << count << '\n';
     for (std::size_t i = first; i < first + count; ++i) {

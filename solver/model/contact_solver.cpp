@@ -10,18 +10,18 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "base/memory.hpp"
+#include "base/multiplier_layout.hpp"
 #include "contact/contact_operator.hpp"
 #include "contact/face_dofs.hpp"
 #include "fem/assembly.hpp"
 #include "friction/coulomb_map.hpp"
 #include "friction/slip_bound.hpp"
 #include "friction/tresca_step.hpp"
-#include "mesh/mesh_checks.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "model/plane_frame.hpp"
 #include "model/solution_fields.hpp"
-#include "base/multiplier_layout.hpp"
 #include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
@@ -44,7 +44,8 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   res.n_primal = res.dofs.n_free;
   Discretisation disc{tet_materials(scene, mesh), {}, {}};
   disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
-  disc.f = assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
+  disc.f =
+      assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
   return disc;
 }
 
@@ -73,8 +74,8 @@ void require_memory_for_dense_dual(const ContactOperator& op) {
   if (available > 0 && bytes > 0.9 * available)
     throw InputError("the contact partition has " + std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
                      " multipliers): the dense dual operator and its working copies would need " +
-                     number(bytes / (1ull << 30)) + " GiB, and this machine has " +
-                     number(available / (1ull << 30)) + " GiB available; use a larger contact.cell_size (H)");
+                     number(bytes / (1ull << 30)) + " GiB, and this machine has " + number(available / (1ull << 30)) +
+                     " GiB available; use a larger contact.cell_size (H)");
 }
 
 // The yardsticks of total / factorization (benchmarks), in this process: one factorization of K
@@ -123,8 +124,8 @@ double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partit
   for (std::size_t k = 0; k < bad.size() && k < 8; ++k) {
     const int row = order[bad[k]], cell = row % r;
     const auto& c = part.cells[cell];
-    cells += "\n  cell " + std::to_string(cell) + " [" + number(c.lo.x()) + ", " + number(c.hi.x()) +
-             "] x [" + number(c.lo.y()) + ", " + number(c.hi.y()) + "], area " + number(c.area);
+    cells += "\n  cell " + std::to_string(cell) + " [" + number(c.lo.x()) + ", " + number(c.hi.x()) + "] x [" +
+             number(c.lo.y()) + ", " + number(c.hi.y()) + "], area " + number(c.area);
   }
   throw InputError("the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) +
                    " rows of the contact operator are linearly dependent, e.g." + cells +
@@ -222,16 +223,19 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.slip_input = tresca.slip_input();
   res.last_qp = tresca.last_qp();
   res.qp_iterations = tresca.qp_iterations();
-  res.n_mult = tresca.products() + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
+  res.n_mult =
+      tresca.products() + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   res.u = expand_to_nodes(res.dofs, w);
   res.kkt = kkt_residuals(disc.K, disc.f, op.B, op.r, op.with_friction, res.radius, w, res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
-  res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
+  res.forces =
+      resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
-    throw InputError("the solution is not finite: the scene's loads, material or friction values overflow double "
-                     "precision (check their units); no results were written");
+    throw InputError(
+        "the solution is not finite: the scene's loads, material or friction values overflow double "
+        "precision (check their units); no results were written");
 }
 
 // The state after every solve, for the per-step output: λ and the radii as the Tresca step kept
@@ -264,15 +268,17 @@ std::string gib(double bytes) { return number(bytes / (1 << 30), 3) + " GiB"; }
 // error before the numeric factorization when the factor cannot fit in the memory available.
 AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr) {
   return [&report, stage](double lnz, double flops) {
-    if (stage) stage->holds = "a factor with " + number(lnz, 3) + " nonzeros (" + number(8.0 * lnz / (1 << 30), 3) + " GiB)";
+    if (stage)
+      stage->holds = "a factor with " + number(lnz, 3) + " nonzeros (" + number(8.0 * lnz / (1 << 30), 3) + " GiB)";
     const double bytes = 8.0 * lnz;  // values; CHOLMOD's row indices add up to another half of that
     report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + number(bytes / (1 << 30), 3) + " GiB), " +
                  number(flops / 1e9, 3) + " GFlop");
     const double available = static_cast<double>(available_memory_bytes());
     if (available > 0 && 1.2 * bytes > available)
-      throw InputError("not enough memory for the factorization: its factor has " + number(lnz, 3) + " nonzeros (about " +
-                       number(1.2 * bytes / (1 << 30), 3) + " GiB) and this process can get only " +
-                       number(available / (1 << 30), 3) + " GiB; use a coarser mesh (mesh.n, or the "
+      throw InputError("not enough memory for the factorization: its factor has " + number(lnz, 3) +
+                       " nonzeros (about " + number(1.2 * bytes / (1 << 30), 3) +
+                       " GiB) and this process can get only " + number(available / (1 << 30), 3) +
+                       " GiB; use a coarser mesh (mesh.n, or the "
                        "mesh parameters' h) or a machine with more memory");
   };
 }
@@ -303,7 +309,8 @@ SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Di
 std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u) {
   double l2sq = 0, inf = 0;
   for (const auto& tri : face.triangles) {
-    Polygon poly = triangle_polygon(mesh.nodes[tri[0]].head<2>(), mesh.nodes[tri[1]].head<2>(), mesh.nodes[tri[2]].head<2>());
+    Polygon poly =
+        triangle_polygon(mesh.nodes[tri[0]].head<2>(), mesh.nodes[tri[1]].head<2>(), mesh.nodes[tri[2]].head<2>());
     // Penetration w_n − d: the normal displacement beyond the initial gap.
     const Eigen::Vector3d wn(-u[3 * tri[0] + 2] - face.gap[tri[0]], -u[3 * tri[1] + 2] - face.gap[tri[1]],
                              -u[3 * tri[2] + 2] - face.gap[tri[2]]);
@@ -364,7 +371,8 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   describe_contact(report, res, op);
   require_memory_for_dense_dual(op);
 
-  stage.enter("factorization", "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
+  stage.enter("factorization",
+              "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
   report.stage("factorization (CHOLMOD, " + name_of(scene.solver.dual_method, kDualMethodNames) + ")");
   DualProblemInput input{disc.K, op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report, &stage)};
@@ -386,7 +394,8 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
   clock.lap("dual_solve");
 
-  stage.enter("recovery", "the displacement of every step (" + gib(8.0 * 3 * mesh.nodes.size() * tresca.history().size()) + ")");
+  stage.enter("recovery",
+              "the displacement of every step (" + gib(8.0 * 3 * mesh.nodes.size() * tresca.history().size()) + ")");
   report.stage("recovery: displacement, residuals, forces");
   recover(scene, mesh, disc, op, *dual, tresca, res);
   clock.lap("postprocess");
@@ -397,7 +406,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
-    dual->release_factor();                     // two big factors need not fit at once
+    dual->release_factor();                    // two big factors need not fit at once
     time_reference_factorizations(disc.K, clock);
   }
   return res;

@@ -41,42 +41,43 @@ struct SolveResult {
   ContactFace face;
   Partition partition;
   int n_primal = 0, n_dual = 0, n_cells = 0;
-  double cell_size = 0;              // H actually requested (m)
+  double cell_size = 0;  // H actually requested (m)
   // The foundation plane's frame: face, partition, λ and the contact force's (normal, t1, t2) live
   // in it; u, its history and the resultant forces are in the user's axes.
   FoundationFrame frame;
 
   // Solution.
-  Eigen::VectorXd u;                 // nodal displacement, 3 per mesh node
-  Eigen::VectorXd lambda;            // [λ_n | λ_t1 | λ_t2] per cell (λ_t empty when frictionless)
-  Eigen::VectorXd radius;            // disc radii c_i of the last Tresca problem
-  Eigen::VectorXd slip_input;        // φ used for the last radii, at contact nodes
+  Eigen::VectorXd u;           // nodal displacement, 3 per mesh node
+  Eigen::VectorXd lambda;      // [λ_n | λ_t1 | λ_t2] per cell (λ_t empty when frictionless)
+  Eigen::VectorXd radius;      // disc radii c_i of the last Tresca problem
+  Eigen::VectorXd slip_input;  // φ used for the last radii, at contact nodes
   // The state after each Tresca (or frictionless) solve, in order — the fixed point's steps, or the
   // one solve; the last one is the answer above.
   std::vector<SolveStep> steps;
 
   // How it went.
   bool converged = false;
-  std::string status;                // "converged", "iteration_limit", "stagnation", ...
-  FixedPointResult fixed_point;      // empty history when no fixed point was needed
+  std::string status;            // "converged", "iteration_limit", "stagnation", ...
+  FixedPointResult fixed_point;  // empty history when no fixed point was needed
   QpResult last_qp;
-  int n_mult = 0;                    // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
+  int n_mult = 0;  // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
   int qp_iterations = 0;
   KktResiduals kkt;
   // Coulomb: max_i |c_i − F̄_i(φ) λ_n,i| / max_i c_i for the final (λ, φ) — the fixed point's own
   // residual (of the order of fixed_point_tol), not part of kkt.max(); 0 for Tresca.
   double coulomb_relation = 0;
-  ResultantForces forces;            // applied, contact and reaction forces and their balance
+  ResultantForces forces;  // applied, contact and reaction forces and their balance
   double wn_plus_L2 = 0, wn_plus_inf = 0;
-  double stability_condition = 0;    // estimate of cond(Q) from its Cholesky pivots
-  std::vector<std::string> warnings; // what makes this answer less trustworthy than its residuals say
-  std::vector<std::string> notes;    // what the model does that a user may not expect
+  double stability_condition = 0;            // estimate of cond(Q) from its Cholesky pivots
+  std::vector<std::string> warnings;         // what makes this answer less trustworthy than its residuals say
+  std::vector<std::string> notes;            // what the model does that a user may not expect
   double friction_where_separated_area = 0;  // Tresca: area of cells with friction but λ_n = 0
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   double factor_nonzeros = 0;
-  double step_solve_fraction = 1;  // share of nnz(L) one fixed-point step back-substitutes through (DisplacementTrace); 1: a full solve
-  std::string schur_method;          // how Q was formed: "augmented", "contactlast" or "blocksolve"
-  std::string qp_method;             // "mpgp", "mpgp_projcg" or "ssn"
+  double step_solve_fraction =
+      1;  // share of nnz(L) one fixed-point step back-substitutes through (DisplacementTrace); 1: a full solve
+  std::string schur_method;  // how Q was formed: "augmented", "contactlast" or "blocksolve"
+  std::string qp_method;     // "mpgp", "mpgp_projcg" or "ssn"
 };
 
 using ProgressCallback = std::function<void(const FixedPointStep&)>;
@@ -85,7 +86,8 @@ using ProgressCallback = std::function<void(const FixedPointStep&)>;
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step = {},
                         Progress* progress = nullptr);
 
-// Positive part of the penetration w_n − d = −u_3 − z on Γc: (L2 norm integrated exactly over the contact triangles, max).
+// Positive part of the penetration w_n − d = −u_3 − z on Γc: (L2 norm integrated exactly over the contact triangles,
+// max).
 std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u);
 
 }  // namespace contact3d

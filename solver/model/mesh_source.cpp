@@ -33,14 +33,17 @@ std::string tail_of(const std::filesystem::path& log, std::size_t chars = 800) {
 
 // Runs a mesher (argv[0] from PATH) with its output in `log`; an InputError with the log's tail
 // when it fails or does not produce `product`.
-void run_mesher(std::vector<std::string> args, const std::filesystem::path& script, const std::filesystem::path& product,
-                const std::filesystem::path& log) {
+void run_mesher(std::vector<std::string> args, const std::filesystem::path& script,
+                const std::filesystem::path& product, const std::filesystem::path& log) {
   const std::string program = args.front();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("cannot start " + program + " (fork failed)");
   if (pid == 0) {
     std::FILE* f = std::fopen(log.c_str(), "w");
-    if (f) { dup2(fileno(f), 1); dup2(fileno(f), 2); }
+    if (f) {
+      dup2(fileno(f), 1);
+      dup2(fileno(f), 2);
+    }
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -76,9 +79,9 @@ std::string without_comments(const std::string& text) {
 
 // What an untrusted script of each kind may not do: run programs, include files outside its folder.
 struct ScriptRules {
-  const char* kind;       // "gmsh script", "FreeFEM script"
-  std::regex runs;        // a call that runs another program
-  std::regex include;     // an include, with the file name as group 1
+  const char* kind;    // "gmsh script", "FreeFEM script"
+  std::regex runs;     // a call that runs another program
+  std::regex include;  // an include, with the file name as group 1
 };
 const ScriptRules& gmsh_rules() {
   static const ScriptRules r{"gmsh script",
@@ -93,8 +96,8 @@ const ScriptRules& freefem_rules() {
 }
 
 // The policy for untrusted scripts (MeshSource::trusted), applied to the script and every file it includes.
-void check_script_is_safe(const std::filesystem::path& script, const std::filesystem::path& root, const ScriptRules& rules,
-                          int depth = 0) {
+void check_script_is_safe(const std::filesystem::path& script, const std::filesystem::path& root,
+                          const ScriptRules& rules, int depth = 0) {
   std::ifstream in(script);
   if (!in) throw InputError(std::string(rules.kind) + " '" + script.string() + "' cannot be read");
   std::stringstream buf;
@@ -116,7 +119,8 @@ void check_script_is_safe(const std::filesystem::path& script, const std::filesy
 }
 
 void require_script(const std::filesystem::path& script, const char* kind, bool trusted, const ScriptRules& rules) {
-  if (!std::filesystem::exists(script)) throw InputError(std::string(kind) + " '" + script.string() + "' does not exist");
+  if (!std::filesystem::exists(script))
+    throw InputError(std::string(kind) + " '" + script.string() + "' does not exist");
   if (!trusted) check_script_is_safe(script, std::filesystem::weakly_canonical(script).parent_path(), rules);
 }
 

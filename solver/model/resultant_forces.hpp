@@ -20,7 +20,7 @@ struct ResultantForces {
   // The foundation's force on the body, −𝔹ᵀλ summed over the free components (where a contact
   // node's component is prescribed, its share of the contact force is in that condition's reaction).
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();
-  std::vector<ReactionForce> reactions;                // the supports' forces on the body (N)
+  std::vector<ReactionForce> reactions;  // the supports' forces on the body (N)
   // |applied + contact + Σ reactions| / max(|applied|, |contact|, max |reaction|): 0 in exact
   // equilibrium; of the order of the solver's tolerances otherwise.
   double balance = 0;

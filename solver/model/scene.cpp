@@ -3,8 +3,8 @@
 #include <cmath>
 #include <fstream>
 #include <set>
-#include <utility>
 #include <sstream>
+#include <utility>
 
 #include <toml++/toml.h>
 
@@ -22,7 +22,8 @@ void check_keys(const toml::table& t, const std::string& where, const KeySet& al
     if (!allowed.count(k)) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      throw InputError("unknown key '" + (where.empty() ? k : where + "." + k) + "' in the scene (allowed here: " + list + ")");
+      throw InputError("unknown key '" + (where.empty() ? k : where + "." + k) +
+                       "' in the scene (allowed here: " + list + ")");
     }
   }
 }
@@ -56,7 +57,8 @@ int get_int(const toml::table& t, const std::string& where, const std::string& k
   return static_cast<int>(v);
 }
 
-std::string get_string(const toml::table& t, const std::string& where, const std::string& key, const std::string& fallback) {
+std::string get_string(const toml::table& t, const std::string& where, const std::string& key,
+                       const std::string& fallback) {
   const toml::node* n = t.get(key);
   if (!n) return fallback;
   if (!n->is_string()) throw InputError("scene key '" + where + "." + key + "' must be a string");
@@ -65,7 +67,8 @@ std::string get_string(const toml::table& t, const std::string& where, const std
 
 // An enum by its name in the enum's table; absent: `value` keeps its default.
 template <class E, std::size_t N>
-void get_enum(const toml::table& t, const std::string& where, const std::string& key, const NameTable<E, N>& names, E& value) {
+void get_enum(const toml::table& t, const std::string& where, const std::string& key, const NameTable<E, N>& names,
+              E& value) {
   const toml::node* n = t.get(key);
   if (!n) return;
   const std::string name = get_string(t, where, key, "");
@@ -164,8 +167,9 @@ void parse_boundary(const toml::table& bnd, Scene& s) {
     s.displacements.push_back(d);
   }
   if (s.clamped.empty() && s.displacements.empty())
-    throw InputError("the scene has no boundary.clamped group and no [[boundary.displacement]]: something must keep the "
-                     "body from rigid motions");
+    throw InputError(
+        "the scene has no boundary.clamped group and no [[boundary.displacement]]: something must keep the "
+        "body from rigid motions");
   for (const toml::table* t : get_tables(bnd, "boundary", "traction")) {
     check_keys(*t, "boundary.traction", {"group", "value", "gradient"});
     Traction tr;
@@ -198,9 +202,7 @@ void apply_override(toml::table& root, const std::string& assignment) {
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + text);
-  } catch (const toml::parse_error&) {
-    parsed = toml::table{{"v", text}};
-  }
+  } catch (const toml::parse_error&) { parsed = toml::table{{"v", text}}; }
   toml::table* t = &root;
   std::stringstream ss(key);
   std::string part, next;
@@ -242,7 +244,8 @@ FrictionLaw parse_law(const toml::table& fr) {
     const toml::node* pts = fr.get("points");
     if (!pts || !pts->is_array()) throw InputError("friction.points must be a list of [t, F] pairs");
     for (const auto& p : *pts->as_array()) {
-      if (!p.is_array() || p.as_array()->size() != 2) throw InputError("friction.points must be a list of [t, F] pairs");
+      if (!p.is_array() || p.as_array()->size() != 2)
+        throw InputError("friction.points must be a list of [t, F] pairs");
       const auto t = (*p.as_array())[0].value<double>(), f = (*p.as_array())[1].value<double>();
       if (!t || !f) throw InputError("friction.points must hold numbers");
       law.points.emplace_back(*t, *f);
@@ -256,7 +259,8 @@ FrictionLaw parse_law(const toml::table& fr) {
 
 }  // namespace
 
-Scene parse_scene_text(const std::string& text, const std::filesystem::path& base, const std::vector<std::string>& overrides) {
+Scene parse_scene_text(const std::string& text, const std::filesystem::path& base,
+                       const std::vector<std::string>& overrides) {
   toml::table root;
   try {
     root = toml::parse(text);
@@ -266,7 +270,8 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     throw InputError(msg.str());
   }
   for (const auto& o : overrides) apply_override(root, o);
-  check_keys(root, "", {"mesh", "material", "boundary", "friction", "contact", "solver", "output", "crosscheck", "expect"});
+  check_keys(root, "",
+             {"mesh", "material", "boundary", "friction", "contact", "solver", "output", "crosscheck", "expect"});
   Scene s;
   std::ostringstream echo;
   echo << root;
@@ -281,7 +286,8 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     if (!v || !(*mesh)["trusted"].is_boolean()) throw InputError("mesh.trusted must be true or false");
     s.mesh.trusted = *v;
   }
-  const int sources = mesh->contains("file") + mesh->contains("geo") + mesh->contains("edp") + mesh->contains("generator");
+  const int sources =
+      mesh->contains("file") + mesh->contains("geo") + mesh->contains("edp") + mesh->contains("generator");
   if (sources != 1) throw InputError("[mesh] needs exactly one of: file, geo, edp, generator");
   if (mesh->contains("file")) s.mesh.file = resolve(base, get_string(*mesh, "mesh", "file", ""));
   if (mesh->contains("geo")) s.mesh.geo = resolve(base, get_string(*mesh, "mesh", "geo", ""));
@@ -291,7 +297,8 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     throw InputError("mesh.generator must be 'paper_brick', got '" + s.mesh.generator + "'");
   s.mesh.n = get_int(*mesh, "mesh", "n", 4, 1, 64);  // n = 64: 3.9M tets, ~2.4M dofs
   if (const toml::table* params = table_at(*mesh, "parameters"))
-    for (const auto& [k, v] : *params) s.mesh.parameters[std::string(k.str())] = get_number(*params, "mesh.parameters", std::string(k.str()), 0);
+    for (const auto& [k, v] : *params)
+      s.mesh.parameters[std::string(k.str())] = get_number(*params, "mesh.parameters", std::string(k.str()), 0);
 
   const toml::table* mat = table_at(root, "material");
   if (!mat) throw InputError("the scene has no [material] table");
@@ -308,8 +315,9 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   s.slip_bound = fr ? get_number(*fr, "friction", "slip_bound", 0) : 0;
   if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + number(s.slip_bound));
   if (s.friction_model == FrictionModel::Coulomb && s.slip_bound != 0)
-    throw InputError("friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
-                     "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
+    throw InputError(
+        "friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
+        "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
   if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
       !fr->contains("slip_bound"))
     throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() +
@@ -317,8 +325,9 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
 
   if (const toml::table* ct = table_at(root, "contact")) {
     check_keys(*ct, "contact", {"cell_size", "plane_point", "plane_normal"});
-    const Eigen::Vector3d plane_point =
-        ct->contains("plane_point") ? get_vector(ct->get("plane_point"), "contact.plane_point") : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d plane_point = ct->contains("plane_point")
+                                            ? get_vector(ct->get("plane_point"), "contact.plane_point")
+                                            : Eigen::Vector3d::Zero();
     const Eigen::Vector3d plane_normal = ct->contains("plane_normal")
                                              ? get_vector(ct->get("plane_normal"), "contact.plane_normal")
                                              : Eigen::Vector3d::UnitZ();
@@ -326,15 +335,14 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     if (const toml::node* n = ct->get("cell_size")) {
       if (n->is_string()) {
         std::string v = *n->value<std::string>();
-        if (v.empty() || v.back() != 'h') throw InputError("contact.cell_size must be a length (m) or a multiple of h like \"2h\", got '" + v + "'");
+        if (v.empty() || v.back() != 'h')
+          throw InputError("contact.cell_size must be a length (m) or a multiple of h like \"2h\", got '" + v + "'");
         v.pop_back();
         try {
           std::size_t used = 0;
           s.cell_size = v.empty() ? 1.0 : std::stod(v, &used);
           if (!v.empty() && used != v.size()) throw std::invalid_argument(v);
-        } catch (const std::exception&) {
-          throw InputError("contact.cell_size: cannot read '" + v + "h'");
-        }
+        } catch (const std::exception&) { throw InputError("contact.cell_size: cannot read '" + v + "h'"); }
         s.cell_size_relative = true;
       } else {
         s.cell_size = get_number(*ct, "contact", "cell_size", 0);
@@ -345,9 +353,9 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   }
 
   if (const toml::table* sv = table_at(root, "solver")) {
-    check_keys(*sv, "solver", {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
-                               "fixed_point", "anderson_depth", "schur", "inexact_fixed_point",
-                               "reference_factorization"});
+    check_keys(*sv, "solver",
+               {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
+                "fixed_point", "anderson_depth", "schur", "inexact_fixed_point", "reference_factorization"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
     o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
@@ -355,7 +363,8 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     o.fixed_point_max_iter = get_int(*sv, "solver", "fixed_point_max_iter", o.fixed_point_max_iter, 1, 100000);
     o.anderson_depth = get_int(*sv, "solver", "anderson_depth", o.anderson_depth, 1, 50);
     if (!(o.qp_rtol > 0 && o.qp_rtol < 1)) throw InputError("solver.qp_rtol must lie in (0, 1)");
-    if (!(o.fixed_point_tol > 0 && o.fixed_point_tol < 1)) throw InputError("solver.fixed_point_tol must lie in (0, 1)");
+    if (!(o.fixed_point_tol > 0 && o.fixed_point_tol < 1))
+      throw InputError("solver.fixed_point_tol must lie in (0, 1)");
     get_enum(*sv, "solver", "qp", kQpVariantNames, o.qp.variant);
     get_enum(*sv, "solver", "qp_scaling", kQpScalingNames, o.qp.scaling);
     get_enum(*sv, "solver", "schur", kDualMethodNames, o.dual_method);
@@ -379,9 +388,12 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
 
 UnitLabels unit_labels(UnitSystem units) {
   switch (units) {
-    case UnitSystem::MillimetreNewtonMegapascal: return {"mm", "N", "MPa"};
-    case UnitSystem::MetreKilonewtonKilopascal: return {"m", "kN", "kPa"};
-    case UnitSystem::MetreNewtonPascal: break;
+    case UnitSystem::MillimetreNewtonMegapascal:
+      return {"mm", "N", "MPa"};
+    case UnitSystem::MetreKilonewtonKilopascal:
+      return {"m", "kN", "kPa"};
+    case UnitSystem::MetreNewtonPascal:
+      break;
   }
   return {"m", "N", "Pa"};
 }
@@ -394,8 +406,8 @@ TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
     const auto& region = scene.regions[k];
     const PhysicalGroup* g = mesh.find_group(region.group, 3);
     if (g == nullptr)
-      throw InputError("material.region '" + region.group + "' is not a volume (3-D) group of the mesh; it has: " +
-                       mesh.describe_groups());
+      throw InputError("material.region '" + region.group +
+                       "' is not a volume (3-D) group of the mesh; it has: " + mesh.describe_groups());
     std::size_t count = 0;
     for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
       if (mesh.tet_group[e] != g->tag) continue;
@@ -420,7 +432,8 @@ MeshRoles mesh_roles(const Scene& scene) {
 
 Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError("scene '" + path.string() + "' is a directory, not a scene file");
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError("scene '" + path.string() + "' is a directory, not a scene file");
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     throw InputError("scene '" + path.string() + "' is not a regular file");
   std::ifstream in(path);

@@ -23,12 +23,12 @@
 namespace contact3d {
 
 struct MeshSource {
-  std::filesystem::path file;                 // an .msh file, or
-  std::filesystem::path geo;                  // a gmsh .geo script meshed with -setnumber parameters, or
-  std::filesystem::path edp;                  // a FreeFEM script run as `FreeFem++ -nw edp -out F -<key> <value>...`, or
+  std::filesystem::path file;  // an .msh file, or
+  std::filesystem::path geo;   // a gmsh .geo script meshed with -setnumber parameters, or
+  std::filesystem::path edp;   // a FreeFEM script run as `FreeFem++ -nw edp -out F -<key> <value>...`, or
   std::map<std::string, double> parameters;
-  std::string generator;                      // "paper_brick": the built-in five-tet brick
-  int n = 4;                                  // generator resolution
+  std::string generator;  // "paper_brick": the built-in five-tet brick
+  int n = 4;              // generator resolution
   // A .geo or .edp script is code. Untrusted (the default), it may not run programs (gmsh's
   // SystemCall, Shell, OnelabRun, ...; FreeFEM's exec, system) nor include files outside its own
   // folder; `trusted = true` in [mesh] lifts both.
@@ -42,8 +42,8 @@ inline constexpr NameTable<DualMethod, 4> kDualMethodNames{{{DualMethod::Auto, "
 
 // [solver]: every option with its default; the scene key is the field name unless noted.
 struct SolverSettings {
-  double qp_rtol = 1e-6;              // ‖g̃‖ <= qp_rtol ‖h‖ (the paper's criterion)
-  double fixed_point_tol = 1e-4;      // err(k) <= this (the paper's)
+  double qp_rtol = 1e-6;          // ‖g̃‖ <= qp_rtol ‖h‖ (the paper's criterion)
+  double fixed_point_tol = 1e-4;  // err(k) <= this (the paper's)
   int fixed_point_max_iter = 50;
   // qp (variant: "mpgp" the paper's algorithm, "mpgp_projcg", "ssn"), qp_scaling ("jacobi": a
   // diagonal scaling that keeps half-lines and discs; "none": the paper's plain MPGP),
@@ -54,8 +54,9 @@ struct SolverSettings {
   FixedPointVariant fixed_point = FixedPointVariant::Accelerated;
   int anderson_depth = 5;
   DualMethod dual_method = DualMethod::Auto;  // key `schur`: how Q = 𝔹K⁻¹𝔹ᵀ is formed (DualMethod)
-  bool inexact_fixed_point = false;    // QP tolerance tied to err(k) in early fixed-point steps
-  bool reference_factorization = false; // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
+  bool inexact_fixed_point = false;           // QP tolerance tied to err(k) in early fixed-point steps
+  bool reference_factorization =
+      false;  // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
 };
 
 // [output]: where the run is written and what it keeps.
@@ -75,15 +76,15 @@ inline StepOutput resolved(StepOutput steps, std::size_t n_nodes) {
 // lengths, forces and moduli must be given in this consistent system.
 enum class UnitSystem { MetreNewtonPascal, MillimetreNewtonMegapascal, MetreKilonewtonKilopascal };
 inline constexpr NameTable<UnitSystem, 3> kUnitSystemNames{{{UnitSystem::MetreNewtonPascal, "m-N-Pa"},
-                                                           {UnitSystem::MillimetreNewtonMegapascal, "mm-N-MPa"},
-                                                           {UnitSystem::MetreKilonewtonKilopascal, "m-kN-kPa"}}};
+                                                            {UnitSystem::MillimetreNewtonMegapascal, "mm-N-MPa"},
+                                                            {UnitSystem::MetreKilonewtonKilopascal, "m-kN-kPa"}}};
 struct UnitLabels {
   const char *length, *force, *stress;
 };
 UnitLabels unit_labels(UnitSystem units);
 
 struct OutputSettings {
-  std::filesystem::path dir;          // default results/runs/<scene name> (or --out)
+  std::filesystem::path dir;  // default results/runs/<scene name> (or --out)
   StepOutput steps = StepOutput::Auto;
   UnitSystem units = UnitSystem::MetreNewtonPascal;
 };
@@ -95,24 +96,24 @@ struct MaterialRegion {
 };
 
 struct Scene {
-  std::filesystem::path source;       // the scene file (relative paths are resolved against its folder)
+  std::filesystem::path source;  // the scene file (relative paths are resolved against its folder)
   MeshSource mesh;
-  Material material;                  // [material]: every tetrahedron not in a region
+  Material material;  // [material]: every tetrahedron not in a region
   std::vector<MaterialRegion> regions;
   Eigen::Vector3d body_force = Eigen::Vector3d::Zero();  // N/m³
   std::vector<std::string> clamped, contact;             // clamped: u = 0 on the group (Γu)
   std::vector<PrescribedDisplacement> displacements;     // [[boundary.displacement]]: group, any of x, y, z (m)
-  std::vector<Traction> tractions;    // [[boundary.traction]] (value, gradient) and [[boundary.pressure]]
+  std::vector<Traction> tractions;  // [[boundary.traction]] (value, gradient) and [[boundary.pressure]]
   FrictionModel friction_model = FrictionModel::Tresca;  // friction.model
-  double slip_bound = 0;              // g, Pa (Tresca only)
+  double slip_bound = 0;                                 // g, Pa (Tresca only)
   FrictionLaw law;
-  double cell_size = 2;               // H: a length in m, or a multiple of h when relative
+  double cell_size = 2;  // H: a length in m, or a multiple of h when relative
   bool cell_size_relative = true;
   // [contact] plane_point (m, default origin) and plane_normal (towards the body, default +z).
   FoundationFrame foundation;
   SolverSettings solver;
   OutputSettings output;
-  std::string echo;                   // the scene as solved, TOML text (overrides applied)
+  std::string echo;  // the scene as solved, TOML text (overrides applied)
 
   bool frictionless() const {
     return law.kind == FrictionLaw::Kind::None || (friction_model == FrictionModel::Tresca && slip_bound == 0) ||

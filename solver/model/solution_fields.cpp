@@ -16,14 +16,18 @@ std::vector<int> cell_status(int n_cells, const Eigen::VectorXd& lambda, const E
   const MultiplierLayout at{n_cells, has_friction(n_cells, lambda)};
   const double pmax = lambda.head(n_cells).maxCoeff();
   for (int i = 0; i < n_cells; ++i) {
-    if (lambda[at.normal(i)] <= 1e-6 * pmax) status[i] = kSeparated;
-    else if (at.with_friction && std::hypot(lambda[at.t1(i)], lambda[at.t2(i)]) >= (1 - 1e-3) * radius[i]) status[i] = kSlip;
-    else status[i] = kStick;
+    if (lambda[at.normal(i)] <= 1e-6 * pmax)
+      status[i] = kSeparated;
+    else if (at.with_friction && std::hypot(lambda[at.t1(i)], lambda[at.t2(i)]) >= (1 - 1e-3) * radius[i])
+      status[i] = kSlip;
+    else
+      status[i] = kStick;
   }
   return status;
 }
 
-ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res, const StateView& s) {
+ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res,
+                                      const StateView& s) {
   const std::size_t nn = mesh.nodes.size();
   ContactNodeFields nf{Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn),
                        Eigen::VectorXd::Zero(nn), Eigen::VectorXd::Zero(nn), std::vector<int>(nn, kSeparated)};
@@ -58,8 +62,8 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
     // slipping cells whose λ_t point in different directions "stick".
     const auto& sw = status_weight[v];
     nf.status[v] = sw[kSlip] >= sw[kStick] && sw[kSlip] >= sw[kSeparated] ? kSlip
-                   : sw[kStick] >= sw[kSeparated]                        ? kStick
-                                                                         : kSeparated;
+                   : sw[kStick] >= sw[kSeparated]                         ? kStick
+                                                                          : kSeparated;
   }
   return nf;
 }
@@ -84,9 +88,9 @@ TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Ei
     for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u.segment<3>(3 * t[a]);
     const Eigen::Matrix<double, 6, 1> s = hooke_matrix(materials[e]) * (strain_matrix(x) * ue);
     out.voigt[e] = s;
-    out.von_mises[e] = std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
-                                        (s[2] - s[0]) * (s[2] - s[0])) +
-                                 3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+    out.von_mises[e] = std::sqrt(
+        0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) + (s[2] - s[0]) * (s[2] - s[0])) +
+        3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
   }
   return out;
 }
@@ -107,7 +111,10 @@ ContactResultants contact_resultants(const SolveResult& res, const StateView& s)
   const std::vector<int> status = cell_status(r, s.lambda, s.radius);
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double area = 0;
-  for (const auto& c : res.partition.cells) { centre += c.area * c.centroid; area += c.area; }
+  for (const auto& c : res.partition.cells) {
+    centre += c.area * c.centroid;
+    area += c.area;
+  }
   if (area > 0) centre /= area;
   for (int i = 0; i < r; ++i) {
     const auto& c = res.partition.cells[i];

@@ -22,9 +22,7 @@ Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
   return out;
 }
 
-double BoxDiscQP::value(const Eigen::VectorXd& lambda) const {
-  return 0.5 * lambda.dot(apply(lambda)) - h.dot(lambda);
-}
+double BoxDiscQP::value(const Eigen::VectorXd& lambda) const { return 0.5 * lambda.dot(apply(lambda)) - h.dot(lambda); }
 
 void project(const BoxDiscQP& qp, Eigen::VectorXd& lambda) {
   const int r = qp.r;
@@ -56,8 +54,10 @@ GradientSplit split_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& lambda,
   const int r = qp.r;
   GradientSplit s{Eigen::VectorXd::Zero(g.size()), Eigen::VectorXd::Zero(g.size())};
   for (int i = 0; i < r; ++i) {
-    if (lambda[i] > 0) s.free[i] = g[i];
-    else s.chopped[i] = std::min(g[i], 0.0);
+    if (lambda[i] > 0)
+      s.free[i] = g[i];
+    else
+      s.chopped[i] = std::min(g[i], 0.0);
   }
   if (!qp.with_friction) return s;
   for (int i = 0; i < r; ++i) {
@@ -104,7 +104,8 @@ double max_feasible_step(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, con
   return std::max(step, 0.0);
 }
 
-double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g, double alpha) {
+double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g,
+                             double alpha) {
   Eigen::VectorXd y = lambda - alpha * g;
   project(qp, y);
   return (lambda - y).norm() / alpha;

@@ -43,6 +43,7 @@ GradientSplit split_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& lambda,
 double max_feasible_step(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& p);
 
 // ‖(λ − P(λ − α g)) / α‖: the reduced projected gradient (continuous in λ).
-double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g, double alpha);
+double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g,
+                             double alpha);
 
 }  // namespace contact3d

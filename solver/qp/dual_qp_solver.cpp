@@ -33,7 +33,8 @@ QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lam
     mpgp.rtol = rtol;
     mpgp.max_iterations = settings_.max_iterations;
     mpgp.progress = progress_;
-    mpgp.expansion = settings_.variant == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
+    mpgp.expansion =
+        settings_.variant == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
     result = solve_mpgp(problem, x, mpgp);
   }
   lambda = jacobi_ ? jacobi_->from_scaled(x) : x;

@@ -16,8 +16,8 @@
 namespace contact3d {
 
 enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
-inline constexpr NameTable<QpVariant, 3> kQpVariantNames{{
-    {QpVariant::Mpgp, "mpgp"}, {QpVariant::MpgpProjectedCG, "mpgp_projcg"}, {QpVariant::Ssn, "ssn"}}};
+inline constexpr NameTable<QpVariant, 3> kQpVariantNames{
+    {{QpVariant::Mpgp, "mpgp"}, {QpVariant::MpgpProjectedCG, "mpgp_projcg"}, {QpVariant::Ssn, "ssn"}}};
 
 enum class QpScaling { None, Jacobi };
 inline constexpr NameTable<QpScaling, 2> kQpScalingNames{{{QpScaling::Jacobi, "jacobi"}, {QpScaling::None, "none"}}};

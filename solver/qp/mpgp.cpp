@@ -7,17 +7,21 @@ namespace contact3d {
 
 std::string to_string(QpStatus s) {
   switch (s) {
-    case QpStatus::Converged: return "converged";
-    case QpStatus::IterationLimit: return "iteration_limit";
-    case QpStatus::Breakdown: return "breakdown";
+    case QpStatus::Converged:
+      return "converged";
+    case QpStatus::IterationLimit:
+      return "iteration_limit";
+    case QpStatus::Breakdown:
+      return "breakdown";
   }
   return "?";
 }
 
 std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "  qp (%s): iteration %d, %d products, projected gradient %.2e (target %.0e), %.1f s", method,
-                so_far.iterations, so_far.hessian_products, so_far.projected_gradient, rtol, progress.elapsed());
+  std::snprintf(buf, sizeof buf, "  qp (%s): iteration %d, %d products, projected gradient %.2e (target %.0e), %.1f s",
+                method, so_far.iterations, so_far.hessian_products, so_far.projected_gradient, rtol,
+                progress.elapsed());
   return buf;
 }
 
@@ -64,15 +68,25 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
   for (result.iterations = 0; result.iterations < settings.max_iterations; ++result.iterations) {
     const double free_sq = s.split.free.squaredNorm(), chopped_sq = s.split.chopped.squaredNorm();
     result.projected_gradient = std::sqrt(free_sq + chopped_sq) / h_norm;
-    if (!std::isfinite(result.projected_gradient)) { result.status = QpStatus::Breakdown; return result; }
-    if (std::sqrt(free_sq + chopped_sq) <= tol) { result.status = QpStatus::Converged; return result; }
-    if (settings.progress) settings.progress->beat([&] { return qp_heartbeat_line("mpgp", result, settings.rtol, *settings.progress); });
+    if (!std::isfinite(result.projected_gradient)) {
+      result.status = QpStatus::Breakdown;
+      return result;
+    }
+    if (std::sqrt(free_sq + chopped_sq) <= tol) {
+      result.status = QpStatus::Converged;
+      return result;
+    }
+    if (settings.progress)
+      settings.progress->beat([&] { return qp_heartbeat_line("mpgp", result, settings.rtol, *settings.progress); });
 
     if (chopped_sq <= settings.gamma * settings.gamma * free_sq) {
       // Proportional iterate: conjugate-gradient step on the free set, or expansion.
       const Eigen::VectorXd Qp = s.apply(p);
       const double pQp = p.dot(Qp);
-      if (!(pQp > 0)) { result.status = QpStatus::Breakdown; return result; }
+      if (!(pQp > 0)) {
+        result.status = QpStatus::Breakdown;
+        return result;
+      }
       const double a_cg = s.g.dot(p) / pQp;
       const double a_f = max_feasible_step(qp, lambda, p);
       if (a_cg <= a_f) {
@@ -120,7 +134,10 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
       const Eigen::VectorXd d = s.split.chopped;
       const Eigen::VectorXd Qd = s.apply(d);
       const double dQd = d.dot(Qd);
-      if (!(dQd > 0)) { result.status = QpStatus::Breakdown; return result; }
+      if (!(dQd > 0)) {
+        result.status = QpStatus::Breakdown;
+        return result;
+      }
       const double a = s.g.dot(d) / dQd;
       const Eigen::VectorXd trial = lambda - a * d;
       if (is_feasible(qp, trial, 0.0)) {  // strict: a tangential step along a circle never is

@@ -27,10 +27,10 @@ enum class ExpansionKind {
 };
 
 struct MpgpSettings {
-  double rtol = 1e-6;            // ‖gᴾ‖ <= rtol ‖h‖
+  double rtol = 1e-6;  // ‖gᴾ‖ <= rtol ‖h‖
   int max_iterations = 100000;
-  double gamma = 1.0;            // proportioning parameter Γ
-  double alpha_scale = 1.8;      // ᾱ = alpha_scale / ‖Q‖ (must be < 2)
+  double gamma = 1.0;        // proportioning parameter Γ
+  double alpha_scale = 1.8;  // ᾱ = alpha_scale / ‖Q‖ (must be < 2)
   ExpansionKind expansion = ExpansionKind::FullGradient;
   Progress* progress = nullptr;  // heartbeat: iterations and ‖gᴾ‖/‖h‖ every few seconds (none: silent)
 };
@@ -38,9 +38,9 @@ struct MpgpSettings {
 struct QpResult {
   QpStatus status = QpStatus::Breakdown;
   int iterations = 0;
-  int hessian_products = 0;      // products Q·v — each one is a K⁻¹ application in the paper's count
+  int hessian_products = 0;  // products Q·v — each one is a K⁻¹ application in the paper's count
   int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
-  double projected_gradient = 0; // final ‖gᴾ‖ / ‖h‖
+  double projected_gradient = 0;  // final ‖gᴾ‖ / ‖h‖
 };
 
 // The heartbeat line of an inner QP solve: "qp (mpgp): iteration 1200, ‖gᴾ‖/‖h‖ = 3.2e-04 → 1e-06, 4.1 s".

@@ -42,7 +42,8 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
 
   Eigen::VectorXd g = qp.apply(lambda) - qp.h;
   ++result.hessian_products;
-  auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z, Eigen::VectorXd& pz) {
+  auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z,
+                      Eigen::VectorXd& pz) {
     z = lam - rho * grad;
     pz = z;
     project(qp, pz);
@@ -62,13 +63,17 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     if (moved) ++result.hessian_products;
     const double pg = projected_gradient_norm(qp, lam_f, g_f);
     result.projected_gradient = pg / h_norm;
-    if (!std::isfinite(pg)) { result.status = QpStatus::Breakdown; return result; }
+    if (!std::isfinite(pg)) {
+      result.status = QpStatus::Breakdown;
+      return result;
+    }
     if (pg <= tol) {
       lambda = lam_f;
       result.status = QpStatus::Converged;
       return result;
     }
-    if (settings.progress) settings.progress->beat([&] { return qp_heartbeat_line("ssn", result, settings.rtol, *settings.progress); });
+    if (settings.progress)
+      settings.progress->beat([&] { return qp_heartbeat_line("ssn", result, settings.rtol, *settings.progress); });
     // Generalized Jacobian of F: J = I − D + ρ D Q, D block-diagonal ∂P(z) (0 for an inactive
     // normal or a point disc, I inside, (c/‖z‖)(I − ννᵀ) sliding). Built as Jᵀ = I − D + ρ Q D
     // column by column (Q symmetric, column-major) and solved transposed.
@@ -77,28 +82,34 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       J.col(col) += (rho * d) * Q.col(from);
     };
     for (int i = 0; i < r; ++i) {
-      if (z[i] > 0) add_col(i, i, 1.0);
-      else J(i, i) = 1.0;
+      if (z[i] > 0)
+        add_col(i, i, 1.0);
+      else
+        J(i, i) = 1.0;
     }
     if (qp.with_friction) {
       for (int i = 0; i < r; ++i) {
         const int a = qp.layout().t1(i), b = qp.layout().t2(i);
         const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
-        if (c <= 0) {   // a point disc: λ_t is fixed at 0, D = 0
+        if (c <= 0) {  // a point disc: λ_t is fixed at 0, D = 0
           J(a, a) += 1;
           J(b, b) += 1;
         } else if (zn <= c) {  // inside the disc: D = I
           add_col(a, a, 1.0);
           add_col(b, b, 1.0);
-        } else {        // sliding
+        } else {  // sliding
           const double sc = c / zn, na = z[a] / zn, nb = z[b] / zn;
           const double D00 = sc * (1 - na * na), D01 = -sc * na * nb, D11 = sc * (1 - nb * nb);
           if (sc > 0) {
-            add_col(a, a, D00); add_col(a, b, D01);
-            add_col(b, a, D01); add_col(b, b, D11);
+            add_col(a, a, D00);
+            add_col(a, b, D01);
+            add_col(b, a, D01);
+            add_col(b, b, D11);
           }
-          J(a, a) += 1 - D00; J(b, a) += -D01;
-          J(a, b) += -D01;    J(b, b) += 1 - D11;
+          J(a, a) += 1 - D00;
+          J(b, a) += -D01;
+          J(a, b) += -D01;
+          J(b, b) += 1 - D11;
         }
       }
     }

@@ -16,9 +16,9 @@
 namespace contact3d {
 
 struct SsnSettings {
-  double rtol = 1e-6;          // same criterion as MpgpSettings::rtol
-  int max_newton = 40;         // Newton steps before falling back to MPGP
-  int max_iterations = 100000; // for the MPGP fallback
+  double rtol = 1e-6;            // same criterion as MpgpSettings::rtol
+  int max_newton = 40;           // Newton steps before falling back to MPGP
+  int max_iterations = 100000;   // for the MPGP fallback
   Progress* progress = nullptr;  // heartbeat (none: silent)
 };
 

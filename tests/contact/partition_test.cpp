@@ -8,10 +8,10 @@
 #include <map>
 #include <string>
 
+#include "base/errors.hpp"
 #include "contact/contact_face.hpp"
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
-#include "base/errors.hpp"
 #include "mesh/brick_generator.hpp"
 
 using namespace contact3d;
@@ -132,7 +132,10 @@ TEST(Partition, NonConvexFaceSplitsDisconnectedRectangles) {
   // Two legs [0,1]x[0,3] and [2,3]x[0,3] joined by a bridge [0,3]x[3,4]. With H = 3 the grid is
   // 1 x 2 (hy = 2): the lower rectangle holds two disconnected leg pieces and is split.
   std::vector<std::pair<int, int>> sq;
-  for (int j = 0; j < 3; ++j) { sq.push_back({0, j}); sq.push_back({2, j}); }
+  for (int j = 0; j < 3; ++j) {
+    sq.push_back({0, j});
+    sq.push_back({2, j});
+  }
   for (int i = 0; i < 3; ++i) sq.push_back({i, 3});
   const Flat f = flat(sq);
   const Partition p = make_grid_partition(f.mesh, f.face, {3.0});

@@ -22,7 +22,8 @@ TetCoords skewed_tet() {
   return {Eigen::Vector3d(0.1, 0.0, 0.2), Eigen::Vector3d(1.3, 0.2, 0.1), Eigen::Vector3d(0.3, 1.1, -0.2),
           Eigen::Vector3d(0.2, 0.4, 0.9)};
 }
-Eigen::Matrix<double, 12, 1> nodal(const TetCoords& x, const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& u) {
+Eigen::Matrix<double, 12, 1> nodal(const TetCoords& x,
+                                   const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& u) {
   Eigen::Matrix<double, 12, 1> v;
   for (int a = 0; a < 4; ++a) v.segment<3>(3 * a) = u(x[a]);
   return v;
@@ -39,7 +40,8 @@ TEST(Elasticity, RigidMotionsAreInTheKernel) {
     EXPECT_LT((K * nodal(x, [&](const Eigen::Vector3d&) { return t; })).norm(), 1e-12 * scale);
     Eigen::Vector3d axis = Eigen::Vector3d::Zero();
     axis[c] = 1;
-    EXPECT_LT((K * nodal(x, [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(axis.cross(p)); })).norm(), 1e-12 * scale);
+    EXPECT_LT((K * nodal(x, [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(axis.cross(p)); })).norm(),
+              1e-12 * scale);
   }
   // ... and a stretch is not.
   EXPECT_GT((K * nodal(x, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p.x(), 0, 0); })).norm(), 1e-3 * scale);
@@ -112,10 +114,8 @@ TEST(Assembly, PatchTestLinearFieldIsReproducedInside) {
   const auto reactions = reaction_forces(dofs, r);
   ASSERT_EQ(reactions.size(), 1u);
   EXPECT_LT(reactions[0].force.norm(), 1e-6 * r.cwiseAbs().maxCoeff());  // a homogeneous stress is self-balanced
-  for (int v = 0; v < dofs.n_nodes; ++v)  // interior nodes carry no residual
-    if (!boundary.count(v)) {
-      EXPECT_LT(r.segment<3>(3 * v).norm(), 1e-9 * r.cwiseAbs().maxCoeff());
-    }
+  for (int v = 0; v < dofs.n_nodes; ++v)                                 // interior nodes carry no residual
+    if (!boundary.count(v)) { EXPECT_LT(r.segment<3>(3 * v).norm(), 1e-9 * r.cwiseAbs().maxCoeff()); }
 }
 
 TEST(Assembly, TractionLoadSumsToForce) {
@@ -225,9 +225,7 @@ TEST(Assembly, FreeRigidMotionsAreNamed) {
     try {
       require_rigid_motions_fixed(mesh, make_dof_map(mesh, clamped, d));
       return std::string();
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
+    } catch (const InputError& e) { return std::string(e.what()); }
   };
   EXPECT_EQ(message({"clamped"}, {}), "");
   // Rollers on z = 0 (u_z) and x = 0 (u_x): the body can still slide along y.

@@ -236,10 +236,8 @@ TEST(FastPaths, WholeSolvesAgreeAcrossVariants) {
   ASSERT_TRUE(ref.converged);
   EXPECT_EQ(ref.schur_method, "blocksolve");
   const std::vector<std::vector<std::string>> variants = {
-      {"solver.schur=\"contactlast\""},
-      {"solver.schur=\"contactlast\"", "solver.qp=\"ssn\""},
-      {"solver.schur=\"augmented\""},
-      {"solver.qp=\"ssn\"", "solver.inexact_fixed_point=true"},
+      {"solver.schur=\"contactlast\""},    {"solver.schur=\"contactlast\"", "solver.qp=\"ssn\""},
+      {"solver.schur=\"augmented\""},      {"solver.qp=\"ssn\"", "solver.inexact_fixed_point=true"},
       {"solver.fixed_point=\"anderson\""},
   };
   for (const auto& v : variants) {

@@ -47,9 +47,7 @@ End
 std::string error_of(const std::string& text) {
   try {
     parse_medit(text, "bad.mesh");
-  } catch (const InputError& e) {
-    return e.what();
-  }
+  } catch (const InputError& e) { return e.what(); }
   return "";
 }
 
@@ -148,8 +146,7 @@ TEST(MeditReader, BinaryPrefixesAndOverwritesNeverCrash) {
       std::memcpy(bad.data() + at, &value, 4);
       try {
         parse_medit(bad, "over.meshb");
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
     }
   }
 }

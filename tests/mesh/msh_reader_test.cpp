@@ -52,8 +52,7 @@ class TempDir {
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     path_ = fs::temp_directory_path() /
-            ("contact3d_msh_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" +
-             info->name());
+            ("contact3d_msh_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -82,9 +81,7 @@ std::string slurp(const std::string& path) {
 std::string input_error(const std::function<void()>& f) {
   try {
     f();
-  } catch (const InputError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
+  } catch (const InputError& e) { return e.what(); } catch (const std::exception& e) {
     ADD_FAILURE() << "expected InputError, got another exception: " << e.what();
     return {};
   }
@@ -225,8 +222,7 @@ Mesh tricky_mesh() {
   m.triangles = {{0, 1, 2}, {1, 2, 3}, {0, 1, 2}, {2, 3, 4}};
   m.triangle_tags = {11, 12, 11, 13};
   m.triangle_group = {4, 0, 9, 4};
-  m.groups = {{2, 4, "contact"}, {3, 6, "body with spaces"}, {2, 9, ""},
-              {1, 5, "edge \"quoted\""}, {0, 3, "pt"}};
+  m.groups = {{2, 4, "contact"}, {3, 6, "body with spaces"}, {2, 9, ""}, {1, 5, "edge \"quoted\""}, {0, 3, "pt"}};
   return m;
 }
 
@@ -261,8 +257,7 @@ TEST(MshWriter, Msh41HasOneEntityPerPhysicalGroup) {
 TEST(MshWriter, FillsMissingTags) {
   TempDir dir;
   Mesh m;
-  m.nodes = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0),
-             Eigen::Vector3d(0, 0, 1)};
+  m.nodes = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1)};
   m.tets = {{0, 1, 2, 3}};
   m.triangles = {{0, 2, 1}, {0, 1, 3}};
   for (auto writer : {&write_msh41, &write_msh22}) {
@@ -374,9 +369,7 @@ void check_sparse(const Mesh& m) {
   EXPECT_TRUE(m.groups.empty());
 }
 
-TEST(MshReader, SparseTagsParametricNodesAndUnknownSections) {
-  check_sparse(parse_msh(kSparse41, "sparse.msh"));
-}
+TEST(MshReader, SparseTagsParametricNodesAndUnknownSections) { check_sparse(parse_msh(kSparse41, "sparse.msh")); }
 
 TEST(MshReader, WindowsLineEndingsAndTrailingBlanks) {
   std::string crlf;
@@ -418,38 +411,38 @@ TEST(MshReader, Msh22DuplicateTetLinesAreStoredOnce) {
 
 // A valid 4.1 file, one line per entry; line i+1 is kBase41[i].
 const std::vector<std::string> kBase41 = {
-    "$MeshFormat",             // 1
-    "4.1 0 8",                 // 2
-    "$EndMeshFormat",          // 3
-    "$PhysicalNames",          // 4
-    "2",                       // 5
-    "2 1 \"contact\"",         // 6
-    "3 2 \"body\"",            // 7
-    "$EndPhysicalNames",       // 8
-    "$Entities",               // 9
-    "0 0 1 1",                 // 10
-    "1 0 0 0 1 1 0 1 1 0",     // 11
-    "1 0 0 0 1 1 1 1 2 0",     // 12
-    "$EndEntities",            // 13
-    "$Nodes",                  // 14
-    "1 4 1 4",                 // 15
-    "3 1 0 4",                 // 16
-    "1",                       // 17
-    "2",                       // 18
-    "3",                       // 19
-    "4",                       // 20
-    "0 0 0",                   // 21
-    "1 0 0",                   // 22
-    "0 1 0",                   // 23
-    "0 0 1",                   // 24
-    "$EndNodes",               // 25
-    "$Elements",               // 26
-    "2 2 1 2",                 // 27
-    "2 1 2 1",                 // 28
-    "1 1 3 2",                 // 29
-    "3 1 4 1",                 // 30
-    "2 1 2 3 4",               // 31
-    "$EndElements",            // 32
+    "$MeshFormat",          // 1
+    "4.1 0 8",              // 2
+    "$EndMeshFormat",       // 3
+    "$PhysicalNames",       // 4
+    "2",                    // 5
+    "2 1 \"contact\"",      // 6
+    "3 2 \"body\"",         // 7
+    "$EndPhysicalNames",    // 8
+    "$Entities",            // 9
+    "0 0 1 1",              // 10
+    "1 0 0 0 1 1 0 1 1 0",  // 11
+    "1 0 0 0 1 1 1 1 2 0",  // 12
+    "$EndEntities",         // 13
+    "$Nodes",               // 14
+    "1 4 1 4",              // 15
+    "3 1 0 4",              // 16
+    "1",                    // 17
+    "2",                    // 18
+    "3",                    // 19
+    "4",                    // 20
+    "0 0 0",                // 21
+    "1 0 0",                // 22
+    "0 1 0",                // 23
+    "0 0 1",                // 24
+    "$EndNodes",            // 25
+    "$Elements",            // 26
+    "2 2 1 2",              // 27
+    "2 1 2 1",              // 28
+    "1 1 3 2",              // 29
+    "3 1 4 1",              // 30
+    "2 1 2 3 4",            // 31
+    "$EndElements",         // 32
 };
 
 std::string join(const std::vector<std::string>& lines) {
@@ -467,9 +460,7 @@ std::string base41_with(const std::vector<std::pair<int, std::string>>& edits) {
   return out;
 }
 std::string base41_with(int line, const std::string& text) { return base41_with({{line, text}}); }
-std::string base41_first_lines(int n) {
-  return join(std::vector<std::string>(kBase41.begin(), kBase41.begin() + n));
-}
+std::string base41_first_lines(int n) { return join(std::vector<std::string>(kBase41.begin(), kBase41.begin() + n)); }
 
 struct BrokenCase {
   std::string name;
@@ -487,71 +478,80 @@ TEST(MshReader, BaseFileIsValid) {
 
 TEST(MshBroken, AsciiFilesNameFileAndLine) {
   const std::string base22 =
-      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"          // 1-3
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"             // 1-3
       "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"  // 4-9
-      "$Elements\n2\n1 2 2 1 1 1 2 3\n";                 // 10-12
+      "$Elements\n2\n1 2 2 1 1 1 2 3\n";                   // 10-12
   const std::vector<BrokenCase> cases = {
       {"version 3.0", base41_with(2, "3.0 0 8"), {"line 2", "3.0", "supported: 4.1, 2.2"}},
       {"version 4.0", base41_with(2, "4 0 8"), {"line 2", "supported: 4.1, 2.2"}},
       // A 4.1 ASCII body under a binary 2.2 header: the endianness marker is not there.
-      {"binary 2.2 header on ASCII data", base41_with(2, "2.2 1 8"),
+      {"binary 2.2 header on ASCII data",
+       base41_with(2, "2.2 1 8"),
        {"byte offset 20", "corrupt binary header", "endianness marker"}},
-      {"binary 2.2 data size 4", base41_with(2, "2.2 1 4"),
+      {"binary 2.2 data size 4",
+       base41_with(2, "2.2 1 4"),
        {"line 2", "data size 4 is not supported in binary MSH 2.2"}},
       {"not msh", "hello world\n", {"line 1", "not a gmsh MSH file"}},
       {"bad coordinate", base41_with(22, "1 0 abc"), {"line 22", "'abc'", "coordinate"}},
       {"nan coordinate", base41_with(23, "0 nan 0"), {"line 23", "not a finite number"}},
       {"inf coordinate", base41_with(24, "0 0 -inf"), {"line 24", "not a finite number"}},
       {"huge coordinate", base41_with(23, "0 1e999 0"), {"line 23", "out of range"}},
-      {"undefined node", base41_with(31, "2 1 2 3 99"),
-       {"line 31", "element 2", "node 99", "$Nodes does not define"}},
+      {"undefined node", base41_with(31, "2 1 2 3 99"), {"line 31", "element 2", "node 99", "$Nodes does not define"}},
       {"negative count", base41_with(15, "1 -4 1 4"), {"line 15", "non-negative", "'-4'"}},
-      {"absurd count", base41_with(15, "1 4000000000000 1 4000000000000"),
+      {"absurd count",
+       base41_with(15, "1 4000000000000 1 4000000000000"),
        {"line 15", "4000000000000", "larger than the rest of the file"}},
-      {"absurd element count", base41_with(30, "3 1 4 999999999999999"),
+      {"absurd element count",
+       base41_with(30, "3 1 4 999999999999999"),
        {"line 30", "larger than the rest of the file"}},
       {"node count mismatch", base41_with(15, "1 5 1 5"), {"line 25", "announces 5 nodes"}},
-      {"too few elements in block", base41_with({{27, "2 3 1 3"}, {30, "3 1 4 2"}}),
+      {"too few elements in block",
+       base41_with({{27, "2 3 1 3"}, {30, "3 1 4 2"}}),
        {"line 32", "'$EndElements'", "before the count"}},
       {"element count mismatch", base41_with(27, "2 3 1 3"), {"line 32", "announces 3 elements"}},
       {"more elements than count", base41_with(27, "2 1 1 2"), {"line 30", "more elements"}},
       {"missing node in element", base41_with(31, "2 1 2 3"), {"line 31", "line ends"}},
       {"extra value in element", base41_with(29, "1 1 3 2 4"), {"line 29", "more values"}},
       {"bad integer", base41_with(29, "1x 1 3 2"), {"line 29", "'1x'"}},
-      {"tet10", base41_with(30, "3 1 11 1"),
-       {"line 30", "element type 11 (10-node tetrahedron) is not supported",
-        "gmsh -order 1"}},
+      {"tet10",
+       base41_with(30, "3 1 11 1"),
+       {"line 30", "element type 11 (10-node tetrahedron) is not supported", "gmsh -order 1"}},
       {"tri6", base41_with(28, "2 1 9 1"), {"line 28", "element type 9 (6-node triangle)"}},
       {"hex", base41_with(30, "3 1 5 1"), {"line 30", "element type 5 (8-node hexahedron)"}},
       {"unknown type", base41_with(30, "3 1 77 1"), {"line 30", "element type 77"}},
-      {"undefined entity", base41_with(28, "2 7 2 1"),
-       {"line 28", "surface entity 7", "$Entities does not define"}},
+      {"undefined entity", base41_with(28, "2 7 2 1"), {"line 28", "surface entity 7", "$Entities does not define"}},
       {"duplicate node tag", base41_with(18, "1"), {"line 14", "node tag 1 is defined twice"}},
       {"node tag zero", base41_with(17, "0"), {"line 17", "node tag 0"}},
       {"unterminated name", base41_with(6, "2 1 \"contact"), {"line 6", "closing quote"}},
       {"bad group dim", base41_with(6, "7 1 \"contact\""), {"line 6", "dimension 7"}},
       {"truncated", base41_first_lines(28), {"line 27", "element blocks 2 is larger", "truncated"}},
-      {"truncated in a block", base41_first_lines(30) + "2 1 2",
+      {"truncated in a block",
+       base41_first_lines(30) + "2 1 2",
        {"line 30", "is larger than the rest of the file", "truncated"}},
       {"no elements", base41_first_lines(25), {"no $Elements section"}},
       {"no nodes", base41_first_lines(13), {"no $Nodes section"}},
-      {"elements before nodes", base41_first_lines(13) + "$Elements\n0 0 0 0\n$EndElements\n",
+      {"elements before nodes",
+       base41_first_lines(13) + "$Elements\n0 0 0 0\n$EndElements\n",
        {"line 14", "$Elements comes before $Nodes"}},
       {"unclosed section", join(kBase41) + "$Comments\nhello\n", {"line 33", "not closed by $EndComments"}},
-      {"garbage between sections", base41_with(26, "garbage\n$Elements"),
-       {"line 26", "expected a section header"}},
+      {"garbage between sections", base41_with(26, "garbage\n$Elements"), {"line 26", "expected a section header"}},
       {"missing section end", base41_with(25, ""), {"line 25", "expected $EndNodes, found '$Elements'"}},
-      {"partitioned", base41_with(13, "$EndEntities\n$PartitionedEntities\n$EndPartitionedEntities"),
+      {"partitioned",
+       base41_with(13, "$EndEntities\n$PartitionedEntities\n$EndPartitionedEntities"),
        {"line 14", "partitioned"}},
       {"2.2 truncated", base22, {"line 13", "unexpected end of file"}},
       {"2.2 truncated mid-line", base22 + "2 4 2 1 1 1 2", {"line 13", "unexpected end of file"}},
-      {"2.2 undefined node", base22 + "2 4 2 1 1 1 2 3 4\n$EndElements\n",
+      {"2.2 undefined node",
+       base22 + "2 4 2 1 1 1 2 3 4\n$EndElements\n",
        {"line 13", "node 4", "$Nodes does not define"}},
-      {"2.2 tet10", base22 + "2 11 2 1 1 1 2 3 1 2 3 1 2 3 1\n$EndElements\n",
+      {"2.2 tet10",
+       base22 + "2 11 2 1 1 1 2 3 1 2 3 1 2 3 1\n$EndElements\n",
        {"line 13", "element type 11 (10-node tetrahedron)", "gmsh -order 1"}},
-      {"2.2 too many elements", base22 + "2 2 2 1 1 1 2 3\n3 2 2 1 1 1 2 3\n$EndElements\n",
+      {"2.2 too many elements",
+       base22 + "2 2 2 1 1 1 2 3\n3 2 2 1 1 1 2 3\n$EndElements\n",
        {"line 14", "expected $EndElements, found '3'", "more data"}},
-      {"2.2 bad node line", std::string("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 0 0\n$EndNodes\n"),
+      {"2.2 bad node line",
+       std::string("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 0 0\n$EndNodes\n"),
        {"line 7", "z coordinate", "line ends"}},
   };
   TempDir dir;
@@ -583,8 +583,9 @@ TEST(MshBroken, PhysicalTagAmplificationIsRefused) {
       "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
       "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 100000";
   for (int i = 0; i < 100000; ++i) text += " 1";
-  text += " 0\n$EndEntities\n$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
-          "$Elements\n1 3000 1 3000\n2 1 2 3000\n";  // the block header is line 20
+  text +=
+      " 0\n$EndEntities\n$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
+      "$Elements\n1 3000 1 3000\n2 1 2 3000\n";  // the block header is line 20
   for (int i = 1; i <= 3000; ++i) text += std::to_string(i) + " 1 2 3\n";
   text += "$EndElements\n";
   const std::string msg = input_error([&] { parse_msh(text, "amplify.msh"); });
@@ -612,12 +613,12 @@ T peek(const std::string& data, std::size_t offset) {
 
 TEST(MshBroken, BinaryFilesNameByteOffset) {
   const std::string good = slurp(kBinary41);
-  const std::size_t nodes = after(good, "$Nodes\n");        // 4 x size_t header
-  const std::size_t block = nodes + 32;                      // dim, tag, parametric, count
+  const std::size_t nodes = after(good, "$Nodes\n");  // 4 x size_t header
+  const std::size_t block = nodes + 32;               // dim, tag, parametric, count
   const std::size_t block_count = peek<std::uint64_t>(good, block + 12);
   const std::size_t first_coord = block + 20 + 8 * block_count;
   const std::size_t elements = after(good, "$Elements\n");
-  const std::size_t first_element = elements + 32 + 20;      // its tag, then its nodes
+  const std::size_t first_element = elements + 32 + 20;  // its tag, then its nodes
   const std::size_t format_one = after(good, "4.1 1 8\n");
 
   struct Patch {
@@ -627,21 +628,18 @@ TEST(MshBroken, BinaryFilesNameByteOffset) {
     std::string keyword;
   };
   const std::vector<Patch> patches = {
-      {"absurd node count", [&](std::string& d) { poke<std::uint64_t>(d, nodes + 8, 1ull << 50); },
-       nodes + 8, "larger than the rest of the file"},
-      {"absurd block count", [&](std::string& d) { poke<std::uint64_t>(d, block + 12, ~0ull); },
-       block + 12, "larger than the rest of the file"},
-      {"nan coordinate",
-       [&](std::string& d) { poke(d, first_coord, std::numeric_limits<double>::quiet_NaN()); },
+      {"absurd node count", [&](std::string& d) { poke<std::uint64_t>(d, nodes + 8, 1ull << 50); }, nodes + 8,
+       "larger than the rest of the file"},
+      {"absurd block count", [&](std::string& d) { poke<std::uint64_t>(d, block + 12, ~0ull); }, block + 12,
+       "larger than the rest of the file"},
+      {"nan coordinate", [&](std::string& d) { poke(d, first_coord, std::numeric_limits<double>::quiet_NaN()); },
        first_coord, "non-finite"},
-      {"undefined node", [&](std::string& d) { poke<std::uint64_t>(d, first_element + 8, 9999); },
-       first_element + 8, "node 9999"},
-      {"element type", [&](std::string& d) { poke<std::int32_t>(d, elements + 32 + 8, 11); },
-       elements + 32, "element type 11"},
-      {"endianness", [&](std::string& d) { poke<std::int32_t>(d, format_one, 0x01000000); },
-       format_one, "big-endian"},
-      {"truncated in a count", [&](std::string& d) { d.resize(nodes + 4); }, nodes,
-       "unexpected end of file"},
+      {"undefined node", [&](std::string& d) { poke<std::uint64_t>(d, first_element + 8, 9999); }, first_element + 8,
+       "node 9999"},
+      {"element type", [&](std::string& d) { poke<std::int32_t>(d, elements + 32 + 8, 11); }, elements + 32,
+       "element type 11"},
+      {"endianness", [&](std::string& d) { poke<std::int32_t>(d, format_one, 0x01000000); }, format_one, "big-endian"},
+      {"truncated in a count", [&](std::string& d) { d.resize(nodes + 4); }, nodes, "unexpected end of file"},
       {"truncated in the nodes", [&](std::string& d) { d.resize(first_coord + 4); }, nodes,
        "larger than the rest of the file can hold (truncated"},
   };
@@ -652,8 +650,7 @@ TEST(MshBroken, BinaryFilesNameByteOffset) {
     p.apply(data);
     const std::string path = dir.write("bin.msh", data);
     const std::string msg = input_error([&] { read_msh(path); });
-    EXPECT_NE(msg.find(path + ", byte offset " + std::to_string(p.offset) + ":"), std::string::npos)
-        << msg;
+    EXPECT_NE(msg.find(path + ", byte offset " + std::to_string(p.offset) + ":"), std::string::npos) << msg;
     EXPECT_NE(msg.find(p.keyword), std::string::npos) << msg;
   }
 }
@@ -669,11 +666,9 @@ TEST(MshBroken, EveryTruncationIsAnInputError) {
         parse_msh(std::string_view(data).substr(0, len), "prefix");
         ADD_FAILURE() << "prefix of " << len << " bytes was accepted";
         return;
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
     }
-    EXPECT_EQ(parse_msh(std::string_view(data).substr(0, data.size() - 1), "p").tets.size(),
-              6u * 3 * kN * kN * kN);
+    EXPECT_EQ(parse_msh(std::string_view(data).substr(0, data.size() - 1), "p").tets.size(), 6u * 3 * kN * kN * kN);
   }
 }
 
@@ -691,10 +686,18 @@ TEST(MshBroken, RandomCorruptionIsAcceptedOrInputError) {
       for (int e = 0; e < edits && !data.empty(); ++e) {
         const std::size_t pos = rng() % data.size();
         switch (rng() % 4) {
-          case 0: data[pos] = alphabet[rng() % (sizeof alphabet - 1)]; break;
-          case 1: data[pos] = static_cast<char>(rng() & 0xff); break;
-          case 2: data.erase(pos, 1 + rng() % 8); break;
-          default: data.insert(pos, 1, alphabet[rng() % (sizeof alphabet - 1)]); break;
+          case 0:
+            data[pos] = alphabet[rng() % (sizeof alphabet - 1)];
+            break;
+          case 1:
+            data[pos] = static_cast<char>(rng() & 0xff);
+            break;
+          case 2:
+            data.erase(pos, 1 + rng() % 8);
+            break;
+          default:
+            data.insert(pos, 1, alphabet[rng() % (sizeof alphabet - 1)]);
+            break;
         }
       }
       try {
@@ -704,8 +707,7 @@ TEST(MshBroken, RandomCorruptionIsAcceptedOrInputError) {
           for (int v : t) ASSERT_TRUE(v >= 0 && static_cast<std::size_t>(v) < m.nodes.size());
         for (const auto& t : m.triangles)
           for (int v : t) ASSERT_TRUE(v >= 0 && static_cast<std::size_t>(v) < m.nodes.size());
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
     }
     RecordProperty(fs::path(fixture).filename().string() + "_accepted", accepted);
   }
@@ -730,11 +732,17 @@ std::string le_ints(std::initializer_list<std::int32_t> values) {
 // Nodes per element of the types gmsh writes in the fixtures.
 std::size_t fixture_type_nodes(std::int32_t type) {
   switch (type) {
-    case 15: return 1;
-    case 1: return 2;
-    case 2: return 3;
-    case 4: return 4;
-    default: ADD_FAILURE() << "element type " << type << " in a fixture"; return 0;
+    case 15:
+      return 1;
+    case 1:
+      return 2;
+    case 2:
+      return 3;
+    case 4:
+      return 4;
+    default:
+      ADD_FAILURE() << "element type " << type << " in a fixture";
+      return 0;
   }
 }
 
@@ -780,8 +788,8 @@ std::string regroup_blocks22(const std::string& data) {
       type = t;
       ntags = k;
     }
-    body += data.substr(b + 12, 4 * static_cast<std::size_t>(n) *
-                                    (1 + static_cast<std::size_t>(k) + fixture_type_nodes(t)));
+    body += data.substr(b + 12,
+                        4 * static_cast<std::size_t>(n) * (1 + static_cast<std::size_t>(k) + fixture_type_nodes(t)));
     count += n;
   }
   flush();
@@ -805,8 +813,7 @@ TEST(MshReader, Gmsh22BinaryMatchesAscii) {
   check_brick(brick, kN);
   expect_same_mesh(brick, read_msh(kAscii22));  // coordinates k/2, k/6: exact in both
   expect_same_mesh(brick, read_msh(kAscii41));
-  for (const auto& [binary, ascii] : {std::pair{kBinary22, kAscii22},
-                                      std::pair{kHoledBinary22, kHoledAscii22},
+  for (const auto& [binary, ascii] : {std::pair{kBinary22, kAscii22}, std::pair{kHoledBinary22, kHoledAscii22},
                                       std::pair{kMultiBinary22, kMultiAscii22}}) {
     SCOPED_TRACE(binary);
     const Mesh b = read_msh(binary);
@@ -893,8 +900,8 @@ TEST(MshReader, Msh22BinaryHandBuiltMatchesAscii) {
   bin += le_ints({1, 1, 4, /**/ 2, 0, 3, 1, 2, 10, 20});
   bin += le_ints({2, 0, 2});  // an empty block
   bin += le_ints({2, 2, 4, /**/ 3, 4, 1, 1, 2, 10, 20, 30, /**/ 4, 0, 1, 1, 2, 10, 30, 40});
-  bin += le_ints({4, 3, 2, /**/ 5, 6, 1, 10, 20, 30, 40, /**/ 6, 9, 1, 10, 20, 30, 40,
-                  /**/ 7, 6, 1, 20, 30, 40, 1000000007});
+  bin += le_ints({4,      3, 2, /**/ 5, 6,  1,  10,        20, 30, 40, /**/ 6, 9, 1, 10, 20, 30, 40,
+                  /**/ 7, 6, 1, 20,     30, 40, 1000000007});
   bin += "\n$EndElements\n";
   const Mesh m = parse_msh(bin, "hand.msh");
   expect_same_mesh(m, parse_msh(ascii, "hand_ascii.msh"));
@@ -941,48 +948,97 @@ TEST(MshBroken, Binary22FilesNameByteOffset) {
   const std::vector<Patch> patches = {
       // Header
       {"flipped endianness marker",
-       [&](D d) { poke<std::int32_t>(d, format_one, 0x01000000); return format_one; },
+       [&](D d) {
+         poke<std::int32_t>(d, format_one, 0x01000000);
+         return format_one;
+       },
        {"big-endian"}},
       {"corrupt endianness marker",
-       [&](D d) { poke<std::int32_t>(d, format_one, 7); return format_one; },
+       [&](D d) {
+         poke<std::int32_t>(d, format_one, 7);
+         return format_one;
+       },
        {"corrupt binary header", "endianness marker is 7"}},
       // Truncations
       {"truncated in the endianness marker",
-       [&](D d) { d.resize(format_one + 2); return format_one; },
+       [&](D d) {
+         d.resize(format_one + 2);
+         return format_one;
+       },
        {"unexpected end of file in binary data", "endianness marker"}},
-      {"truncated in the nodes", [&](D d) { d.resize(first_node + 10 * 28 + 5); return node_count; },
+      {"truncated in the nodes",
+       [&](D d) {
+         d.resize(first_node + 10 * 28 + 5);
+         return node_count;
+       },
        {"the number of nodes 63 is larger than the rest of the file can hold (truncated"}},
       {"truncated before the element blocks",
-       [&](D d) { d.resize(element_count + 100); return element_count; },
+       [&](D d) {
+         d.resize(element_count + 100);
+         return element_count;
+       },
        {"the number of elements 256 is larger than the rest of the file can hold (truncated"}},
-      {"truncated in a block header", [&](D d) { d.resize(last_block + 6); return last_block + 4; },
+      {"truncated in a block header",
+       [&](D d) {
+         d.resize(last_block + 6);
+         return last_block + 4;
+       },
        {"unexpected end of file in binary data", "the number of elements in the block"}},
       // The last block: a 12-byte header, then one tetrahedron of 28 bytes.
-      {"truncated in an element", [&](D d) { d.resize(blocks_end - 20); return last_block + 4; },
+      {"truncated in an element",
+       [&](D d) {
+         d.resize(blocks_end - 20);
+         return last_block + 4;
+       },
        {"the number of elements in the block 1 is larger than the rest of the file can hold"}},
-      {"truncated before $EndElements", [&](D d) { d.resize(blocks_end); return blocks_end; },
+      {"truncated before $EndElements",
+       [&](D d) {
+         d.resize(blocks_end);
+         return blocks_end;
+       },
        {"unexpected end of file; expected $EndElements"}},
       // Counts
       {"huge node count",
-       [&](D d) { replace(d, "$Nodes\n63\n", "$Nodes\n4000000000000\n"); return node_count; },
+       [&](D d) {
+         replace(d, "$Nodes\n63\n", "$Nodes\n4000000000000\n");
+         return node_count;
+       },
        {"the number of nodes 4000000000000 is larger than the rest of the file can hold"}},
       {"node count too large",
-       [&](D d) { replace(d, "$Nodes\n63\n", "$Nodes\n64\n"); return first_node + 63 * 28; },
+       [&](D d) {
+         replace(d, "$Nodes\n63\n", "$Nodes\n64\n");
+         return first_node + 63 * 28;
+       },
        {"the $Nodes header announces 64 nodes but the section ends after 63"}},
       {"node count too small",
-       [&](D d) { replace(d, "$Nodes\n63\n", "$Nodes\n62\n"); return first_node + 62 * 28; },
+       [&](D d) {
+         replace(d, "$Nodes\n63\n", "$Nodes\n62\n");
+         return first_node + 62 * 28;
+       },
        {"expected $EndNodes", "more data than the counts"}},
       {"huge element count",
-       [&](D d) { replace(d, "$Elements\n256\n", "$Elements\n4000000000000\n"); return element_count; },
+       [&](D d) {
+         replace(d, "$Elements\n256\n", "$Elements\n4000000000000\n");
+         return element_count;
+       },
        {"the number of elements 4000000000000 is larger than the rest of the file can hold"}},
       {"element count too large",
-       [&](D d) { replace(d, "$Elements\n256\n", "$Elements\n257\n"); return blocks_end; },
+       [&](D d) {
+         replace(d, "$Elements\n256\n", "$Elements\n257\n");
+         return blocks_end;
+       },
        {"the $Elements header announces 257 elements but its blocks hold 256"}},
       {"element count too small",
-       [&](D d) { replace(d, "$Elements\n256\n", "$Elements\n255\n"); return last_block; },
+       [&](D d) {
+         replace(d, "$Elements\n256\n", "$Elements\n255\n");
+         return last_block;
+       },
        {"expected $EndElements", "more data than the counts"}},
       {"huge block count",
-       [&](D d) { poke<std::int32_t>(d, blocks[0] + 4, 0x7fffffff); return blocks[0] + 4; },
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0] + 4, 0x7fffffff);
+         return blocks[0] + 4;
+       },
        {"the number of elements in the block 2147483647 is larger than the rest of the file"}},
       {"block count beyond the header's",
        [&](D d) {
@@ -992,41 +1048,85 @@ TEST(MshBroken, Binary22FilesNameByteOffset) {
        },
        {"the element blocks hold more elements than the 1 announced"}},
       {"negative block count",
-       [&](D d) { poke<std::int32_t>(d, blocks[0] + 4, -1); return blocks[0] + 4; },
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0] + 4, -1);
+         return blocks[0] + 4;
+       },
        {"the number of elements in the block is negative (-1)"}},
       {"huge tag count",
-       [&](D d) { poke<std::int32_t>(d, blocks[0] + 8, 0x7fffffff); return blocks[0] + 8; },
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0] + 8, 0x7fffffff);
+         return blocks[0] + 8;
+       },
        {"the number of tags per element 2147483647 is larger than the rest of the file"}},
       {"negative tag count",
-       [&](D d) { poke<std::int32_t>(d, blocks[0] + 8, -2); return blocks[0] + 8; },
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0] + 8, -2);
+         return blocks[0] + 8;
+       },
        {"the number of tags per element is negative (-2)"}},
       // Element types
       {"10-node tetrahedron block",
-       [&](D d) { poke<std::int32_t>(d, first_tet_block, 11); return first_tet_block; },
+       [&](D d) {
+         poke<std::int32_t>(d, first_tet_block, 11);
+         return first_tet_block;
+       },
        {"element type 11 (10-node tetrahedron) is not supported", "gmsh -order 1"}},
-      {"hexahedron block", [&](D d) { poke<std::int32_t>(d, first_tet_block, 5); return first_tet_block; },
+      {"hexahedron block",
+       [&](D d) {
+         poke<std::int32_t>(d, first_tet_block, 5);
+         return first_tet_block;
+       },
        {"element type 5 (8-node hexahedron) is not supported"}},
       {"unknown element type",
-       [&](D d) { poke<std::int32_t>(d, blocks[0], 77); return blocks[0]; },
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0], 77);
+         return blocks[0];
+       },
        {"element type 77 (unknown to this reader) is not supported"}},
       // Element records
       {"undefined node",
-       [&](D d) { poke<std::int32_t>(d, blocks[0] + 24, 9999); return blocks[0] + 24; },
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0] + 24, 9999);
+         return blocks[0] + 24;
+       },
        {"element 1 refers to node 9999, which $Nodes does not define", "(in $Elements)"}},
-      {"negative node", [&](D d) { poke<std::int32_t>(d, blocks[0] + 24, -3); return blocks[0] + 24; },
+      {"negative node",
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0] + 24, -3);
+         return blocks[0] + 24;
+       },
        {"element 1 refers to node -3"}},
       {"node out of range in a tetrahedron",
-       [&](D d) { poke<std::int32_t>(d, first_tet_block + 36, 64); return first_tet_block + 36; },
+       [&](D d) {
+         poke<std::int32_t>(d, first_tet_block + 36, 64);
+         return first_tet_block + 36;
+       },
        {"element 113 refers to node 64"}},
-      {"element tag 0", [&](D d) { poke<std::int32_t>(d, blocks[0] + 12, 0); return blocks[0] + 12; },
+      {"element tag 0",
+       [&](D d) {
+         poke<std::int32_t>(d, blocks[0] + 12, 0);
+         return blocks[0] + 12;
+       },
        {"element tag 0 is not valid"}},
       // Nodes
       {"duplicate node tag",
-       [&](D d) { poke<std::int32_t>(d, first_node + 28, 1); return nodes_header; },
+       [&](D d) {
+         poke<std::int32_t>(d, first_node + 28, 1);
+         return nodes_header;
+       },
        {"node tag 1 is defined twice"}},
-      {"node tag 0", [&](D d) { poke<std::int32_t>(d, first_node, 0); return first_node; },
+      {"node tag 0",
+       [&](D d) {
+         poke<std::int32_t>(d, first_node, 0);
+         return first_node;
+       },
        {"node tag 0 is not valid"}},
-      {"negative node tag", [&](D d) { poke<std::int32_t>(d, first_node + 56, -7); return first_node + 56; },
+      {"negative node tag",
+       [&](D d) {
+         poke<std::int32_t>(d, first_node + 56, -7);
+         return first_node + 56;
+       },
        {"node tag -7 is not valid"}},
       {"nan coordinate",
        [&](D d) {
@@ -1042,10 +1142,8 @@ TEST(MshBroken, Binary22FilesNameByteOffset) {
     const std::size_t offset = p.apply(data);
     const std::string path = dir.write("bin22.msh", data);
     const std::string msg = input_error([&] { read_msh(path); });
-    EXPECT_NE(msg.find(path + ", byte offset " + std::to_string(offset) + ":"), std::string::npos)
-        << msg;
-    for (const auto& k : p.keywords)
-      EXPECT_NE(msg.find(k), std::string::npos) << "'" << k << "' not in: " << msg;
+    EXPECT_NE(msg.find(path + ", byte offset " + std::to_string(offset) + ":"), std::string::npos) << msg;
+    for (const auto& k : p.keywords) EXPECT_NE(msg.find(k), std::string::npos) << "'" << k << "' not in: " << msg;
   }
 }
 
@@ -1062,9 +1160,7 @@ TEST(MshBroken, Binary22PrefixesAndOverwritesAreAcceptedOrInputError) {
       for (const auto& t : m.triangles)
         for (int v : t) EXPECT_TRUE(in_range(v));
       return true;
-    } catch (const InputError&) {
-      return false;
-    }
+    } catch (const InputError&) { return false; }
   };
   for (const std::string& fixture : {kMultiBinary22, kHoledBinary22}) {
     SCOPED_TRACE(fixture);

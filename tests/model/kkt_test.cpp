@@ -14,14 +14,16 @@ struct OneCell {
   Eigen::SparseMatrix<double> K{3, 3}, B{3, 3};
   Eigen::VectorXd f{3}, radius{1}, lambda{3}, w{3}, h{3};
   OneCell() {
-    K.insert(0, 0) = k; K.insert(1, 1) = k; K.insert(2, 2) = k;
+    K.insert(0, 0) = k;
+    K.insert(1, 1) = k;
+    K.insert(2, 2) = k;
     B.insert(0, 2) = -1;  // ∫ w_n = −w_3
     B.insert(1, 0) = 1;   // ∫ w_t1
     B.insert(2, 1) = 1;   // ∫ w_t2
     f << pull, 0, -P;
     radius << c;
-    lambda << P, c, 0;                               // closed contact, slipping along +x
-    w = (f - B.transpose() * lambda) / k;            // equilibrium
+    lambda << P, c, 0;                     // closed contact, slipping along +x
+    w = (f - B.transpose() * lambda) / k;  // equilibrium
     h = B * (f / k);
   }
   KktResiduals residuals() const { return kkt_residuals(K, f, B, 1, true, radius, w, lambda, h); }

@@ -69,8 +69,6 @@ TEST(RegressionInputs, EachGivesAResultOrAnInputError) {
       }
     } catch (const InputError& e) {
       EXPECT_GT(std::string(e.what()).size(), 10u);  // a message a person can act on
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << "unexpected exception (not InputError): " << e.what();
-    }
+    } catch (const std::exception& e) { ADD_FAILURE() << "unexpected exception (not InputError): " << e.what(); }
   }
 }

@@ -14,9 +14,7 @@ Scene parse(const std::vector<std::string>& overrides) {
 std::string error_of(const std::vector<std::string>& overrides) {
   try {
     parse(overrides);
-  } catch (const InputError& e) {
-    return e.what();
-  }
+  } catch (const InputError& e) { return e.what(); }
   return "";
 }
 }  // namespace

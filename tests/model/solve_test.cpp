@@ -86,7 +86,10 @@ TEST(SolvePaperBrick, FrictionlessAndConstantAreSingleSolves) {
   // Less friction lets the body slide further in x than with a higher coefficient.
   const SolveResult low = solve_text({"friction.law=\"constant\"", "friction.value=0.05"});
   double ux_low = 0, ux_high = 0;
-  for (int v : constant.face.nodes) { ux_high += constant.u[3 * v]; ux_low += low.u[3 * v]; }
+  for (int v : constant.face.nodes) {
+    ux_high += constant.u[3 * v];
+    ux_low += low.u[3 * v];
+  }
   EXPECT_GT(ux_low, ux_high);
 }
 
@@ -142,7 +145,8 @@ TEST(SolveUserConditions, PressureIsTheInwardNormalTraction) {
     EXPECT_NE(at, std::string::npos);
     return s.erase(at, top.size());
   }();
-  const Scene scene = parse_scene_text(scene_without_top + "\n[[boundary.pressure]]\ngroup = \"load_top\"\nvalue = 3e7\n", ".");
+  const Scene scene =
+      parse_scene_text(scene_without_top + "\n[[boundary.pressure]]\ngroup = \"load_top\"\nvalue = 3e7\n", ".");
   const SolveResult pressed = solve_scene(scene, make_paper_brick({scene.mesh.n}));
   const SolveResult reference = solve_text();
   ASSERT_TRUE(pressed.converged);
@@ -171,8 +175,8 @@ TEST(SolveUserConditions, PrescribedDisplacementIsMetAndPressesHarder) {
 // Coulomb: at the fixed point each cell's disc radius is the coefficient times that cell's normal
 // pressure, c_i = F·λ_n,i (constant F), and the tangential multipliers lie in those discs.
 TEST(SolveCoulomb, RadiusIsCoefficientTimesNormalPressureOnEveryCell) {
-  const SolveResult res = solve_text({"friction.model=\"coulomb\"", "friction.slip_bound=0", "friction.law=\"constant\"",
-                                      "friction.value=0.3"});
+  const SolveResult res = solve_text(
+      {"friction.model=\"coulomb\"", "friction.slip_bound=0", "friction.law=\"constant\"", "friction.value=0.3"});
   ASSERT_TRUE(res.converged) << res.status;
   EXPECT_GE(res.fixed_point.iterations(), 3);  // g⁰ = 0 (frictionless), then g = λ_n until it settles
   EXPECT_LT(res.fixed_point.contraction_factor, 1);
@@ -259,7 +263,8 @@ TEST(SolveContactGeometry, RotatedBrickOnRotatedFoundationGivesTheRotatedSolutio
 // A condition on one component is kept when its axis stays an axis of the plane's frame, and
 // refused (naming the group) when the tilt mixes it with the others.
 TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) {
-  Scene scene = parse_scene_text(std::string(kPaperScene) + "\n[[boundary.displacement]]\ngroup = \"free\"\ny = 0\n", ".");
+  Scene scene =
+      parse_scene_text(std::string(kPaperScene) + "\n[[boundary.displacement]]\ngroup = \"free\"\ny = 0\n", ".");
   scene.foundation = FoundationFrame::from_plane(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 0, 1));  // turns about y
   const PlaneFrameProblem local = to_plane_frame(scene, make_paper_brick({4}));
   ASSERT_EQ(local.scene.displacements.size(), 1u);
@@ -270,7 +275,5 @@ TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) 
   try {
     to_plane_frame(scene, make_paper_brick({4}));
     FAIL() << "a y-only condition under a tilt about x was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("'free'"), std::string::npos) << e.what();
-  }
+  } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("'free'"), std::string::npos) << e.what(); }
 }

@@ -47,8 +47,10 @@ double kkt_violation(const BoxDiscQP& qp, const Eigen::VectorXd& x) {
       const double c = qp.radius[i];
       worst = std::max(worst, lt.norm() - c);
       if (c == 0) continue;
-      if (lt.norm() < c * (1 - 1e-9)) worst = std::max(worst, gt.norm());
-      else worst = std::max(worst, (gt + gt.norm() * lt / lt.norm()).norm());  // −g points outward along λ_t
+      if (lt.norm() < c * (1 - 1e-9))
+        worst = std::max(worst, gt.norm());
+      else
+        worst = std::max(worst, (gt + gt.norm() * lt / lt.norm()).norm());  // −g points outward along λ_t
     }
   return worst / qp.h.norm();
 }
