@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps build pipeline test tables crosscheck figures coulomb-getfem hertz validation bench robustness stress fuzz sanitize clean
+.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck figures coulomb-getfem hertz validation bench robustness stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -19,6 +19,21 @@ deps:
 build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
+
+# The distributed backend (PETSc + MUMPS under Open MPI): build-mpi/contact3d, run as
+# `mpirun -np P build-mpi/contact3d solve SCENE` (as root Open MPI also needs
+# OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1). Its packages are installed only here.
+deps-mpi:
+	@bash scripts/install-deps.sh --mpi
+
+build-mpi: deps deps-mpi
+	@cmake -S . -B build-mpi -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@cmake --build build-mpi -j $(JOBS) --target contact3d-mpi
+	@ln -sf contact3d-mpi build-mpi/contact3d
+
+# np = 1 and 2 against the serial CHOLMOD path ($(REPORTS)/distributed.md).
+bench-mpi: build-mpi build
+	$(PY) pipeline/bench_mpi.py --serial $(BIN) --mpi build-mpi/contact3d --out $(REPORTS)/distributed.md
 
 # Geometry -> mesh -> solve -> results/<scene>/ (figures when matplotlib is there).
 pipeline: build

@@ -565,6 +565,12 @@ def c_tilted_plane_penetration(c):
             ["below the foundation plane", "initial penetration"])
 
 
+def c_schur_mumps_in_serial_build(c):
+    # The serial binary has no distributed backend: asking for it names how to get it.
+    return (["solve", c.scene(), "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick",
+             "--set", "mesh.n=2", "--set", "solver.schur=mumps"], ["solver.schur", "mumps", "make build-mpi"])
+
+
 def c_memory_factor_too_big(c):
     # The brick n=24 (a 0.63 GiB factor) in a process limited to 700 MB of address space: refused
     # after CHOLMOD's analysis, before the numeric factorization, naming the factor's size.

@@ -45,3 +45,13 @@ add_test(NAME no_warning_on_the_paper_brick
 set_tests_properties(no_warning_on_the_paper_brick PROPERTIES FAIL_REGULAR_EXPRESSION "warning:")
 add_test(NAME version_flag COMMAND contact3d --version)
 set_tests_properties(version_flag PROPERTIES PASS_REGULAR_EXPRESSION "^contact3d [0-9]+\\.[0-9]+\\.[0-9]+")
+
+# The distributed backend (contact3d-mpi, built when PETSc and MPI are installed: `make deps-mpi`):
+# 2 ranks equal the serial CHOLMOD solve to 1e-8 on the brick and on an unstructured body.
+if(TARGET contact3d-mpi AND MPIEXEC_EXECUTABLE)
+  add_test(NAME mpi_two_ranks_equal_serial
+    COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_mpi.py --serial $<TARGET_FILE:contact3d>
+            --mpi $<TARGET_FILE:contact3d-mpi> --mpiexec ${MPIEXEC_EXECUTABLE} --source ${CMAKE_SOURCE_DIR})
+  set_tests_properties(mpi_two_ranks_equal_serial PROPERTIES TIMEOUT 300
+    ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
+endif()

@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "base/errors.hpp"
+#include "distributed/backend.hpp"
 #include "io/results_writer.hpp"
 #include "io/run_folder.hpp"
 #include "mesh/brick_generator.hpp"
@@ -202,6 +203,12 @@ int run_check(const SolveArgs& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The distributed build: every rank but 0 only serves rank 0's factorization and solves.
+  distributed::Session session(argc, argv);
+  if (!session.is_root()) {
+    session.serve();
+    return 0;
+  }
   CLI::App app{"contact3d: 3D contact with solution-dependent Tresca friction (Haslinger & Ligurský 2009)"};
   app.set_version_flag("--version", std::string("contact3d ") + CONTACT3D_VERSION);
   app.require_subcommand(1);

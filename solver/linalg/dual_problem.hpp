@@ -23,7 +23,9 @@ namespace contact3d {
 //                 substitution (DisplacementTrace). What Auto takes at every size measured.
 //   ContactLast — factor K with the contact dofs last; Q from the dense trailing block (trsm/syrk).
 //   BlockSolve  — one K⁻¹ solve per row of 𝔹 (the reference the tests compare against).
-enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve };
+//   Mumps       — the distributed backend (distributed/backend.hpp): MUMPS's Schur complement
+//                 of [K 𝔹ᵀ; 𝔹 0] on the multipliers, under MPI. Auto takes it in the MPI build.
+enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps };
 
 // What a backend needs: K and f over the free dofs, 𝔹 (multipliers × free dofs), the free dofs
 // at which face_displacement() reports w (the contact face, in the caller's order), and the

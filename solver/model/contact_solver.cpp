@@ -13,6 +13,7 @@
 #include "base/multiplier_layout.hpp"
 #include "contact/contact_operator.hpp"
 #include "contact/face_dofs.hpp"
+#include "distributed/backend.hpp"
 #include "fem/assembly.hpp"
 #include "friction/coulomb_map.hpp"
 #include "friction/slip_bound.hpp"
@@ -283,6 +284,17 @@ AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullp
   };
 }
 
+// Auto: MUMPS in the distributed build, the augmented CHOLMOD factor otherwise.
+DualMethod resolved_dual_method(DualMethod method) {
+  if (method != DualMethod::Auto) return method;
+  return distributed::available() ? DualMethod::Mumps : DualMethod::Augmented;
+}
+
+std::unique_ptr<DualProblem> make_dual_problem(DualMethod method, const DualProblemInput& input, StageClock& clock) {
+  if (method == DualMethod::Mumps) return distributed::make_mumps_dual_problem(input, clock);
+  return make_cholmod_dual_problem(method, input, clock);
+}
+
 // No contact group: one linear solve.
 SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretisation& disc, StageClock& clock,
                                   SolveResult res, Progress& report) {
@@ -374,9 +386,13 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   stage.enter("factorization",
               "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  report.stage("factorization (CHOLMOD, " + name_of(scene.solver.dual_method, kDualMethodNames) + ")");
+  const DualMethod method = resolved_dual_method(scene.solver.dual_method);
+  report.stage(
+      "factorization (" +
+      std::string(method == DualMethod::Mumps ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") +
+      ", " + name_of(method, kDualMethodNames) + ")");
   DualProblemInput input{disc.K, op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report, &stage)};
-  std::unique_ptr<DualProblem> dual = make_cholmod_dual_problem(scene.solver.dual_method, input, clock);
+  std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, clock);
   report.stage("  done; dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +
                number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
 
@@ -405,6 +421,8 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
+  res.ranks = method == DualMethod::Mumps ? distributed::ranks() : 1;
+  res.peak_memory_per_rank_mib = distributed::peak_memory_per_rank_mib();
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
     dual->release_factor();                    // two big factors need not fit at once
     time_reference_factorizations(disc.K, clock);

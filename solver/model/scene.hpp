@@ -35,10 +35,11 @@ struct MeshSource {
   bool trusted = false;
 };
 
-inline constexpr NameTable<DualMethod, 4> kDualMethodNames{{{DualMethod::Auto, "auto"},
+inline constexpr NameTable<DualMethod, 5> kDualMethodNames{{{DualMethod::Auto, "auto"},
                                                             {DualMethod::BlockSolve, "blocksolve"},
                                                             {DualMethod::ContactLast, "contactlast"},
-                                                            {DualMethod::Augmented, "augmented"}}};
+                                                            {DualMethod::Augmented, "augmented"},
+                                                            {DualMethod::Mumps, "mumps"}}};
 
 // [solver]: every option with its default; the scene key is the field name unless noted.
 struct SolverSettings {

@@ -1,0 +1,47 @@
+// The distributed backend: the same dual problem on PETSc 3.18 + MUMPS 5.5 under MPI
+// (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`). Rank 0 runs the whole solver
+// as in the serial build — it reads the mesh, assembles, runs the dual QP and the fixed point and
+// writes the outputs; the other ranks hold their share of the augmented matrix [K 𝔹ᵀ; 𝔹 0] and of
+// MUMPS's factor and serve rank 0's requests (factorize, solve, release, report memory) until it
+// finishes. Q comes from MUMPS's Schur complement on the multipliers (S = −Q, dense on rank 0,
+// MatFactorSetSchurIS), w = K⁻¹(f − 𝔹ᵀλ) from MUMPS's interior solve (ICNTL(26) = 0).
+//
+// In the serial build the same interface exists: available() is false, Session does nothing and
+// make_mumps_dual_problem throws an InputError saying how to get the backend.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "base/stage_clock.hpp"
+#include "linalg/dual_problem.hpp"
+
+namespace contact3d::distributed {
+
+bool available();
+
+// For main(): starts MPI and PETSc (PetscInitialize) and ends them; on ranks other than 0, main
+// calls serve(), which returns when rank 0's Session ends.
+class Session {
+ public:
+  Session(int& argc, char**& argv);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  bool is_root() const { return rank_ == 0; }
+  int ranks() const { return size_; }
+  void serve();
+
+ private:
+  int rank_ = 0, size_ = 1;
+  bool started_ = false;
+};
+
+// Rank 0: the dual problem with MUMPS (laps `clock` at "factorization" and "dual").
+std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput& input, StageClock& clock);
+
+// Rank 0: the number of ranks and each rank's peak resident memory (MiB), in rank order.
+int ranks();
+std::vector<double> peak_memory_per_rank_mib();
+
+}  // namespace contact3d::distributed

@@ -1,0 +1,112 @@
+#!/usr/bin/python3
+"""The distributed backend equals the serial one: the same scene solved by the serial binary
+(CHOLMOD) and by `mpirun -np 2 contact3d-mpi` (PETSc + MUMPS, Schur complement on the
+multipliers) must give the same displacement on Γc and the same multipliers to 1e-8 (relative to
+their largest entries), the same fixed-point steps, and a summary naming the backend, the ranks
+and each rank's peak memory. Cases: the paper's brick (n = 8, slip-dependent law) and an
+unstructured body with a hole (hexagonal prism, gmsh). A negative check compares the serial
+solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
+
+usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR
+"""
+import argparse
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import tomllib
+
+import numpy as np
+
+TOL = 1e-8
+CASES = [
+    ("paper brick n=8, slip-dependent", "paper_brick.toml", ["mesh.generator=paper_brick", "mesh.n=8"]),
+    ("hexagonal prism with a hole (gmsh)", "hexprism.toml", ["mesh.parameters.h=0.06"]),
+]
+
+
+def columns(path, names):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return np.array([[float(r[n]) for n in names] for r in rows])
+
+
+def solve(cmd, out, sets):
+    argv = cmd + ["--quiet", "--out", out] + [a for s in sets for a in ("--set", s)]
+    p = subprocess.run(argv, capture_output=True, text=True, timeout=300)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(argv)} exited {p.returncode}: {p.stderr.strip()[:400]}")
+    return json.load(open(os.path.join(out, "summary.json")))
+
+
+def relative_difference(a, b, what):
+    ua = columns(os.path.join(a, "contact_nodes.csv"), ["u1", "u2", "u3"])
+    ub = columns(os.path.join(b, "contact_nodes.csv"), ["u1", "u2", "u3"])
+    la = columns(os.path.join(a, "contact_cells.csv"), ["lambda_n", "lambda_t1", "lambda_t2"])
+    lb = columns(os.path.join(b, "contact_cells.csv"), ["lambda_n", "lambda_t1", "lambda_t2"])
+    if ua.shape != ub.shape or la.shape != lb.shape:
+        raise RuntimeError(f"{what}: the two runs have different contact faces or partitions")
+    du = np.abs(ua - ub).max() / np.abs(ua).max()
+    dl = np.abs(la - lb).max() / np.abs(la).max()
+    return du, dl
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--serial", required=True)
+    ap.add_argument("--mpi", required=True)
+    ap.add_argument("--mpiexec", default="mpirun")
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--np", type=int, default=2)
+    args = ap.parse_args()
+    env_ok = os.environ.get("OMPI_ALLOW_RUN_AS_ROOT") == "1" or os.geteuid() != 0
+    if not env_ok:
+        print("FAIL: as root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT=1 and OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1")
+        return 1
+    tmp = tempfile.mkdtemp(prefix="contact3d_mpi_")
+    fails = []
+    try:
+        for k, (label, scene, sets) in enumerate(CASES):
+            path = os.path.join(args.source, "pipeline", "scenes", scene)
+            ser, par = os.path.join(tmp, f"serial{k}"), os.path.join(tmp, f"mpi{k}")
+            s = solve([args.serial, "solve", path], ser, sets)
+            p = solve([args.mpiexec, "-np", str(args.np), args.mpi, "solve", path], par, sets)
+            du, dl = relative_difference(ser, par, label)
+            ok = du <= TOL and dl <= TOL
+            backend = p.get("backend", {})
+            if not ok:
+                fails.append(f"{label}: u on Γc differs by {du:.2e}, λ by {dl:.2e} (tolerance {TOL:g})")
+            if s["fixed_point_iterations"] != p["fixed_point_iterations"]:
+                fails.append(f"{label}: {s['fixed_point_iterations']} serial steps, {p['fixed_point_iterations']} distributed")
+            if backend.get("name") != "petsc-mumps" or backend.get("ranks") != args.np or \
+                    len(backend.get("peak_memory_mib_per_rank", [])) != args.np:
+                fails.append(f"{label}: summary.json backend {backend}, expected petsc-mumps on {args.np} ranks")
+            print(f"{label}: serial (CHOLMOD) vs {args.np} ranks (MUMPS): u {du:.1e}, λ {dl:.1e}; steps "
+                  f"{s['fixed_point_iterations']} / {p['fixed_point_iterations']}; peak memory per rank (MiB) "
+                  f"{backend.get('peak_memory_mib_per_rank')}")
+        # Negative check: a 1e-6 change of the input must be seen by the same comparison.
+        label, scene, sets = CASES[0]
+        path = os.path.join(args.source, "pipeline", "scenes", scene)
+        with open(path, "rb") as f:
+            young = tomllib.load(f)["material"]["young"]
+        pert = os.path.join(tmp, "perturbed")
+        solve([args.serial, "solve", path], pert, sets + [f"material.young={young * (1 + 1e-6)!r}"])
+        du, dl = relative_difference(os.path.join(tmp, "serial0"), pert, "perturbed")
+        if du <= TOL:
+            fails.append(f"negative check: a Young's modulus 1e-6 larger changed u by only {du:.1e}")
+    except RuntimeError as e:
+        fails.append(str(e))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    if fails:
+        print("FAIL:\n  " + "\n  ".join(fails))
+        return 1
+    print(f"ok: the distributed solve on {args.np} ranks equals the serial one to {TOL:g}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
