@@ -265,6 +265,12 @@ struct RunningStage {
 
 std::string gib(double bytes) { return number(bytes / (1 << 30), 3) + " GiB"; }
 
+double stage_seconds(const SolveResult& res, const std::string& stage) {
+  for (const auto& [name, seconds] : res.seconds)
+    if (name == stage) return seconds;
+  return 0;
+}
+
 // After CHOLMOD's symbolic analysis: the factor's predicted size on the progress line, and a clear
 // error before the numeric factorization when the factor cannot fit in the memory available.
 AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr) {
@@ -393,7 +399,8 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
       ", " + name_of(method, kDualMethodNames) + ")");
   DualProblemInput input{disc.K, op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report, &stage)};
   std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, clock);
-  report.stage("  done; dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +
+  report.stage("  done in " + number(stage_seconds(res, "factorization") + stage_seconds(res, "dual"), 3) +
+               " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +
                number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
 
   stage.enter("stability check", "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
