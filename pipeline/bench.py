@@ -30,6 +30,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "pipeline"))
+import c3d.run  # noqa: E402  (pipeline/c3d: the one place that spells `contact3d solve`)
 import energy_error  # noqa: E402  (pipeline/energy_error.py)
 
 YOUNG, POISSON = 21.19e10, 0.277  # pipeline/scenes/paper_brick.toml
@@ -50,11 +51,9 @@ STAGES = ["assembly", "contact", "factorization", "dual", "stability", "dual_sol
 
 
 def run(binary, n, overrides, out, threads=2, extra=()):
-    args = [binary, "solve", str(SCENE), "--out", str(out),
-            "--set", "mesh.generator=paper_brick", "--set", f"mesh.n={n}",
-            "--set", "solver.reference_factorization=true"]
-    for o in list(overrides) + list(extra):
-        args += ["--set", o]
+    args = c3d.run.solve_command(binary, SCENE, out, ["mesh.generator=paper_brick", f"mesh.n={n}",
+                                                     "solver.reference_factorization=true", *overrides, *extra],
+                                 quiet=False)
     env = dict(os.environ, OPENBLAS_NUM_THREADS=str(threads), OMP_NUM_THREADS=str(threads))
     t0 = time.monotonic()
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env)

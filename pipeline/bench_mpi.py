@@ -22,14 +22,18 @@ import time
 
 import numpy as np
 
+import c3d.run
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "scenes", "paper_brick.toml")
 STAGES = ["assembly", "contact", "factorization", "dual", "stability", "dual_solve", "postprocess"]
 
 
 def run(cmd, out, n):
-    argv = cmd + ["solve", SCENE, "--quiet", "--out", out, "--set", "mesh.generator=paper_brick", "--set", f"mesh.n={n}",
-                  "--set", "solver.reference_factorization=true", "--set", "output.steps=final"]
+    *launcher, binary = cmd
+    argv = c3d.run.solve_command(binary, SCENE, out, ["mesh.generator=paper_brick", f"mesh.n={n}",
+                                                     "solver.reference_factorization=true", "output.steps=final"],
+                                 launcher=launcher)
     t0 = time.time()
     p = subprocess.run(argv, capture_output=True, text=True)
     wall = time.time() - t0

@@ -54,6 +54,8 @@ from pathlib import Path
 
 import numpy as np
 
+import c3d.run
+
 REPO = Path(__file__).resolve().parent.parent
 FF_DIR = REPO / "pipeline" / "freefem"
 FF_CONTACT = FF_DIR / "contact_ref.edp"
@@ -732,9 +734,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     derived_path.write_text("# derived by pipeline/crosscheck.py from " + str(scene_path) + "\n" + toml_dump(derived))
     out = work / "contact3d"
     shutil.rmtree(out, ignore_errors=True)
-    cmd = [args.bin, "solve", str(derived_path), "--mesh", str(msh), "--out", str(out)]
-    for kv in args.set or []:
-        cmd += ["--set", kv]
+    cmd = c3d.run.solve_command(args.bin, derived_path, out, args.set or [], mesh=msh, quiet=False)
     t0, c0 = time.perf_counter(), children_cpu()
     try:
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)

@@ -23,6 +23,8 @@ import shutil
 import subprocess
 import sys
 
+import c3d.run
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -133,7 +135,7 @@ def main():
     ap.add_argument("--compare-params", default="", help="comma-separated friction.param values to solve too")
     a = ap.parse_args()
 
-    cmd = [a.bin, "solve", a.scene, "--out", a.out] + shlex.split(a.args)
+    cmd = c3d.run.solve_command(a.bin, a.scene, a.out, quiet=False, extra_args=shlex.split(a.args))
     print("+", " ".join(shlex.quote(c) for c in cmd), flush=True)
     try:
         rc = subprocess.call(cmd)  # inherits stdout/stderr: the progress lines stream as they come
@@ -146,7 +148,7 @@ def main():
     compare = list(a.compare)
     for p in [x for x in a.compare_params.split(",") if x.strip()]:
         d = os.path.join(a.out, "compare", f"param_{p.strip()}")
-        c = [a.bin, "solve", a.scene, "--quiet", "--out", d] + shlex.split(a.args) + ["--set", f"friction.param={p.strip()}"]
+        c = c3d.run.solve_command(a.bin, a.scene, d, [f"friction.param={p.strip()}"], extra_args=shlex.split(a.args))
         print("+", " ".join(shlex.quote(x) for x in c), flush=True)
         if subprocess.call(c) in (0, 1) and os.path.isfile(os.path.join(d, "summary.json")):
             compare.append(d)

@@ -5,11 +5,14 @@ import time
 from pathlib import Path
 
 
-def solve_command(binary, scene, out, sets=(), mesh=None, quiet=True):
-    """The argument list of one solve: scene, output folder, `--set key=value` overrides, optional mesh."""
-    cmd = [str(binary), "solve", str(scene), "--out", str(out)]
+def solve_command(binary, scene, out, sets=(), mesh=None, quiet=True, launcher=(), extra_args=()):
+    """The argument list of one solve: scene, output folder, optional mesh, `extra_args` as given, then
+    the `--set key=value` overrides (so they win over extra_args). `launcher` goes first, e.g.
+    ["mpirun", "-np", "2"] for the distributed binary."""
+    cmd = [str(x) for x in launcher] + [str(binary), "solve", str(scene), "--out", str(out)]
     if mesh is not None:
         cmd += ["--mesh", str(mesh)]
+    cmd += list(extra_args)
     for s in sets:
         cmd += ["--set", s]
     if quiet:

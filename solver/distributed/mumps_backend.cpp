@@ -235,10 +235,7 @@ class MumpsDualProblem final : public DualProblem {
   ~MumpsDualProblem() override { release_factor(); }
 
   Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const override {
-    const Eigen::VectorXd w = displacement(lambda);
-    Eigen::VectorXd out(face_dofs_.size());
-    for (std::size_t k = 0; k < face_dofs_.size(); ++k) out[k] = w[face_dofs_[k]];
-    return out;
+    return gather(displacement(lambda), face_dofs_);
   }
 
   Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const override {

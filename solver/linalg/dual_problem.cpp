@@ -45,10 +45,7 @@ class CholmodDualProblem final : public DualProblem {
 
   Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const override {
     if (trace_) return trace_->at(lambda);
-    const Eigen::VectorXd w = displacement(lambda);
-    Eigen::VectorXd out(face_dofs_.size());
-    for (std::size_t k = 0; k < face_dofs_.size(); ++k) out[k] = w[face_dofs_[k]];
-    return out;
+    return gather(displacement(lambda), face_dofs_);
   }
 
   Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const override {

@@ -39,6 +39,13 @@ struct DualProblemInput {
   AnalysisObserver on_analysis = {};  // the factor's predicted size, before the numeric factorization
 };
 
+// The entries of w at `dofs`, in that order (a face displacement from a whole one).
+inline Eigen::VectorXd gather(const Eigen::VectorXd& w, const std::vector<int>& dofs) {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(dofs.size()));
+  for (std::size_t k = 0; k < dofs.size(); ++k) out[static_cast<Eigen::Index>(k)] = w[dofs[k]];
+  return out;
+}
+
 class DualProblem {
  public:
   virtual ~DualProblem() = default;
