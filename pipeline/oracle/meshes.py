@@ -1,0 +1,152 @@
+"""Meshes for the cross-check: gmsh MSH 2.2 and Medit readers (numpy), and making a scene's mesh with gmsh or FreeFEM."""
+from __future__ import annotations
+
+import numpy as np
+
+import os
+import subprocess
+from pathlib import Path
+
+from oracle.errors import SideFailed
+
+
+def read_msh22(path: Path):
+    """ASCII MSH 2.2: node coordinates (by id), 2D physical names, boundary triangles + tags."""
+    with open(path, "r", errors="replace") as fh:
+        lines = fh.read().split("\n")
+    i = 0
+    names: dict[str, int] = {}
+    node_ids = None
+    coords = None
+    tris = []
+    tri_tags = []
+    seen_format = False
+    while i < len(lines):
+        line = lines[i].strip()
+        if line == "$MeshFormat":
+            ver, ftype = lines[i + 1].split()[:2]
+            if not ver.startswith("2"):
+                raise SideFailed(f"{path}: MSH version {ver}, expected 2.2")
+            if ftype != "0":
+                raise SideFailed(f"{path}: binary MSH, expected ASCII")
+            seen_format = True
+            i += 2
+        elif line == "$PhysicalNames":
+            n = int(lines[i + 1])
+            for j in range(n):
+                parts = lines[i + 2 + j].split(maxsplit=2)
+                dim, tag, name = int(parts[0]), int(parts[1]), parts[2].strip().strip('"')
+                if dim == 2:
+                    names[name] = tag
+            i += 2 + n
+        elif line == "$Nodes":
+            n = int(lines[i + 1])
+            data = np.array([lines[i + 2 + j].split() for j in range(n)], dtype=float)
+            node_ids = data[:, 0].astype(np.int64)
+            coords = data[:, 1:4]
+            i += 2 + n
+        elif line == "$Elements":
+            n = int(lines[i + 1])
+            for j in range(n):
+                parts = lines[i + 2 + j].split()
+                if parts[1] == "2":  # 3-node triangle
+                    ntags = int(parts[2])
+                    tri_tags.append(int(parts[3]) if ntags > 0 else 0)
+                    tris.append([int(x) for x in parts[3 + ntags:6 + ntags]])
+            i += 2 + n
+        else:
+            i += 1
+    if not seen_format or node_ids is None:
+        raise SideFailed(f"{path}: not a MSH 2.2 file (no $MeshFormat/$Nodes)")
+    index = {int(nid): k for k, nid in enumerate(node_ids)}
+    tri_idx = np.array([[index[t] for t in tri] for tri in tris], dtype=np.int64).reshape(-1, 3)
+    return {"names": names, "coords": coords, "tris": tri_idx, "tri_tags": np.array(tri_tags, dtype=np.int64)}
+
+
+def read_medit(path: Path):
+    """ASCII Medit .mesh (FreeFEM's savemesh): the same dict as read_msh22; groups are the integer labels."""
+    tokens = Path(path).read_text(errors="replace").split()
+    coords = tris = None
+    tri_tags = []
+    i = 0
+    while i < len(tokens):
+        key = tokens[i]
+        if key in ("Vertices", "Triangles", "Tetrahedra", "Edges", "Corners", "Ridges", "RequiredVertices"):
+            n = int(tokens[i + 1])
+            width = {"Vertices": 4, "Triangles": 4, "Tetrahedra": 5, "Edges": 3}.get(key, 1)
+            block = np.array(tokens[i + 2:i + 2 + n * width], dtype=float).reshape(n, width)
+            if key == "Vertices":
+                coords = block[:, :3]
+            elif key == "Triangles":
+                tris = block[:, :3].astype(np.int64) - 1
+                tri_tags = block[:, 3].astype(np.int64)
+            i += 2 + n * width
+        elif key == "Dimension" or key == "MeshVersionFormatted":
+            i += 2
+        else:
+            i += 1
+    if coords is None or tris is None:
+        raise SideFailed(f"{path}: not a Medit mesh with Vertices and Triangles")
+    return {"names": {}, "coords": coords, "tris": tris, "tri_tags": np.asarray(tri_tags, dtype=np.int64)}
+
+
+def read_mesh(path: Path):
+    return read_medit(path) if Path(path).suffix == ".mesh" else read_msh22(path)
+
+
+def mesh_parameters(m: dict, n, work: Path, script: Path, suffix: str) -> tuple[dict, Path]:
+    """The script's parameters (`n` overridden when given) and the mesh file they name in `work`."""
+    params = dict(m.get("parameters", {}))
+    if n is not None:
+        params["n"] = n
+    tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
+    return params, work / f"{script.stem}-{tag}{suffix}"
+
+
+def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bool = False) -> tuple[Path, dict]:
+    m = scene.get("mesh", {})
+    if "geo" in m:
+        geo = (scene_path.parent / m["geo"]).resolve()
+        if not geo.exists():
+            raise SideFailed(f"{scene_path}: [mesh] geo = {m['geo']!r}: {geo} does not exist")
+        params, out = mesh_parameters(m, n, work, geo, ".msh")
+        if reuse and out.exists():
+            return out, params
+        cmd = [gmsh, "-3", "-format", "msh22"]
+        for k, v in params.items():
+            cmd += ["-setnumber", str(k), str(v)]
+        cmd += [str(geo), "-o", str(out)]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0 or not out.exists():
+            raise SideFailed(f"gmsh failed ({' '.join(cmd)}):\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
+        return out, params
+    if "edp" in m:  # FreeFEM makes the mesh; both solvers read its .mesh
+        edp = (scene_path.parent / m["edp"]).resolve()
+        params, out = mesh_parameters(m, n, work, edp, ".mesh")
+        if reuse and out.exists():
+            return out, params
+        cmd = ["FreeFem++", "-nw", str(edp), "-out", str(out)]
+        for k, v in params.items():
+            cmd += [f"-{k}", str(v)]
+        r = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, FF_LOADPATH="/usr/lib/freefem++"))
+        if r.returncode != 0 or not out.exists():
+            raise SideFailed(f"FreeFEM failed ({' '.join(cmd)}):\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
+        return out, params
+    if "file" in m:
+        if n is not None:
+            raise SideFailed("--n needs a scene meshed from a .geo or .edp ([mesh] geo/edp = ...)")
+        src = (scene_path.parent / m["file"]).resolve()
+        if not src.exists():
+            raise SideFailed(f"{scene_path}: [mesh] file = {m['file']!r}: {src} does not exist")
+        with open(src, errors="replace") as fh:
+            head = fh.read(200)
+        if "$MeshFormat\n2.2 0" in head or "$MeshFormat\r\n2.2 0" in head:
+            return src, {}
+        out = work / (src.stem + "-msh22.msh")
+        cmd = [gmsh, str(src), "-save", "-format", "msh22", "-o", str(out)]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0 or not out.exists():
+            raise SideFailed(f"gmsh could not convert {src} to MSH 2.2:\n{r.stderr[-2000:]}")
+        return out, {}
+    raise SideFailed(f"{scene_path}: the cross-check needs [mesh] geo or file (a gmsh mesh); "
+                     "built-in generators have no FreeFEM counterpart")
