@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "base/errors.hpp"
+#include "base/multiplier_layout.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
 #include "io/pvd_writer.hpp"
@@ -46,8 +47,8 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
       offsets.push_back(pts.size());
       owner.push_back(i);
     }
-  const int r = res.n_cells;
-  const bool fr = has_friction(res);
+  const MultiplierLayout at{res.n_cells, has_friction(res)};
+  const bool fr = at.with_friction;
   write_file(file, [&](std::ostream& out) {
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
         << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << pts.size() << "\" NumberOfCells=\"" << owner.size()
@@ -55,8 +56,10 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
     data_array(
         out, "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, "Int64");
     data_array(out, "lambda_n", 1, owner.size(), [&](std::size_t k, int) { return res.lambda[owner[k]]; });
-    data_array(out, "lambda_t", 3, owner.size(),
-               [&](std::size_t k, int c) { return fr && c < 2 ? res.lambda[(c + 1) * r + owner[k]] : 0.0; });
+    data_array(out, "lambda_t", 3, owner.size(), [&](std::size_t k, int c) {
+      const int cell = static_cast<int>(owner[k]);
+      return !fr || c == 2 ? 0.0 : res.lambda[c == 0 ? at.t1(cell) : at.t2(cell)];
+    });
     data_array(out, "radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
     const std::vector<int> cs = cell_status(res.n_cells, res.lambda, res.radius);
     data_array(
@@ -205,13 +208,13 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
   });
   write_file(dir / "contact_cells.csv", [&](std::ostream& out) {
     out << "cell,xmin,xmax,ymin,ymax,area,lambda_n,lambda_t1,lambda_t2,radius\n";
-    const int r = res.n_cells;
-    for (int i = 0; i < r; ++i) {
+    const MultiplierLayout at{res.n_cells, has_friction(res)};
+    for (int i = 0; i < at.r; ++i) {
       const auto& c = res.partition.cells[i];
-      const bool fr = has_friction(res);
+      const bool fr = at.with_friction;
       out << i << ',' << c.lo.x() << ',' << c.hi.x() << ',' << c.lo.y() << ',' << c.hi.y() << ',' << c.area << ','
-          << res.lambda[i] << ',' << (fr ? res.lambda[r + i] : 0.0) << ',' << (fr ? res.lambda[2 * r + i] : 0.0) << ','
-          << (fr ? res.radius[i] : 0.0) << '\n';
+          << res.lambda[at.normal(i)] << ',' << (fr ? res.lambda[at.t1(i)] : 0.0) << ','
+          << (fr ? res.lambda[at.t2(i)] : 0.0) << ',' << (fr ? res.radius[i] : 0.0) << '\n';
     }
   });
   write_file(dir / "history.csv", [&](std::ostream& out) {
