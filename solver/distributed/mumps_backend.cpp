@@ -220,6 +220,7 @@ class MumpsDualProblem final : public DualProblem {
  public:
   MumpsDualProblem(const DualProblemInput& in, StageClock& clock) : B_(in.B), f_(in.f), face_dofs_(in.face_dofs) {
     method = "mumps";
+    backend = "petsc-mumps";
     const UpperCsr csr = augmented_upper(in.K, in.B);
     broadcast(kFactor);
     fz_ = factor(csr);

@@ -120,7 +120,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
     j.value("n_mult", res.n_mult).value("qp_iterations", res.qp_iterations);
     j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
-    j.begin_object("backend").value("name", res.schur_method == "mumps" ? "petsc-mumps" : "cholmod");
+    j.begin_object("backend").value("name", res.backend);
     j.value("ranks", res.ranks).begin_array("peak_memory_mib_per_rank");
     for (double mib : res.peak_memory_per_rank_mib) j.element(mib);
     j.end_array().end_object();

@@ -61,9 +61,10 @@ class DualProblem {
   // Frees the factorization (benchmarks time a reference factorization afterwards); Q and h stay.
   virtual void release_factor() = 0;
 
-  std::string method;              // "augmented", "contactlast", "blocksolve", "mumps", ...
-  double factor_nonzeros = 0;      // nnz(L) of the factorization held
-  double step_solve_fraction = 1;  // share of the factor one face_displacement() reads (1: a full solve)
+  std::string method;               // "augmented", "contactlast", "blocksolve", "mumps", ...
+  std::string backend = "cholmod";  // the library behind it: "cholmod" or "petsc-mumps"
+  double factor_nonzeros = 0;       // nnz(L) of the factorization held
+  double step_solve_fraction = 1;   // share of the factor one face_displacement() reads (1: a full solve)
 
  protected:
   Eigen::MatrixXd Q_;

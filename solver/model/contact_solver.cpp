@@ -428,6 +428,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
+  res.backend = dual->backend;
   res.ranks = method == DualMethod::Mumps ? distributed::ranks() : 1;
   res.peak_memory_per_rank_mib = distributed::peak_memory_per_rank_mib();
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
