@@ -52,13 +52,12 @@ int write_solution_collection(const std::filesystem::path& dir, const VtuContext
   } else {
     std::filesystem::create_directories(steps_dir, ec);
     if (ec) throw InputError("cannot create '" + steps_dir.string() + "': " + ec.message());
-    for (int k = 1; k <= count; ++k) {
-      const StateView state = step_state(res.steps[k - 1]);
+    for (int k = 1; k < count; ++k) {
       TimeStep t{k, step_file("body", k), has_face ? step_file("contact", k) : ""};
-      write_body_vtu(dir / t.body, ctx, state);
-      if (has_face) write_contact_vtu(dir / t.contact, ctx, state);
+      write_state_vtus(dir / t.body, dir / t.contact, ctx, step_state(res.steps[k - 1]));
       steps.push_back(std::move(t));
     }
+    steps.push_back({count, "body.vtu", has_face ? "contact.vtu" : ""});  // the last step is the answer
   }
   write_pvd(dir / "solution.pvd", steps);
   return static_cast<int>(steps.size());

@@ -1,9 +1,9 @@
 // The run as a ParaView collection, solution.pvd: one time step per Tresca (or frictionless) solve
 // — the fixed point's steps k = 1, 2, … (time = k), or the one solve — each with two parts, the
 // whole body (part 0) and the contact face Γc (part 1), and every field on both
-// (steps/body_<k>.vtu, steps/contact_<k>.vtu; the last step is the answer, also in body.vtu and
-// contact.vtu). With [output] steps = "final", only the answer, as one time step (time = number
-// of solves) of body.vtu and contact.vtu.
+// (steps/body_<k>.vtu, steps/contact_<k>.vtu; the last step is the answer, body.vtu and
+// contact.vtu, which write_results has written). With [output] steps = "final", only the answer,
+// as one time step (time = number of solves).
 #pragma once
 
 #include <filesystem>

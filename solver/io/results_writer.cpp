@@ -224,11 +224,8 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
   });
   const TetMaterials materials = tet_materials(scene, mesh);
   const VtuContext ctx{scene, mesh, res, materials};
-  write_body_vtu(dir / "body.vtu", ctx, final_state(res));
-  if (res.n_cells > 0) {
-    write_contact_vtu(dir / "contact.vtu", ctx, final_state(res));
-    write_cells_vtu(dir / "contact_cells.vtu", res);
-  }
+  write_state_vtus(dir / "body.vtu", dir / "contact.vtu", ctx, final_state(res));
+  if (res.n_cells > 0) write_cells_vtu(dir / "contact_cells.vtu", res);
   write_solution_collection(dir, ctx);
   write_summary_json(dir / "summary.json", scene, mesh, res, info);
 }

@@ -19,41 +19,6 @@ std::array<int, 3> sorted3(std::array<int, 3> t) {
   return t;
 }
 
-// For each contact triangle: the tetrahedron it bounds and the contact group it was taken from.
-struct FaceTriangleOwners {
-  std::vector<int> tet, group;
-};
-
-FaceTriangleOwners face_triangle_owners(const Scene& scene, const Mesh& mesh, const ContactFace& face) {
-  std::set<int> contact_tags;
-  for (const auto& name : scene.contact)
-    if (const auto* g = mesh.find_group(name, 2)) contact_tags.insert(g->tag);
-  std::map<std::array<int, 3>, int> tri_group;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (contact_tags.count(mesh.triangle_group[t]))
-      tri_group.emplace(sorted3(mesh.triangles[t]), mesh.triangle_group[t]);
-  std::map<std::array<int, 3>, int> owner;
-  for (const auto& tri : face.triangles) owner.emplace(sorted3(tri), -1);
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    const auto& t = mesh.tets[e];
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> f{};
-      for (int a = 0, j = 0; a < 4; ++a)
-        if (a != skip) f[j++] = t[a];
-      auto it = owner.find(sorted3(f));
-      if (it != owner.end()) it->second = static_cast<int>(e);
-    }
-  }
-  FaceTriangleOwners out;
-  for (const auto& tri : face.triangles) {
-    const auto key = sorted3(tri);
-    const auto g = tri_group.find(key);
-    out.group.push_back(g == tri_group.end() ? 0 : g->second);
-    out.tet.push_back(owner[key]);
-  }
-  return out;
-}
-
 // The contact traction on the body at node v, in the user's axes: the pressure along the plane's
 // normal (into the body) and the friction traction −λ_t.
 Eigen::Vector3d traction_on_body(const FoundationFrame& frame, const ContactNodeFields& nf, int v, bool with_normal) {
@@ -94,20 +59,18 @@ void stress_cell_data(std::ostream& out, const TetStress& stress, std::size_t m,
   });
 }
 
-std::vector<char> face_nodes_mask(const Mesh& mesh, const ContactFace& face) {
-  std::vector<char> on_face(mesh.nodes.size(), 0);
-  for (const auto& tri : face.triangles)
-    for (int v : tri) on_face[v] = 1;
-  return on_face;
-}
+// One state's fields, shared by its body and contact files.
+struct StateFields {
+  ContactNodeFields contact;
+  TetStress stress;
+};
 
-}  // namespace
-
-void write_body_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& s) {
+void write_body_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& s,
+                    const StateFields& fields) {
   const Mesh& mesh = ctx.mesh;
-  const ContactNodeFields nf = contact_node_fields(mesh, ctx.scene, ctx.res, s);
-  const TetStress stress = tet_stresses(mesh, ctx.materials, s.u);
-  const std::vector<char> on_face = face_nodes_mask(mesh, ctx.res.face);
+  const ContactNodeFields& nf = fields.contact;
+  const TetStress& stress = fields.stress;
+  const std::vector<char>& on_face = ctx.on_face;
   write_file(file, [&](std::ostream& out) {
     const std::size_t n = mesh.nodes.size(), m = mesh.tets.size();
     vtu::begin_piece(out, n, m);
@@ -129,10 +92,10 @@ void write_body_vtu(const std::filesystem::path& file, const VtuContext& ctx, co
   });
 }
 
-void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& s) {
+void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& s,
+                       const StateFields& fields) {
   const Mesh& mesh = ctx.mesh;
   const ContactFace& face = ctx.res.face;
-  if (face.triangles.empty()) return;
   std::vector<int> local(mesh.nodes.size(), -1), global;  // the face's own numbering of its nodes
   for (const auto& tri : face.triangles)
     for (int v : tri)
@@ -141,10 +104,9 @@ void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx,
         global.push_back(v);
       }
   const std::size_t n = global.size(), m = face.triangles.size();
-  const FaceTriangleOwners owners = face_triangle_owners(ctx.scene, mesh, face);
-  const ContactNodeFields nf = contact_node_fields(mesh, ctx.scene, ctx.res, s);
-  const TetStress stress = tet_stresses(mesh, ctx.materials, s.u);
-  const std::vector<char> on_face = face_nodes_mask(mesh, face);
+  const ContactNodeFields& nf = fields.contact;
+  const TetStress& stress = fields.stress;
+  const std::vector<char>& on_face = ctx.on_face;
   write_file(file, [&](std::ostream& out) {
     vtu::begin_piece(out, n, m);
     out << "      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
@@ -157,15 +119,57 @@ void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx,
     data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return local_u(i).head<2>().norm(); });
     contact_point_data(out, ctx, s, nf, on_face, n, node);
     out << "      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n";
-    stress_cell_data(out, stress, m, [&](std::size_t e) { return owners.tet[e]; });
+    stress_cell_data(out, stress, m, [&](std::size_t e) { return ctx.face_tet[e]; });
     data_array(
-        out, "physical_group", 1, m, [&](std::size_t e, int) { return owners.group[e]; }, "Int32");
+        out, "physical_group", 1, m, [&](std::size_t e, int) { return ctx.face_group[e]; }, "Int32");
     out << "      </CellData>\n";
     vtu::geometry(
         out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
         [&](std::size_t e, int a) { return local[face.triangles[e][a]]; }, 5);
     vtu::end_piece(out);
   });
+}
+
+}  // namespace
+
+VtuContext::VtuContext(const Scene& scene_, const Mesh& mesh_, const SolveResult& res_, const TetMaterials& materials_)
+    : scene(scene_), mesh(mesh_), res(res_), materials(materials_), on_face(mesh_.nodes.size(), 0) {
+  const ContactFace& face = res.face;
+  for (const auto& tri : face.triangles)
+    for (int v : tri) on_face[v] = 1;
+  std::set<int> contact_tags;
+  for (const auto& name : scene.contact)
+    if (const auto* g = mesh.find_group(name, 2)) contact_tags.insert(g->tag);
+  std::map<std::array<int, 3>, int> tri_group;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (contact_tags.count(mesh.triangle_group[t]))
+      tri_group.emplace(sorted3(mesh.triangles[t]), mesh.triangle_group[t]);
+  std::map<std::array<int, 3>, int> owner;
+  for (const auto& tri : face.triangles) owner.emplace(sorted3(tri), -1);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f{};
+      for (int a = 0, j = 0; a < 4; ++a)
+        if (a != skip) f[j++] = t[a];
+      auto it = owner.find(sorted3(f));
+      if (it != owner.end()) it->second = static_cast<int>(e);
+    }
+  }
+  for (const auto& tri : face.triangles) {
+    const auto key = sorted3(tri);
+    const auto g = tri_group.find(key);
+    face_group.push_back(g == tri_group.end() ? 0 : g->second);
+    face_tet.push_back(owner[key]);
+  }
+}
+
+void write_state_vtus(const std::filesystem::path& body_file, const std::filesystem::path& contact_file,
+                      const VtuContext& ctx, const StateView& state) {
+  const StateFields fields{contact_node_fields(ctx.mesh, ctx.scene, ctx.res, state),
+                           tet_stresses(ctx.mesh, ctx.materials, state.u)};
+  write_body_vtu(body_file, ctx, state, fields);
+  if (!ctx.res.face.triangles.empty()) write_contact_vtu(contact_file, ctx, state, fields);
 }
 
 }  // namespace contact3d

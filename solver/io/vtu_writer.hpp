@@ -20,15 +20,21 @@
 
 namespace contact3d {
 
+// What every state's files share, built once per run: the inputs, which mesh nodes lie on Γc, and
+// for each contact triangle the tetrahedron behind it and its contact group.
 struct VtuContext {
+  VtuContext(const Scene& scene, const Mesh& mesh, const SolveResult& res, const TetMaterials& materials);
   const Scene& scene;
   const Mesh& mesh;
   const SolveResult& res;
   const TetMaterials& materials;
+  std::vector<char> on_face;              // per mesh node
+  std::vector<int> face_tet, face_group;  // per triangle of Γc
 };
 
-void write_body_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& state);
-// Writes nothing when the scene has no contact face.
-void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx, const StateView& state);
+// body.vtu and (when the scene has a contact face) contact.vtu of one state; the state's fields
+// (nodal contact fields, stresses) are computed once for both files.
+void write_state_vtus(const std::filesystem::path& body_file, const std::filesystem::path& contact_file,
+                      const VtuContext& ctx, const StateView& state);
 
 }  // namespace contact3d
