@@ -40,7 +40,7 @@ with tempfile.TemporaryDirectory() as tmp:
     for stage in ["total", "mesh", "assembly", "factorization", "dual"]:
         if stage not in s["time_s"]:
             fail(f"time_s lacks {stage}")
-    expected_settings = {"qp": "mpgp", "qp_scaling": "jacobi", "fixed_point": "accelerated", "schur": "auto",
+    expected_settings = {"qp": "auto", "qp_scaling": "jacobi", "fixed_point": "accelerated", "schur": "auto",
                          "qp_rtol": 1e-6, "fixed_point_tol": 1e-4}
     if any(s.get("settings", {}).get(k) != v for k, v in expected_settings.items()):
         fail(f"summary.json settings are not the resolved defaults: {s.get('settings')}")

@@ -22,6 +22,7 @@ SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::Vector
   eval.hessian_products = last_qp_.hessian_products + 1;  // + w on Γc (counted as one K⁻¹ solve)
   products_ += eval.hessian_products;
   qp_iterations_ += last_qp_.iterations;
+  newton_steps_ += last_qp_.newton_steps;
   eval.slip = face_dofs_.slip(face_, u_face);
   last_face_ = std::move(u_face);
   history_.push_back({lambda_, radius_});

@@ -40,6 +40,7 @@ class TrescaStep {
   const QpResult& last_qp() const { return last_qp_; }
   int products() const { return products_; }  // K⁻¹ applications in the paper's sense
   int qp_iterations() const { return qp_iterations_; }
+  int newton_steps() const { return newton_steps_; }  // semismooth Newton steps inside the QP solves
   // u on Γc after the last solve (FaceDofs order, 3 per node).
   const Eigen::VectorXd& last_face_displacement() const { return last_face_; }
   // λ and the radii of every solve so far, in order (one value per multiplier: small).
@@ -57,7 +58,7 @@ class TrescaStep {
   Eigen::VectorXd slip_bound_;
   Eigen::VectorXd lambda_, radius_, slip_input_, slip_bound_input_;
   QpResult last_qp_;
-  int products_ = 0, qp_iterations_ = 0;
+  int products_ = 0, qp_iterations_ = 0, newton_steps_ = 0;
   Eigen::VectorXd last_face_;
   std::vector<Solve> history_;
 };

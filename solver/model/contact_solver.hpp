@@ -60,8 +60,9 @@ struct SolveResult {
   std::string status;            // "converged", "iteration_limit", "stagnation", ...
   FixedPointResult fixed_point;  // empty history when no fixed point was needed
   QpResult last_qp;
-  int n_mult = 0;  // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
-  int qp_iterations = 0;
+  int n_mult = 0;           // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
+  int qp_iterations = 0;    // MPGP iterations and Newton steps of every QP solve
+  int qp_newton_steps = 0;  // of which semismooth Newton steps (each a dense Cholesky of the free size)
   KktResiduals kkt;
   // Coulomb: max_i |c_i − F̄_i(φ) λ_n,i| / max_i c_i for the final (λ, φ) — the fixed point's own
   // residual (of the order of fixed_point_tol), not part of kkt.max(); 0 for Tresca.
@@ -80,7 +81,7 @@ struct SolveResult {
   std::string backend = "cholmod";  // the linear-algebra library: "cholmod" or "petsc-mumps"
   int ranks = 1;                    // MPI ranks of the factorization (the distributed backend)
   std::vector<double> peak_memory_per_rank_mib;  // peak resident memory of each rank at the end
-  std::string qp_method;                         // "mpgp", "mpgp_projcg" or "ssn"
+  std::string qp_method;                         // "auto", "mpgp", "mpgp_projcg" or "ssn"
 };
 
 using ProgressCallback = std::function<void(const FixedPointStep&)>;

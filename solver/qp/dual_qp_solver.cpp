@@ -1,5 +1,6 @@
 #include "qp/dual_qp_solver.hpp"
 
+#include "qp/hybrid_qp.hpp"
 #include "qp/ssn.hpp"
 
 namespace contact3d {
@@ -22,7 +23,13 @@ QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lam
   Eigen::VectorXd x = jacobi_ ? jacobi_->to_scaled(lambda) : lambda;
   QpResult result;
   if (progress_) progress_->restart();
-  if (settings_.variant == QpVariant::Ssn) {
+  if (settings_.variant == QpVariant::Auto) {
+    HybridSettings hybrid;
+    hybrid.rtol = rtol;
+    hybrid.max_iterations = settings_.max_iterations;
+    hybrid.progress = progress_;
+    result = solve_hybrid(problem, x, hybrid);
+  } else if (settings_.variant == QpVariant::Ssn) {
     SsnSettings ssn;
     ssn.rtol = rtol;
     ssn.max_iterations = settings_.max_iterations;

@@ -1,5 +1,6 @@
 // DualQpSolver: the dual QP (5.5) of one scene with its solver chosen once — MPGP (the paper's
-// algorithm), MPGP with projected-CG expansion, or semismooth Newton — on the Jacobi-scaled or
+// algorithm), MPGP with projected-CG expansion, semismooth Newton, or the hybrid of MPGP and
+// Newton steps ("auto", the default) — on the Jacobi-scaled or
 // the plain problem. Q and h are fixed per scene; each solve() takes the radii c_i of the disc
 // constraints (which change from one fixed-point step to the next) and a warm start.
 #pragma once
@@ -15,15 +16,17 @@
 
 namespace contact3d {
 
-enum class QpVariant { Mpgp, MpgpProjectedCG, Ssn };
-inline constexpr NameTable<QpVariant, 3> kQpVariantNames{
-    {{QpVariant::Mpgp, "mpgp"}, {QpVariant::MpgpProjectedCG, "mpgp_projcg"}, {QpVariant::Ssn, "ssn"}}};
+enum class QpVariant { Auto, Mpgp, MpgpProjectedCG, Ssn };
+inline constexpr NameTable<QpVariant, 4> kQpVariantNames{{{QpVariant::Auto, "auto"},
+                                                          {QpVariant::Mpgp, "mpgp"},
+                                                          {QpVariant::MpgpProjectedCG, "mpgp_projcg"},
+                                                          {QpVariant::Ssn, "ssn"}}};
 
 enum class QpScaling { None, Jacobi };
 inline constexpr NameTable<QpScaling, 2> kQpScalingNames{{{QpScaling::Jacobi, "jacobi"}, {QpScaling::None, "none"}}};
 
 struct QpSettings {
-  QpVariant variant = QpVariant::Mpgp;
+  QpVariant variant = QpVariant::Auto;  // MPGP, switching to Newton steps where it is slow (hybrid_qp.hpp)
   QpScaling scaling = QpScaling::Jacobi;
   int max_iterations = 100000;
 };

@@ -40,6 +40,7 @@ struct QpResult {
   int iterations = 0;
   int hessian_products = 0;  // products Q·v — each one is a K⁻¹ application in the paper's count
   int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
+  int newton_steps = 0;           // semismooth Newton steps (ssn.hpp, hybrid_qp.hpp; none in MPGP)
   double projected_gradient = 0;  // final ‖gᴾ‖ / ‖h‖
 };
 

@@ -1,20 +1,13 @@
 #include "qp/ssn.hpp"
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
-#include <Eigen/Dense>
-
-extern "C" {
-void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
-void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda, const int* ipiv,
-             double* b, const int* ldb, int* info);
-}
+#include "linalg/dense_cholesky.hpp"
 
 namespace contact3d {
 namespace {
-
-constexpr int kLapackMin = 400;
 
 // ‖gᴾ(λ)‖ for feasible λ, the MPGP stopping measure.
 double projected_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g) {
@@ -22,11 +15,97 @@ double projected_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambd
   return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm());
 }
 
+// One unknown of the reduced Newton system: λ moves along w_a e_a + w_b e_b (b < 0: a unit
+// vector), and `shift` is the diagonal term a sliding disc adds in its tangent direction.
+struct Direction {
+  int a, b;
+  double w_a, w_b, shift;
+};
+
+// The Newton step of F(λ) = λ − P(λ − ρ g(λ)) split by the active sets of z = λ − ρ g:
+//   λ⁺ = λ_fixed + Σ_k y_k d_k,   (Dᵀ Q D + diag(shift)) y = Dᵀ (h − Q λ_fixed),
+// where λ_fixed holds what the step fixes (λ_n = 0 off contact, λ_t = 0 on a point disc, λ_t = c ν
+// on a sliding disc, ν = z_t / ‖z_t‖) and the directions d_k are the free unit vectors (normal in
+// contact, tangential inside a disc) and the sliding tangents τ ⊥ ν with shift (1 − κ) / (ρ κ),
+// κ = c / ‖z_t‖. This is J δ = −F with J = I − D_P + ρ D_P Q (D_P ∈ ∂P(z)) row by row in the
+// (ν, τ) frame of each sliding disc, and, unlike J, it is symmetric positive definite.
+struct ReducedStep {
+  Eigen::VectorXd lambda_fixed;
+  std::vector<Direction> directions;
+};
+
+ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho) {
+  const int r = qp.r;
+  ReducedStep step{Eigen::VectorXd::Zero(z.size()), {}};
+  step.directions.reserve(static_cast<std::size_t>(z.size()));
+  for (int i = 0; i < r; ++i)
+    if (z[i] > 0) step.directions.push_back({i, -1, 1.0, 0.0, 0.0});
+  if (!qp.with_friction) return step;
+  for (int i = 0; i < r; ++i) {
+    const int a = qp.layout().t1(i), b = qp.layout().t2(i);
+    const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
+    if (c <= 0) continue;  // a point disc: λ_t = 0
+    if (zn <= c) {         // inside the disc
+      step.directions.push_back({a, -1, 1.0, 0.0, 0.0});
+      step.directions.push_back({b, -1, 1.0, 0.0, 0.0});
+      continue;
+    }
+    const double nu_a = z[a] / zn, nu_b = z[b] / zn, kappa = c / zn;
+    step.lambda_fixed[a] = c * nu_a;
+    step.lambda_fixed[b] = c * nu_b;
+    step.directions.push_back({a, b, -nu_b, nu_a, (1 - kappa) / (rho * kappa)});
+  }
+  return step;
+}
+
+// Dᵀ Q D + diag(shift), lower triangle (column-major, k x k).
+void reduced_matrix(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, Eigen::MatrixXd& A) {
+  const int k = static_cast<int>(d.size());
+  A.resize(k, k);
+  for (int col = 0; col < k; ++col) {
+    const Direction& c = d[static_cast<std::size_t>(col)];
+    const double* qa = Q.col(c.a).data();
+    const double* qb = c.b >= 0 ? Q.col(c.b).data() : nullptr;
+    for (int row = col; row < k; ++row) {
+      const Direction& e = d[static_cast<std::size_t>(row)];
+      double v = c.w_a * (e.w_a * qa[e.a] + (e.b >= 0 ? e.w_b * qa[e.b] : 0.0));
+      if (qb) v += c.w_b * (e.w_a * qb[e.a] + (e.b >= 0 ? e.w_b * qb[e.b] : 0.0));
+      A(row, col) = v;
+    }
+    A(col, col) += c.shift;
+  }
+}
+
+// Solves the reduced system for λ⁺; false if its Cholesky factorization fails.
+bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new) {
+  const int k = static_cast<int>(step.directions.size());
+  const Eigen::VectorXd residual = qp.h - qp.apply(step.lambda_fixed);
+  Eigen::VectorXd y(k);
+  for (int j = 0; j < k; ++j) {
+    const Direction& d = step.directions[static_cast<std::size_t>(j)];
+    y[j] = d.w_a * residual[d.a] + (d.b >= 0 ? d.w_b * residual[d.b] : 0.0);
+  }
+  if (k > 0) {
+    Eigen::MatrixXd A;
+    reduced_matrix(*qp.Q, step.directions, A);
+    const DenseCholesky chol(std::move(A));
+    if (!chol.ok()) return false;
+    y = chol.solve(y);
+  }
+  lambda_new = step.lambda_fixed;
+  for (int j = 0; j < k; ++j) {
+    const Direction& d = step.directions[static_cast<std::size_t>(j)];
+    lambda_new[d.a] += d.w_a * y[j];
+    if (d.b >= 0) lambda_new[d.b] += d.w_b * y[j];
+  }
+  return y.allFinite();
+}
+
 }  // namespace
 
 QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings) {
   QpResult result;
-  const int m = qp.size(), r = qp.r;
+  const int m = qp.size();
   if (lambda.size() != m) lambda = Eigen::VectorXd::Zero(m);
   project(qp, lambda);
   const double h_norm = qp.h.norm();
@@ -39,21 +118,18 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   const double tol = settings.rtol * h_norm;
   // ρ scales the gradient to the size of λ: 1 / (mean diagonal of Q).
   const double rho = m / std::max(Q.diagonal().sum(), 1e-300);
-
   Eigen::VectorXd g = qp.apply(lambda) - qp.h;
   ++result.hessian_products;
-  auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z,
-                      Eigen::VectorXd& pz) {
+  auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z) {
     z = lam - rho * grad;
-    pz = z;
+    Eigen::VectorXd pz = z;
     project(qp, pz);
     return (lam - pz).norm();
   };
-  Eigen::VectorXd z, pz;
-  double F_norm = residual(lambda, g, z, pz);
-  Eigen::MatrixXd J(m, m);
-  std::vector<int> ipiv(m);
-  int m_int = m;
+  Eigen::VectorXd z;
+  double F_norm = residual(lambda, g, z);
+  Eigen::VectorXd target;
+  int slow_steps = 0;
   for (int it = 0; it < settings.max_newton; ++it) {
     // Stopping test at the feasible point P(λ) (λ itself may sit slightly off a circle).
     Eigen::VectorXd lam_f = lambda;
@@ -74,82 +150,47 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     }
     if (settings.progress)
       settings.progress->beat([&] { return qp_heartbeat_line("ssn", result, settings.rtol, *settings.progress); });
-    // Generalized Jacobian of F: J = I − D + ρ D Q, D block-diagonal ∂P(z) (0 for an inactive
-    // normal or a point disc, I inside, (c/‖z‖)(I − ννᵀ) sliding). Built as Jᵀ = I − D + ρ Q D
-    // column by column (Q symmetric, column-major) and solved transposed.
-    J.setZero();
-    auto add_col = [&](int col, int from, double d) {  // Jᵀ(:, col) += ρ d Q(:, from)
-      J.col(col) += (rho * d) * Q.col(from);
-    };
-    for (int i = 0; i < r; ++i) {
-      if (z[i] > 0)
-        add_col(i, i, 1.0);
-      else
-        J(i, i) = 1.0;
-    }
-    if (qp.with_friction) {
-      for (int i = 0; i < r; ++i) {
-        const int a = qp.layout().t1(i), b = qp.layout().t2(i);
-        const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
-        if (c <= 0) {  // a point disc: λ_t is fixed at 0, D = 0
-          J(a, a) += 1;
-          J(b, b) += 1;
-        } else if (zn <= c) {  // inside the disc: D = I
-          add_col(a, a, 1.0);
-          add_col(b, b, 1.0);
-        } else {  // sliding
-          const double sc = c / zn, na = z[a] / zn, nb = z[b] / zn;
-          const double D00 = sc * (1 - na * na), D01 = -sc * na * nb, D11 = sc * (1 - nb * nb);
-          if (sc > 0) {
-            add_col(a, a, D00);
-            add_col(a, b, D01);
-            add_col(b, a, D01);
-            add_col(b, b, D11);
-          }
-          J(a, a) += 1 - D00;
-          J(b, a) += -D01;
-          J(a, b) += -D01;
-          J(b, b) += 1 - D11;
-        }
-      }
-    }
-    // LU of Jᵀ, then J δ = −F with the transposed factor: LAPACK (blocked, threaded BLAS) for
-    // large m; Eigen below, where waking BLAS threads costs more than the factorization
-    // (measured: n = 8, m = 144, 20x slower with 2 OpenBLAS threads on a busy machine).
-    Eigen::VectorXd delta = -(lambda - pz);
-    if (m < kLapackMin) {
-      delta = J.partialPivLu().transpose().solve(delta);
-    } else {
-      int info = 0, one = 1;
-      dgetrf_(&m_int, &m_int, J.data(), &m_int, ipiv.data(), &info);
-      if (info == 0) dgetrs_("T", &m_int, &one, J.data(), &m_int, ipiv.data(), delta.data(), &m_int, &info);
-      if (info != 0) break;  // singular Jacobian: hand over to MPGP
-    }
+    const double F_before = F_norm;
+    const ReducedStep step = split_active_sets(qp, z, rho);
+    ++result.hessian_products;                    // Q λ_fixed
+    if (!newton_target(qp, step, target)) break;  // hand over to MPGP
     ++result.iterations;
-    if (!delta.allFinite()) break;
+    ++result.newton_steps;
+    const Eigen::VectorXd delta = target - lambda;
     // Backtracking on ‖F‖ (full steps near the solution: local superlinear convergence).
     double t = 1;
     bool accepted = false;
     const Eigen::VectorXd Qd = qp.apply(delta);
     ++result.hessian_products;
-    Eigen::VectorXd z_try, pz_try;
+    Eigen::VectorXd z_try;
     for (int ls = 0; ls < 12; ++ls, t *= 0.5) {
       const Eigen::VectorXd lam_try = lambda + t * delta;
       const Eigen::VectorXd g_try = g + t * Qd;
-      const double F_try = residual(lam_try, g_try, z_try, pz_try);
+      const double F_try = residual(lam_try, g_try, z_try);
       if (F_try <= (1 - 1e-4 * t) * F_norm) {
         lambda = lam_try;
         g = g_try;
         z = z_try;
-        pz = pz_try;
         F_norm = F_try;
         accepted = true;
         break;
       }
     }
     if (!accepted) break;
+    // Full steps that no longer halve ‖F‖: the active sets are settling a few cells at a time
+    // (degenerate cells, λ and the gap both ~0), where MPGP finishes far more cheaply.
+    slow_steps = (t == 1 && F_norm > 0.5 * F_before) ? slow_steps + 1 : 0;
+    if (settings.stop_when_linear && slow_steps >= 2) {
+      result.status = QpStatus::IterationLimit;
+      return result;
+    }
   }
   // Newton did not finish: MPGP from the current point (same criterion, same answer).
+  if (!settings.fallback_to_mpgp) {
+    project(qp, lambda);
+    result.status = QpStatus::IterationLimit;
+    return result;
+  }
   MpgpSettings fallback;
   fallback.rtol = settings.rtol;
   fallback.max_iterations = settings.max_iterations;
@@ -157,6 +198,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   const int newton = result.iterations, products = result.hessian_products;
   result = solve_mpgp(qp, lambda, fallback);
   result.iterations += newton;
+  result.newton_steps = newton;
   result.hessian_products += products;
   return result;
 }

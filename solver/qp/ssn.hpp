@@ -2,10 +2,13 @@
 // SIAM J. Sci. Comput. 30, 2008, in its projection form): solve
 //   F(λ) = λ − P(λ − ρ (Qλ − h)) = 0,
 // P the projection onto {λ_n >= 0, ‖λ_t,i‖ <= c_i}, by Newton steps with a generalized
-// Jacobian J = I − D (I − ρQ), D ∈ ∂P (0 / identity / sliding tangent on each block): the
-// active sets are updated every step, typically a handful of dense m x m solves. Damped by a
-// backtracking search on ‖F‖; if Newton stalls it hands the iterate to MPGP (the reference),
-// so the stopping test and the answer are those of MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ.
+// Jacobian J = I − D (I − ρQ), D ∈ ∂P (0 / identity / sliding tangent on each block). The
+// active sets of each step fix part of λ (0 off contact, c ν on a sliding disc); the rest solves a
+// symmetric positive definite system of the free size (Q restricted to the free and sliding
+// tangent directions, plus a diagonal term per sliding disc), factored by dense Cholesky.
+// Damped by a backtracking search on ‖F‖; if Newton stalls it hands the iterate to MPGP (the
+// reference), so the stopping test and the answer are those of MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a
+// feasible λ.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +23,10 @@ struct SsnSettings {
   int max_newton = 40;           // Newton steps before falling back to MPGP
   int max_iterations = 100000;   // for the MPGP fallback
   Progress* progress = nullptr;  // heartbeat (none: silent)
+  // For the hybrid solver (qp/hybrid_qp.hpp): return (status IterationLimit) after two full Newton
+  // steps that did not halve ‖F‖, and return instead of running MPGP when Newton fails.
+  bool stop_when_linear = false;
+  bool fallback_to_mpgp = true;
 };
 
 // Warm start from `lambda`; on return it holds the (feasible) solution. iterations counts

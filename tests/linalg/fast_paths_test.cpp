@@ -249,7 +249,8 @@ TEST(FastPaths, WholeSolvesAgreeAcrossVariants) {
     EXPECT_LT((res.lambda - ref.lambda).norm() / ref.lambda.norm(), 1e-3) << v.back();
   }
   // Same fixed point and same QP: the fast dual changes nothing but rounding.
-  const SolveResult cl = solve_scene(parse_scene_text(kBrick, ".", {"solver.schur=\"contactlast\""}), mesh);
+  const SolveResult cl =
+      solve_scene(parse_scene_text(kBrick, ".", {"solver.schur=\"contactlast\"", "solver.qp=\"mpgp\""}), mesh);
   EXPECT_EQ(cl.schur_method, "contactlast");
   EXPECT_EQ(cl.fixed_point.iterations(), ref.fixed_point.iterations());
   EXPECT_LT((cl.u - ref.u).norm() / ref.u.norm(), 1e-8);

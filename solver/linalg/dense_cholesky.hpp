@@ -1,0 +1,27 @@
+// Cholesky factorization of a dense symmetric positive definite matrix (LAPACK dpotrf: blocked,
+// on the BLAS threads; Eigen's LLT below a size where waking the threads costs more than the
+// factorization). Used for the dense dual operator Q (the stability check (5.1)) and the reduced
+// Newton systems of the semismooth Newton QP solver.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace contact3d {
+
+class DenseCholesky {
+ public:
+  // Factors the lower triangle of `A` in place (A is taken by value: pass std::move to reuse its
+  // storage). ok() is false when A is not numerically positive definite.
+  explicit DenseCholesky(Eigen::MatrixXd A);
+  bool ok() const { return ok_; }
+  // x = A⁻¹ b.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  // The squared diagonal of the factor (the pivots of LDLᵀ): tiny ones flag near-dependence.
+  Eigen::VectorXd pivots() const { return L_.diagonal().cwiseAbs2(); }
+
+ private:
+  Eigen::MatrixXd L_;
+  bool ok_ = false;
+};
+
+}  // namespace contact3d

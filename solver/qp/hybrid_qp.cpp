@@ -1,0 +1,69 @@
+#include "qp/hybrid_qp.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "qp/ssn.hpp"
+
+namespace contact3d {
+namespace {
+
+// ‖gᴾ(λ)‖ / ‖h‖ at a feasible λ (one product).
+double relative_projected_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, double h_norm) {
+  const GradientSplit split = split_gradient(qp, lambda, qp.apply(lambda) - qp.h);
+  return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm()) / h_norm;
+}
+
+void add_work(QpResult& total, const QpResult& part) {
+  total.iterations += part.iterations;
+  total.hessian_products += part.hessian_products;
+  total.cg_steps += part.cg_steps;
+  total.expansion_steps += part.expansion_steps;
+  total.proportioning_steps += part.proportioning_steps;
+  total.newton_steps += part.newton_steps;
+  total.status = part.status;
+  total.projected_gradient = part.projected_gradient;
+}
+
+}  // namespace
+
+QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const HybridSettings& settings) {
+  QpResult total;
+  const int m = qp.size();
+  if (lambda.size() != m) lambda = Eigen::VectorXd::Zero(m);
+  project(qp, lambda);
+  const double h_norm = qp.h.norm();
+  if (h_norm == 0) {
+    lambda.setZero();
+    total.status = QpStatus::Converged;
+    return total;
+  }
+  const int window = settings.window > 0 ? settings.window : std::max(50, m / 16);
+  double pg_before = relative_projected_gradient(qp, lambda, h_norm);
+  ++total.hessian_products;
+  int newton_rounds = 0;
+  while (total.iterations < settings.max_iterations) {
+    MpgpSettings mpgp;
+    mpgp.rtol = settings.rtol;
+    mpgp.max_iterations = std::min(window, settings.max_iterations - total.iterations);
+    mpgp.progress = settings.progress;
+    add_work(total, solve_mpgp(qp, lambda, mpgp));
+    if (total.status != QpStatus::IterationLimit) return total;  // converged, or a breakdown
+    const bool mpgp_is_slow = total.projected_gradient > 0.1 * pg_before;
+    if (mpgp_is_slow && newton_rounds < settings.max_newton_rounds) {
+      ++newton_rounds;
+      SsnSettings ssn;
+      ssn.rtol = settings.rtol;
+      ssn.progress = settings.progress;
+      ssn.stop_when_linear = true;
+      ssn.fallback_to_mpgp = false;
+      add_work(total, solve_ssn(qp, lambda, ssn));
+      if (total.status == QpStatus::Converged) return total;
+    }
+    pg_before = total.projected_gradient;
+  }
+  total.status = QpStatus::IterationLimit;
+  return total;
+}
+
+}  // namespace contact3d

@@ -1,0 +1,32 @@
+// The default solver of the dual QP (5.5): MPGP and semismooth Newton, each where it is cheap.
+// MPGP's iterations cost one product Q·v; its expansion steps of fixed length ᾱ = 1.8/‖Q‖ find
+// a large active set slowly (thousands of products on a slab, whose bottom face is half in
+// contact, half lifting off). A Newton step costs one dense Cholesky factorization of the free
+// size (about m/14 products at m = 4800) and moves whole regions between the active sets at once,
+// but settles the last degenerate cells (λ and the gap both ~0) one ring per step. So:
+//   1. MPGP in windows of max(50, m/16) iterations while each window cuts ‖gᴾ‖ at least tenfold;
+//   2. otherwise Newton steps (ssn.hpp) until they converge or their full steps stop halving ‖F‖;
+//   3. then MPGP again from Newton's iterate (at most three Newton rounds, then MPGP alone).
+// Same stopping test and answer as MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "qp/box_disc_qp.hpp"
+#include "qp/mpgp.hpp"
+
+namespace contact3d {
+
+struct HybridSettings {
+  double rtol = 1e-6;            // same criterion as MpgpSettings::rtol
+  int max_iterations = 100000;   // MPGP iterations + Newton steps
+  int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before MPGP alone
+  int window = 0;                // MPGP iterations per window (0: max(50, m/16))
+  Progress* progress = nullptr;  // heartbeat (none: silent)
+};
+
+// Warm start from `lambda`; on return it holds the (feasible) solution. iterations counts MPGP
+// iterations and Newton steps (newton_steps: the latter), hessian_products the products Q·v.
+QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const HybridSettings& settings);
+
+}  // namespace contact3d

@@ -1,0 +1,44 @@
+// DenseCholesky: both paths (Eigen below 400 rows, LAPACK above) solve SPD systems to rounding
+// and report a matrix that is not positive definite.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "linalg/dense_cholesky.hpp"
+
+using namespace contact3d;
+
+namespace {
+Eigen::MatrixXd random_spd(int n, unsigned seed) {
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd A(n + 2, n);
+  for (int i = 0; i < A.rows(); ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = normal(gen);
+  return A.transpose() * A + 0.1 * Eigen::MatrixXd::Identity(n, n);
+}
+}  // namespace
+
+TEST(DenseCholesky, SolvesOnBothPaths) {
+  for (int n : {1, 37, 399, 400, 650}) {
+    const Eigen::MatrixXd A = random_spd(n, static_cast<unsigned>(n));
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+    const DenseCholesky chol(A);
+    ASSERT_TRUE(chol.ok()) << n;
+    const Eigen::VectorXd y = chol.solve(A * x);
+    EXPECT_LT((y - x).norm(), 1e-8 * x.norm()) << n;
+    EXPECT_EQ(chol.pivots().size(), n);
+    EXPECT_GT(chol.pivots().minCoeff(), 0.0);
+  }
+}
+
+TEST(DenseCholesky, ReportsIndefiniteMatrices) {
+  for (int n : {5, 450}) {
+    Eigen::MatrixXd A = random_spd(n, 3);
+    A(n / 2, n / 2) = -1.0;  // no longer positive definite
+    EXPECT_FALSE(DenseCholesky(A).ok()) << n;
+  }
+  EXPECT_TRUE(DenseCholesky(Eigen::MatrixXd(0, 0)).ok());
+}
