@@ -57,7 +57,7 @@ from oracle.errors import SideFailed, children_cpu, finite_or_fail, log
 from oracle.meshes import make_mesh, read_mesh
 from oracle.laws import expand_variants, law_F, law_label, perturb_law, scene_law_depends_on_slip, slipdep_law, variant_friction
 from oracle.freefem import ff_checks, freefem_driver, run_freefem, toml_dump
-from oracle.compare import compare, read_csv
+from oracle.compare import body_difference, compare, read_csv, read_vtu_points_and_displacement
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -159,17 +159,19 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
 
     # FreeFEM
     ff_csv, ff_json = work / "freefem_contact_nodes.csv", work / "freefem_summary.json"
+    ff_field_csv = work / "freefem_field.csv"
     drv = freefem_driver(prob, msh, ff_law, ff_csv, ff_json, tol=args.ff_tol, maxit=args.ff_maxit,
-                         perturb=args.perturb_freefem_traction, fp_tol=args.ff_fp_tol, fp_maxit=args.ff_fp_maxit)
+                         perturb=args.perturb_freefem_traction, fp_tol=args.ff_fp_tol, fp_maxit=args.ff_fp_maxit,
+                         out_field=str(ff_field_csv))
     timing = work / "freefem_time.json"
     old_drv = work / "freefem.edp"
     if (args.reuse_freefem and old_drv.exists() and old_drv.read_text() == drv and timing.exists()
-            and ff_json.exists() and ff_csv.exists()):
+            and ff_json.exists() and ff_csv.exists() and ff_field_csv.exists()):
         t = json.loads(timing.read_text())
         ff_wall, ff_cpu = t["wall"], t["cpu"]
         log("   FreeFEM: reusing the previous run in " + str(work))
     else:
-        for f in (timing, ff_json, ff_csv):
+        for f in (timing, ff_json, ff_csv, ff_field_csv):
             f.unlink(missing_ok=True)
         ff_wall, ff_cpu = run_freefem(args.freefem, drv, work, "freefem", args.timeout)
         timing.write_text(json.dumps({"wall": ff_wall, "cpu": ff_cpu}))
@@ -231,6 +233,9 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
 
     cmp_ = compare(mesh, prob, ff, ours, cells, float(cfg["contact_tol"]))
     case.update(cmp_)
+    points, u_body = read_vtu_points_and_displacement(out / "body.vtu")
+    case.update(body_difference(read_csv(ff_field_csv, ["x", "y", "z", "u1", "u2", "u3"]), points, u_body,
+                                1e-6 * float(np.ptp(points, axis=0).max())))
     case.update({
         "ff_newton_iterations": ffres["newton_iterations"], "ff_final_change": ffres["final_relative_change"],
         "ff_fixed_point_iterations": ffres.get("fixed_point_iterations", 1),
@@ -267,7 +272,8 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     case["fails"] = fails
     case["status"] = "pass" if not fails else "FAIL"
     log(f"   rel L2(Gc) {case['rel_l2']:.3e} (normal {case['rel_l2_normal']:.3e}, tangential "
-        f"{case['rel_l2_tangential']:.3e}), max |du| {case['max_diff']:.3e} m, contact-set mismatch "
+        f"{case['rel_l2_tangential']:.3e}), max |du| {case['max_diff']:.3e} m, body: max|du|/max|u| "
+        f"{case['body_rel_max_diff']:.3e}, contact-set mismatch "
         f"{case['contact_ff_only'] + case['contact_ours_only']}, Fn rel {case['rel_Fn']:.3e}, Ft rel {case['rel_Ft']:.3e}"
         f" -> {case['status']}")
     return case

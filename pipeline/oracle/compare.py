@@ -120,3 +120,36 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
         "Fn_ff": Fn_ff, "Fn_ours": Fn_o, "rel_Fn": rel_fn,
         "Ft_ff": Ft_ff.tolist(), "Ft_ours": Ft_o.tolist(), "rel_Ft": rel_ft,
     }
+
+
+def read_vtu_points_and_displacement(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Points and the "displacement" array of contact3d's body.vtu (ASCII)."""
+    if not path.exists():
+        raise SideFailed(f"missing output {path}")
+    text = path.read_text()
+
+    def array(marker: str) -> np.ndarray:
+        start = text.find(marker)
+        if start < 0:
+            raise SideFailed(f"{path}: no {marker!r}")
+        start = text.index(">", start) + 1
+        return np.array(text[start:text.index("</DataArray>", start)].split(), dtype=float).reshape(-1, 3)
+
+    return array('Name="Points"'), array('Name="displacement" NumberOfComponents="3"')
+
+
+def body_difference(ff_field: dict, points: np.ndarray, u_ours: np.ndarray, tol: float) -> dict:
+    """The two displacements over the whole body, nodes matched by coordinates: the relative
+    largest nodal difference max|Δu| / max|u_ff| and the relative nodal l2 difference. On Γc a
+    solution that is nearly zero there (a stuck, pressed face) makes relative face norms meaningless;
+    these say how far apart the two solutions of the body are."""
+    ff_pts = np.column_stack([ff_field["x"], ff_field["y"], ff_field["z"]])
+    u_ff = np.column_stack([ff_field["u1"], ff_field["u2"], ff_field["u3"]])
+    idx = match_points(ff_pts, points, tol)
+    if (idx < 0).any():
+        raise SideFailed(f"{int((idx < 0).sum())} FreeFEM nodes have no contact3d node within {tol:g}")
+    diff = np.linalg.norm(u_ours[idx] - u_ff, axis=1)
+    scale = float(np.linalg.norm(u_ff, axis=1).max())
+    return {"body_max_abs_u_ff": scale,
+            "body_rel_max_diff": float(diff.max() / scale) if scale > 0 else float("nan"),
+            "body_rel_l2": float(np.sqrt((diff ** 2).sum() / max((u_ff ** 2).sum(), 1e-300)))}
