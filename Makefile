@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck figures coulomb-getfem hertz validation bench bench-slab robustness stress fuzz sanitize clean
+.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab robustness stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -48,6 +48,11 @@ tables: build
 
 crosscheck: build
 	$(PY) pipeline/crosscheck.py --bin $(BIN) --scene pipeline/scenes/$(SCENE).toml --report $(REPORTS)/crosscheck/$(SCENE).md
+
+# The thin slab against FreeFEM at h = 0.05 ... 0.0175, cells of 2h and 1.5h ($(REPORTS)/crosscheck/slab_series*.md).
+crosscheck-slab: build
+	$(PY) pipeline/slab_crosscheck.py --bin $(BIN) --out $(REPORTS)/crosscheck
+	$(PY) pipeline/slab_crosscheck.py --bin $(BIN) --out $(REPORTS)/crosscheck --cell-size 1.5h
 
 # The paper's figures for a run (Fig. 3, 6-11), copied into results/figures with the report.
 figures: build
