@@ -16,9 +16,13 @@ contraction factor and the a posteriori distance bound (summary.json "fixed_poin
 Goal (issue 18): every case converges by default in at most 12 steps with KKT <= 1e-6.
 
 usage: robustness.py --bin build/contact3d [--out results/runs/robustness.md] [--bodies a,b] [--quick]
+                     [--set key=value ...] [--work DIR]
+--set adds overrides to every law's solve (e.g. solver.fixed_point=plain, to compare variants on the
+same meshes); --work keeps meshes and runs in DIR (a mesh already there is reused).
 """
 import argparse
 import csv
+import json
 import subprocess
 import sys
 import tempfile
@@ -67,6 +71,8 @@ def slip_scale(out):
 def mesh_for(binary, scene, sets, work):
     """A mesh file for the scene with these mesh overrides (generator or gmsh), made once."""
     msh = work / "mesh.msh"
+    if msh.exists():
+        return msh
     gen = [s for s in sets if s.startswith("mesh.generator")]
     if gen:
         n = next(s.split("=")[1] for s in sets if s.startswith("mesh.n="))
@@ -81,7 +87,7 @@ def mesh_for(binary, scene, sets, work):
     return msh
 
 
-def run_body(binary, name, scene, sets, work, rows):
+def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
     work.mkdir(parents=True, exist_ok=True)
     msh = mesh_for(binary, scene, sets, work)
     proc, _ = c3d.run.solve(binary, scene, work / "calibrate", ["friction.law=constant", "friction.value=0.25"], mesh=msh)
@@ -91,7 +97,7 @@ def run_body(binary, name, scene, sets, work, rows):
     s = slip_scale(work / "calibrate")
     for law, law_sets in laws(s):
         out = work / law
-        proc, wall = c3d.run.solve(binary, scene, out, law_sets, mesh=msh, timeout=900)
+        proc, wall = c3d.run.solve(binary, scene, out, list(law_sets) + list(extra_sets), mesh=msh, timeout=900)
         label = " ".join(k.split(".")[-1] + "=" + v for k, v in (x.split("=", 1) for x in sets) if "generator" not in k)
         row = dict(body=name, h=label, law=law,
                    slip=s, wall=wall)
@@ -134,6 +140,7 @@ def write(path, rows, argv):
                  f"{fmt(r.get('q'), '.2f')} | {fmt(r.get('bound'), '.1e')} | {fmt(r.get('tight'), 'd')} |")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(L) + "\n")
+    path.with_suffix(".json").write_text(json.dumps(rows, indent=1))
     return len(ok) == len(rows)
 
 
@@ -143,15 +150,19 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "results" / "runs" / "robustness.md"))
     ap.add_argument("--bodies", default="", help="comma-separated scene names (default: all)")
     ap.add_argument("--quick", action="store_true", help="coarse meshes only")
+    ap.add_argument("--set", action="append", default=[], help="an override for every law's solve (repeatable)")
+    ap.add_argument("--work", default="", help="keep meshes and runs here (default: a temporary folder)")
     args = ap.parse_args(argv)
     wanted = set(filter(None, args.bodies.split(",")))
     rows = []
     with tempfile.TemporaryDirectory(prefix="contact3d_robustness_") as tmp:
+        base = Path(args.work) if args.work else Path(tmp)
         for name, scene, coarse, fine in BODIES:
             if wanted and scene not in wanted:
                 continue
             for k, sets in enumerate([coarse] if args.quick else [coarse, fine]):
-                run_body(Path(args.bin).resolve(), name, SCENES / f"{scene}.toml", sets, Path(tmp) / f"{scene}_{k}", rows)
+                run_body(Path(args.bin).resolve(), name, SCENES / f"{scene}.toml", sets, base / f"{scene}_{k}", rows,
+                         args.set)
     all_ok = write(Path(args.out), rows, ["robustness.py"] + (argv or sys.argv[1:]))
     print(f"wrote {args.out}")
     return 0 if all_ok else 1

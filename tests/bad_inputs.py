@@ -565,6 +565,14 @@ def c_tilted_plane_penetration(c):
             ["below the foundation plane", "initial penetration"])
 
 
+def c_qp_rtol_per_err_negative(c):
+    return ["check", c.scene(), "--set", "solver.qp_rtol_per_err=-1e-6"], ["solver.qp_rtol_per_err", "[0, 1)"]
+
+
+def c_fixed_point_variant_unknown(c):
+    return ["check", c.scene(), "--set", "solver.fixed_point=aitkin"], ["solver.fixed_point", "aitken", "aitkin"]
+
+
 def c_schur_mumps_in_serial_build(c):
     # The serial binary has no distributed backend: asking for it names how to get it.
     return (["solve", c.scene(), "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick",

@@ -83,6 +83,35 @@ class AndersonMixer {
   std::deque<Eigen::VectorXd> xs_, gs_;
 };
 
+// Aitken's dynamic relaxation (Irons & Tuck): x ← x + ω r with r = G(x) − x, and ω from the last
+// two residuals, ω ← −ω r₋₁ᵀ(r − r₋₁) / ‖r − r₋₁‖² — the secant step along the residual. It
+// lengthens the steps of a slow monotone contraction (ω > 1) and shortens those of an oscillation
+// (ω < 1); ω is kept in [0.1, 4] so that one bad secant (the active set of the Tresca problem
+// changed between the two residuals) cannot throw the iterate far, and slips stay non-negative.
+class AitkenRelaxation {
+ public:
+  Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& gx) {
+    const Eigen::VectorXd r = gx - x;
+    if (last_residual_.size() == r.size()) {
+      const Eigen::VectorXd dr = r - last_residual_;
+      const double dr2 = dr.squaredNorm();
+      if (dr2 > 0) omega_ = std::clamp(-omega_ * last_residual_.dot(dr) / dr2, 0.1, 4.0);
+    }
+    last_residual_ = r;
+    return (x + omega_ * r).cwiseMax(0.0);
+  }
+  // The plain step x ← G(x) (ω = 1), remembered for the first secant.
+  Eigen::VectorXd plain(const Eigen::VectorXd& x, const Eigen::VectorXd& gx) {
+    last_residual_ = gx - x;
+    omega_ = 1;
+    return gx;
+  }
+
+ private:
+  double omega_ = 1;
+  Eigen::VectorXd last_residual_;
+};
+
 // q from the last three step lengths ‖G(xₖ) − xₖ‖ (the largest of their two ratios: conservative).
 double contraction_factor(const std::vector<double>& step_lengths) {
   const std::size_t n = step_lengths.size();
@@ -93,16 +122,13 @@ double contraction_factor(const std::vector<double>& step_lengths) {
   return q;
 }
 
-// The last two step-length ratios both in [0.5, 1): a slow but steady contraction, where mixing
-// pays; growing steps (a nonsmooth map changing its active set) are left to the plain iteration.
-bool contracts_slowly(const std::vector<double>& lengths) {
+// The paper's iteration is kept while each step is under half the one before (the brick: q ≈ 0.2);
+// a ratio of 0.5 or more — a slow contraction, or an oscillation that does not shrink — hands over
+// to the relaxation for good.
+bool contracts_fast(const std::vector<double>& lengths) {
   const std::size_t n = lengths.size();
-  if (n < 3) return false;
-  for (std::size_t j = n - 2; j < n; ++j) {
-    const double ratio = lengths[j - 1] > 0 ? lengths[j] / lengths[j - 1] : 0.0;
-    if (ratio < 0.5 || ratio >= 1) return false;
-  }
-  return true;
+  if (n < 2) return true;
+  return lengths[n - 1] < 0.5 * lengths[n - 2];
 }
 
 std::string format_g(double v) {
@@ -118,13 +144,13 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
     case FixedPointStatus::IterationLimit:
       if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol);
       return "the successive approximations contract slowly (q = " + format_g(q) +
-             "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"anderson\"";
+             "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"aitken\" (relaxation from the start)";
     case FixedPointStatus::Stagnation:
       return "the map does not contract here (q = " + format_g(q) + ") although each QP was solved to " +
              format_g(final_rtol) +
              ": the law is too steep for successive approximations at this slip level (the paper's convergence needs "
-             "a small Lipschitz modulus of F); try a gentler law (smaller friction.param) or solver.fixed_point = "
-             "\"anderson\"";
+             "a small Lipschitz modulus of F); try a gentler law (smaller friction.param), a finer mesh, or "
+             "solver.fixed_point = \"aitken\"";
     case FixedPointStatus::InnerSolverFailed:
       return "the dual QP did not converge: raise solver.qp_max_iterations, or try solver.qp = \"ssn\"";
   }
@@ -138,12 +164,9 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   FixedPointResult result;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n_phi);
   AndersonMixer mixer(settings.anderson_depth);
+  AitkenRelaxation relaxation;
+  bool relaxing = settings.variant == FixedPointVariant::Aitken;  // accelerated: from the first slow step on
   std::vector<double> step_lengths;
-  // Accelerated: the last accepted point's image and step length, and whether mixing is on.
-  Eigen::VectorXd accepted_image;
-  double accepted_length = INFINITY;
-  bool mixing = false;
-  int plain_steps_before_mixing = 0;  // after a rejected mixed step
   auto next_iterate = [&](const Eigen::VectorXd& xk, const Eigen::VectorXd& gx, const std::vector<double>& lengths,
                           bool err_grew) -> Eigen::VectorXd {
     switch (settings.variant) {
@@ -152,29 +175,18 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       case FixedPointVariant::Anderson:
         if (err_grew) mixer.reset();  // safeguard
         return mixer.next(xk, gx);
+      case FixedPointVariant::Aitken:
       case FixedPointVariant::Accelerated:
         break;
     }
-    if (mixing && lengths.back() > accepted_length) {  // the mixed point did worse: plain step from the last good one
-      mixer.reset();
-      mixing = false;
-      plain_steps_before_mixing = 2;
-      accepted_length = INFINITY;  // that plain step is taken whatever its length
-      return accepted_image;
-    }
-    accepted_image = gx;
-    accepted_length = lengths.back();
-    if (plain_steps_before_mixing > 0)
-      --plain_steps_before_mixing;
-    else if (!mixing && contracts_slowly(lengths))
-      mixing = true;
-    const Eigen::VectorXd mixed = mixer.next(xk, gx);  // fed from the start, used once the map contracts slowly
-    return mixing ? mixed : gx;
+    if (!relaxing && !contracts_fast(lengths)) relaxing = true;
+    return relaxing ? relaxation.next(xk, gx) : relaxation.plain(xk, gx);
   };
   int n_mult = 0;
   double best_err = INFINITY;
   int best_k = 0;
-  double rtol = qp_rtol;     // the exact-step QP tolerance; tightened against inner noise
+  double rtol = qp_rtol;  // the exact-step QP tolerance; tightened against inner noise
+  double eta = settings.adaptive_qp_tolerance ? settings.qp_rtol_per_err : 0.0;  // rtol_k <= eta·err(k−1)
   bool force_exact = false;  // an inexact step met tol: repeat it with the exact QP tolerance
   auto finish = [&](FixedPointStatus status) {
     result.status = status;
@@ -188,10 +200,13 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   };
   for (int k = 1; k <= settings.max_iterations; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
-    double rtol_k = rtol;
-    if (settings.inexact && k > 1) rtol_k = std::max(rtol, std::min(1e-3, 1e-2 * result.history[k - 2].err));
-    if (settings.inexact && k == 1) rtol_k = std::max(rtol, 1e-3);
-    if (force_exact) rtol_k = rtol;
+    // This step's exact tolerance: rtol, and eta·err(k−1) below it once err has fallen.
+    const double exact_k =
+        eta > 0 && k > 1 ? std::clamp(eta * result.history[k - 2].err, std::min(settings.qp_rtol_floor, rtol), rtol)
+                         : rtol;
+    double rtol_k = exact_k;
+    if (settings.inexact && !force_exact)
+      rtol_k = std::max(exact_k, k == 1 ? 1e-3 : std::min(1e-3, 1e-2 * result.history[k - 2].err));
     const SlipEvaluation eval = G(x, rtol_k);
     n_mult += eval.hessian_products;
     FixedPointStep step;
@@ -207,7 +222,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (observe) observe(step);
     if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
     if (step.err <= settings.tol) {
-      if (rtol_k <= rtol) return finish(FixedPointStatus::Converged);
+      if (rtol_k <= exact_k) return finish(FixedPointStatus::Converged);
       force_exact = true;  // same φ again (x unchanged), now with the exact QP tolerance
       continue;
     }
@@ -217,7 +232,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     const bool qp_idle = eval.qp_iterations <= std::max(5, result.history[0].qp_iterations / 20);
     const bool stalled = k > 1 && step.err > 0.7 * result.history[k - 2].err && qp_idle;
     if (settings.adaptive_qp_tolerance && stalled && rtol > settings.qp_rtol_floor) {
-      rtol = std::max(settings.qp_rtol_floor, 1e-2 * rtol);
+      rtol = std::max(settings.qp_rtol_floor, 1e-2 * rtol_k);
+      eta *= 1e-2;
       ++result.qp_tolerance_tightenings;
       best_err = INFINITY;  // stagnation is judged afresh at the new tolerance
     }

@@ -4,7 +4,10 @@
 // plain iteration φᵏ = G(φᵏ⁻¹) is the paper's ‖φᵏ − φᵏ⁻¹‖ / ‖φᵏ‖. The Anderson variant mixes the
 // last few iterates (safeguarded: non-negative slip, restart when err grows).
 //
-// The inner (QP) tolerance never sets the floor: G is only evaluated to the QP tolerance, so a
+// The inner (QP) tolerance never sets the floor. G is only evaluated to the QP tolerance, so step
+// k is solved to min(qp_rtol, qp_rtol_per_err · err(k−1)): the QP's error in G falls with err
+// instead of staying at the level qp_rtol leaves (on a thin slab 1e-3 of the slip at 1e-6, which
+// stalled err above tol and fed the relaxation wrong secants). On top of that, a
 // step whose err does not fall (err(k) > 0.7 err(k−1)) while its warm-started QP hardly moved (at
 // most max(5, 1/20 of the first step's) iterations) is taken as inner noise, and the QP tolerance
 // is tightened 100× (down to `qp_rtol_floor`) before anything else is concluded. Stagnation — no
@@ -28,16 +31,16 @@ namespace contact3d {
 enum class FixedPointStatus { Converged, IterationLimit, Stagnation, InnerSolverFailed };
 
 // Plain: φᵏ = G(φᵏ⁻¹), the paper's (5.7). Anderson: mixing of the last `anderson_depth` iterates
-// from the start. Accelerated: plain while the map contracts fast (so scenes the
-// paper's iteration handles keep its steps exactly), Anderson mixing once it contracts slowly but
-// steadily (the last two step-length ratios in [0.5, 1)), each
-// mixed step kept only if it shrinks the step length ‖G(φ) − φ‖ below the last accepted one (else
-// the plain step from the last accepted point, and the mixing restarts).
-enum class FixedPointVariant { Plain, Anderson, Accelerated };
-inline constexpr NameTable<FixedPointVariant, 3> kFixedPointVariantNames{
+// from the start. Aitken: Aitken's dynamic relaxation φᵏ = φᵏ⁻¹ + ωₖ(G(φᵏ⁻¹) − φᵏ⁻¹), ωₖ the
+// secant step along the residual, from the start. Accelerated (the default): the paper's plain
+// iteration while each step is under half the one before (so scenes it handles keep its steps
+// exactly: the brick's 6), Aitken's relaxation from the first step that is not.
+enum class FixedPointVariant { Plain, Anderson, Accelerated, Aitken };
+inline constexpr NameTable<FixedPointVariant, 4> kFixedPointVariantNames{
     {{FixedPointVariant::Plain, "plain"},
      {FixedPointVariant::Anderson, "anderson"},
-     {FixedPointVariant::Accelerated, "accelerated"}}};
+     {FixedPointVariant::Accelerated, "accelerated"},
+     {FixedPointVariant::Aitken, "aitken"}}};
 std::string to_string(FixedPointStatus s);
 
 struct FixedPointSettings {
@@ -52,6 +55,10 @@ struct FixedPointSettings {
   // Noise-aware inner tolerance (see above); off: the QP tolerance stays qp_rtol (the paper's).
   bool adaptive_qp_tolerance = true;
   double qp_rtol_floor = 1e-12;
+  // The inner tolerance follows the outer progress: step k is solved to
+  // min(qp_rtol, qp_rtol_per_err · err(k−1)) (not below the floor), so the QP's error in G stays
+  // well under err as err falls to tol. 0 turns it off (every step at qp_rtol, the paper's).
+  double qp_rtol_per_err = 1e-6;
   // Sizes of the blocks of the state (empty: one block). err(k) is the largest of the blocks'
   // relative changes, so a state made of quantities with different units (Coulomb's slip and
   // normal pressure) converges only when each of them has.

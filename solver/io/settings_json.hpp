@@ -12,6 +12,7 @@ inline void write_solver_settings(JsonWriter& j, const SolverSettings& s) {
   j.value("qp", name_of(s.qp.variant, kQpVariantNames)).value("qp_scaling", name_of(s.qp.scaling, kQpScalingNames));
   j.value("qp_rtol", s.qp_rtol).value("qp_max_iterations", s.qp.max_iterations);
   j.value("fixed_point", name_of(s.fixed_point, kFixedPointVariantNames)).value("anderson_depth", s.anderson_depth);
+  j.value("qp_rtol_per_err", s.qp_rtol_per_err);
   j.value("fixed_point_tol", s.fixed_point_tol).value("fixed_point_max_iter", s.fixed_point_max_iter);
   j.value("inexact_fixed_point", s.inexact_fixed_point).value("schur", name_of(s.dual_method, kDualMethodNames));
   j.value("reference_factorization", s.reference_factorization);

@@ -162,6 +162,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     fp.max_iterations = scene.solver.fixed_point_max_iter;
     fp.variant = scene.solver.fixed_point;
     fp.anderson_depth = scene.solver.anderson_depth;
+    fp.qp_rtol_per_err = scene.solver.qp_rtol_per_err;
     fp.inexact = scene.solver.inexact_fixed_point;
     if (scene.coulomb()) {
       CoulombMap coulomb(tresca, n_contact_nodes, res.n_cells);

@@ -353,16 +353,20 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   }
 
   if (const toml::table* sv = table_at(root, "solver")) {
-    check_keys(*sv, "solver",
-               {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
-                "fixed_point", "anderson_depth", "schur", "inexact_fixed_point", "reference_factorization"});
+    check_keys(
+        *sv, "solver",
+        {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling", "fixed_point",
+         "anderson_depth", "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
     o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
     o.fixed_point_tol = get_number(*sv, "solver", "fixed_point_tol", o.fixed_point_tol);
     o.fixed_point_max_iter = get_int(*sv, "solver", "fixed_point_max_iter", o.fixed_point_max_iter, 1, 100000);
     o.anderson_depth = get_int(*sv, "solver", "anderson_depth", o.anderson_depth, 1, 50);
+    o.qp_rtol_per_err = get_number(*sv, "solver", "qp_rtol_per_err", o.qp_rtol_per_err);
     if (!(o.qp_rtol > 0 && o.qp_rtol < 1)) throw InputError("solver.qp_rtol must lie in (0, 1)");
+    if (!(o.qp_rtol_per_err >= 0 && o.qp_rtol_per_err < 1))
+      throw InputError("solver.qp_rtol_per_err must lie in [0, 1) (0: every step at qp_rtol)");
     if (!(o.fixed_point_tol > 0 && o.fixed_point_tol < 1))
       throw InputError("solver.fixed_point_tol must lie in (0, 1)");
     get_enum(*sv, "solver", "qp", kQpVariantNames, o.qp.variant);

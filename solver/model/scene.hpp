@@ -50,10 +50,12 @@ struct SolverSettings {
   // algorithm, "mpgp_projcg", "ssn"), qp_scaling ("jacobi": a diagonal scaling that keeps
   // half-lines and discs; "none": the paper's plain MPGP), qp_max_iterations.
   QpSettings qp;
-  // "accelerated" (default: plain while it contracts fast, safeguarded Anderson when slowly),
-  // "plain" (the paper's (5.7)) or "anderson" (FixedPointVariant).
+  // "accelerated" (default: plain while it contracts fast, Aitken's relaxation once it does not),
+  // "plain" (the paper's (5.7)), "aitken" (relaxation from the start) or "anderson" (FixedPointVariant).
   FixedPointVariant fixed_point = FixedPointVariant::Accelerated;
   int anderson_depth = 5;
+  // Fixed-point step k solves its QP to min(qp_rtol, qp_rtol_per_err · err(k−1)); 0: at qp_rtol.
+  double qp_rtol_per_err = FixedPointSettings{}.qp_rtol_per_err;
   DualMethod dual_method = DualMethod::Auto;  // key `schur`: how Q = 𝔹K⁻¹𝔹ᵀ is formed (DualMethod)
   bool inexact_fixed_point = false;           // QP tolerance tied to err(k) in early fixed-point steps
   bool reference_factorization =

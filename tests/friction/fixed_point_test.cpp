@@ -53,8 +53,10 @@ TEST(FixedPoint, IterationLimitOnASlowContractionSaysWhatToTry) {
 }
 
 TEST(FixedPoint, AcceleratedBeatsPlainOnASlowSteadyContraction) {
-  const FixedPointResult plain = solve_fixed_point(linear_map(0.95), 4, settings(), 1e-6);
-  const FixedPointResult fast = solve_fixed_point(linear_map(0.95), 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  // q = 0.8: the secant ω = 1/(1 − q) = 5 is capped at 4, i.e. a rate of 1 − 4·0.2 = 0.2 per step.
+  const FixedPointResult plain = solve_fixed_point(linear_map(0.8), 4, settings(), 1e-6);
+  const FixedPointResult fast = solve_fixed_point(linear_map(0.8), 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  EXPECT_EQ(plain.status, FixedPointStatus::Converged);
   EXPECT_EQ(fast.status, FixedPointStatus::Converged);
   EXPECT_LT(fast.iterations(), plain.iterations() / 3);
 }
@@ -68,7 +70,10 @@ TEST(FixedPoint, AcceleratedKeepsThePlainStepsWhenTheMapContractsFast) {
 
 TEST(FixedPoint, InnerNoiseTightensTheQpToleranceInsteadOfStagnating) {
   // Noise of 1e3·rtol in G: at rtol = 1e-6 it is 1e-3, far above tol = 1e-4 (the old noise floor).
-  const FixedPointResult r = solve_fixed_point(linear_map(0.3, 1e3), 5, settings(), 1e-6);
+  // Without the schedule tied to err, the stall is detected and the tolerance tightened.
+  FixedPointSettings detect = settings();
+  detect.qp_rtol_per_err = 0;
+  const FixedPointResult r = solve_fixed_point(linear_map(0.3, 1e3), 5, detect, 1e-6);
   EXPECT_EQ(r.status, FixedPointStatus::Converged);
   EXPECT_GE(r.qp_tolerance_tightenings, 1);
   EXPECT_LT(r.history.back().qp_rtol, 1e-6);
@@ -76,6 +81,33 @@ TEST(FixedPoint, InnerNoiseTightensTheQpToleranceInsteadOfStagnating) {
   FixedPointSettings fixed = settings();
   fixed.adaptive_qp_tolerance = false;
   EXPECT_NE(solve_fixed_point(linear_map(0.3, 1e3), 5, fixed, 1e-6).status, FixedPointStatus::Converged);
+}
+
+TEST(FixedPoint, QpToleranceFollowsErrSoNoiseNeverStalls) {
+  // The default schedule: step k at min(qp_rtol, qp_rtol_per_err·err(k−1)). The noisy map converges
+  // with no stall to detect, in the steps of the noise-free map, and each step's tolerance follows err.
+  const FixedPointResult noisy = solve_fixed_point(linear_map(0.3, 1e3), 5, settings(), 1e-6);
+  const FixedPointResult clean = solve_fixed_point(linear_map(0.3), 5, settings(), 1e-6);
+  ASSERT_EQ(noisy.status, FixedPointStatus::Converged);
+  EXPECT_EQ(noisy.qp_tolerance_tightenings, 0);
+  EXPECT_EQ(noisy.iterations(), clean.iterations());
+  const double eta = FixedPointSettings{}.qp_rtol_per_err;
+  EXPECT_DOUBLE_EQ(noisy.history[0].qp_rtol, 1e-6);
+  for (int k = 1; k < noisy.iterations(); ++k)
+    EXPECT_DOUBLE_EQ(noisy.history[k].qp_rtol, std::min(1e-6, std::max(1e-12, eta * noisy.history[k - 1].err)));
+}
+
+TEST(FixedPoint, RelaxationConvergesWhereThePlainIterationOscillatesApart) {
+  // G(φ) = φ* − 1.5 (φ − φ*): plain steps oscillate with growing amplitude; Aitken's ω → 1/2.5
+  // makes it exact in a few steps, and the default hands over to it after the first growing step.
+  FixedPointSettings plain = settings();
+  plain.max_iterations = 30;
+  EXPECT_NE(solve_fixed_point(linear_map(-1.5), 4, plain, 1e-6).status, FixedPointStatus::Converged);
+  for (FixedPointVariant v : {FixedPointVariant::Aitken, FixedPointVariant::Accelerated}) {
+    const FixedPointResult r = solve_fixed_point(linear_map(-1.5), 4, settings(v), 1e-6);
+    EXPECT_EQ(r.status, FixedPointStatus::Converged) << static_cast<int>(v);
+    EXPECT_LE(r.iterations(), 6) << static_cast<int>(v);
+  }
 }
 
 TEST(FixedPoint, StagnationOnlyWhenTheMapDoesNotContract) {

@@ -122,6 +122,26 @@ TEST(SolvePaperBrick, AndersonGivesTheSameAnswer) {
   EXPECT_LT((plain.u - anderson.u).norm(), 1e-3 * plain.u.norm());
 }
 
+TEST(SolvePaperBrick, AitkenRelaxationGivesTheSameAnswerInNoMoreSteps) {
+  const SolveResult plain = solve_text({"solver.fixed_point=\"plain\""});
+  const SolveResult aitken = solve_text({"solver.fixed_point=\"aitken\""});
+  ASSERT_TRUE(plain.converged);
+  ASSERT_TRUE(aitken.converged);
+  EXPECT_LE(aitken.fixed_point.iterations(), plain.fixed_point.iterations());
+  EXPECT_LT((plain.u - aitken.u).norm(), 1e-3 * plain.u.norm());
+}
+
+TEST(SolvePaperBrick, QpToleranceFollowsTheFixedPointErr) {
+  // Default: each step after the first solved to min(qp_rtol, 1e-6·err(k−1)); 0 keeps qp_rtol.
+  const SolveResult tied = solve_text();
+  ASSERT_TRUE(tied.converged);
+  const auto& h = tied.fixed_point.history;
+  for (std::size_t k = 1; k < h.size(); ++k) EXPECT_LE(h[k].qp_rtol, std::max(1e-12, 1e-6 * h[k - 1].err) * 1.0001);
+  const SolveResult fixed = solve_text({"solver.qp_rtol_per_err=0"});
+  ASSERT_TRUE(fixed.converged);
+  for (const auto& step : fixed.fixed_point.history) EXPECT_DOUBLE_EQ(step.qp_rtol, 1e-6);
+}
+
 TEST(SolvePaperBrick, InexactFixedPointConvergesWithALooseTolerance) {
   // An inexact step that meets a loose tol must be repeated once exactly, then stop.
   const SolveResult res = solve_text({"solver.inexact_fixed_point=true", "solver.fixed_point_tol=1e-2"});
