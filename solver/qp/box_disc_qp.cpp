@@ -24,6 +24,16 @@ Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
 
 double BoxDiscQP::value(const Eigen::VectorXd& lambda) const { return 0.5 * lambda.dot(apply(lambda)) - h.dot(lambda); }
 
+bool prepare_start(const BoxDiscQP& qp, Eigen::VectorXd& lambda) {
+  if (lambda.size() != qp.size()) lambda = Eigen::VectorXd::Zero(qp.size());
+  if (qp.h.norm() == 0) {
+    lambda.setZero();
+    return false;
+  }
+  project(qp, lambda);
+  return true;
+}
+
 void project(const BoxDiscQP& qp, Eigen::VectorXd& lambda) {
   const int r = qp.r;
   for (int i = 0; i < r; ++i) lambda[i] = std::max(lambda[i], 0.0);

@@ -30,6 +30,9 @@ struct BoxDiscQP {
 
 // Euclidean projection onto the feasible set.
 void project(const BoxDiscQP& qp, Eigen::VectorXd& lambda);
+// Every solver's start: λ made feasible (zero when its size does not match). Returns false when
+// h = 0, where the minimiser of ½λᵀQλ is λ = 0 and λ is set to it (nothing left to solve).
+bool prepare_start(const BoxDiscQP& qp, Eigen::VectorXd& lambda);
 bool is_feasible(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, double rel_tol = 1e-12);
 
 // Free gradient φ (gradient on free components, 0 on active ones) and chopped gradient β

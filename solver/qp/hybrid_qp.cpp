@@ -29,15 +29,12 @@ void add_work(QpResult& total, const QpResult& part) {
 
 QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const HybridSettings& settings) {
   QpResult total;
-  const int m = qp.size();
-  if (lambda.size() != m) lambda = Eigen::VectorXd::Zero(m);
-  project(qp, lambda);
-  const double h_norm = qp.h.norm();
-  if (h_norm == 0) {
-    lambda.setZero();
+  if (!prepare_start(qp, lambda)) {
     total.status = QpStatus::Converged;
     return total;
   }
+  const int m = qp.size();
+  const double h_norm = qp.h.norm();
   const int window = settings.window > 0 ? settings.window : std::max(50, m / 16);
   double pg_before = relative_projected_gradient(qp, lambda, h_norm);
   ++total.hessian_products;

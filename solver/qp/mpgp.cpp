@@ -51,14 +51,11 @@ struct State {
 
 QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSettings& settings) {
   QpResult result;
-  if (lambda.size() != qp.size()) lambda = Eigen::VectorXd::Zero(qp.size());
-  project(qp, lambda);
-  const double h_norm = qp.h.norm();
-  if (h_norm == 0) {  // S(λ) = ½λᵀQλ: the minimiser is λ = 0
-    lambda.setZero();
+  if (!prepare_start(qp, lambda)) {  // S(λ) = ½λᵀQλ: the minimiser is λ = 0
     result.status = QpStatus::Converged;
     return result;
   }
+  const double h_norm = qp.h.norm();
   const double alpha = settings.alpha_scale / qp.q_norm;
   const double tol = settings.rtol * h_norm;
   State s{qp, lambda, {}, {}, result};

@@ -105,15 +105,12 @@ bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd
 
 QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings) {
   QpResult result;
-  const int m = qp.size();
-  if (lambda.size() != m) lambda = Eigen::VectorXd::Zero(m);
-  project(qp, lambda);
-  const double h_norm = qp.h.norm();
-  if (h_norm == 0) {
-    lambda.setZero();
+  if (!prepare_start(qp, lambda)) {
     result.status = QpStatus::Converged;
     return result;
   }
+  const int m = qp.size();
+  const double h_norm = qp.h.norm();
   const Eigen::MatrixXd& Q = *qp.Q;
   const double tol = settings.rtol * h_norm;
   // ρ scales the gradient to the size of λ: 1 / (mean diagonal of Q).
