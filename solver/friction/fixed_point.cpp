@@ -88,6 +88,11 @@ class AndersonMixer {
 // lengthens the steps of a slow monotone contraction (ω > 1) and shortens those of an oscillation
 // (ω < 1); ω is kept in [0.1, 4] so that one bad secant (the active set of the Tresca problem
 // changed between the two residuals) cannot throw the iterate far, and slips stay non-negative.
+// A secant ≤ 0 says the residual grew along the step — far from the fixed point, e.g. a
+// slip-weakening law from φ⁰ = 0 feeding on itself — where no positive ω is right: the plain step
+// (ω = 1) is taken and the secant re-estimated. (Shrinking such steps to ω = 0.1 instead cost the
+// holed prism with slip weakening 15 steps; with plain steps there it takes 11, and `make
+// robustness` 107 of 110 cases within 12 steps instead of 105.)
 class AitkenRelaxation {
  public:
   Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& gx) {
@@ -95,7 +100,10 @@ class AitkenRelaxation {
     if (last_residual_.size() == r.size()) {
       const Eigen::VectorXd dr = r - last_residual_;
       const double dr2 = dr.squaredNorm();
-      if (dr2 > 0) omega_ = std::clamp(-omega_ * last_residual_.dot(dr) / dr2, 0.1, 4.0);
+      if (dr2 > 0) {
+        const double secant = -omega_ * last_residual_.dot(dr) / dr2;
+        omega_ = secant <= 0 ? 1.0 : std::clamp(secant, 0.1, 4.0);
+      }
     }
     last_residual_ = r;
     return (x + omega_ * r).cwiseMax(0.0);

@@ -129,6 +129,26 @@ TEST(FixedPoint, StagnationOnlyWhenTheMapDoesNotContract) {
   EXPECT_NE(r.hint.find("does not contract"), std::string::npos);
 }
 
+TEST(FixedPoint, RelaxationTakesPlainStepsWhileTheResidualGrowsAlongTheStep) {
+  // Positive feedback far from the fixed point (G = 3φ + 1 below 4.5, as slip weakening from
+  // φ⁰ = 0), then an oscillating contraction (slope −0.5) around φ* = 67/6. The secant of the first
+  // steps is negative: plain steps must be taken there (6 steps), not ω shrunk to its floor (11).
+  SlipMap feedback = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi.unaryExpr([](double t) { return t < 4.5 ? 3 * t + 1 : 14.5 - 0.5 * (t - 4.5); });
+    return e;
+  };
+  const FixedPointResult plain = solve_fixed_point(feedback, 3, settings(), 1e-6);
+  ASSERT_EQ(plain.status, FixedPointStatus::Converged);
+  for (FixedPointVariant v : {FixedPointVariant::Aitken, FixedPointVariant::Accelerated}) {
+    const FixedPointResult r = solve_fixed_point(feedback, 3, settings(v), 1e-6);
+    ASSERT_EQ(r.status, FixedPointStatus::Converged) << static_cast<int>(v);
+    EXPECT_LE(r.iterations(), 7) << static_cast<int>(v);
+    EXPECT_LT(r.iterations(), plain.iterations());
+    EXPECT_NEAR(r.phi[0], 67.0 / 6.0, 1e-3);
+  }
+}
+
 TEST(FixedPoint, InnerFailureIsNamed) {
   SlipMap failing = [](const Eigen::VectorXd& phi, double) {
     SlipEvaluation e;
