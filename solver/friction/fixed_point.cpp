@@ -139,6 +139,20 @@ bool contracts_fast(const std::vector<double>& lengths) {
   return lengths[n - 1] < 0.5 * lengths[n - 2];
 }
 
+// The iterates still travel when the last residuals r = G(x) − x point the same way (each cosine
+// with the one before above 1/2): a slip front spreading node by node (a weakening or jump law on a
+// large contact face) keeps err from falling for many steps while the state moves steadily towards
+// the fixed point. A map that does not contract cycles instead: its residuals turn against each
+// other (cosines near −1 for a two-cycle).
+bool still_travelling(const std::deque<Eigen::VectorXd>& residuals) {
+  if (residuals.size() < 3) return false;
+  for (std::size_t j = 1; j < residuals.size(); ++j) {
+    const double norms = residuals[j].norm() * residuals[j - 1].norm();
+    if (!(norms > 0) || residuals[j].dot(residuals[j - 1]) <= 0.5 * norms) return false;
+  }
+  return true;
+}
+
 std::string format_g(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);
@@ -175,6 +189,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   AitkenRelaxation relaxation;
   bool relaxing = settings.variant == FixedPointVariant::Aitken;  // accelerated: from the first slow step on
   std::vector<double> step_lengths;
+  std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
   auto next_iterate = [&](const Eigen::VectorXd& xk, const Eigen::VectorXd& gx, const std::vector<double>& lengths,
                           bool err_grew) -> Eigen::VectorXd {
     switch (settings.variant) {
@@ -227,6 +242,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     result.history.push_back(step);
     result.phi = x;
     step_lengths.push_back((eval.slip - x).norm());
+    residuals.push_back(eval.slip - x);
+    if (residuals.size() > 3) residuals.pop_front();
     if (observe) observe(step);
     if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
     if (step.err <= settings.tol) {
@@ -248,10 +265,11 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (step.err < best_err) {
       best_err = step.err;
       best_k = k;
-    } else if (k - best_k >= settings.stagnation_window &&
+    } else if (k - best_k >= settings.stagnation_window && !still_travelling(residuals) &&
                (!settings.adaptive_qp_tolerance || rtol <= settings.qp_rtol_floor || !qp_idle)) {
-      // No new minimum for a window of steps, and not for inner noise: the QP is at its floor, or
-      // it is busy (the radii keep changing it) — the map itself does not contract.
+      // No new minimum for a window of steps, the iterates not moving steadily one way, and not
+      // for inner noise: the QP is at its floor, or it is busy (the radii keep changing it) — the
+      // map itself does not contract.
       return finish(FixedPointStatus::Stagnation);
     }
     x = next_iterate(x, eval.slip, step_lengths, k > 1 && step.err > 2 * result.history[k - 2].err);

@@ -12,7 +12,9 @@
 // most max(5, 1/20 of the first step's) iterations) is taken as inner noise, and the QP tolerance
 // is tightened 100× (down to `qp_rtol_floor`) before anything else is concluded. Stagnation — no
 // new minimum of err for `stagnation_window` steps — is only declared when inner noise is ruled
-// out (the QP is at the floor, or busy with every step), i.e. when the map itself does not contract. The observed
+// out (the QP is at the floor, or busy with every step) and the iterates are not travelling one way
+// (a slip front spreading over a large face raises err for many steps while the last residuals
+// G(φ) − φ stay aligned), i.e. when the map itself does not contract. The observed
 // contraction factor q (the largest ratio of successive steps ‖φᵏ⁺¹ − φᵏ‖ / ‖φᵏ − φᵏ⁻¹‖ over the last three) gives the
 // a posteriori bound ‖φ* − φᵏ‖ <= q / (1 − q) ‖φᵏ − φᵏ⁻¹‖ on the distance to the fixed point when q < 1.
 #pragma once

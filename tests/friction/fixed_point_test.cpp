@@ -129,6 +129,25 @@ TEST(FixedPoint, StagnationOnlyWhenTheMapDoesNotContract) {
   EXPECT_NE(r.hint.find("does not contract"), std::string::npos);
 }
 
+TEST(FixedPoint, NoStagnationWhileTheIteratesTravelOneWay) {
+  // A front that feeds on itself (G = φ + φ²/20 + 1, capped at 40, as slip spreading over a large
+  // face): err rises for three steps after its minimum while every residual points the same way,
+  // then the cap is reached. With a window of 3 that rise must not be called stagnation.
+  SlipMap spreading = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi.unaryExpr([](double t) { return std::min(t + 0.05 * t * t + 1, 40.0); });
+    e.qp_iterations = 100;  // a busy QP: not inner noise
+    return e;
+  };
+  FixedPointSettings s = settings();
+  s.stagnation_window = 3;
+  const FixedPointResult r = solve_fixed_point(spreading, 3, s, 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_EQ(r.iterations(), 10);
+  EXPECT_GT(r.history[7].err, r.history[4].err);  // three steps without a new minimum on the way
+  EXPECT_NEAR(r.phi[0], 40.0, 1e-12);
+}
+
 TEST(FixedPoint, RelaxationTakesPlainStepsWhileTheResidualGrowsAlongTheStep) {
   // Positive feedback far from the fixed point (G = 3φ + 1 below 4.5, as slip weakening from
   // φ⁰ = 0), then an oscillating contraction (slope −0.5) around φ* = 67/6. The secant of the first
