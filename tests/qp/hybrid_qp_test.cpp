@@ -24,23 +24,29 @@ QpResult solve_reference(const BoxDiscQP& qp, Eigen::VectorXd& lambda) {
   return solve_mpgp(qp, lambda, ms);
 }
 
+// One random QP solved by the hybrid with MPGP windows of `window` iterations (0: its default),
+// checked against MPGP at 1e-10: converged, feasible, the same minimiser.
+QpResult solve_and_compare(unsigned seed, int size, bool friction, int window) {
+  RandomQp a = make_random_qp(size, friction, seed);
+  a.qp.Q = &a.Q;
+  a.qp.q_norm = 1.05 * estimate_norm(a.Q);
+  Eigen::VectorXd reference, lambda;
+  EXPECT_EQ(solve_reference(a.qp, reference).status, QpStatus::Converged) << "seed " << seed;
+  HybridSettings hs;
+  hs.rtol = 1e-10;
+  hs.window = window;
+  const QpResult r = solve_hybrid(a.qp, lambda, hs);
+  EXPECT_EQ(r.status, QpStatus::Converged) << "seed " << seed;
+  EXPECT_TRUE(is_feasible(a.qp, lambda)) << "seed " << seed;
+  EXPECT_LT((lambda - reference).norm(), 1e-7 * (1 + reference.norm())) << "seed " << seed;
+  return r;
+}
+
 }  // namespace
 
 TEST(HybridQp, MatchesMpgpOnRandomQps) {
   for (unsigned seed = 1; seed <= 20; ++seed)
-    for (bool friction : {true, false}) {
-      RandomQp a = make_random_qp(4 + static_cast<int>(seed) % 9, friction, seed);
-      a.qp.Q = &a.Q;
-      a.qp.q_norm = 1.05 * estimate_norm(a.Q);
-      Eigen::VectorXd reference, lambda;
-      ASSERT_EQ(solve_reference(a.qp, reference).status, QpStatus::Converged);
-      HybridSettings hs;
-      hs.rtol = 1e-10;
-      const QpResult r = solve_hybrid(a.qp, lambda, hs);
-      ASSERT_EQ(r.status, QpStatus::Converged) << "seed " << seed;
-      EXPECT_TRUE(is_feasible(a.qp, lambda));
-      EXPECT_LT((lambda - reference).norm(), 1e-7 * (1 + reference.norm())) << "seed " << seed;
-    }
+    for (bool friction : {true, false}) solve_and_compare(seed, 4 + static_cast<int>(seed) % 9, friction, 0);
 }
 
 TEST(HybridQp, NewtonRoundsHandBackToMpgp) {
@@ -49,20 +55,9 @@ TEST(HybridQp, NewtonRoundsHandBackToMpgp) {
   int with_newton = 0;
   for (unsigned seed = 1; seed <= 20; ++seed)
     for (bool friction : {true, false}) {
-      RandomQp a = make_random_qp(6 + static_cast<int>(seed) % 7, friction, seed);
-      a.qp.Q = &a.Q;
-      a.qp.q_norm = 1.05 * estimate_norm(a.Q);
-      Eigen::VectorXd reference, lambda;
-      ASSERT_EQ(solve_reference(a.qp, reference).status, QpStatus::Converged);
-      HybridSettings hs;
-      hs.rtol = 1e-10;
-      hs.window = 1;
-      const QpResult r = solve_hybrid(a.qp, lambda, hs);
-      ASSERT_EQ(r.status, QpStatus::Converged) << "seed " << seed;
+      const QpResult r = solve_and_compare(seed, 6 + static_cast<int>(seed) % 7, friction, 1);
       with_newton += r.newton_steps > 0;
       EXPECT_LE(r.newton_steps, r.iterations);
-      EXPECT_TRUE(is_feasible(a.qp, lambda));
-      EXPECT_LT((lambda - reference).norm(), 1e-7 * (1 + reference.norm())) << "seed " << seed;
     }
   EXPECT_GE(with_newton, 30);  // of 40
 }
