@@ -10,9 +10,10 @@ PKGS=(build-essential cmake pkg-config libeigen3-dev libsuitesparse-dev libopenb
       clang-format)   # the C++ layout check (tests/lint.cmake)
 # `install-deps.sh --dev` adds the fuzzing toolchain (fuzz/build.sh: clang 14 + libFuzzer runtime).
 if [ "${1:-}" = "--dev" ]; then PKGS+=(clang-14 libclang-rt-14-dev); fi
-# `install-deps.sh --mpi` adds the distributed backend's PETSc 3.18 (MUMPS, hypre, PT-Scotch, ScaLAPACK)
-# and Open MPI (`make build-mpi`); the default build and its tests do not need them.
-if [ "${1:-}" = "--mpi" ]; then PKGS+=(petsc-dev libopenmpi-dev openmpi-bin); fi
+# `install-deps.sh --mpi` adds the distributed backend's PETSc 3.18 (MUMPS, hypre, PT-Scotch, ScaLAPACK),
+# MUMPS's own headers (the backend also calls MUMPS directly) and Open MPI (`make build-mpi`); the
+# default build and its tests do not need them.
+if [ "${1:-}" = "--mpi" ]; then PKGS+=(petsc-dev libmumps-dev libopenmpi-dev openmpi-bin); fi
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,10 +1,13 @@
-// The distributed backend: the same dual problem on PETSc 3.18 + MUMPS 5.5 under MPI
+// The distributed backend: the same dual problem on MUMPS 5.5 under MPI, with PETSc 3.18
 // (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`). Rank 0 runs the whole solver
 // as in the serial build — it reads the mesh, assembles, runs the dual QP and the fixed point and
 // writes the outputs; the other ranks hold their share of the augmented matrix [K 𝔹ᵀ; 𝔹 0] and of
 // MUMPS's factor and serve rank 0's requests (factorize, solve, release, report memory) until it
-// finishes. Q comes from MUMPS's Schur complement on the multipliers (S = −Q, dense on rank 0,
-// MatFactorSetSchurIS), w = K⁻¹(f − 𝔹ᵀλ) from MUMPS's interior solve (ICNTL(26) = 0).
+// finishes. Q comes from MUMPS's Schur complement on the multipliers (S = −Q, dense on rank 0),
+// w = K⁻¹(f − 𝔹ᵀλ) from MUMPS's interior solve (ICNTL(26) = 0). MUMPS is called directly with the
+// nested dissection the CHOLMOD path uses as its pivot order (ICNTL(7) = 1): PETSc's interface
+// cannot pass an ordering to a Cholesky with a Schur complement, and MUMPS's own AMD fills 1.3-1.5×
+// more. The PETSc route (MatFactorSetSchurIS on an MPISBAIJ matrix) stays selectable.
 //
 // In the serial build the same interface exists: available() is false, Session does nothing and
 // make_mumps_dual_problem throws an InputError saying how to get the backend.
@@ -37,8 +40,12 @@ class Session {
   bool started_ = false;
 };
 
-// Rank 0: the dual problem with MUMPS (laps `clock` at "factorization" and "dual").
-std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput& input, StageClock& clock);
+// Rank 0: the dual problem with MUMPS (laps `clock` at "factorization" and "dual"), called directly
+// with our nested dissection as the pivot order, or through PETSc's interface (MUMPS's own AMD:
+// PETSc cannot pass an ordering to MUMPS's Cholesky with a Schur complement).
+enum class MumpsRoute { Direct, ThroughPetsc };
+std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput& input, StageClock& clock,
+                                                     MumpsRoute route = MumpsRoute::Direct);
 
 // Rank 0: the number of ranks and each rank's peak resident memory (MiB), in rank order.
 int ranks();

@@ -12,9 +12,9 @@ Session::Session(int&, char**&) {}
 Session::~Session() = default;
 void Session::serve() {}
 
-std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput&, StageClock&) {
+std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput&, StageClock&, MumpsRoute) {
   throw InputError(
-      "solver.schur = \"mumps\" needs the distributed build: `make build-mpi`, then `mpirun -np P "
+      "solver.schur = \"mumps\" or \"mumps_petsc\" needs the distributed build: `make build-mpi`, then `mpirun -np P "
       "build-mpi/contact3d solve SCENE`");
 }
 

@@ -24,8 +24,10 @@ namespace contact3d {
 //   ContactLast — factor K with the contact dofs last; Q from the dense trailing block (trsm/syrk).
 //   BlockSolve  — one K⁻¹ solve per row of 𝔹 (the reference the tests compare against).
 //   Mumps       — the distributed backend (distributed/backend.hpp): MUMPS's Schur complement
-//                 of [K 𝔹ᵀ; 𝔹 0] on the multipliers, under MPI. Auto takes it in the MPI build.
-enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps };
+//                 of [K 𝔹ᵀ; 𝔹 0] on the multipliers, under MPI, MUMPS called directly with our
+//                 nested dissection as its pivot order. Auto takes it in the MPI build.
+//   MumpsPetsc  — the same through PETSc's MUMPS interface, which orders by MUMPS's own AMD.
+enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps, MumpsPetsc };
 
 // What a backend needs: K and f over the free dofs, 𝔹 (multipliers × free dofs), the free dofs
 // at which face_displacement() reports w (the contact face, in the caller's order), and the
@@ -62,7 +64,7 @@ class DualProblem {
   virtual void release_factor() = 0;
 
   std::string method;               // "augmented", "contactlast", "blocksolve", "mumps", ...
-  std::string backend = "cholmod";  // the library behind it: "cholmod" or "petsc-mumps"
+  std::string backend = "cholmod";  // the library behind it: "cholmod", "mumps" (called directly) or "petsc-mumps"
   double factor_nonzeros = 0;       // nnz(L) of the factorization held
   double step_solve_fraction = 1;   // share of the factor one face_displacement() reads (1: a full solve)
 

@@ -157,6 +157,21 @@ std::vector<SuiteSparse_long> quotient_nested_dissection(const Eigen::SparseMatr
 
 }  // namespace
 
+std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& K) {
+  cholmod_common common;
+  cholmod_l_start(&common);
+  common.print = 0;
+  std::vector<SuiteSparse_long> perm;
+  try {
+    perm = quotient_nested_dissection(K, &common);
+  } catch (...) {
+    cholmod_l_finish(&common);
+    throw;
+  }
+  cholmod_l_finish(&common);
+  return std::vector<int>(perm.begin(), perm.end());
+}
+
 struct SparseCholesky::Impl {
   cholmod_common common;
   cholmod_factor* factor = nullptr;

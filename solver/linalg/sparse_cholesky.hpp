@@ -22,6 +22,10 @@ enum class FillOrdering { CholmodDefault, QuotientNestedDissection };
 // count CHOLMOD predicts: progress lines, and a memory check before the long part. May throw.
 using AnalysisObserver = std::function<void(double factor_nonzeros, double flops)>;
 
+// The order every constructor below factors K in (nested dissection of K's quotient graph; K with
+// both triangles stored): order[k] is the dof pivoted k-th. For other solvers of K (MUMPS).
+std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& K);
+
 class SparseCholesky {
  public:
   // Analyze + factorize. Throws std::runtime_error if K is not positive definite (e.g. the

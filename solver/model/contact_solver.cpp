@@ -316,6 +316,8 @@ AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullp
   };
 }
 
+bool is_mumps(DualMethod method) { return method == DualMethod::Mumps || method == DualMethod::MumpsPetsc; }
+
 // Auto: MUMPS in the distributed build, the augmented CHOLMOD factor otherwise.
 DualMethod resolved_dual_method(DualMethod method) {
   if (method != DualMethod::Auto) return method;
@@ -324,6 +326,8 @@ DualMethod resolved_dual_method(DualMethod method) {
 
 std::unique_ptr<DualProblem> make_dual_problem(DualMethod method, const DualProblemInput& input, StageClock& clock) {
   if (method == DualMethod::Mumps) return distributed::make_mumps_dual_problem(input, clock);
+  if (method == DualMethod::MumpsPetsc)
+    return distributed::make_mumps_dual_problem(input, clock, distributed::MumpsRoute::ThroughPetsc);
   return make_cholmod_dual_problem(method, input, clock);
 }
 
@@ -419,10 +423,9 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
               "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
   const DualMethod method = resolved_dual_method(scene.solver.dual_method);
-  report.stage(
-      "factorization (" +
-      std::string(method == DualMethod::Mumps ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") +
-      ", " + name_of(method, kDualMethodNames) + ")");
+  report.stage("factorization (" +
+               std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
+               name_of(method, kDualMethodNames) + ")");
   DualProblemInput input{disc.K, op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report, &stage)};
   std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, clock);
   report.stage("  done in " + number(stage_seconds(res, "factorization") + stage_seconds(res, "dual"), 3) +
@@ -455,7 +458,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
   res.backend = dual->backend;
-  res.ranks = method == DualMethod::Mumps ? distributed::ranks() : 1;
+  res.ranks = is_mumps(method) ? distributed::ranks() : 1;
   res.peak_memory_per_rank_mib = distributed::peak_memory_per_rank_mib();
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
     dual->release_factor();                    // two big factors need not fit at once

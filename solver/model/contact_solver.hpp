@@ -78,7 +78,7 @@ struct SolveResult {
   double step_solve_fraction =
       1;  // share of nnz(L) one fixed-point step back-substitutes through (DisplacementTrace); 1: a full solve
   std::string schur_method;         // how Q was formed: "augmented", "contactlast", "blocksolve" or "mumps"
-  std::string backend = "cholmod";  // the linear-algebra library: "cholmod" or "petsc-mumps"
+  std::string backend = "cholmod";  // the linear-algebra library: "cholmod", "mumps" (called directly) or "petsc-mumps"
   int ranks = 1;                    // MPI ranks of the factorization (the distributed backend)
   std::vector<double> peak_memory_per_rank_mib;  // peak resident memory of each rank at the end
   std::string qp_method;                         // "auto", "mpgp", "mpgp_projcg" or "ssn"

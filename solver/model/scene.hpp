@@ -35,11 +35,12 @@ struct MeshSource {
   bool trusted = false;
 };
 
-inline constexpr NameTable<DualMethod, 5> kDualMethodNames{{{DualMethod::Auto, "auto"},
+inline constexpr NameTable<DualMethod, 6> kDualMethodNames{{{DualMethod::Auto, "auto"},
                                                             {DualMethod::BlockSolve, "blocksolve"},
                                                             {DualMethod::ContactLast, "contactlast"},
                                                             {DualMethod::Augmented, "augmented"},
-                                                            {DualMethod::Mumps, "mumps"}}};
+                                                            {DualMethod::Mumps, "mumps"},
+                                                            {DualMethod::MumpsPetsc, "mumps_petsc"}}};
 
 // [solver]: every option with its default; the scene key is the field name unless noted.
 struct SolverSettings {
