@@ -91,6 +91,17 @@ def main():
             print(f"{label}: serial (CHOLMOD) vs {args.np} ranks (MUMPS): u {du:.1e}, λ {dl:.1e}; steps "
                   f"{s['fixed_point_iterations']} / {p['fixed_point_iterations']}; peak memory per rank (MiB) "
                   f"{backend.get('peak_memory_mib_per_rank')}")
+        # One rank bound to one core on a machine with more: summary.json's notes say how to unbind;
+        # unbound, they do not.
+        if (os.cpu_count() or 1) > 1:
+            label, scene, sets, _ = CASES[0]
+            path = os.path.join(args.source, "pipeline", "scenes", scene)
+            for bind, expected in (("core", True), ("none", False)):
+                out = os.path.join(tmp, f"bind_{bind}")
+                notes = solve([args.mpiexec, "-np", "1", "--bind-to", bind, args.mpi, "solve", path], out,
+                              sets)["notes"]
+                if any("--bind-to none" in n for n in notes) != expected:
+                    fails.append(f"np = 1 bound to {bind}: notes {notes}")
         # Negative check: a 1e-6 change of the input must be seen by the same comparison.
         label, scene, sets, _ = CASES[0]
         path = os.path.join(args.source, "pipeline", "scenes", scene)

@@ -7,7 +7,9 @@
 // never leave the other ranks inside a half-done collective.
 #include <dmumps_c.h>
 #include <petscmat.h>
+#include <sched.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdint>
@@ -439,6 +441,18 @@ std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput& inp
 }
 
 int ranks() { return comm_size(); }
+
+std::string core_binding_note() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return "";
+  const int usable = CPU_COUNT(&set);
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
+  if (online <= 0 || static_cast<long>(usable) * comm_size() >= online) return "";
+  return "each of the " + std::to_string(comm_size()) + " rank(s) may use " + std::to_string(usable) + " of the " +
+         std::to_string(online) + " cores (mpirun's binding): with fewer ranks than cores, `mpirun --bind-to none` " +
+         "lets MUMPS's BLAS threads use the others";
+}
 
 std::vector<double> peak_memory_per_rank_mib() {
   broadcast(kMemory);

@@ -20,6 +20,8 @@ std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput&, St
 
 int ranks() { return 1; }
 
+std::string core_binding_note() { return ""; }
+
 std::vector<double> peak_memory_per_rank_mib() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);

@@ -459,6 +459,8 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   res.step_solve_fraction = dual->step_solve_fraction;
   res.backend = dual->backend;
   res.ranks = is_mumps(method) ? distributed::ranks() : 1;
+  if (is_mumps(method))
+    if (std::string note = distributed::core_binding_note(); !note.empty()) res.notes.push_back(std::move(note));
   res.peak_memory_per_rank_mib = distributed::peak_memory_per_rank_mib();
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
     dual->release_factor();                    // two big factors need not fit at once
