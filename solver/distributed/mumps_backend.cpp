@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <type_traits>
 
 #include "base/errors.hpp"
 #include "distributed/backend.hpp"
@@ -158,20 +159,23 @@ struct Factorization {
 
 // The direct route of factor(): this rank's rows [first_row, first_row + row_start.size() − 1) of
 // the upper triangle, the pivot order and the Schur set on rank 0.
+// The rows' column indices and values move into MUMPS's arrays (no second copy of this rank's share).
 void factor_direct(Factorization& fz, const UpperCsr& csr, int first_row, const std::vector<PetscInt>& row_start,
-                   const std::vector<PetscInt>& cols, const std::vector<PetscScalar>& vals) {
+                   std::vector<PetscInt>& cols, std::vector<PetscScalar>& vals) {
+  static_assert(std::is_same_v<PetscInt, MUMPS_INT> && std::is_same_v<PetscScalar, double>,
+                "PETSc's 32-bit real indices and scalars are MUMPS's");
   const bool root = comm_rank() == 0;
   const std::int64_t N = fz.n + fz.m;
   fz.direct = std::make_unique<DirectMumps>();
   DirectMumps& d = *fz.direct;
   const std::size_t nnz = cols.size();
   d.rows.resize(nnz);
-  d.cols.resize(nnz);
-  d.values.assign(vals.begin(), vals.end());
+  d.cols = std::move(cols);
+  d.values = std::move(vals);
   for (std::size_t i = 0; i + 1 < row_start.size(); ++i)
     for (PetscInt k = row_start[i]; k < row_start[i + 1]; ++k) {
       d.rows[static_cast<std::size_t>(k)] = static_cast<MUMPS_INT>(first_row + static_cast<std::int64_t>(i) + 1);
-      d.cols[static_cast<std::size_t>(k)] = static_cast<MUMPS_INT>(cols[static_cast<std::size_t>(k)] + 1);
+      ++d.cols[static_cast<std::size_t>(k)];  // 1-based
     }
   DMUMPS_STRUC_C& id = d.id;
   id.icntl[17] = 3;  // ICNTL(18): distributed triplets
@@ -201,6 +205,10 @@ void factor_direct(Factorization& fz, const UpperCsr& csr, int first_row, const 
   }
   d.run(1, "the MUMPS analysis");
   d.run(2, "the MUMPS factorization");
+  // The solves use only the factor (no iterative refinement, ICNTL(10) = 0): the matrix can go.
+  std::vector<MUMPS_INT>().swap(d.rows);
+  std::vector<MUMPS_INT>().swap(d.cols);
+  std::vector<double>().swap(d.values);
   fz.factor_entries = id.infog[28] >= 0 ? double(id.infog[28]) : -1e6 * double(id.infog[28]);
   fz.flops = id.rinfog[2];
   if (root) {
@@ -212,7 +220,7 @@ void factor_direct(Factorization& fz, const UpperCsr& csr, int first_row, const 
 }
 
 // kFactor, collective. On rank 0 `csr` holds the whole matrix; elsewhere it is empty.
-std::unique_ptr<Factorization> factor(const UpperCsr& csr) {
+std::unique_ptr<Factorization> factor(UpperCsr csr) {
   const int rank = comm_rank(), size = comm_size();
   auto fz = std::make_unique<Factorization>();
   std::int64_t dims[3] = {csr.n, csr.m, csr.order.empty() ? 0 : 1};
@@ -248,6 +256,8 @@ std::unique_ptr<Factorization> factor(const UpperCsr& csr) {
                PETSC_COMM_WORLD);
   MPI_Scatterv(csr.vals.data(), nnz_count.data(), nnz_offset.data(), MPIU_SCALAR, my_vals.data(), my_nnz, MPIU_SCALAR,
                0, PETSC_COMM_WORLD);
+  std::vector<PetscInt>().swap(csr.cols);  // rank 0: the whole matrix is sent; keep only this rank's rows
+  std::vector<PetscScalar>().swap(csr.vals);
   std::vector<PetscInt> my_start(local + 1, 0);
   for (PetscInt i = 0; i < local; ++i) my_start[i + 1] = my_start[i] + my_len[i];
   if (direct) {
@@ -348,7 +358,7 @@ class MumpsDualProblem final : public DualProblem {
     UpperCsr csr = augmented_upper(in.K, in.B);
     if (route == MumpsRoute::Direct) csr.order = nested_dissection_order(in.K);
     broadcast(kFactor);
-    fz_ = factor(csr);
+    fz_ = factor(std::move(csr));
     factor_nonzeros = fz_->factor_entries;
     clock.lap("factorization");
     Q_ = std::move(fz_->Q);
