@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """The distributed backend equals the serial one: the same scene solved by the serial binary
-(CHOLMOD) and by `mpirun -np 2 contact3d-mpi` (MUMPS's Schur complement on the multipliers,
-called directly with our ordering and through PETSc's interface) must give the same displacement on Γc and the same multipliers to 1e-8 (relative to
-their largest entries), the same fixed-point steps, and a summary naming the backend, the ranks
-and each rank's peak memory. Cases: the paper's brick (n = 8, slip-dependent law) and an
-unstructured body with a hole (hexagonal prism, gmsh). A negative check compares the serial
+(CHOLMOD) and by `mpirun -np 2 contact3d-mpi` (MUMPS's Schur complement on the multipliers, MUMPS
+called directly with our ordering and through PETSc's interface) must give the same displacement
+on Γc and the same multipliers to 1e-8 (relative to their largest entries), the same fixed-point
+steps, and a summary naming the backend, the ranks and each rank's peak memory. Cases: the paper's
+brick (n = 8, slip-dependent law; both routes) and an unstructured body with a hole (hexagonal
+prism, gmsh). One rank bound to one core must get summary.json's note on unbinding. A negative check compares the serial
 solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
 
 usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR

@@ -97,6 +97,9 @@ UpperCsr augmented_upper(const Eigen::SparseMatrix<double>& K, const Eigen::Spar
   return a;
 }
 
+// MUMPS's counts of entries (INFOG(29)) above 2^31 come back negative, in millions.
+double mumps_count(std::int64_t reported) { return reported >= 0 ? double(reported) : -1e6 * double(reported); }
+
 // MUMPS called directly, for what PETSc's interface cannot pass to a Cholesky/Schur factorization:
 // our nested dissection as the pivot order (ICNTL(7) = 1, PERM_IN on rank 0, the multipliers last).
 // The matrix goes in as each rank's rows in triplets (ICNTL(18) = 3); the Schur complement on the
@@ -209,7 +212,7 @@ void factor_direct(Factorization& fz, const UpperCsr& csr, int first_row, const 
   std::vector<MUMPS_INT>().swap(d.rows);
   std::vector<MUMPS_INT>().swap(d.cols);
   std::vector<double>().swap(d.values);
-  fz.factor_entries = id.infog[28] >= 0 ? double(id.infog[28]) : -1e6 * double(id.infog[28]);
+  fz.factor_entries = mumps_count(id.infog[28]);
   fz.flops = id.rinfog[2];
   if (root) {
     // Lower triangle by rows = the upper triangle of the column-major view; S = −𝔹K⁻¹𝔹ᵀ.
@@ -288,7 +291,7 @@ std::unique_ptr<Factorization> factor(UpperCsr csr) {
   check(MatMumpsSetIcntl(fz->F, 26, 0), "MatMumpsSetIcntl(26)");  // solves: the interior problem K⁻¹
   PetscInt entries = 0;
   check(MatMumpsGetInfog(fz->F, 29, &entries), "MatMumpsGetInfog(29)");
-  fz->factor_entries = entries >= 0 ? double(entries) : -1e6 * double(entries);
+  fz->factor_entries = mumps_count(entries);
   PetscReal flops = 0;
   check(MatMumpsGetRinfog(fz->F, 3, &flops), "MatMumpsGetRinfog(3)");
   fz->flops = flops;

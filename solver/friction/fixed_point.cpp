@@ -241,8 +241,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(step);
     result.phi = x;
-    step_lengths.push_back((eval.slip - x).norm());
     residuals.push_back(eval.slip - x);
+    step_lengths.push_back(residuals.back().norm());
     if (residuals.size() > 3) residuals.pop_front();
     if (observe) observe(step);
     if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
