@@ -1,7 +1,7 @@
 // The distributed backend: the same dual problem on MUMPS 5.5 under MPI, with PETSc 3.18
 // (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`). Rank 0 runs the whole solver
 // as in the serial build — it reads the mesh, assembles, runs the dual QP and the fixed point and
-// writes the outputs; the other ranks hold their share of the augmented matrix [K 𝔹ᵀ; 𝔹 0] and of
+// writes the outputs, but frees K once the ranks hold their shares (DualProblemInput::release_K); the other ranks hold their share of the augmented matrix [K 𝔹ᵀ; 𝔹 0] and of
 // MUMPS's factor and serve rank 0's requests (factorize, solve, release, report memory) until it
 // finishes. Q comes from MUMPS's Schur complement on the multipliers (S = −Q, dense on rank 0),
 // w = K⁻¹(f − 𝔹ᵀλ) from MUMPS's interior solve (ICNTL(26) = 0). MUMPS is called directly with the

@@ -39,6 +39,10 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
 // and the fallback for dof maps without the node-block layout of make_dof_map).
 Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const DofMap& dofs,
                                                         const TetMaterials& material);
+// K·w element by element, K never formed (for a process that has handed K to a distributed
+// factorization and freed it); equals assemble_stiffness(mesh, dofs, material) * w.
+Eigen::VectorXd apply_stiffness(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material,
+                                const Eigen::VectorXd& w);
 // The external loads at the free dofs (tractions integrated exactly for affine t). Throws
 // InputError for a pressure on a group that is not a boundary face of the body.
 Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs, const std::vector<Traction>& tractions,

@@ -5,6 +5,7 @@
 // algebra backend plugs in (CHOLMOD here; PETSc/MUMPS behind the same interface).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,9 @@ struct DualProblemInput {
   std::vector<int> face_dofs;
   Eigen::VectorXd offset = Eigen::VectorXd();
   AnalysisObserver on_analysis = {};  // the factor's predicted size, before the numeric factorization
+  // Called by a backend that has made its own copy of K (the distributed one, before it factors):
+  // the caller may then free K, which the backend will not read again. Empty: nobody to tell.
+  std::function<void()> release_K = {};
 };
 
 // The entries of w at `dofs`, in that order (a face displacement from a whole one).

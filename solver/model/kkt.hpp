@@ -3,7 +3,7 @@
 // (b the rows' offset: prescribed displacements on Γc and the initial gap, see ContactOperator),
 // s_d = max(‖d‖, ‖h‖) (h = 𝔹K⁻¹f + b, the unconstrained d: never ~0 when the body is loaded, unlike
 // ‖d‖ in a fully stuck contact) and s_λ = max(‖λ‖, ‖c‖):
-//   equilibrium             ‖K w − f + 𝔹ᵀλ‖ / max(‖f‖, ‖𝔹ᵀλ‖)
+//   equilibrium             ‖K w − f + 𝔹ᵀλ‖ / max(‖f‖, ‖𝔹ᵀλ‖)   (K w given, as Kw)
 //   normal_feasibility      ‖max(0, d_n)‖ / s_d                     (∫_{R_i} w_n <= 0)
 //   normal_complementarity  |Σ λ_n,i d_n,i| / (s_λ s_d)
 //   disc_feasibility        max_i max(0, ‖λ_t,i‖ − c_i) / max_i c_i
@@ -21,7 +21,7 @@ struct KktResiduals {
   double max() const;
 };
 
-KktResiduals kkt_residuals(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
+KktResiduals kkt_residuals(const Eigen::VectorXd& Kw, const Eigen::VectorXd& f,
                            const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
                            const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda,
                            const Eigen::VectorXd& h, const Eigen::VectorXd& offset = Eigen::VectorXd());

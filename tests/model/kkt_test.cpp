@@ -26,7 +26,7 @@ struct OneCell {
     w = (f - B.transpose() * lambda) / k;  // equilibrium
     h = B * (f / k);
   }
-  KktResiduals residuals() const { return kkt_residuals(K, f, B, 1, true, radius, w, lambda, h); }
+  KktResiduals residuals() const { return kkt_residuals(K * w, f, B, 1, true, radius, w, lambda, h); }
 };
 
 TEST(KktResiduals, VanishAtTheClosedFormSolution) {
