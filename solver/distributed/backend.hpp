@@ -1,13 +1,16 @@
 // The distributed backend: the same dual problem on MUMPS 5.5 under MPI, with PETSc 3.18
-// (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`). Rank 0 runs the whole solver
-// as in the serial build — it reads the mesh, assembles, runs the dual QP and the fixed point and
-// writes the outputs, but frees K once the ranks hold their shares (DualProblemInput::release_K); the other ranks hold their share of the augmented matrix [K 𝔹ᵀ; 𝔹 0] and of
-// MUMPS's factor and serve rank 0's requests (factorize, solve, release, report memory) until it
-// finishes. Q comes from MUMPS's Schur complement on the multipliers (S = −Q, dense on rank 0),
-// w = K⁻¹(f − 𝔹ᵀλ) from MUMPS's interior solve (ICNTL(26) = 0). MUMPS is called directly with the
-// nested dissection the CHOLMOD path uses as its pivot order (ICNTL(7) = 1): PETSc's interface
-// cannot pass an ordering to a Cholesky with a Schur complement, and MUMPS's own AMD fills 1.3-1.5×
-// more. The PETSc route (MatFactorSetSchurIS on an MPISBAIJ matrix) stays selectable.
+// (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`). Rank 0 runs the solver as in
+// the serial build — it reads the mesh, runs the dual QP and the fixed point and writes the
+// outputs — but never holds K: every rank assembles the columns of K for its share of the nodes
+// (rank 0 broadcasts nodes, tets, materials and the dof numbering) and keeps its part of
+// [K 𝔹ᵀ; 𝔹 0] and of MUMPS's factor, then serves rank 0's requests (factorize, solve, release,
+// report memory) until it finishes. Q comes from MUMPS's Schur complement on the multipliers
+// (S = −Q, dense on rank 0), w = K⁻¹(f − 𝔹ᵀλ) from MUMPS's interior solve (ICNTL(26) = 0), K·w for
+// the residuals element by element. MUMPS is called directly with the nested dissection the
+// CHOLMOD path uses as its pivot order (ICNTL(7) = 1; from the node graph, as K is nowhere whole):
+// PETSc's interface cannot pass an ordering to a Cholesky with a Schur complement, and MUMPS's own
+// AMD fills 1.3-1.5× more. The PETSc route (MatFactorSetSchurIS on an MPISBAIJ matrix, K assembled
+// on rank 0 and scattered, then freed there) stays selectable.
 //
 // In the serial build the same interface exists: available() is false, Session does nothing and
 // make_mumps_dual_problem throws an InputError saying how to get the backend.

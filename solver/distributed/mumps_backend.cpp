@@ -6,13 +6,19 @@
 // command needs is prepared on rank 0 before the command is sent, so an exception on rank 0 can
 // never leave the other ranks inside a half-done collective.
 #include <dmumps_c.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <petscmat.h>
 #include <sched.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <exception>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -20,12 +26,13 @@
 
 #include "base/errors.hpp"
 #include "distributed/backend.hpp"
+#include "fem/assembly.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 namespace contact3d::distributed {
 namespace {
 
-enum Command : int { kStop = 0, kFactor = 1, kSolve = 2, kRelease = 3, kMemory = 4 };
+enum Command : int { kStop = 0, kFactor = 1, kSolve = 2, kRelease = 3, kMemory = 4, kAssembleAndFactor = 5 };
 
 // Commands travel by a nonblocking broadcast on every rank (collectives must match). Rank 0
 // waits for it at once; a serving rank polls it with short sleeps, so that while rank 0 runs the
@@ -177,26 +184,30 @@ struct Factorization {
   }
 };
 
-// The direct route of factor(): this rank's rows [first_row, first_row + row_start.size() − 1) of
-// the upper triangle, the pivot order and the Schur set on rank 0.
-// The rows' column indices and values move into MUMPS's arrays (no second copy of this rank's share).
-void factor_direct(Factorization& fz, const UpperCsr& csr, int first_row, const std::vector<PetscInt>& row_start,
-                   std::vector<PetscInt>& cols, std::vector<PetscScalar>& vals) {
+// This rank's entries of one triangle of [K 𝔹ᵀ; 𝔹 0] for MUMPS (1-based; each off-diagonal pair once).
+struct Triplets {
+  std::vector<MUMPS_INT> rows, cols;
+  std::vector<double> values;
+  void add(std::int64_t row, std::int64_t col, double value) {
+    rows.push_back(static_cast<MUMPS_INT>(row + 1));
+    cols.push_back(static_cast<MUMPS_INT>(col + 1));
+    values.push_back(value);
+  }
+};
+
+// The direct route: this rank's entries, and on rank 0 the pivot order of K's dofs (`order`).
+// The entries move into MUMPS's arrays (no second copy of this rank's share).
+void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets share) {
   static_assert(std::is_same_v<PetscInt, MUMPS_INT> && std::is_same_v<PetscScalar, double>,
                 "PETSc's 32-bit real indices and scalars are MUMPS's");
   const bool root = comm_rank() == 0;
   const std::int64_t N = fz.n + fz.m;
   fz.direct = std::make_unique<DirectMumps>();
   DirectMumps& d = *fz.direct;
-  const std::size_t nnz = cols.size();
-  d.rows.resize(nnz);
-  d.cols = std::move(cols);
-  d.values = std::move(vals);
-  for (std::size_t i = 0; i + 1 < row_start.size(); ++i)
-    for (PetscInt k = row_start[i]; k < row_start[i + 1]; ++k) {
-      d.rows[static_cast<std::size_t>(k)] = static_cast<MUMPS_INT>(first_row + static_cast<std::int64_t>(i) + 1);
-      ++d.cols[static_cast<std::size_t>(k)];  // 1-based
-    }
+  const std::size_t nnz = share.values.size();
+  d.rows = std::move(share.rows);
+  d.cols = std::move(share.cols);
+  d.values = std::move(share.values);
   DMUMPS_STRUC_C& id = d.id;
   id.icntl[17] = 3;  // ICNTL(18): distributed triplets
   id.nnz_loc = static_cast<MUMPS_INT8>(nnz);
@@ -209,8 +220,8 @@ void factor_direct(Factorization& fz, const UpperCsr& csr, int first_row, const 
   if (root) {
     id.n = static_cast<MUMPS_INT>(N);
     d.pivot_position.resize(static_cast<std::size_t>(N));
-    for (std::size_t k = 0; k < csr.order.size(); ++k)
-      d.pivot_position[static_cast<std::size_t>(csr.order[k])] = static_cast<MUMPS_INT>(k + 1);
+    for (std::size_t k = 0; k < order.size(); ++k)
+      d.pivot_position[static_cast<std::size_t>(order[k])] = static_cast<MUMPS_INT>(k + 1);
     d.schur_variables.resize(static_cast<std::size_t>(fz.m));
     for (std::int64_t j = 0; j < fz.m; ++j) {
       d.pivot_position[static_cast<std::size_t>(fz.n + j)] = static_cast<MUMPS_INT>(fz.n + j + 1);
@@ -283,8 +294,17 @@ std::unique_ptr<Factorization> factor(UpperCsr csr) {
   std::vector<PetscScalar>().swap(csr.vals);
   std::vector<PetscInt> my_start(local + 1, 0);
   for (PetscInt i = 0; i < local; ++i) my_start[i + 1] = my_start[i] + my_len[i];
-  if (direct) {
-    factor_direct(*fz, csr, first[rank], my_start, my_cols, my_vals);
+  if (direct) {  // this rank's rows as triplets
+    Triplets share;
+    share.cols = std::move(my_cols);
+    share.values = std::move(my_vals);
+    share.rows.resize(share.cols.size());
+    for (PetscInt i = 0; i < local; ++i)
+      for (PetscInt k = my_start[i]; k < my_start[i + 1]; ++k) {
+        share.rows[static_cast<std::size_t>(k)] = static_cast<MUMPS_INT>(first[rank] + i + 1);  // 1-based
+        ++share.cols[static_cast<std::size_t>(k)];
+      }
+    factor_direct(*fz, csr.order, std::move(share));
     return fz;
   }
   check(MatCreateMPISBAIJWithArrays(PETSC_COMM_WORLD, 1, local, local, N, N, my_start.data(), my_cols.data(),
@@ -317,6 +337,152 @@ std::unique_ptr<Factorization> factor(UpperCsr csr) {
   fz->flops = flops;
   check(MatCreateVecs(fz->A, &fz->x, &fz->b), "MatCreateVecs");
   check(VecScatterCreateToZero(fz->x, &fz->to_root, &fz->x_root), "VecScatterCreateToZero");
+  return fz;
+}
+
+// Rank r assembles the columns of the nodes [split[r], split[r + 1]): about n_free / size dofs each.
+std::vector<int> node_split(const DofMap& dofs, int size) {
+  std::vector<int> split(static_cast<std::size_t>(size) + 1, dofs.n_nodes);
+  split[0] = 0;
+  long long seen = 0;
+  for (int v = 0, r = 1; v < dofs.n_nodes && r < size; ++v) {
+    for (int c = 0; c < 3; ++c) seen += dofs.dof(v, c) >= 0;
+    if (seen * size >= static_cast<long long>(dofs.n_free) * r) split[static_cast<std::size_t>(r++)] = v + 1;
+  }
+  return split;
+}
+
+template <class T>
+void broadcast_vector(std::vector<T>& v, MPI_Datatype type) {
+  MPI_Bcast(v.data(), static_cast<int>(v.size()), type, 0, PETSC_COMM_WORLD);
+}
+
+// Runs `work` on every rank and agrees on the outcome before the next collective, so that a rank
+// that fails (out of memory while assembling) never leaves the others waiting inside MUMPS: every
+// rank throws — the failing one its own exception, the others bad_alloc if that was the failure.
+template <class Work>
+void on_every_rank(Work work) {
+  int failure = 0;  // 2: out of memory, 1: another error
+  std::exception_ptr mine;
+  try {
+    work();
+  } catch (const std::bad_alloc&) {
+    failure = 2;
+    mine = std::current_exception();
+  } catch (...) {
+    failure = 1;
+    mine = std::current_exception();
+  }
+  int worst = 0;
+  MPI_Allreduce(&failure, &worst, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  if (mine) std::rethrow_exception(mine);
+  if (worst == 2) throw std::bad_alloc();
+  if (worst == 1) throw std::runtime_error("another rank failed while assembling its share of K");
+}
+
+// What every rank needs to assemble its columns of K, flat for broadcasting from rank 0: the
+// nodes, the tets, each tet's E and ν and the dof numbering (about 40 bytes per tet).
+struct AssemblyInput {
+  std::int64_t dims[3] = {0, 0, 0};  // nodes, tets, free dofs
+  std::vector<double> xyz, young_poisson;
+  std::vector<int> corners, free_index;
+
+  void allocate() {
+    xyz.resize(static_cast<std::size_t>(3 * dims[0]));
+    free_index.resize(static_cast<std::size_t>(3 * dims[0]));
+    corners.resize(static_cast<std::size_t>(4 * dims[1]));
+    young_poisson.resize(static_cast<std::size_t>(2 * dims[1]));
+  }
+  void fill(const StiffnessSource& source) {
+    for (std::size_t v = 0; v < source.mesh.nodes.size(); ++v)
+      for (int c = 0; c < 3; ++c) xyz[3 * v + c] = source.mesh.nodes[v][c];
+    for (std::size_t e = 0; e < source.mesh.tets.size(); ++e) {
+      for (int a = 0; a < 4; ++a) corners[4 * e + a] = source.mesh.tets[e][a];
+      young_poisson[2 * e] = source.materials[e].young;
+      young_poisson[2 * e + 1] = source.materials[e].poisson;
+    }
+    free_index = source.dofs.free_index;
+  }
+  void broadcast() {
+    broadcast_vector(xyz, MPI_DOUBLE);
+    broadcast_vector(corners, MPI_INT);
+    broadcast_vector(young_poisson, MPI_DOUBLE);
+    broadcast_vector(free_index, MPI_INT);
+  }
+};
+
+// This rank's share of K's lower triangle: the columns of its nodes (node_split), assembled on a
+// mesh rebuilt from `in` (just nodes and tets), which is dropped on return.
+Triplets assemble_lower_share(AssemblyInput in) {
+  const int rank = comm_rank(), size = comm_size();
+  Mesh mesh;
+  mesh.nodes.resize(static_cast<std::size_t>(in.dims[0]));
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
+    mesh.nodes[v] = Eigen::Vector3d(in.xyz[3 * v], in.xyz[3 * v + 1], in.xyz[3 * v + 2]);
+  std::vector<double>().swap(in.xyz);
+  mesh.tets.resize(static_cast<std::size_t>(in.dims[1]));
+  std::vector<Material> per_tet(mesh.tets.size());
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    for (int a = 0; a < 4; ++a) mesh.tets[e][a] = in.corners[4 * e + a];
+    per_tet[e] = Material{in.young_poisson[2 * e], in.young_poisson[2 * e + 1]};
+  }
+  std::vector<int>().swap(in.corners);
+  std::vector<double>().swap(in.young_poisson);
+  DofMap dofs;
+  dofs.n_nodes = static_cast<int>(in.dims[0]);
+  dofs.n_free = static_cast<int>(in.dims[2]);
+  dofs.free_index = std::move(in.free_index);
+  const std::vector<int> split = node_split(dofs, size);
+  const Eigen::SparseMatrix<double> columns =
+      assemble_stiffness_columns(mesh, dofs, TetMaterials(std::move(per_tet)), split[rank], split[rank + 1]);
+  const int first_dof = first_free_dof(dofs, split[rank]);
+  Triplets share;
+  share.rows.reserve(static_cast<std::size_t>(columns.nonZeros() / 2 + columns.cols()));
+  share.cols.reserve(share.rows.capacity());
+  share.values.reserve(share.rows.capacity());
+  for (Eigen::Index c = 0; c < columns.cols(); ++c) {
+    const std::int64_t j = first_dof + c;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(columns, c); it; ++it)
+      if (it.row() >= j) share.add(it.row(), j, it.value());
+  }
+  return share;
+}
+
+// kAssembleAndFactor, collective: every rank assembles its share of K; rank 0 adds 𝔹 and the
+// multipliers' zero diagonal and gives the pivot order (`source`, `B` and `order` are read on
+// rank 0 only).
+std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source, const Eigen::SparseMatrix<double>* B,
+                                                   const std::vector<int>& order) {
+  auto fz = std::make_unique<Factorization>();
+  AssemblyInput in;
+  std::int64_t dims[5] = {0, 0, 0, 0, 0};  // nodes, tets, free dofs, multipliers
+  if (source) {
+    dims[0] = source->dofs.n_nodes;
+    dims[1] = static_cast<std::int64_t>(source->mesh.tets.size());
+    dims[2] = source->dofs.n_free;
+    dims[3] = B->rows();
+  }
+  MPI_Bcast(dims, 5, MPI_INT64_T, 0, PETSC_COMM_WORLD);
+  std::copy(dims, dims + 3, in.dims);
+  fz->n = static_cast<PetscInt>(dims[2]);
+  fz->m = static_cast<PetscInt>(dims[3]);
+  on_every_rank([&] {
+    in.allocate();
+    if (source) in.fill(*source);
+  });
+  in.broadcast();
+  Triplets share;
+  on_every_rank([&] {
+    share = assemble_lower_share(std::move(in));
+    if (!B) return;
+    for (int j = 0; j < B->outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(*B, j); it; ++it) share.add(fz->n + it.row(), j, it.value());
+    for (std::int64_t r = 0; r < fz->m; ++r) share.add(fz->n + r, fz->n + r, 0.0);
+  });
+#ifdef __GLIBC__
+  malloc_trim(0);  // the assembly's many small lists, freed, would stay resident beside MUMPS's factor
+#endif
+  factor_direct(*fz, order, std::move(share));
   return fz;
 }
 
@@ -378,11 +544,19 @@ class MumpsDualProblem final : public DualProblem {
       : B_(in.B), f_(in.f), face_dofs_(in.face_dofs) {
     method = route == MumpsRoute::Direct ? "mumps" : "mumps_petsc";
     backend = route == MumpsRoute::Direct ? "mumps" : "petsc-mumps";
-    UpperCsr csr = augmented_upper(in.K, in.B);
-    if (route == MumpsRoute::Direct) csr.order = nested_dissection_order(in.K);
-    if (in.release_K) in.release_K();  // the ranks' shares come from csr: K need not stay for the factorization
-    broadcast(kFactor);
-    fz_ = factor(std::move(csr));
+    if (route == MumpsRoute::Direct && in.stiffness_source) {
+      // No K on this process: the ranks assemble their columns; the order comes from the node graph.
+      const NodeGraph graph = free_node_graph(in.stiffness_source->mesh, in.stiffness_source->dofs);
+      const std::vector<int> order = nested_dissection_order(graph.first_dof, graph.adj_start, graph.adj);
+      broadcast(kAssembleAndFactor);
+      fz_ = assemble_and_factor(in.stiffness_source, &in.B, order);
+    } else {
+      UpperCsr csr = augmented_upper(in.K, in.B);
+      if (route == MumpsRoute::Direct) csr.order = nested_dissection_order(in.K);
+      if (in.release_K) in.release_K();  // the ranks' shares come from csr: K need not stay for the factorization
+      broadcast(kFactor);
+      fz_ = factor(std::move(csr));
+    }
     factor_nonzeros = fz_->factor_entries;
     clock.lap("factorization");
     Q_ = std::move(fz_->Q);
@@ -450,6 +624,9 @@ void Session::serve() {
       switch (code) {
         case kFactor:
           fz = factor(UpperCsr());
+          break;
+        case kAssembleAndFactor:
+          fz = assemble_and_factor(nullptr, nullptr, {});
           break;
         case kSolve:
           if (fz) solve(*fz, nullptr, nullptr);

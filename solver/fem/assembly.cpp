@@ -6,6 +6,7 @@
 #include <exception>
 #include <limits>
 #include <map>
+#include <stdexcept>
 #include <thread>
 
 #include "base/errors.hpp"
@@ -159,63 +160,89 @@ Eigen::Matrix3d isotropic_block(const Eigen::Vector3d& ga, const Eigen::Vector3d
 // parallel without colouring — and every write goes to the node's own contiguous columns.
 Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material) {
   if (!has_node_ordered_layout(dofs)) return assemble_stiffness_triplets(mesh, dofs, material);
-  const int n_nodes = dofs.n_nodes;
+  return assemble_stiffness_columns(mesh, dofs, material, 0, dofs.n_nodes);
+}
+
+int first_free_dof(const DofMap& dofs, int node) {
+  for (int i = 3 * node; i < 3 * dofs.n_nodes; ++i)
+    if (dofs.free_index[i] >= 0) return dofs.free_index[i];
+  return dofs.n_free;
+}
+
+Eigen::SparseMatrix<double> assemble_stiffness_columns(const Mesh& mesh, const DofMap& dofs,
+                                                       const TetMaterials& material, int first_node, int last_node) {
+  if (!has_node_ordered_layout(dofs))
+    throw std::logic_error("assemble_stiffness_columns: the free dofs are not numbered node by node");
+  const int first_dof = first_free_dof(dofs, first_node), n_cols = first_free_dof(dofs, last_node) - first_dof;
   const NodeTets around(mesh);
-  // Hat gradients, volume and Lamé constants of every tet, once.
-  std::vector<std::array<Eigen::Vector3d, 4>> grad(mesh.tets.size());
-  std::vector<double> volume(mesh.tets.size());
-  std::vector<Eigen::Vector2d> lame(mesh.tets.size());  // (λ, μ) as in hooke_matrix
-  parallel_for(mesh.tets.size(), [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t e = lo; e < hi; ++e) {
+  // The tets around the nodes, each once, and the slot of each in the per-tet arrays.
+  std::vector<int> slot(mesh.tets.size(), -1), used;
+  for (int v = first_node; v < last_node; ++v)
+    for (int k = around.first[v]; k < around.first[v + 1]; ++k)
+      if (const int e = around.tet[k]; slot[e] < 0) {
+        slot[e] = static_cast<int>(used.size());
+        used.push_back(e);
+      }
+  // Hat gradients, volume and Lamé constants of every such tet, once.
+  std::vector<std::array<Eigen::Vector3d, 4>> grad(used.size());
+  std::vector<double> volume(used.size());
+  std::vector<Eigen::Vector2d> lame(used.size());  // (λ, μ) as in hooke_matrix
+  parallel_for(used.size(), [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t s = lo; s < hi; ++s) {
+      const int e = used[s];
       const TetCoords x = coords(mesh, mesh.tets[e]);
       const Matrix6x12d B = strain_matrix(x);
-      for (int a = 0; a < 4; ++a) grad[e][a] = Eigen::Vector3d(B(0, 3 * a), B(1, 3 * a + 1), B(2, 3 * a + 2));
-      volume[e] = std::abs(tet_volume(x));
+      for (int a = 0; a < 4; ++a) grad[s][a] = Eigen::Vector3d(B(0, 3 * a), B(1, 3 * a + 1), B(2, 3 * a + 2));
+      volume[s] = std::abs(tet_volume(x));
       const double E = material[e].young, nu = material[e].poisson;
-      lame[e] = Eigen::Vector2d(E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu)));
+      lame[s] = Eigen::Vector2d(E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu)));
     }
   });
-  // Neighbours of every node with a free dof (itself included) that have free dofs, sorted, and
-  // the offset of each neighbour's rows within a column: the pattern of K.
-  std::vector<int> n_free_of(n_nodes);
-  for (int v = 0; v < n_nodes; ++v) n_free_of[v] = free_components(dofs, v);
-  std::vector<std::vector<int>> nbr(n_nodes), row_offset(n_nodes);
-  parallel_for(n_nodes, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t v = lo; v < hi; ++v) {
+  // Neighbours of every node of the range with a free dof (itself included) that have free dofs,
+  // sorted, and the offset of each neighbour's rows within a column: the pattern of the columns.
+  std::vector<int> n_free_of(dofs.n_nodes);
+  for (int v = 0; v < dofs.n_nodes; ++v) n_free_of[v] = free_components(dofs, v);
+  const auto n_range = static_cast<std::size_t>(last_node - first_node);
+  std::vector<std::vector<int>> nbr(n_range), row_offset(n_range);
+  parallel_for(n_range, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const int v = first_node + static_cast<int>(i);
       if (n_free_of[v] == 0) continue;
-      auto& list = nbr[v];
+      auto& list = nbr[i];
       for (int k = around.first[v]; k < around.first[v + 1]; ++k)
         for (int a : mesh.tets[around.tet[k]])
           if (n_free_of[a] > 0) list.push_back(a);
       std::sort(list.begin(), list.end());
       list.erase(std::unique(list.begin(), list.end()), list.end());
-      auto& offset = row_offset[v];
+      auto& offset = row_offset[i];
       offset.resize(list.size() + 1, 0);
       for (std::size_t j = 0; j < list.size(); ++j) offset[j + 1] = offset[j] + n_free_of[list[j]];
     }
   });
-  std::vector<Eigen::Index> col_ptr(dofs.n_free + 1, 0);
-  for (int v = 0; v < n_nodes; ++v)
+  std::vector<Eigen::Index> col_ptr(static_cast<std::size_t>(n_cols) + 1, 0);
+  for (int v = first_node; v < last_node; ++v)
     for (int c = 0; c < 3; ++c)
-      if (const int d = dofs.dof(v, c); d >= 0) col_ptr[d + 1] = static_cast<Eigen::Index>(row_offset[v].back());
-  for (int j = 0; j < dofs.n_free; ++j) col_ptr[j + 1] += col_ptr[j];
+      if (const int d = dofs.dof(v, c); d >= 0)
+        col_ptr[d - first_dof + 1] = static_cast<Eigen::Index>(row_offset[v - first_node].back());
+  for (int j = 0; j < n_cols; ++j) col_ptr[j + 1] += col_ptr[j];
   if (col_ptr.back() > std::numeric_limits<int>::max())
     throw InputError("the stiffness matrix would have " + std::to_string(col_ptr.back()) +
                      " nonzeros, beyond the 32-bit indices of its sparse storage: use a coarser mesh");
   // Filled in place (no copy of the arrays): K's compressed storage is exactly this layout.
-  Eigen::SparseMatrix<double> K(dofs.n_free, dofs.n_free);
+  Eigen::SparseMatrix<double> K(dofs.n_free, n_cols);
   K.resizeNonZeros(static_cast<Eigen::Index>(col_ptr.back()));
   std::copy(col_ptr.begin(), col_ptr.end(), K.outerIndexPtr());
   int* row_idx = K.innerIndexPtr();
   double* values = K.valuePtr();
-  parallel_for(n_nodes, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t v = lo; v < hi; ++v) {
+  parallel_for(n_range, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const int v = first_node + static_cast<int>(i);
       if (n_free_of[v] == 0) continue;
-      const auto& list = nbr[v];
+      const auto& list = nbr[i];
       for (int c = 0; c < 3; ++c) {
-        const int d = dofs.dof(static_cast<int>(v), c);
+        const int d = dofs.dof(v, c);
         if (d < 0) continue;
-        Eigen::Index k = col_ptr[d];
+        Eigen::Index k = col_ptr[d - first_dof];
         for (int a : list)
           for (int r = 0; r < 3; ++r)
             if (const int row = dofs.dof(a, r); row >= 0) {
@@ -224,17 +251,17 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
             }
       }
       for (int k = around.first[v]; k < around.first[v + 1]; ++k) {
-        const int e = around.tet[k];
+        const int e = around.tet[k], s = slot[e];
         const auto& t = mesh.tets[e];
-        const int b = static_cast<int>(std::find(t.begin(), t.end(), static_cast<int>(v)) - t.begin());
+        const int b = static_cast<int>(std::find(t.begin(), t.end(), v) - t.begin());
         for (int a = 0; a < 4; ++a) {
           if (n_free_of[t[a]] == 0) continue;
-          const Eigen::Matrix3d block = isotropic_block(grad[e][a], grad[e][b], lame[e][0], lame[e][1], volume[e]);
+          const Eigen::Matrix3d block = isotropic_block(grad[s][a], grad[s][b], lame[s][0], lame[s][1], volume[s]);
           const auto j = std::lower_bound(list.begin(), list.end(), t[a]) - list.begin();
           for (int cb = 0; cb < 3; ++cb) {
-            const int d = dofs.dof(static_cast<int>(v), cb);
+            const int d = dofs.dof(v, cb);
             if (d < 0) continue;
-            double* column = values + col_ptr[d] + row_offset[v][j];
+            double* column = values + col_ptr[d - first_dof] + row_offset[i][j];
             for (int ca = 0, row = 0; ca < 3; ++ca)
               if (dofs.dof(t[a], ca) >= 0) column[row++] += block(ca, cb);
           }
@@ -243,6 +270,32 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
     }
   });
   return K;
+}
+
+NodeGraph free_node_graph(const Mesh& mesh, const DofMap& dofs) {
+  NodeGraph g;
+  std::vector<int> vertex(dofs.n_nodes, -1);
+  g.first_dof.push_back(0);
+  for (int v = 0; v < dofs.n_nodes; ++v)
+    if (const int k = free_components(dofs, v); k > 0) {
+      vertex[v] = static_cast<int>(g.first_dof.size()) - 1;
+      g.first_dof.push_back(g.first_dof.back() + k);
+    }
+  const NodeTets around(mesh);
+  g.adj_start.push_back(0);
+  std::vector<int> list;
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    if (vertex[v] < 0) continue;
+    list.clear();
+    for (int k = around.first[v]; k < around.first[v + 1]; ++k)
+      for (int a : mesh.tets[around.tet[k]])
+        if (vertex[a] >= 0) list.push_back(vertex[a]);
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    g.adj.insert(g.adj.end(), list.begin(), list.end());
+    g.adj_start.push_back(static_cast<int>(g.adj.size()));
+  }
+  return g;
 }
 
 namespace {

@@ -39,6 +39,23 @@ Eigen::SparseMatrix<double> assemble_stiffness(const Mesh& mesh, const DofMap& d
 // and the fallback for dof maps without the node-block layout of make_dof_map).
 Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const DofMap& dofs,
                                                         const TetMaterials& material);
+// The columns of K for the free dofs of nodes [first_node, last_node) — one rank's share when the
+// distributed backend assembles K on every rank — as an n_free × (their dofs) matrix; the block's
+// column j is K's column first_free_dof(dofs, first_node) + j. Needs make_dof_map's numbering
+// (node by node); over all nodes it is assemble_stiffness.
+Eigen::SparseMatrix<double> assemble_stiffness_columns(const Mesh& mesh, const DofMap& dofs,
+                                                       const TetMaterials& material, int first_node, int last_node);
+// The first free dof of the nodes from `node` on (n_free when there is none).
+int first_free_dof(const DofMap& dofs, int node);
+
+// The graph of K's node blocks, for ordering K without forming it: one vertex per node with a free
+// dof, in node order, so vertex v's dofs are first_dof[v] .. first_dof[v + 1] − 1; v is adjacent to
+// adj[adj_start[v] .. adj_start[v + 1]) (sorted, v included): the vertices sharing a tet with it.
+struct NodeGraph {
+  std::vector<int> first_dof, adj_start, adj;
+};
+NodeGraph free_node_graph(const Mesh& mesh, const DofMap& dofs);
+
 // K·w element by element, K never formed (for a process that has handed K to a distributed
 // factorization and freed it); equals assemble_stiffness(mesh, dofs, material) * w.
 Eigen::VectorXd apply_stiffness(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material,

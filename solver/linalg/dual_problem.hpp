@@ -18,6 +18,18 @@
 
 namespace contact3d {
 
+struct Mesh;
+struct DofMap;
+class TetMaterials;
+
+// K as what assembles it (fem/assembly.hpp), for a backend that assembles K on its ranks instead of
+// receiving it from one process (the distributed backend's direct MUMPS route).
+struct StiffnessSource {
+  const Mesh& mesh;
+  const DofMap& dofs;
+  const TetMaterials& materials;
+};
+
 // How Q is formed with CHOLMOD (the dual problem's "method"):
 //   Augmented   — factor [K 𝔹ᵀ; 𝔹 σI] with the multipliers last: Q = L₂₁L₂₁ᵀ (about 1.1
 //                 factorizations), and each step's face displacement by a restricted back
@@ -43,6 +55,9 @@ struct DualProblemInput {
   // Called by a backend that has made its own copy of K (the distributed one, before it factors):
   // the caller may then free K, which the backend will not read again. Empty: nobody to tell.
   std::function<void()> release_K = {};
+  // Set, with K left empty, for the direct MUMPS route: it assembles K on its ranks from this, so
+  // that no process ever holds the whole of K.
+  const StiffnessSource* stiffness_source = nullptr;
 };
 
 // The entries of w at `dofs`, in that order (a face displacement from a whole one).

@@ -25,6 +25,11 @@ using AnalysisObserver = std::function<void(double factor_nonzeros, double flops
 // The order every constructor below factors K in (nested dissection of K's quotient graph; K with
 // both triangles stored): order[k] is the dof pivoted k-th. For other solvers of K (MUMPS).
 std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& K);
+// The same from the graph of K's node blocks, for a K never formed on one process (the distributed
+// backend): vertex v holds dofs first_dof[v] .. first_dof[v + 1] − 1 and is adjacent to
+// adj[adj_start[v] .. adj_start[v + 1]) (sorted; see fem's free_node_graph).
+std::vector<int> nested_dissection_order(const std::vector<int>& first_dof, const std::vector<int>& adj_start,
+                                         const std::vector<int>& adj);
 
 class SparseCholesky {
  public:

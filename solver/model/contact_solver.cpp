@@ -1,8 +1,8 @@
 #include "model/contact_solver.hpp"
 
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 
@@ -30,34 +30,37 @@
 namespace contact3d {
 namespace {
 
-// K and f over the free dofs (prescribed components eliminated, their lift in f). The distributed
-// backend has rank 0 free K once the ranks hold their shares (release_K); K·w then comes element by
-// element and K is assembled again only if a benchmark asks for a reference factorization.
+// K and f over the free dofs (prescribed components eliminated, their lift in f). With the
+// distributed backend this process does not hold K (K_elsewhere): the ranks assemble their columns
+// themselves (direct MUMPS route), or the backend copies K and has it freed (release_K). K·w then
+// comes element by element, and K is assembled here only if a benchmark asks for a reference
+// factorization.
 struct Discretisation {
   TetMaterials materials;
   Eigen::SparseMatrix<double> K;
   Eigen::VectorXd f;
-  bool K_released = false;
+  bool K_elsewhere = false;
 
   std::function<void()> release_K() {
     return [this] {
       Eigen::SparseMatrix<double>().swap(K);  // assigning an empty matrix would keep the capacity
-      K_released = true;
+      K_elsewhere = true;
     };
   }
   Eigen::VectorXd stiffness_times(const Mesh& mesh, const DofMap& dofs, const Eigen::VectorXd& w) const {
-    return K_released ? apply_stiffness(mesh, dofs, materials, w) : Eigen::VectorXd(K * w);
+    return K_elsewhere ? apply_stiffness(mesh, dofs, materials, w) : Eigen::VectorXd(K * w);
   }
   const Eigen::SparseMatrix<double>& stiffness(const Mesh& mesh, const DofMap& dofs) {
-    if (K_released) {
+    if (K_elsewhere) {
       K = assemble_stiffness(mesh, dofs, materials);
-      K_released = false;
+      K_elsewhere = false;
     }
     return K;
   }
 };
 
-Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res) {
+// `assemble_K` false: K is left to the ranks of the distributed backend (K_elsewhere).
+Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res, bool assemble_K) {
   check_coordinates_in_range(mesh);
   check_tet_orientation(mesh);
   check_mesh_meaning(mesh, mesh_roles(scene));
@@ -66,7 +69,10 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   require_rigid_motions_fixed(mesh, res.dofs);
   res.n_primal = res.dofs.n_free;
   Discretisation disc{tet_materials(scene, mesh), {}, {}};
-  disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
+  if (assemble_K)
+    disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
+  else
+    disc.K_elsewhere = true;
   disc.f =
       assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
   return disc;
@@ -273,7 +279,8 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.n_mult =
       tresca.products() + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   res.u = expand_to_nodes(res.dofs, w);
-  res.kkt = kkt_residuals(disc.stiffness_times(mesh, res.dofs, w), disc.f, op.B, op.r, op.with_friction, res.radius, w, res.lambda, dual.h(), op.offset);
+  res.kkt = kkt_residuals(disc.stiffness_times(mesh, res.dofs, w), disc.f, op.B, op.r, op.with_friction, res.radius, w,
+                          res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   res.forces =
       resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
@@ -429,9 +436,13 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   SolveResult res;
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
-  Discretisation disc = discretise(scene, mesh, res);
+  const DualMethod method = resolved_dual_method(scene.solver.dual_method);
+  const bool K_on_ranks = method == DualMethod::Mumps && !scene.contact.empty();
+  Discretisation disc = discretise(scene, mesh, res, !K_on_ranks);
   clock.lap("assembly");
-  report.stage("  " + count(res.n_primal) + " unknowns, nnz(K) = " + count(disc.K.nonZeros()));
+  report.stage("  " + count(res.n_primal) + " unknowns, " +
+               (K_on_ranks ? "K assembled by the " + count(distributed::ranks()) + " ranks with the factorization"
+                           : "nnz(K) = " + count(disc.K.nonZeros())));
   if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, std::move(res), report);
 
   stage.enter("contact", "the contact face and its partition");
@@ -443,12 +454,14 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   stage.enter("factorization",
               "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  const DualMethod method = resolved_dual_method(scene.solver.dual_method);
   report.stage("factorization (" +
                std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
                name_of(method, kDualMethodNames) + ")");
-  DualProblemInput input{disc.K,         op.B, disc.f, face_dofs.dofs, op.offset, factor_size_check(report, &stage),
-                         disc.release_K()};
+  const StiffnessSource source{mesh, res.dofs, disc.materials};
+  DualProblemInput input{disc.K,           op.B,
+                         disc.f,           face_dofs.dofs,
+                         op.offset,        factor_size_check(report, &stage),
+                         disc.release_K(), K_on_ranks ? &source : nullptr};
   std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, clock);
   report.stage("  done in " + number(stage_seconds(res, "factorization") + stage_seconds(res, "dual"), 3) +
                " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +

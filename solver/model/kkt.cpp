@@ -11,10 +11,9 @@ double KktResiduals::max() const {
   return std::max({equilibrium, normal_feasibility, normal_complementarity, disc_feasibility, slip_alignment});
 }
 
-KktResiduals kkt_residuals(const Eigen::VectorXd& Kw, const Eigen::VectorXd& f,
-                           const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
-                           const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda,
-                           const Eigen::VectorXd& h, const Eigen::VectorXd& offset) {
+KktResiduals kkt_residuals(const Eigen::VectorXd& Kw, const Eigen::VectorXd& f, const Eigen::SparseMatrix<double>& B,
+                           int r, bool with_friction, const Eigen::VectorXd& radius, const Eigen::VectorXd& w,
+                           const Eigen::VectorXd& lambda, const Eigen::VectorXd& h, const Eigen::VectorXd& offset) {
   KktResiduals res;
   auto safe_div = [](double a, double b) { return b > 0 ? a / b : a; };
   const Eigen::VectorXd Btl = B.transpose() * lambda;

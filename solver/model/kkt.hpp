@@ -21,9 +21,9 @@ struct KktResiduals {
   double max() const;
 };
 
-KktResiduals kkt_residuals(const Eigen::VectorXd& Kw, const Eigen::VectorXd& f,
-                           const Eigen::SparseMatrix<double>& B, int r, bool with_friction,
-                           const Eigen::VectorXd& radius, const Eigen::VectorXd& w, const Eigen::VectorXd& lambda,
-                           const Eigen::VectorXd& h, const Eigen::VectorXd& offset = Eigen::VectorXd());
+KktResiduals kkt_residuals(const Eigen::VectorXd& Kw, const Eigen::VectorXd& f, const Eigen::SparseMatrix<double>& B,
+                           int r, bool with_friction, const Eigen::VectorXd& radius, const Eigen::VectorXd& w,
+                           const Eigen::VectorXd& lambda, const Eigen::VectorXd& h,
+                           const Eigen::VectorXd& offset = Eigen::VectorXd());
 
 }  // namespace contact3d

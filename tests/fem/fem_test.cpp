@@ -208,6 +208,14 @@ TEST(Assembly, PerComponentConditionsAndMaterials) {
   const Eigen::SparseMatrix<double> ref = assemble_stiffness_triplets(mesh, dofs, mixed);
   ASSERT_EQ(fast.rows(), dofs.n_free);
   EXPECT_LT((fast - ref).norm(), 1e-13 * ref.norm());
+  // The columns of three node ranges (the ranks' shares in the distributed backend) are K's.
+  const int cut1 = dofs.n_nodes / 3, cut2 = dofs.n_nodes / 2;
+  for (const auto& [lo, hi] : {std::pair{0, cut1}, std::pair{cut1, cut2}, std::pair{cut2, dofs.n_nodes}}) {
+    const Eigen::SparseMatrix<double> block = assemble_stiffness_columns(mesh, dofs, mixed, lo, hi);
+    const int first = first_free_dof(dofs, lo);
+    ASSERT_EQ(block.cols(), first_free_dof(dofs, hi) - first);
+    EXPECT_LT((block - Eigen::SparseMatrix<double>(ref.middleCols(first, block.cols()))).norm(), 1e-13 * ref.norm());
+  }
   // K·w element by element (what rank 0 uses once it has freed K) is the assembled product.
   const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(dofs.n_free, -1.0, 2.0).array().sin();
   const Eigen::VectorXd Kw = ref * w;

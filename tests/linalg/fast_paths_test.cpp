@@ -132,6 +132,23 @@ TEST(FastPaths, QuotientNestedDissectionMatchesCholmodOrdering) {
   }
 }
 
+// The distributed backend orders K from the mesh's node graph, never forming K on one process: the
+// same order as from K's quotient graph (the node blocks are K's groups), also with nodes that
+// keep one or two free components (a roller).
+TEST(FastPaths, NodeGraphOrderIsTheQuotientOrder) {
+  const Scene scene = parse_scene_text(kBrick, ".", {});
+  const Mesh mesh = make_paper_brick({6});
+  PrescribedDisplacement roller{"contact", {std::nullopt, std::nullopt, 0.0}};
+  for (const auto& extra : {std::vector<PrescribedDisplacement>{}, std::vector<PrescribedDisplacement>{roller}}) {
+    const DofMap dofs = make_dof_map(mesh, scene.clamped, extra);
+    const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, dofs, scene.material);
+    const NodeGraph graph = free_node_graph(mesh, dofs);
+    const std::vector<int> from_graph = nested_dissection_order(graph.first_dof, graph.adj_start, graph.adj);
+    EXPECT_EQ(graph.first_dof.back(), dofs.n_free);
+    EXPECT_EQ(from_graph, nested_dissection_order(K)) << extra.size() << " roller groups";
+  }
+}
+
 // The per-step displacement of the fixed point (a restricted back substitution through the
 // augmented factor) against full K⁻¹ solves of the plain factor, for random multipliers.
 TEST(FastPaths, DisplacementTraceMatchesFullSolves) {
