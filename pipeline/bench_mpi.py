@@ -114,7 +114,7 @@ def write_report(args, rows):
          "resident set at the end of the solve. Ranks fewer than the cores run with `--bind-to none` (Open MPI binds "
          "each rank to one core by default, which leaves one rank's BLAS threads a single core). du: largest difference of u on Γc to the serial run, relative.", "",
          "| n | run | n_p | n_d | it | n_mult | factorization (s) | Q + h (s) | QP (s) | solve (s) | × serial solve | "
-         "ratio | nnz(L) | peak MiB per rank | rank 0 / serial peak | du |",
+         "ratio | nnz(L) | peak MiB per rank | largest rank / serial peak | du |",
          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     serial = {r["n"]: r for r in rows if r["run"].startswith("CHOLMOD")}
     for r in rows:
