@@ -352,9 +352,12 @@ std::vector<int> node_split(const DofMap& dofs, int size) {
   return split;
 }
 
+// In pieces of at most 2^30 entries: MPI's counts are ints.
 template <class T>
 void broadcast_vector(std::vector<T>& v, MPI_Datatype type) {
-  MPI_Bcast(v.data(), static_cast<int>(v.size()), type, 0, PETSC_COMM_WORLD);
+  constexpr std::size_t kPiece = std::size_t(1) << 30;
+  for (std::size_t first = 0; first < v.size(); first += kPiece)
+    MPI_Bcast(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, 0, PETSC_COMM_WORLD);
 }
 
 // Runs `work` on every rank and agrees on the outcome before the next collective, so that a rank
