@@ -2,7 +2,7 @@
 // (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`). Rank 0 runs the solver as in
 // the serial build — it reads the mesh, runs the dual QP and the fixed point and writes the
 // outputs — but never holds K: every rank assembles the columns of K for its share of the nodes
-// (rank 0 broadcasts nodes, tets, materials and the dof numbering) and keeps its part of
+// (rank 0 sends each rank only the tets around its nodes, fem/mesh_part.hpp) and keeps its part of
 // [K 𝔹ᵀ; 𝔹 0] and of MUMPS's factor, then serves rank 0's requests (factorize, solve, release,
 // report memory) until it finishes. Q comes from MUMPS's Schur complement on the multipliers
 // (S = −Q, dense on rank 0), w = K⁻¹(f − 𝔹ᵀλ) from MUMPS's interior solve (ICNTL(26) = 0), K·w for

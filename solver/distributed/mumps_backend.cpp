@@ -4,7 +4,9 @@
 //
 // Protocol: rank 0 broadcasts a Command; every rank then runs the same collective code. The data a
 // command needs is prepared on rank 0 before the command is sent, so an exception on rank 0 can
-// never leave the other ranks inside a half-done collective.
+// never leave the other ranks inside a half-done collective; where a rank's own work can fail in
+// the middle (assembling its share of K), every rank agrees on the outcome (on_every_rank) before
+// the next collective.
 #include <dmumps_c.h>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -27,6 +29,7 @@
 #include "base/errors.hpp"
 #include "distributed/backend.hpp"
 #include "fem/assembly.hpp"
+#include "fem/mesh_part.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 namespace contact3d::distributed {
@@ -157,6 +160,11 @@ void factorize_with_growing_workspace(DirectMumps& d) {
     dmumps_c(&d.id);
     if (d.id.infog[0] != -8 && d.id.infog[0] != -9) break;
   }
+  if (d.id.infog[0] == -13)  // an allocation failed on some rank: the machine(s) ran out of memory
+    throw InputError("not enough memory for MUMPS's factorization: allocating " +
+                     std::to_string(static_cast<long long>(mumps_count(d.id.infog[1]))) +
+                     " entries failed on one of the ranks (INFOG(1) = -13); run more ranks, on more machines, "
+                     "or use a coarser mesh");
   if (d.id.infog[0] < 0)
     throw std::runtime_error("MUMPS failed in the MUMPS factorization (INFOG(1) = " + std::to_string(d.id.infog[0]) +
                              ", INFOG(2) = " + std::to_string(d.id.infog[1]) + ")");
@@ -352,12 +360,18 @@ std::vector<int> node_split(const DofMap& dofs, int size) {
   return split;
 }
 
-// In pieces of at most 2^30 entries: MPI's counts are ints.
+// Point to point in pieces of at most 2^30 entries (MPI's counts are ints).
+constexpr std::size_t kPiece = std::size_t(1) << 30;
 template <class T>
-void broadcast_vector(std::vector<T>& v, MPI_Datatype type) {
-  constexpr std::size_t kPiece = std::size_t(1) << 30;
+void send_vector(const std::vector<T>& v, MPI_Datatype type, int to) {
   for (std::size_t first = 0; first < v.size(); first += kPiece)
-    MPI_Bcast(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, 0, PETSC_COMM_WORLD);
+    MPI_Send(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, to, 0, PETSC_COMM_WORLD);
+}
+template <class T>
+void receive_vector(std::vector<T>& v, MPI_Datatype type) {
+  for (std::size_t first = 0; first < v.size(); first += kPiece)
+    MPI_Recv(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, 0, 0, PETSC_COMM_WORLD,
+             MPI_STATUS_IGNORE);
 }
 
 // Runs `work` on every rank and agrees on the outcome before the next collective, so that a rank
@@ -383,62 +397,97 @@ void on_every_rank(Work work) {
   if (worst == 1) throw std::runtime_error("another rank failed while assembling its share of K");
 }
 
-// What every rank needs to assemble its columns of K, flat for broadcasting from rank 0: the
-// nodes, the tets, each tet's E and ν and the dof numbering (about 40 bytes per tet).
-struct AssemblyInput {
-  std::int64_t dims[3] = {0, 0, 0};  // nodes, tets, free dofs
+// A MeshPart as flat arrays for MPI (about 56 bytes per tet): header {nodes, tets, first_node,
+// last_node}, coordinates, dof numbers, corners, E and ν.
+struct PartMessage {
+  std::int64_t header[4] = {0, 0, 0, 0};
   std::vector<double> xyz, young_poisson;
-  std::vector<int> corners, free_index;
+  std::vector<int> free_index, corners;
 
   void allocate() {
-    xyz.resize(static_cast<std::size_t>(3 * dims[0]));
-    free_index.resize(static_cast<std::size_t>(3 * dims[0]));
-    corners.resize(static_cast<std::size_t>(4 * dims[1]));
-    young_poisson.resize(static_cast<std::size_t>(2 * dims[1]));
+    xyz.resize(static_cast<std::size_t>(3 * header[0]));
+    free_index.resize(static_cast<std::size_t>(3 * header[0]));
+    corners.resize(static_cast<std::size_t>(4 * header[1]));
+    young_poisson.resize(static_cast<std::size_t>(2 * header[1]));
   }
-  void fill(const StiffnessSource& source) {
-    for (std::size_t v = 0; v < source.mesh.nodes.size(); ++v)
-      for (int c = 0; c < 3; ++c) xyz[3 * v + c] = source.mesh.nodes[v][c];
-    for (std::size_t e = 0; e < source.mesh.tets.size(); ++e) {
-      for (int a = 0; a < 4; ++a) corners[4 * e + a] = source.mesh.tets[e][a];
-      young_poisson[2 * e] = source.materials[e].young;
-      young_poisson[2 * e + 1] = source.materials[e].poisson;
+  explicit PartMessage(const MeshPart& part) {
+    header[0] = part.dofs.n_nodes;
+    header[1] = static_cast<std::int64_t>(part.mesh.tets.size());
+    header[2] = part.first_node;
+    header[3] = part.last_node;
+    allocate();
+    for (std::size_t v = 0; v < part.mesh.nodes.size(); ++v)
+      for (int c = 0; c < 3; ++c) xyz[3 * v + c] = part.mesh.nodes[v][c];
+    free_index = part.dofs.free_index;
+    for (std::size_t e = 0; e < part.mesh.tets.size(); ++e) {
+      for (int a = 0; a < 4; ++a) corners[4 * e + a] = part.mesh.tets[e][a];
+      young_poisson[2 * e] = part.materials[e].young;
+      young_poisson[2 * e + 1] = part.materials[e].poisson;
     }
-    free_index = source.dofs.free_index;
   }
-  void broadcast() {
-    broadcast_vector(xyz, MPI_DOUBLE);
-    broadcast_vector(corners, MPI_INT);
-    broadcast_vector(young_poisson, MPI_DOUBLE);
-    broadcast_vector(free_index, MPI_INT);
+  PartMessage() = default;
+  MeshPart unpack(int n_free) {
+    MeshPart part;
+    part.mesh.nodes.resize(static_cast<std::size_t>(header[0]));
+    for (std::size_t v = 0; v < part.mesh.nodes.size(); ++v)
+      part.mesh.nodes[v] = Eigen::Vector3d(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+    part.mesh.tets.resize(static_cast<std::size_t>(header[1]));
+    part.materials.resize(part.mesh.tets.size());
+    for (std::size_t e = 0; e < part.mesh.tets.size(); ++e) {
+      for (int a = 0; a < 4; ++a) part.mesh.tets[e][a] = corners[4 * e + a];
+      part.materials[e] = Material{young_poisson[2 * e], young_poisson[2 * e + 1]};
+    }
+    part.dofs.n_nodes = static_cast<int>(header[0]);
+    part.dofs.n_free = n_free;
+    part.dofs.free_index = std::move(free_index);
+    part.first_node = static_cast<int>(header[2]);
+    part.last_node = static_cast<int>(header[3]);
+    return part;
   }
 };
 
-// This rank's share of K's lower triangle: the columns of its nodes (node_split), assembled on a
-// mesh rebuilt from `in` (just nodes and tets), which is dropped on return.
-Triplets assemble_lower_share(AssemblyInput in) {
-  const int rank = comm_rank(), size = comm_size();
-  Mesh mesh;
-  mesh.nodes.resize(static_cast<std::size_t>(in.dims[0]));
-  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
-    mesh.nodes[v] = Eigen::Vector3d(in.xyz[3 * v], in.xyz[3 * v + 1], in.xyz[3 * v + 2]);
-  std::vector<double>().swap(in.xyz);
-  mesh.tets.resize(static_cast<std::size_t>(in.dims[1]));
-  std::vector<Material> per_tet(mesh.tets.size());
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    for (int a = 0; a < 4; ++a) mesh.tets[e][a] = in.corners[4 * e + a];
-    per_tet[e] = Material{in.young_poisson[2 * e], in.young_poisson[2 * e + 1]};
-  }
-  std::vector<int>().swap(in.corners);
-  std::vector<double>().swap(in.young_poisson);
-  DofMap dofs;
-  dofs.n_nodes = static_cast<int>(in.dims[0]);
-  dofs.n_free = static_cast<int>(in.dims[2]);
-  dofs.free_index = std::move(in.free_index);
-  const std::vector<int> split = node_split(dofs, size);
-  const Eigen::SparseMatrix<double> columns =
-      assemble_stiffness_columns(mesh, dofs, TetMaterials(std::move(per_tet)), split[rank], split[rank + 1]);
-  const int first_dof = first_free_dof(dofs, split[rank]);
+// Rank 0 → rank `to`: a status (0: a part follows, 1: none, rank 0 failed), the header, the
+// receiver's answer whether it could allocate the part, then the arrays. False when it could not.
+bool send_part(const PartMessage* message, int to) {
+  std::int64_t status_and_header[5] = {message ? 0 : 1, 0, 0, 0, 0};
+  if (message) std::copy(message->header, message->header + 4, status_and_header + 1);
+  MPI_Send(status_and_header, 5, MPI_INT64_T, to, 0, PETSC_COMM_WORLD);
+  if (!message) return false;
+  int allocated = 0;
+  MPI_Recv(&allocated, 1, MPI_INT, to, 0, PETSC_COMM_WORLD, MPI_STATUS_IGNORE);
+  if (!allocated) return false;
+  send_vector(message->xyz, MPI_DOUBLE, to);
+  send_vector(message->free_index, MPI_INT, to);
+  send_vector(message->corners, MPI_INT, to);
+  send_vector(message->young_poisson, MPI_DOUBLE, to);
+  return true;
+}
+
+// The other side of send_part; throws (after answering rank 0) when there is no part.
+MeshPart receive_part(int n_free) {
+  std::int64_t status_and_header[5];
+  MPI_Recv(status_and_header, 5, MPI_INT64_T, 0, 0, PETSC_COMM_WORLD, MPI_STATUS_IGNORE);
+  if (status_and_header[0] != 0) throw std::runtime_error("rank 0 failed while cutting the mesh into parts");
+  PartMessage message;
+  std::copy(status_and_header + 1, status_and_header + 5, message.header);
+  int allocated = 1;
+  try {
+    message.allocate();
+  } catch (const std::bad_alloc&) { allocated = 0; }
+  MPI_Send(&allocated, 1, MPI_INT, 0, 0, PETSC_COMM_WORLD);
+  if (!allocated) throw std::bad_alloc();
+  receive_vector(message.xyz, MPI_DOUBLE);
+  receive_vector(message.free_index, MPI_INT);
+  receive_vector(message.corners, MPI_INT);
+  receive_vector(message.young_poisson, MPI_DOUBLE);
+  return message.unpack(n_free);
+}
+
+// The lower triangle of the columns of K for nodes [first_node, last_node) of `mesh`, as triplets.
+Triplets lower_columns(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, int first_node,
+                       int last_node) {
+  const Eigen::SparseMatrix<double> columns = assemble_stiffness_columns(mesh, dofs, materials, first_node, last_node);
+  const int first_dof = first_free_dof(dofs, first_node);
   Triplets share;
   share.rows.reserve(static_cast<std::size_t>(columns.nonZeros() / 2 + columns.cols()));
   share.cols.reserve(share.rows.capacity());
@@ -451,36 +500,47 @@ Triplets assemble_lower_share(AssemblyInput in) {
   return share;
 }
 
-// kAssembleAndFactor, collective: every rank assembles its share of K; rank 0 adds 𝔹 and the
-// multipliers' zero diagonal and gives the pivot order (`source`, `B` and `order` are read on
-// rank 0 only).
+// Rank 0's side of the assembly: one part of the mesh to each other rank (the tets around its
+// nodes, cut one at a time), then its own columns from the whole mesh.
+Triplets send_parts_and_assemble(const StiffnessSource& source) {
+  const int size = comm_size();
+  const std::vector<int> split = node_split(source.dofs, size);
+  int r = 1;
+  try {
+    for (; r < size; ++r) {
+      const PartMessage message(cut_mesh_part(source.mesh, source.dofs, source.materials,
+                                              split[static_cast<std::size_t>(r)],
+                                              split[static_cast<std::size_t>(r) + 1]));
+      send_part(&message, r);  // a rank that could not allocate its part reports it in on_every_rank
+    }
+  } catch (...) {
+    for (; r < size; ++r) send_part(nullptr, r);  // the ranks still waiting learn there is no part
+    throw;
+  }
+  return lower_columns(source.mesh, source.dofs, source.materials, split[0], split[1]);
+}
+
+// kAssembleAndFactor, collective: every rank assembles its share of K (rank 0 sends each its part of
+// the mesh); rank 0 adds 𝔹 and the multipliers' zero diagonal and gives the pivot order (`source`,
+// `B` and `order` are read on rank 0 only).
 std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source, const Eigen::SparseMatrix<double>* B,
                                                    const std::vector<int>& order) {
   auto fz = std::make_unique<Factorization>();
-  AssemblyInput in;
-  std::int64_t dims[5] = {0, 0, 0, 0, 0};  // nodes, tets, free dofs, multipliers
-  if (source) {
-    dims[0] = source->dofs.n_nodes;
-    dims[1] = static_cast<std::int64_t>(source->mesh.tets.size());
-    dims[2] = source->dofs.n_free;
-    dims[3] = B->rows();
-  }
-  MPI_Bcast(dims, 5, MPI_INT64_T, 0, PETSC_COMM_WORLD);
-  std::copy(dims, dims + 3, in.dims);
-  fz->n = static_cast<PetscInt>(dims[2]);
-  fz->m = static_cast<PetscInt>(dims[3]);
-  on_every_rank([&] {
-    in.allocate();
-    if (source) in.fill(*source);
-  });
-  in.broadcast();
+  std::int64_t dims[2] = {source ? source->dofs.n_free : 0, B ? B->rows() : 0};
+  MPI_Bcast(dims, 2, MPI_INT64_T, 0, PETSC_COMM_WORLD);
+  fz->n = static_cast<PetscInt>(dims[0]);
+  fz->m = static_cast<PetscInt>(dims[1]);
   Triplets share;
   on_every_rank([&] {
-    share = assemble_lower_share(std::move(in));
-    if (!B) return;
-    for (int j = 0; j < B->outerSize(); ++j)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(*B, j); it; ++it) share.add(fz->n + it.row(), j, it.value());
-    for (std::int64_t r = 0; r < fz->m; ++r) share.add(fz->n + r, fz->n + r, 0.0);
+    if (source) {
+      share = send_parts_and_assemble(*source);
+      for (int j = 0; j < B->outerSize(); ++j)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(*B, j); it; ++it) share.add(fz->n + it.row(), j, it.value());
+      for (std::int64_t r = 0; r < fz->m; ++r) share.add(fz->n + r, fz->n + r, 0.0);
+    } else {
+      const MeshPart part = receive_part(static_cast<int>(fz->n));
+      share = lower_columns(part.mesh, part.dofs, TetMaterials(part.materials), part.first_node, part.last_node);
+    }
   });
 #ifdef __GLIBC__
   malloc_trim(0);  // the assembly's many small lists, freed, would stay resident beside MUMPS's factor

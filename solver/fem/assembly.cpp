@@ -169,11 +169,33 @@ int first_free_dof(const DofMap& dofs, int node) {
   return dofs.n_free;
 }
 
+namespace {
+
+// True when the free dofs increase node by node, component by component (gaps allowed: `mesh` may
+// be a part of a larger mesh, numbered with that mesh's dofs).
+bool dofs_increase_node_by_node(const DofMap& dofs) {
+  int last = -1;
+  for (int i = 0; i < 3 * dofs.n_nodes; ++i)
+    if (const int d = dofs.free_index[i]; d >= 0) {
+      if (d <= last) return false;
+      last = d;
+    }
+  return true;
+}
+
+}  // namespace
+
 Eigen::SparseMatrix<double> assemble_stiffness_columns(const Mesh& mesh, const DofMap& dofs,
                                                        const TetMaterials& material, int first_node, int last_node) {
-  if (!has_node_ordered_layout(dofs))
+  const int first_dof = first_free_dof(dofs, first_node);
+  int n_cols = 0, last_dof = first_dof - 1;
+  for (int i = 3 * first_node; i < 3 * last_node; ++i)
+    if (dofs.free_index[i] >= 0) {
+      ++n_cols;
+      last_dof = dofs.free_index[i];
+    }
+  if (!dofs_increase_node_by_node(dofs) || last_dof - first_dof + 1 != n_cols)
     throw std::logic_error("assemble_stiffness_columns: the free dofs are not numbered node by node");
-  const int first_dof = first_free_dof(dofs, first_node), n_cols = first_free_dof(dofs, last_node) - first_dof;
   const NodeTets around(mesh);
   // The tets around the nodes, each once, and the slot of each in the per-tet arrays.
   std::vector<int> slot(mesh.tets.size(), -1), used;

@@ -41,8 +41,9 @@ Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const 
                                                         const TetMaterials& material);
 // The columns of K for the free dofs of nodes [first_node, last_node) — one rank's share when the
 // distributed backend assembles K on every rank — as an n_free × (their dofs) matrix; the block's
-// column j is K's column first_free_dof(dofs, first_node) + j. Needs make_dof_map's numbering
-// (node by node); over all nodes it is assemble_stiffness.
+// column j is K's column first_free_dof(dofs, first_node) + j. The dofs must increase node by node
+// (make_dof_map's numbering) and be consecutive over the range; `mesh` may be just the tets around
+// the range, with the whole mesh's dof numbers and n_free. Over all nodes it is assemble_stiffness.
 Eigen::SparseMatrix<double> assemble_stiffness_columns(const Mesh& mesh, const DofMap& dofs,
                                                        const TetMaterials& material, int first_node, int last_node);
 // The first free dof of the nodes from `node` on (n_free when there is none).

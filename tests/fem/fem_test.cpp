@@ -12,6 +12,7 @@
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/elasticity.hpp"
+#include "fem/mesh_part.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "mesh/brick_generator.hpp"
 
@@ -208,13 +209,20 @@ TEST(Assembly, PerComponentConditionsAndMaterials) {
   const Eigen::SparseMatrix<double> ref = assemble_stiffness_triplets(mesh, dofs, mixed);
   ASSERT_EQ(fast.rows(), dofs.n_free);
   EXPECT_LT((fast - ref).norm(), 1e-13 * ref.norm());
-  // The columns of three node ranges (the ranks' shares in the distributed backend) are K's.
+  // The columns of three node ranges (the ranks' shares in the distributed backend) are K's, from
+  // the whole mesh and from the part of it a rank receives (the tets around its nodes).
   const int cut1 = dofs.n_nodes / 3, cut2 = dofs.n_nodes / 2;
   for (const auto& [lo, hi] : {std::pair{0, cut1}, std::pair{cut1, cut2}, std::pair{cut2, dofs.n_nodes}}) {
-    const Eigen::SparseMatrix<double> block = assemble_stiffness_columns(mesh, dofs, mixed, lo, hi);
     const int first = first_free_dof(dofs, lo);
-    ASSERT_EQ(block.cols(), first_free_dof(dofs, hi) - first);
-    EXPECT_LT((block - Eigen::SparseMatrix<double>(ref.middleCols(first, block.cols()))).norm(), 1e-13 * ref.norm());
+    const Eigen::SparseMatrix<double> expected = ref.middleCols(first, first_free_dof(dofs, hi) - first);
+    const Eigen::SparseMatrix<double> block = assemble_stiffness_columns(mesh, dofs, mixed, lo, hi);
+    EXPECT_LT((block - expected).norm(), 1e-13 * ref.norm());
+    const MeshPart part = cut_mesh_part(mesh, dofs, mixed, lo, hi);
+    EXPECT_LT(part.mesh.tets.size(), mesh.tets.size());
+    const Eigen::SparseMatrix<double> from_part =
+        assemble_stiffness_columns(part.mesh, part.dofs, TetMaterials(part.materials), part.first_node, part.last_node);
+    ASSERT_EQ(from_part.cols(), expected.cols());
+    EXPECT_LT((from_part - expected).norm(), 1e-13 * ref.norm());
   }
   // K·w element by element (what rank 0 uses once it has freed K) is the assembled product.
   const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(dofs.n_free, -1.0, 2.0).array().sin();
