@@ -348,18 +348,6 @@ std::unique_ptr<Factorization> factor(UpperCsr csr) {
   return fz;
 }
 
-// Rank r assembles the columns of the nodes [split[r], split[r + 1]): about n_free / size dofs each.
-std::vector<int> node_split(const DofMap& dofs, int size) {
-  std::vector<int> split(static_cast<std::size_t>(size) + 1, dofs.n_nodes);
-  split[0] = 0;
-  long long seen = 0;
-  for (int v = 0, r = 1; v < dofs.n_nodes && r < size; ++v) {
-    for (int c = 0; c < 3; ++c) seen += dofs.dof(v, c) >= 0;
-    if (seen * size >= static_cast<long long>(dofs.n_free) * r) split[static_cast<std::size_t>(r++)] = v + 1;
-  }
-  return split;
-}
-
 // Point to point in pieces of at most 2^30 entries (MPI's counts are ints).
 constexpr std::size_t kPiece = std::size_t(1) << 30;
 template <class T>
@@ -504,7 +492,7 @@ Triplets lower_columns(const Mesh& mesh, const DofMap& dofs, const TetMaterials&
 // nodes, cut one at a time), then its own columns from the whole mesh.
 Triplets send_parts_and_assemble(const StiffnessSource& source) {
   const int size = comm_size();
-  const std::vector<int> split = node_split(source.dofs, size);
+  const std::vector<int> split = split_nodes_by_dofs(source.dofs, size);  // rank r: [split[r], split[r + 1])
   int r = 1;
   try {
     for (; r < size; ++r) {

@@ -4,6 +4,17 @@
 
 namespace contact3d {
 
+std::vector<int> split_nodes_by_dofs(const DofMap& dofs, int parts) {
+  std::vector<int> split(static_cast<std::size_t>(parts) + 1, dofs.n_nodes);
+  split[0] = 0;
+  long long seen = 0;
+  for (int v = 0, r = 1; v < dofs.n_nodes && r < parts; ++v) {
+    for (int c = 0; c < 3; ++c) seen += dofs.dof(v, c) >= 0;
+    if (seen * parts >= static_cast<long long>(dofs.n_free) * r) split[static_cast<std::size_t>(r++)] = v + 1;
+  }
+  return split;
+}
+
 MeshPart cut_mesh_part(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, int first_node,
                        int last_node) {
   auto own = [&](int v) { return v >= first_node && v < last_node; };

@@ -20,6 +20,10 @@ struct MeshPart {
   int first_node = 0, last_node = 0;  // the rank's own nodes, in the part's numbering
 };
 
+// Node ranges for `parts` ranks with about n_free / parts free dofs each: part r owns the nodes
+// [split[r], split[r + 1]) (split[0] = 0, split[parts] = n_nodes; a range may be empty).
+std::vector<int> split_nodes_by_dofs(const DofMap& dofs, int parts);
+
 // The part for the nodes [first_node, last_node) of the whole mesh (one pass over its tets).
 MeshPart cut_mesh_part(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, int first_node,
                        int last_node);

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 
+#include <cstdlib>
 #include <optional>
 #include <set>
 
@@ -223,6 +224,18 @@ TEST(Assembly, PerComponentConditionsAndMaterials) {
         assemble_stiffness_columns(part.mesh, part.dofs, TetMaterials(part.materials), part.first_node, part.last_node);
     ASSERT_EQ(from_part.cols(), expected.cols());
     EXPECT_LT((from_part - expected).norm(), 1e-13 * ref.norm());
+  }
+  // The ranks' node ranges cover the mesh in order, with about n_free / parts dofs each.
+  for (int parts : {1, 2, 3, 7}) {
+    const std::vector<int> split = split_nodes_by_dofs(dofs, parts);
+    ASSERT_EQ(split.size(), static_cast<std::size_t>(parts) + 1);
+    EXPECT_EQ(split.front(), 0);
+    EXPECT_EQ(split.back(), dofs.n_nodes);
+    for (int r = 0; r < parts; ++r) {
+      EXPECT_LE(split[r], split[r + 1]);
+      const int owned = first_free_dof(dofs, split[r + 1]) - first_free_dof(dofs, split[r]);
+      EXPECT_LE(std::abs(owned - dofs.n_free / parts), 4) << parts << " parts, part " << r;  // a node has <= 3 dofs
+    }
   }
   // K·w element by element (what rank 0 uses once it has freed K) is the assembled product.
   const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(dofs.n_free, -1.0, 2.0).array().sin();
