@@ -6,7 +6,7 @@ on Γc and the same multipliers to 1e-8 (relative to their largest entries), the
 steps, an equilibrium residual under 1e-8 (rank 0 forms K·w element by element, having freed K),
 and a summary naming the backend, the ranks and each rank's peak memory. Cases: the paper's
 brick (n = 8, slip-dependent law; both routes) and an unstructured body with a hole (hexagonal
-prism, gmsh). One rank bound to one core must get summary.json's note on unbinding. A negative check compares the serial
+prism, gmsh; also on 3 ranks, so the mesh is cut into three parts). One rank bound to one core must get summary.json's note on unbinding. A negative check compares the serial
 solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
 
 usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR
@@ -24,12 +24,14 @@ import tomllib
 import numpy as np
 
 TOL = 1e-8
-# (label, scene, overrides, the backend summary.json must name). The default route calls MUMPS
-# directly with our nested dissection; solver.schur = "mumps_petsc" goes through PETSc's interface.
+# (label, scene, overrides, the backend summary.json must name[, ranks instead of --np]). The
+# default route calls MUMPS directly with our nested dissection; solver.schur = "mumps_petsc" goes
+# through PETSc's interface. Three ranks cut the mesh into three parts (one of them in the middle).
 CASES = [
     ("paper brick n=8, slip-dependent", "paper_brick.toml", ["mesh.generator=paper_brick", "mesh.n=8"], "mumps"),
     ("hexagonal prism with a hole (gmsh)", "hexprism.toml", ["mesh.parameters.h=0.06"], "mumps"),
     ("paper brick n=8 through PETSc", "paper_brick.toml", ["mesh.generator=paper_brick", "mesh.n=8"], "petsc-mumps"),
+    ("hexagonal prism with a hole, 3 ranks", "hexprism.toml", ["mesh.parameters.h=0.06"], "mumps", 3),
 ]
 
 
@@ -74,12 +76,14 @@ def main():
     tmp = tempfile.mkdtemp(prefix="contact3d_mpi_")
     fails = []
     try:
-        for k, (label, scene, sets, route) in enumerate(CASES):
+        for k, (label, scene, sets, route, *ranks) in enumerate(CASES):
+            np_run = ranks[0] if ranks else args.np
+            oversubscribe = ["--oversubscribe"] if np_run > (os.cpu_count() or 1) else []
             path = os.path.join(args.source, "pipeline", "scenes", scene)
             ser, par = os.path.join(tmp, f"serial{k}"), os.path.join(tmp, f"mpi{k}")
             s = solve([args.serial, "solve", path], ser, sets)
             schur = [] if route == "mumps" else ["solver.schur=mumps_petsc"]
-            p = solve([args.mpiexec, "-np", str(args.np), args.mpi, "solve", path], par, sets + schur)
+            p = solve([args.mpiexec, "-np", str(np_run), *oversubscribe, args.mpi, "solve", path], par, sets + schur)
             du, dl = relative_difference(ser, par, label)
             ok = du <= TOL and dl <= TOL
             backend = p.get("backend", {})
@@ -92,10 +96,10 @@ def main():
                              f"{s['kkt']['equilibrium']:.1e} serial")
             if s["fixed_point_iterations"] != p["fixed_point_iterations"]:
                 fails.append(f"{label}: {s['fixed_point_iterations']} serial steps, {p['fixed_point_iterations']} distributed")
-            if backend.get("name") != route or backend.get("ranks") != args.np or \
-                    len(backend.get("peak_memory_mib_per_rank", [])) != args.np:
-                fails.append(f"{label}: summary.json backend {backend}, expected {route} on {args.np} ranks")
-            print(f"{label}: serial (CHOLMOD) vs {args.np} ranks (MUMPS): u {du:.1e}, λ {dl:.1e}; steps "
+            if backend.get("name") != route or backend.get("ranks") != np_run or \
+                    len(backend.get("peak_memory_mib_per_rank", [])) != np_run:
+                fails.append(f"{label}: summary.json backend {backend}, expected {route} on {np_run} ranks")
+            print(f"{label}: serial (CHOLMOD) vs {np_run} ranks (MUMPS): u {du:.1e}, λ {dl:.1e}; steps "
                   f"{s['fixed_point_iterations']} / {p['fixed_point_iterations']}; peak memory per rank (MiB) "
                   f"{backend.get('peak_memory_mib_per_rank')}")
         # One rank bound to one core on a machine with more: summary.json's notes say how to unbind;
@@ -126,7 +130,7 @@ def main():
     if fails:
         print("FAIL:\n  " + "\n  ".join(fails))
         return 1
-    print(f"ok: the distributed solve on {args.np} ranks equals the serial one to {TOL:g}")
+    print(f"ok: the distributed solve on {args.np} (and 3) ranks equals the serial one to {TOL:g}")
     return 0
 
 
