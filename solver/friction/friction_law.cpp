@@ -33,6 +33,13 @@ double FrictionLaw::operator()(double t) const {
   return 0;
 }
 
+std::optional<double> FrictionLaw::jump_at() const {
+  if (kind != Kind::Table) return std::nullopt;
+  for (std::size_t k = 1; k < points.size(); ++k)
+    if (points[k].first == points[k - 1].first && points[k].second != points[k - 1].second) return points[k].first;
+  return std::nullopt;
+}
+
 std::vector<double> FrictionLaw::breakpoints() const {
   switch (kind) {
     case Kind::Ramp:

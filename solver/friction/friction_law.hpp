@@ -5,6 +5,7 @@
 // its slope may change, which lets the disc radii (5.3) be integrated exactly.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,6 +31,8 @@ struct FrictionLaw {
   double operator()(double t) const;
   std::vector<double> breakpoints() const;
   bool depends_on_slip() const { return kind == Kind::Ramp || kind == Kind::Table; }
+  // The first slip at which a table law jumps (a repeated t with another F); nullopt otherwise.
+  std::optional<double> jump_at() const;
   std::string name() const;
   // Throws InputError with the offending key if the parameters make no sense.
   void validate() const;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -266,6 +267,18 @@ void flag_unresolved_contact(SolveResult& res) {
                          "a smaller contact.cell_size, e.g. \"1.5h\" (watch cond(Q))");
 }
 
+// A coefficient with a jump is not Lipschitz, so the existence-and-uniqueness argument behind (5.7)
+// does not hold and the discrete problem may have several solutions: on the thin slab of
+// results/robustness.md (jump law) a start from a large slip instead of φ⁰ = 0 converged to a
+// solution 28% away in u. Said in a note, with which solution this is.
+void flag_possible_nonuniqueness(const Scene& scene, SolveResult& res) {
+  if (const std::optional<double> t = scene.law.jump_at(); t && scene.needs_fixed_point())
+    res.notes.push_back("friction.points jumps at t = " + number(*t, 3) +
+                        ": with a discontinuous coefficient the problem may have more than one solution (the "
+                        "paper's uniqueness needs a Lipschitz F with a small modulus); this is the one the "
+                        "successive approximations (5.7) reach from φ⁰ = 0, the sticking start");
+}
+
 // The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
 void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, const ContactOperator& op,
              const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
@@ -287,6 +300,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
   flag_unresolved_contact(res);
+  flag_possible_nonuniqueness(scene, res);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError(
         "the solution is not finite: the scene's loads, material or friction values overflow double "

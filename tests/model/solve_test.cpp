@@ -115,6 +115,21 @@ TEST(SolvePaperBrick, FrictionlessAndConstantAreSingleSolves) {
   EXPECT_GT(ux_low, ux_high);
 }
 
+// A table law with a jump gets a note that the solution may not be unique (and which one this is);
+// the paper's ramp, Lipschitz, does not.
+TEST(SolvePaperBrick, AJumpInTheLawIsNotedAsPossiblyNonUnique) {
+  auto noted = [](const SolveResult& res) {
+    for (const auto& n : res.notes)
+      if (n.find("more than one solution") != std::string::npos) return true;
+    return false;
+  };
+  const SolveResult jump =
+      solve_text({"friction.law=table", "friction.points=[[0.0, 0.3], [1e-5, 0.3], [1e-5, 0.2], [1e-4, 0.2]]"});
+  ASSERT_TRUE(jump.converged) << jump.status;
+  EXPECT_TRUE(noted(jump));
+  EXPECT_FALSE(noted(solve_text()));
+}
+
 TEST(SolvePaperBrick, AndersonGivesTheSameAnswer) {
   const SolveResult plain = solve_text();
   const SolveResult anderson = solve_text({"solver.fixed_point=\"anderson\""});
