@@ -35,7 +35,14 @@
 namespace contact3d::distributed {
 namespace {
 
-enum Command : int { kStop = 0, kFactor = 1, kSolve = 2, kRelease = 3, kMemory = 4, kAssembleAndFactor = 5 };
+enum Command : int {
+  kStop = 0,
+  kFactorThroughPetsc = 1,
+  kSolve = 2,
+  kRelease = 3,
+  kMemory = 4,
+  kAssembleAndFactor = 5
+};
 
 // Commands travel by a nonblocking broadcast on every rank (collectives must match). Rank 0
 // waits for it at once; a serving rank polls it with short sleeps, so that while rank 0 runs the
@@ -72,13 +79,12 @@ int comm_size() {
   return s;
 }
 
-// The upper triangle of [K 𝔹ᵀ; 𝔹 0] in CSR (global indices), built on rank 0. The multipliers'
+// The PETSc route: the upper triangle of [K 𝔹ᵀ; 𝔹 0] in CSR (global indices), built on rank 0. The multipliers'
 // diagonal is stored as an explicit zero (MUMPS's symmetric indefinite path expects the diagonal).
 struct UpperCsr {
   std::int64_t n = 0, m = 0;
   std::vector<PetscInt> row_start{0}, cols;
   std::vector<PetscScalar> vals;
-  std::vector<int> order;  // K's dofs in our nested-dissection order (direct MUMPS); empty: PETSc's route
 };
 
 UpperCsr augmented_upper(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B) {
@@ -170,7 +176,8 @@ void factorize_with_growing_workspace(DirectMumps& d) {
                              ", INFOG(2) = " + std::to_string(d.id.infog[1]) + ")");
 }
 
-// One factorization, on every rank between kFactor and kRelease.
+// One factorization, on every rank between a factorizing command (kAssembleAndFactor, kFactorThroughPetsc) and
+// kRelease.
 struct Factorization {
   std::unique_ptr<DirectMumps> direct;  // set: the direct route; otherwise PETSc's objects below
   Mat A = nullptr, F = nullptr;
@@ -261,15 +268,14 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
   }
 }
 
-// kFactor, collective. On rank 0 `csr` holds the whole matrix; elsewhere it is empty.
-std::unique_ptr<Factorization> factor(UpperCsr csr) {
+// kFactorThroughPetsc, collective. On rank 0 `csr` holds the whole matrix; elsewhere it is empty.
+std::unique_ptr<Factorization> factor_through_petsc(UpperCsr csr) {
   const int rank = comm_rank(), size = comm_size();
   auto fz = std::make_unique<Factorization>();
-  std::int64_t dims[3] = {csr.n, csr.m, csr.order.empty() ? 0 : 1};
-  MPI_Bcast(dims, 3, MPI_INT64_T, 0, PETSC_COMM_WORLD);
+  std::int64_t dims[2] = {csr.n, csr.m};
+  MPI_Bcast(dims, 2, MPI_INT64_T, 0, PETSC_COMM_WORLD);
   fz->n = static_cast<PetscInt>(dims[0]);
   fz->m = static_cast<PetscInt>(dims[1]);
-  const bool direct = dims[2] != 0;
   PetscInt N = fz->n + fz->m, local = PETSC_DECIDE;
   check(PetscSplitOwnership(PETSC_COMM_WORLD, &local, &N), "PetscSplitOwnership");
   // Rank r owns rows [first[r], first[r + 1]): send each its rows.
@@ -302,19 +308,6 @@ std::unique_ptr<Factorization> factor(UpperCsr csr) {
   std::vector<PetscScalar>().swap(csr.vals);
   std::vector<PetscInt> my_start(local + 1, 0);
   for (PetscInt i = 0; i < local; ++i) my_start[i + 1] = my_start[i] + my_len[i];
-  if (direct) {  // this rank's rows as triplets
-    Triplets share;
-    share.cols = std::move(my_cols);
-    share.values = std::move(my_vals);
-    share.rows.resize(share.cols.size());
-    for (PetscInt i = 0; i < local; ++i)
-      for (PetscInt k = my_start[i]; k < my_start[i + 1]; ++k) {
-        share.rows[static_cast<std::size_t>(k)] = static_cast<MUMPS_INT>(first[rank] + i + 1);  // 1-based
-        ++share.cols[static_cast<std::size_t>(k)];
-      }
-    factor_direct(*fz, csr.order, std::move(share));
-    return fz;
-  }
   check(MatCreateMPISBAIJWithArrays(PETSC_COMM_WORLD, 1, local, local, N, N, my_start.data(), my_cols.data(),
                                     my_vals.data(), &fz->A),
         "MatCreateMPISBAIJWithArrays");
@@ -435,20 +428,20 @@ struct PartMessage {
 };
 
 // Rank 0 → rank `to`: a status (0: a part follows, 1: none, rank 0 failed), the header, the
-// receiver's answer whether it could allocate the part, then the arrays. False when it could not.
-bool send_part(const PartMessage* message, int to) {
+// receiver's answer whether it could allocate the part, then the arrays (not when it could not: it
+// says so in on_every_rank).
+void send_part(const PartMessage* message, int to) {
   std::int64_t status_and_header[5] = {message ? 0 : 1, 0, 0, 0, 0};
   if (message) std::copy(message->header, message->header + 4, status_and_header + 1);
   MPI_Send(status_and_header, 5, MPI_INT64_T, to, 0, PETSC_COMM_WORLD);
-  if (!message) return false;
+  if (!message) return;
   int allocated = 0;
   MPI_Recv(&allocated, 1, MPI_INT, to, 0, PETSC_COMM_WORLD, MPI_STATUS_IGNORE);
-  if (!allocated) return false;
+  if (!allocated) return;
   send_vector(message->xyz, MPI_DOUBLE, to);
   send_vector(message->free_index, MPI_INT, to);
   send_vector(message->corners, MPI_INT, to);
   send_vector(message->young_poisson, MPI_DOUBLE, to);
-  return true;
 }
 
 // The other side of send_part; throws (after answering rank 0) when there is no part.
@@ -499,7 +492,7 @@ Triplets send_parts_and_assemble(const StiffnessSource& source) {
       const PartMessage message(cut_mesh_part(source.mesh, source.dofs, source.materials,
                                               split[static_cast<std::size_t>(r)],
                                               split[static_cast<std::size_t>(r) + 1]));
-      send_part(&message, r);  // a rank that could not allocate its part reports it in on_every_rank
+      send_part(&message, r);
     }
   } catch (...) {
     for (; r < size; ++r) send_part(nullptr, r);  // the ranks still waiting learn there is no part
@@ -595,18 +588,19 @@ class MumpsDualProblem final : public DualProblem {
       : B_(in.B), f_(in.f), face_dofs_(in.face_dofs) {
     method = route == MumpsRoute::Direct ? "mumps" : "mumps_petsc";
     backend = route == MumpsRoute::Direct ? "mumps" : "petsc-mumps";
-    if (route == MumpsRoute::Direct && in.stiffness_source) {
+    if (route == MumpsRoute::Direct) {
       // No K on this process: the ranks assemble their columns; the order comes from the node graph.
+      if (!in.stiffness_source)
+        throw std::invalid_argument("the direct MUMPS route assembles K from a StiffnessSource");
       const NodeGraph graph = free_node_graph(in.stiffness_source->mesh, in.stiffness_source->dofs);
       const std::vector<int> order = nested_dissection_order(graph.first_dof, graph.adj_start, graph.adj);
       broadcast(kAssembleAndFactor);
       fz_ = assemble_and_factor(in.stiffness_source, &in.B, order);
     } else {
       UpperCsr csr = augmented_upper(in.K, in.B);
-      if (route == MumpsRoute::Direct) csr.order = nested_dissection_order(in.K);
       if (in.release_K) in.release_K();  // the ranks' shares come from csr: K need not stay for the factorization
-      broadcast(kFactor);
-      fz_ = factor(std::move(csr));
+      broadcast(kFactorThroughPetsc);
+      fz_ = factor_through_petsc(std::move(csr));
     }
     factor_nonzeros = fz_->factor_entries;
     clock.lap("factorization");
@@ -673,8 +667,8 @@ void Session::serve() {
     const int code = receive_command();
     try {
       switch (code) {
-        case kFactor:
-          fz = factor(UpperCsr());
+        case kFactorThroughPetsc:
+          fz = factor_through_petsc(UpperCsr());
           break;
         case kAssembleAndFactor:
           fz = assemble_and_factor(nullptr, nullptr, {});

@@ -70,20 +70,14 @@ Eigen::SparseMatrix<double> assemble_stiffness_triplets(const Mesh& mesh, const 
 
 Eigen::VectorXd apply_stiffness(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material,
                                 const Eigen::VectorXd& w) {
-  Eigen::VectorXd Kw = Eigen::VectorXd::Zero(dofs.n_free);
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    const auto& t = mesh.tets[e];
-    std::array<int, 12> idx{};
-    Eigen::Matrix<double, 12, 1> we;
-    for (int a = 0; a < 4; ++a)
-      for (int c = 0; c < 3; ++c) {
-        idx[3 * a + c] = dofs.dof(t[a], c);
-        we[3 * a + c] = idx[3 * a + c] >= 0 ? w[idx[3 * a + c]] : 0.0;
-      }
-    const Eigen::Matrix<double, 12, 1> Kwe = element_stiffness(coords(mesh, t), hooke_matrix(material[e])) * we;
-    for (int i = 0; i < 12; ++i)
-      if (idx[i] >= 0) Kw[idx[i]] += Kwe[i];
-  }
+  // K_ff·w is the free rows of the whole-mesh product with zeros at the prescribed components.
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * dofs.n_nodes);
+  for (int i = 0; i < 3 * dofs.n_nodes; ++i)
+    if (dofs.free_index[i] >= 0) u[i] = w[dofs.free_index[i]];
+  const Eigen::VectorXd Ku = internal_minus_external(mesh, material, {}, Eigen::Vector3d::Zero(), u);
+  Eigen::VectorXd Kw(dofs.n_free);
+  for (int i = 0; i < 3 * dofs.n_nodes; ++i)
+    if (dofs.free_index[i] >= 0) Kw[dofs.free_index[i]] = Ku[i];
   return Kw;
 }
 
