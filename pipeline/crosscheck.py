@@ -85,43 +85,71 @@ CROSSCHECK_KEYS = {"tolerance", "force_tolerance", "n", "variants", "friction_co
 
 
 def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
+    """The scene as the FreeFEM reference states it: materials (per volume group), clamped groups,
+    prescribed displacement components, tractions, pressures, body force, contact groups. Scene keys
+    the reference cannot state are refused (a cross-check of another problem would prove nothing)."""
     mat = scene.get("material", {})
     bnd = scene.get("boundary", {})
     names = mesh["names"]
 
-    def tags(groups, role):
+    def tags(groups, role, table=names, kind="physical surface"):
         out = []
         for g in groups:
-            if g not in names and str(g).isdigit():  # a Medit label or an unnamed gmsh group
+            if g not in table and str(g).isdigit():  # a Medit label or an unnamed gmsh group
                 out.append(int(g))
                 continue
-            if g not in names:
-                raise SideFailed(f"{scene_path}: [boundary] {role}: group {g!r} is not a physical "
-                                 f"surface of the mesh (have: {', '.join(sorted(names))})")
-            out.append(names[g])
+            if g not in table:
+                raise SideFailed(f"{scene_path}: {role}: group {g!r} is not a {kind} of the mesh "
+                                 f"(have: {', '.join(sorted(table))})")
+            out.append(table[g])
         return out
 
+    def refuse(what):
+        raise SideFailed(f"{scene_path}: {what} is not stated by the FreeFEM reference: nothing to cross-check")
+
+    contact_tbl = scene.get("contact", {})
+    if any(k in contact_tbl for k in ("plane_point", "plane_normal")):
+        if (contact_tbl.get("plane_point", [0, 0, 0]) != [0, 0, 0]
+                or contact_tbl.get("plane_normal", [0, 0, 1]) != [0, 0, 1]):
+            refuse("[contact] plane_point / plane_normal other than z = 0")
+    if scene.get("friction", {}).get("model", "tresca") != "tresca":
+        refuse("friction.model = " + repr(scene["friction"]["model"]))
     try:
         young = float(mat["young"])
         poisson = float(mat["poisson"])
     except KeyError as e:
         raise SideFailed(f"{scene_path}: [material] needs {e}") from None
+    regions = []
+    for r in mat.get("region", []):
+        (tag,) = tags([r["group"]], "[[material.region]]", mesh.get("volume_names", {}), "physical volume")
+        regions.append((tag, float(r["young"]), float(r["poisson"])))
     body = [float(x) for x in mat.get("body_force", [0.0, 0.0, 0.0])]
-    clamped = tags(bnd.get("clamped", []), "clamped")
-    contact = tags(bnd.get("contact", []), "contact")
+    clamped = tags(bnd.get("clamped", []), "[boundary] clamped")
+    contact = tags(bnd.get("contact", []), "[boundary] contact")
     if not contact:
         raise SideFailed(f"{scene_path}: no contact groups: nothing to cross-check")
-    if not clamped:
-        raise SideFailed(f"{scene_path}: the FreeFEM reference needs a clamped boundary")
+    disp = []
+    for d in bnd.get("displacement", []):
+        (tag,) = tags([d["group"]], "[[boundary.displacement]]")
+        mask = [1 if c in d else 0 for c in ("x", "y", "z")]
+        disp.append((tag, mask, [float(d.get(c, 0.0)) for c in ("x", "y", "z")]))
+    if not clamped and not disp:
+        raise SideFailed(f"{scene_path}: the FreeFEM reference needs a clamped boundary or prescribed displacements")
     trac = []
     for t in bnd.get("traction", []):
-        (tag,) = tags([t["group"]], "traction")
+        (tag,) = tags([t["group"]], "[[boundary.traction]]")
+        if "gradient" in t:
+            refuse(f"a traction gradient (group {t['group']!r})")
         val = [float(x) for x in t["value"]]
         if len(val) != 3:
             raise SideFailed(f"{scene_path}: traction on {t['group']!r} must have 3 components")
         trac.append((tag, val))
-    return {"young": young, "poisson": poisson, "body_force": body, "clamped": clamped,
-            "contact": contact, "traction": trac}
+    pressure = []
+    for p in bnd.get("pressure", []):
+        (tag,) = tags([p["group"]], "[[boundary.pressure]]")
+        pressure.append((tag, float(p["value"])))
+    return {"young": young, "poisson": poisson, "regions": regions, "body_force": body, "clamped": clamped,
+            "displacement": disp, "contact": contact, "traction": trac, "pressure": pressure}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -136,6 +164,13 @@ def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
 # one (mesh, variant) case
 
 
+def mesh_label(n) -> str:
+    """How a mesh of the sweep is named: n=8, h=0.025, or 'scene' (the scene's own parameters)."""
+    if n is None:
+        return "scene"
+    return f"{n[0]}={n[1]:g}" if isinstance(n, tuple) else f"n={n}"
+
+
 def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, work_root: Path) -> dict:
     name = scene_path.stem
     F = args.F if args.F is not None else float(cfg["friction_coefficient"])
@@ -145,17 +180,21 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
             raise SideFailed("--perturb-freefem-law needs a slip-dependent variant (slipdep)")
         ff_law = perturb_law(ff_law, args.perturb_freefem_law)
     s = ff_law["s"]
-    work = work_root / f"{name}-n{n if n is not None else 'scene'}-{variant}"
+    work = work_root / f"{name}-{mesh_label(n).replace('=', '')}-{variant}"
     if work.exists() and not args.reuse_freefem:
         shutil.rmtree(work)
     work.mkdir(parents=True, exist_ok=True)
     msh, params = make_mesh(scene, scene_path, n, work, args.gmsh, reuse=args.reuse_freefem)
     mesh = read_mesh(msh)
     prob = problem_data(scene, scene_path, mesh)
-    case = {"scene": name, "n": params.get("n", n), "variant": variant, "friction": label, "slip_bound_s": s,
+    for feature in args.perturb_freefem_drop or []:  # negative tests: FreeFEM solves without it
+        prob[feature] = []
+    case = {"scene": name, "n": mesh_label(n) if isinstance(n, tuple) else params.get("n", n), "variant": variant,
+            "mesh_label": mesh_label(n if n is not None else params.get("n")), "friction": label, "slip_bound_s": s,
             "ff_law": ff_law,
             "mesh": str(msh), "n_nodes": int(len(mesh["coords"])), "work": str(work)}
-    log(f"== {name} n={case['n']} {variant}: {label}; mesh {msh.name} ({case['n_nodes']} nodes)")
+    log(f"== {name} {case['mesh_label']} {variant}: {label}; "
+        f"mesh {msh.name} ({case['n_nodes']} nodes)")
 
     # FreeFEM
     ff_csv, ff_json = work / "freefem_contact_nodes.csv", work / "freefem_summary.json"
@@ -254,6 +293,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
         "time_ratio_cpu": ff_cpu / max(ours_cpu, 1e-9),
         "time_ratio_internal": ffres["time_s"]["total"] / ours_total if ours_total > 0 else float("nan"),
         "perturb_freefem_traction": args.perturb_freefem_traction,
+        "perturb_freefem_drop": args.perturb_freefem_drop or [],
         "perturb_freefem_law": list(args.perturb_freefem_law or []),
     })
     # verdict
@@ -311,48 +351,53 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
                  f"Newton per step, stop at err ≤ {sd[0]['ff_fixed_point_tolerance']:g}.\n")
     L.append("rel L2 = ‖u_ff − u_ours‖/‖u_ff‖ in L2(Γc), exact integral of the P1 interpolants over the "
              "contact triangles; max |Δu| = max over contact nodes of the Euclidean nodal difference. "
-             "Forces: FreeFEM Σ m_p λ_p, contact3d Σ area·λ over cells (λ_n = pressure, λ_t = −tangential traction). "
+             "Forces: FreeFEM Σ m_p λ_p (m_p the boundary mass projected on the plane, ∫ φ_p |n_z| dS; a tangential "
+             "component that is prescribed, e.g. on a symmetry plane, carries its reaction there and no multiplier), "
+             "contact3d Σ area·λ over cells (λ_n = pressure, λ_t = −tangential traction). "
              "Both processes include mesh reading and assembly.\n")
     ft = lambda v: "(" + ", ".join(format(x, ".4g") for x in v) + ")"
     L.append("Displacements on Γc and contact sets:\n")
-    L.append("| n | variant | contact nodes | rel L2 u | rel L2 u_n | rel L2 u_t | max abs du (m) | max du / max u "
+    L.append("| mesh | variant | contact nodes | rel L2 u | rel L2 u_n | rel L2 u_t | max abs du (m) | max du / max u "
              "| in contact FF/ours | mismatch | status |")
     L.append("|" + "---|" * 11)
     for c in cases:
-        L.append(f"| {c['n']} | {c['variant']} | {c['n_contact_nodes_ff']} | {fmt(c['rel_l2'])} | {fmt(c['rel_l2_normal'])} | "
+        L.append(f"| {c['mesh_label']} | {c['variant']} | {c['n_contact_nodes_ff']} | {fmt(c['rel_l2'])} | {fmt(c['rel_l2_normal'])} | "
                  f"{fmt(c['rel_l2_tangential'])} | {fmt(c['max_diff'])} | {fmt(c['rel_max_diff'])} | "
                  f"{c['in_contact_ff']}/{c['in_contact_ours']} | {c['contact_ff_only'] + c['contact_ours_only']} | {c['status']} |")
     L.append("\nTotal contact forces (N):\n")
-    L.append("| n | variant | Fn FreeFEM | Fn contact3d | rel diff | Ft FreeFEM | Ft contact3d | rel diff |")
+    L.append("| mesh | variant | Fn FreeFEM | Fn contact3d | rel diff | Ft FreeFEM | Ft contact3d | rel diff |")
     L.append("|" + "---|" * 8)
     for c in cases:
-        L.append(f"| {c['n']} | {c['variant']} | {c['Fn_ff']:.6g} | {c['Fn_ours']:.6g} | {fmt(c['rel_Fn'])} | "
+        L.append(f"| {c['mesh_label']} | {c['variant']} | {c['Fn_ff']:.6g} | {c['Fn_ours']:.6g} | {fmt(c['rel_Fn'])} | "
                  f"{ft(c['Ft_ff'])} | {ft(c['Ft_ours'])} | {fmt(c['rel_Ft']) if c['slip_bound_s'] > 0 else '—'} |")
     L.append("\nCost (wall = elapsed time of the process; CPU = user+system time of the process; ratio = FreeFEM/contact3d):\n")
-    L.append("| n | variant | FF fixed-point / Newton steps | contact3d steps / n_mult | FF wall (s) | FF CPU (s) | contact3d wall (s) "
+    L.append("| mesh | variant | FF fixed-point / Newton steps | contact3d steps / n_mult | FF wall (s) | FF CPU (s) | contact3d wall (s) "
              "| contact3d CPU (s) | ratio wall | ratio CPU |")
     L.append("|" + "---|" * 10)
     for c in cases:
-        L.append(f"| {c['n']} | {c['variant']} | {c.get('ff_fixed_point_iterations', 1)} / {c['ff_newton_iterations']} | "
+        L.append(f"| {c['mesh_label']} | {c['variant']} | {c.get('ff_fixed_point_iterations', 1)} / {c['ff_newton_iterations']} | "
                  f"{c['ours_fixed_point_iterations']} / "
                  f"{c['ours_n_mult']} | {c['ff_time_wall']:.2f} | {c['ff_time_process_cpu']:.2f} | {c['ours_time_wall']:.3f} | "
                  f"{c['ours_time_process_cpu']:.3f} | {c['time_ratio_wall']:.1f} | {c['time_ratio_cpu']:.1f} |")
     if sd:
         L.append("\nFixed-point histories err(k) (slipdep):\n")
-        L.append("| n | FreeFEM err(k) | FreeFEM Newton steps per step | contact3d err(k) |")
+        L.append("| mesh | FreeFEM err(k) | FreeFEM Newton steps per step | contact3d err(k) |")
         L.append("|" + "---|" * 4)
         for c in sd:
-            L.append(f"| {c['n']} | {', '.join(format(e, '.1e') for e in c['ff_fixed_point_err'])} | "
+            L.append(f"| {c['mesh_label']} | {', '.join(format(e, '.1e') for e in c['ff_fixed_point_err'])} | "
                      f"{', '.join(str(int(x)) for x in c['ff_newton_per_fixed_point_step'])} | "
                      f"{', '.join(format(e, '.1e') for e in (c.get('ours_err_history') or []))} |")
     L.append("")
     for c in cases:
         for f in c["fails"]:
-            L.append(f"- FAIL n={c['n']} {c['variant']}: {f}")
+            L.append(f"- FAIL {c['mesh_label']} {c['variant']}: {f}")
     for e in errors:
         L.append(f"- ERROR: {e}")
     if any(c.get("perturb_freefem_traction", 1.0) != 1.0 for c in cases):
         L.append(f"\nNote: FreeFEM tractions were scaled by {cases[0]['perturb_freefem_traction']:g} "
+                 "(negative test of the cross-check).")
+    if any(c.get("perturb_freefem_drop") for c in cases):
+        L.append(f"\nNote: FreeFEM solved without the scene's {', '.join(cases[0]['perturb_freefem_drop'])} "
                  "(negative test of the cross-check).")
     if any(c.get("perturb_freefem_law") for c in cases):
         L.append(f"\nNote: the FreeFEM friction law was changed by {', '.join(cases[0]['perturb_freefem_law'])} "
@@ -387,6 +432,8 @@ def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) ->
     lifted = dict(prob)
     lifted["traction"] = [(t, [-v for v in val]) for t, val in prob["traction"]]
     lifted["body_force"] = [-v for v in prob["body_force"]]
+    lifted["pressure"] = [(t, -v) for t, v in prob["pressure"]]
+    lifted["displacement"] = [(t, mask, [-v for v in val]) for t, mask, val in prob["displacement"]]
     run_freefem(args.freefem, freefem_driver(lifted, msh, 0.0, work / "lift.csv", work / "lift.json", tol=args.ff_tol,
                                              maxit=args.ff_maxit, perturb=1.0, out_field=str(work / "lift_field.csv")),
                 work, "lift", args.timeout)
@@ -481,6 +528,8 @@ def main(argv=None) -> int:
     ap.add_argument("--bin", default=str(REPO / "build" / "contact3d"), help="the contact3d binary")
     ap.add_argument("--scene", required=True, help="scene TOML")
     ap.add_argument("--n", default=None, help="mesh parameter n (comma-separated list for a sweep)")
+    ap.add_argument("--mesh-param", default=None, metavar="NAME=V1,V2,...",
+                    help="a sweep over another mesh parameter of the scene's script, e.g. h=0.05,0.035,0.025")
     ap.add_argument("--variant", default=None,
                     help="frictionless | tresca | slipdep | scene | all (= frictionless,tresca[,slipdep if the "
                          "scene's law is ramp/table]); comma-separated list allowed")
@@ -506,6 +555,9 @@ def main(argv=None) -> int:
     ap.add_argument("--perturb-freefem-traction", type=float, default=1.0, help=argparse.SUPPRESS)
     # negative tests of the slipdep variant: KEY=VALUE (high, low, t0, param, g) for FreeFEM's law only
     ap.add_argument("--perturb-freefem-law", action="append", default=None, help=argparse.SUPPRESS)
+    # negative tests of the scene's features: FreeFEM solves without the materials' regions or the pressures
+    ap.add_argument("--perturb-freefem-drop", action="append", choices=["regions", "pressure"], default=None,
+                    help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
 
     scene_path = Path(args.scene).resolve()
@@ -529,7 +581,19 @@ def main(argv=None) -> int:
             cfg[k] = v
     if args.F is not None:
         cfg["friction_coefficient"] = args.F
-    if args.n is not None:
+    if args.n is not None and args.mesh_param is not None:
+        log("error: give --n or --mesh-param, not both")
+        return 2
+    if args.mesh_param is not None:
+        key, _, values = args.mesh_param.partition("=")
+        try:
+            ns = [(key.strip(), float(x)) for x in values.split(",") if x.strip()]
+        except ValueError:
+            ns = []
+        if not key.strip() or not ns:
+            log(f"error: --mesh-param {args.mesh_param!r}: expected NAME=V1,V2,... with numbers")
+            return 2
+    elif args.n is not None:
         ns = [int(x) for x in str(args.n).split(",") if x.strip()]
     elif "n" in cc:
         ns = [int(cc["n"])]
@@ -566,7 +630,7 @@ def main(argv=None) -> int:
             try:
                 cases.append(run_case(args, scene, scene_path, n, v, cfg, work_root))
             except SideFailed as e:
-                msg = f"n={n} {v}: {e}"
+                msg = f"{mesh_label(n)} {v}: {e}"
                 log(f"error: {msg}")
                 errors.append(msg)
     report = Path(args.report) if args.report else REPO / "results" / "crosscheck" / f"{scene_path.stem}.md"
@@ -575,7 +639,7 @@ def main(argv=None) -> int:
         log(f"report: {report}")
     for c in cases:
         for f in c["fails"]:
-            log(f"CROSSCHECK FAILED: {c['scene']} n={c['n']} {c['variant']}: {f}")
+            log(f"CROSSCHECK FAILED: {c['scene']} {c['mesh_label']} {c['variant']}: {f}")
     if errors:
         return 2
     return 1 if any(c["fails"] for c in cases) else 0

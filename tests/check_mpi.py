@@ -6,7 +6,8 @@ on Γc and the same multipliers to 1e-8 (relative to their largest entries), the
 steps, an equilibrium residual under 1e-8 (rank 0 forms K·w element by element, having freed K),
 and a summary naming the backend, the ranks and each rank's peak memory. Cases: the paper's
 brick (n = 8, slip-dependent law; both routes) and an unstructured body with a hole (hexagonal
-prism, gmsh; also on 3 ranks, so the mesh is cut into three parts). One rank bound to one core must get summary.json's note on unbinding. A negative check compares the serial
+prism, gmsh; also on 3 ranks, so the mesh is cut into three parts), and the quarter block on a
+spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap). One rank bound to one core must get summary.json's note on unbinding. A negative check compares the serial
 solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
 
 usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR
@@ -32,6 +33,9 @@ CASES = [
     ("hexagonal prism with a hole (gmsh)", "hexprism.toml", ["mesh.parameters.h=0.06"], "mumps"),
     ("paper brick n=8 through PETSc", "paper_brick.toml", ["mesh.generator=paper_brick", "mesh.n=8"], "petsc-mumps"),
     ("hexagonal prism with a hole, 3 ranks", "hexprism.toml", ["mesh.parameters.h=0.06"], "mumps", 3),
+    # two materials (each rank's mesh part carries its tets' material), prescribed non-zero
+    # displacement and rollers instead of a clamp, a pressure, gravity, a curved Γc with a gap
+    ("quarter block on a cap, two materials", "capblock.toml", ["mesh.parameters.h=0.05"], "mumps"),
 ]
 
 

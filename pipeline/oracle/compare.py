@@ -56,7 +56,9 @@ def surface_l2_sq(coords: np.ndarray, tris: np.ndarray, field: np.ndarray) -> fl
 
 def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_tol: float) -> dict:
     contact_tris = mesh["tris"][np.isin(mesh["tri_tags"], prob["contact"])]
-    clamped_nodes = set(np.unique(mesh["tris"][np.isin(mesh["tri_tags"], prob["clamped"])]).tolist())
+    # held nodes: clamped, or all three components prescribed (u given on both sides)
+    held_tags = list(prob["clamped"]) + [t for t, mask, _ in prob.get("displacement", []) if all(mask)]
+    clamped_nodes = set(np.unique(mesh["tris"][np.isin(mesh["tri_tags"], held_tags)]).tolist())
     gnodes = np.unique(contact_tris)
     local = {int(g): k for k, g in enumerate(gnodes)}
     ltris = np.vectorize(local.get)(contact_tris) if len(contact_tris) else contact_tris
@@ -97,10 +99,12 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
     both = hf & ho
     umax_ff = float(np.linalg.norm(uf, axis=1).max())
     maxdiff = float(np.linalg.norm(d[both], axis=1).max()) if both.any() else 0.0
-    # contact sets: wn = -u3 > -contact_tol * max|u| (same threshold for both sides)
+    # contact sets: wn - d = -u3 - z > -contact_tol * max|u| (same threshold for both sides; the
+    # node's height z is its initial gap d)
     thr = contact_tol * umax_ff
-    cf = (-uf[:, 2] > -thr) & both
-    co = (-uo[:, 2] > -thr) & both
+    gap = xyz[:, 2]
+    cf = (-uf[:, 2] - gap > -thr) & both
+    co = (-uo[:, 2] - gap > -thr) & both
     # forces
     Fn_ff = float((ff["mass"] * ff["lambda_n"]).sum())
     Ft_ff = np.array([(ff["mass"] * ff["lambda_t1"]).sum(), (ff["mass"] * ff["lambda_t2"]).sum()])
@@ -116,7 +120,7 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
         "max_abs_u_ff": umax_ff, "max_diff": maxdiff, "rel_max_diff": maxdiff / max(umax_ff, 1e-300),
         "contact_threshold": thr, "in_contact_ff": int(cf.sum()), "in_contact_ours": int(co.sum()),
         "contact_ff_only": int((cf & ~co).sum()), "contact_ours_only": int((co & ~cf).sum()),
-        "max_penetration_ours": float(max(0.0, (-uo[ho, 2]).max())) if ho.any() else 0.0,
+        "max_penetration_ours": float(max(0.0, (-uo[ho, 2] - gap[ho]).max())) if ho.any() else 0.0,
         "Fn_ff": Fn_ff, "Fn_ours": Fn_o, "rel_Fn": rel_fn,
         "Ft_ff": Ft_ff.tolist(), "Ft_ours": Ft_o.tolist(), "rel_Ft": rel_ft,
     }

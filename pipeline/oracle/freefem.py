@@ -117,6 +117,20 @@ def freefem_driver(prob: dict, msh: Path, law, out_csv: Path, out_json: Path, *,
     txt += f"int nTraction = {len(t)};\n"
     txt += ff_array("int", "tractionLabels", [tag for tag, _ in t])
     txt += ff_array("real", "tractionValues", vals)
+    regions = prob.get("regions", [])
+    txt += f"int nRegion = {len(regions)};\n"
+    txt += ff_array("int", "regionLabels", [tag for tag, _, _ in regions])
+    txt += ff_array("real", "regionYoung", [e for _, e, _ in regions])
+    txt += ff_array("real", "regionPoisson", [nu for _, _, nu in regions])
+    pressure = prob.get("pressure", [])
+    txt += f"int nPressure = {len(pressure)};\n"
+    txt += ff_array("int", "pressureLabels", [tag for tag, _ in pressure])
+    txt += ff_array("real", "pressureValues", [p * perturb for _, p in pressure])
+    disp = prob.get("displacement", [])
+    txt += f"int nDisp = {len(disp)};\n"
+    txt += ff_array("int", "dispLabels", [tag for tag, _, _ in disp])
+    txt += ff_array("int", "dispMask", [m for _, mask, _ in disp for m in mask])
+    txt += ff_array("real", "dispValues", [v for _, _, val in disp for v in val])
     txt += f"real slipBound = {float(law['s']) if law['kind'] == 0 else 0.0!r};\n"
     txt += f"int lawKind = {int(law['kind'])};\nreal slipG = {float(law.get('g', 0.0))!r};\n"
     txt += (f"real lawHigh = {float(law.get('high', 0.0))!r}, lawLow = {float(law.get('low', 0.0))!r}, "

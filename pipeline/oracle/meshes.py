@@ -11,11 +11,12 @@ from oracle.errors import SideFailed
 
 
 def read_msh22(path: Path):
-    """ASCII MSH 2.2: node coordinates (by id), 2D physical names, boundary triangles + tags."""
+    """ASCII MSH 2.2: node coordinates (by id), 2D and 3D physical names, boundary triangles + tags."""
     with open(path, "r", errors="replace") as fh:
         lines = fh.read().split("\n")
     i = 0
     names: dict[str, int] = {}
+    volume_names: dict[str, int] = {}
     node_ids = None
     coords = None
     tris = []
@@ -38,6 +39,8 @@ def read_msh22(path: Path):
                 dim, tag, name = int(parts[0]), int(parts[1]), parts[2].strip().strip('"')
                 if dim == 2:
                     names[name] = tag
+                elif dim == 3:
+                    volume_names[name] = tag
             i += 2 + n
         elif line == "$Nodes":
             n = int(lines[i + 1])
@@ -60,7 +63,8 @@ def read_msh22(path: Path):
         raise SideFailed(f"{path}: not a MSH 2.2 file (no $MeshFormat/$Nodes)")
     index = {int(nid): k for k, nid in enumerate(node_ids)}
     tri_idx = np.array([[index[t] for t in tri] for tri in tris], dtype=np.int64).reshape(-1, 3)
-    return {"names": names, "coords": coords, "tris": tri_idx, "tri_tags": np.array(tri_tags, dtype=np.int64)}
+    return {"names": names, "volume_names": volume_names, "coords": coords, "tris": tri_idx,
+            "tri_tags": np.array(tri_tags, dtype=np.int64)}
 
 
 def read_medit(path: Path):
@@ -87,7 +91,7 @@ def read_medit(path: Path):
             i += 1
     if coords is None or tris is None:
         raise SideFailed(f"{path}: not a Medit mesh with Vertices and Triangles")
-    return {"names": {}, "coords": coords, "tris": tris, "tri_tags": np.asarray(tri_tags, dtype=np.int64)}
+    return {"names": {}, "volume_names": {}, "coords": coords, "tris": tris, "tri_tags": np.asarray(tri_tags, dtype=np.int64)}
 
 
 def read_mesh(path: Path):
@@ -95,10 +99,12 @@ def read_mesh(path: Path):
 
 
 def mesh_parameters(m: dict, n, work: Path, script: Path, suffix: str) -> tuple[dict, Path]:
-    """The script's parameters (`n` overridden when given) and the mesh file they name in `work`."""
+    """The script's parameters (overridden when given: `n` an int overrides the parameter n, a pair
+    (name, value) that parameter) and the mesh file they name in `work`."""
     params = dict(m.get("parameters", {}))
     if n is not None:
-        params["n"] = n
+        key, value = n if isinstance(n, tuple) else ("n", n)
+        params[key] = value
     tag = "-".join(f"{k}{v}" for k, v in sorted(params.items())) or "default"
     return params, work / f"{script.stem}-{tag}{suffix}"
 
