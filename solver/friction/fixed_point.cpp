@@ -164,6 +164,9 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
     case FixedPointStatus::Converged:
       return "";
     case FixedPointStatus::IterationLimit:
+      if (std::isnan(q))  // fewer than three steps: no rate observed yet
+        return "the iteration limit came before a contraction rate could be observed: raise "
+               "solver.fixed_point_max_iter";
       if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol);
       return "the successive approximations contract slowly (q = " + format_g(q) +
              "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"aitken\" (relaxation from the start)";
@@ -192,6 +195,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
   auto next_iterate = [&](const Eigen::VectorXd& xk, const Eigen::VectorXd& gx, const std::vector<double>& lengths,
                           bool err_grew) -> Eigen::VectorXd {
+    if (result.plain_fallback_step > 0) return gx;  // the mixing stalled: the paper's steps from here on
     switch (settings.variant) {
       case FixedPointVariant::Plain:
         return gx;
@@ -268,9 +272,13 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     } else if (k - best_k >= settings.stagnation_window && !still_travelling(residuals) &&
                (!settings.adaptive_qp_tolerance || rtol <= settings.qp_rtol_floor || !qp_idle)) {
       // No new minimum for a window of steps, the iterates not moving steadily one way, and not
-      // for inner noise: the QP is at its floor, or it is busy (the radii keep changing it) — the
-      // map itself does not contract.
-      return finish(FixedPointStatus::Stagnation);
+      // for inner noise: the QP is at its floor, or it is busy (the radii keep changing it). An
+      // accelerated variant first falls back to the paper's plain steps, which travel with a slow
+      // front that the mixing breaks up; only then is the map itself taken not to contract.
+      if (settings.variant == FixedPointVariant::Plain || result.plain_fallback_step > 0)
+        return finish(FixedPointStatus::Stagnation);
+      result.plain_fallback_step = k;
+      best_err = INFINITY;
     }
     x = next_iterate(x, eval.slip, step_lengths, k > 1 && step.err > 2 * result.history[k - 2].err);
   }

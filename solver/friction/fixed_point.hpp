@@ -14,7 +14,9 @@
 // new minimum of err for `stagnation_window` steps — is only declared when inner noise is ruled
 // out (the QP is at the floor, or busy with every step) and the iterates are not travelling one way
 // (a slip front spreading over a large face raises err for many steps while the last residuals
-// G(φ) − φ stay aligned), i.e. when the map itself does not contract. The observed
+// G(φ) − φ stay aligned), i.e. when the map itself does not contract. An accelerated variant
+// (Aitken, Anderson) that would stagnate falls back to the plain steps first (a relaxed step breaks
+// a slow front's alignment; plain steps ride it out) and stagnates only if they do too. The observed
 // contraction factor q (the largest ratio of successive steps ‖φᵏ⁺¹ − φᵏ‖ / ‖φᵏ − φᵏ⁻¹‖ over the last three) gives the
 // a posteriori bound ‖φ* − φᵏ‖ <= q / (1 − q) ‖φᵏ − φᵏ⁻¹‖ on the distance to the fixed point when q < 1.
 #pragma once
@@ -47,7 +49,7 @@ std::string to_string(FixedPointStatus s);
 
 struct FixedPointSettings {
   double tol = 1e-4;
-  int max_iterations = 50;
+  int max_iterations = 100;
   FixedPointVariant variant = FixedPointVariant::Accelerated;
   int anderson_depth = 5;
   int stagnation_window = 8;  // stop when err has not reached a new minimum for this many steps
@@ -93,6 +95,7 @@ struct FixedPointResult {
   double contraction_factor = std::numeric_limits<double>::quiet_NaN();
   double distance_bound = std::numeric_limits<double>::infinity();
   int qp_tolerance_tightenings = 0;  // times the inner tolerance was tightened against noise
+  int plain_fallback_step = 0;       // the step after which an accelerated variant fell back to plain steps (0: never)
   std::string hint;                  // what to try when the status is not "converged"
   int iterations() const { return static_cast<int>(history.size()); }
 };

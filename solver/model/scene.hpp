@@ -46,7 +46,7 @@ inline constexpr NameTable<DualMethod, 6> kDualMethodNames{{{DualMethod::Auto, "
 struct SolverSettings {
   double qp_rtol = 1e-6;          // ‖g̃‖ <= qp_rtol ‖h‖ (the paper's criterion)
   double fixed_point_tol = 1e-4;  // err(k) <= this (the paper's)
-  int fixed_point_max_iter = 50;
+  int fixed_point_max_iter = 100;
   // qp (variant: "auto" MPGP switching to Newton steps where it is slow, "mpgp" the paper's
   // algorithm, "mpgp_projcg", "ssn"), qp_scaling ("jacobi": a diagonal scaling that keeps
   // half-lines and discs; "none": the paper's plain MPGP), qp_max_iterations.

@@ -52,6 +52,16 @@ TEST(FixedPoint, IterationLimitOnASlowContractionSaysWhatToTry) {
   EXPECT_NE(r.hint.find("fixed_point_max_iter"), std::string::npos);
 }
 
+TEST(FixedPoint, IterationLimitBeforeARateIsObservedSaysSoWithoutANaN) {
+  FixedPointSettings s = settings();
+  s.max_iterations = 2;
+  const FixedPointResult r = solve_fixed_point(linear_map(0.5), 4, s, 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::IterationLimit);
+  EXPECT_TRUE(std::isnan(r.contraction_factor));
+  EXPECT_NE(r.hint.find("fixed_point_max_iter"), std::string::npos);
+  EXPECT_EQ(r.hint.find("nan"), std::string::npos) << r.hint;
+}
+
 TEST(FixedPoint, AcceleratedBeatsPlainOnASlowSteadyContraction) {
   // q = 0.8: the secant ω = 1/(1 − q) = 5 is capped at 4, i.e. a rate of 1 − 4·0.2 = 0.2 per step.
   const FixedPointResult plain = solve_fixed_point(linear_map(0.8), 4, settings(), 1e-6);
@@ -166,6 +176,49 @@ TEST(FixedPoint, RelaxationTakesPlainStepsWhileTheResidualGrowsAlongTheStep) {
     EXPECT_LT(r.iterations(), plain.iterations());
     EXPECT_NEAR(r.phi[0], 67.0 / 6.0, 1e-3);
   }
+}
+
+TEST(FixedPoint, AcceleratedFallsBackToPlainStepsBeforeCallingStagnation) {
+  // A map that contracts (q = 0.5 towards φ* = 1) only along its own plain steps, and answers any
+  // other input (a relaxed or mixed iterate) with a point that is no better — as a slow slip front
+  // that plain steps ride out and the mixing breaks up (Coulomb with a jump law on the L-block).
+  SlipMap fragile = [last = Eigen::VectorXd(), sign = 1.0](const Eigen::VectorXd& phi, double) mutable {
+    SlipEvaluation e;
+    const bool plain_step = last.size() == phi.size() && (phi - last).norm() == 0;
+    sign = -sign;
+    e.slip = plain_step
+                 ? (1.0 + 0.5 * (phi.array() - 1.0)).matrix().eval()
+                 : Eigen::VectorXd::Constant(phi.size(), 5.0 + 2.0 * sign).eval();  // 3, 7, 3, ...: no fixed point
+    e.qp_iterations = 100;                                                          // a busy QP: not inner noise
+    last = e.slip;
+    return e;
+  };
+  for (FixedPointVariant v : {FixedPointVariant::Aitken, FixedPointVariant::Anderson}) {
+    const FixedPointResult r = solve_fixed_point(fragile, 3, settings(v), 1e-6);
+    ASSERT_EQ(r.status, FixedPointStatus::Converged) << static_cast<int>(v);
+    EXPECT_GT(r.plain_fallback_step, 0) << static_cast<int>(v);
+    EXPECT_NEAR(r.phi[0], 1.0, 1e-3);
+  }
+  const FixedPointResult plain = solve_fixed_point(fragile, 3, settings(), 1e-6);
+  EXPECT_EQ(plain.status, FixedPointStatus::Converged);
+  EXPECT_EQ(plain.plain_fallback_step, 0);
+}
+
+TEST(FixedPoint, StagnationAfterTheFallbackWhenPlainStepsDoNotContractEither) {
+  SlipMap two_cycle = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi.sum() > 0.5 * phi.size() ? Eigen::VectorXd::Zero(phi.size()).eval()
+                                          : Eigen::VectorXd::Ones(phi.size()).eval();
+    e.slip[0] += 0.1;
+    e.qp_iterations = 100;
+    return e;
+  };
+  FixedPointSettings s = settings(FixedPointVariant::Accelerated);
+  s.max_iterations = 200;
+  const FixedPointResult r = solve_fixed_point(two_cycle, 3, s, 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Stagnation);
+  EXPECT_GT(r.plain_fallback_step, 0);
+  EXPECT_GE(r.iterations(), r.plain_fallback_step + s.stagnation_window);
 }
 
 TEST(FixedPoint, InnerFailureIsNamed) {
