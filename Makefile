@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab robustness stress fuzz sanitize clean
+.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab robustness robustness-coulomb stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -88,6 +88,10 @@ bench-slab: build
 # Bodies x slip-dependent laws x two mesh sizes with default settings ($(REPORTS)/robustness.md).
 robustness: build
 	$(PY) pipeline/robustness.py --bin $(BIN) --out $(REPORTS)/robustness.md
+
+# The same bodies and laws with Coulomb's bound F·λ_n ($(REPORTS)/robustness_coulomb.md).
+robustness-coulomb: build
+	$(PY) pipeline/robustness.py --bin $(BIN) --model coulomb --out $(REPORTS)/robustness_coulomb.md
 
 stress: build
 	$(PY) pipeline/stress.py --bin $(BIN) --out $(REPORTS)/stress

@@ -18,7 +18,9 @@ For a scene (TOML) this script
 Variants: frictionless (friction.law = none), tresca (law = constant, value = --F, slip_bound
 from the scene: bound s = F*g), slipdep (the scene's own solution-dependent coefficient F(|u_t|),
 law = ramp or table, the paper's actual problem: contact3d's successive approximations (5.7)
-against FreeFEM's successive approximations on nodal bounds s_p = g F(|u_t,p|)), scene (the
+against FreeFEM's successive approximations on nodal bounds s_p = g F(|u_t,p|)), coulomb (the same
+law with Coulomb's bound F(|u_t|)·λ_n: both sides start frictionless, then from the sticking slip
+φ = 0, and iterate on the slip and λ_n together; FreeFEM's nodal bound s_p = F(φ_p) λ_n,p), scene (the
 scene's own law, whichever it is), all (frictionless, tresca, and slipdep when the scene's law
 depends on the slip; also the default). Both solvers get a derived copy of the scene with the
 [friction] table of the variant (written to the work directory), so that the scene's other
@@ -68,7 +70,7 @@ DEFAULTS = {
     "contact_tol": 1e-2,
     "variants": ["all"],
 }
-VARIANTS = ("frictionless", "tresca", "slipdep", "scene")
+VARIANTS = ("frictionless", "tresca", "slipdep", "coulomb", "scene")
 CROSSCHECK_KEYS = {"tolerance", "force_tolerance", "n", "variants", "friction_coefficient", "contact_tol"}
 
 
@@ -112,8 +114,6 @@ def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
         if (contact_tbl.get("plane_point", [0, 0, 0]) != [0, 0, 0]
                 or contact_tbl.get("plane_normal", [0, 0, 1]) != [0, 0, 1]):
             refuse("[contact] plane_point / plane_normal other than z = 0")
-    if scene.get("friction", {}).get("model", "tresca") != "tresca":
-        refuse("friction.model = " + repr(scene["friction"]["model"]))
     try:
         young = float(mat["young"])
         poisson = float(mat["poisson"])
@@ -222,6 +222,8 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
                            "lambda_t1", "lambda_t2", "mass"])
     for k in ("u1", "u2", "u3", "lambda_n", "lambda_t1", "lambda_t2", "mass"):
         finite_or_fail(ff[k], f"FreeFEM {k}")
+    if s is None:  # Coulomb: the bound is F·λ_n, its scale the largest one FreeFEM used
+        s = case["slip_bound_s"] = float(ffres["slip_bound"])
     bad = ff_checks(ffres, s)
     if bad:
         raise SideFailed("FreeFEM reference failed its own checks: " + "; ".join(bad))
@@ -531,8 +533,9 @@ def main(argv=None) -> int:
     ap.add_argument("--mesh-param", default=None, metavar="NAME=V1,V2,...",
                     help="a sweep over another mesh parameter of the scene's script, e.g. h=0.05,0.035,0.025")
     ap.add_argument("--variant", default=None,
-                    help="frictionless | tresca | slipdep | scene | all (= frictionless,tresca[,slipdep if the "
-                         "scene's law is ramp/table]); comma-separated list allowed")
+                    help="frictionless | tresca | slipdep | coulomb | scene | all (= frictionless,tresca[,slipdep if "
+                         "the scene's law is ramp/table]; for a Coulomb scene frictionless[,coulomb]); comma-separated "
+                         "list allowed")
     ap.add_argument("--F", type=float, default=None, help="friction coefficient of the tresca variant (default 0.3)")
     ap.add_argument("--tolerance", type=float, default=None, help="max relative L2(Gc) difference of u")
     ap.add_argument("--force-tolerance", type=float, default=None, help="max relative difference of contact forces")
@@ -605,7 +608,7 @@ def main(argv=None) -> int:
         variants = expand_variants(list(cfg["variants"]), scene)
     for v in variants:
         if v not in VARIANTS:
-            log(f"error: unknown variant {v!r} (frictionless | tresca | slipdep | scene | all)")
+            log(f"error: unknown variant {v!r} (frictionless | tresca | slipdep | coulomb | scene | all)")
             return 2
 
     bin_path = Path(args.bin).resolve()

@@ -138,6 +138,7 @@ def freefem_driver(prob: dict, msh: Path, law, out_csv: Path, out_json: Path, *,
     txt += ff_array("real", "lawT", law.get("T", []))
     txt += ff_array("real", "lawF", law.get("F", []))
     txt += f"real fpTol = {fp_tol!r};\nint fpMaxIt = {fp_maxit};\n"
+    txt += f"int coulomb = {1 if law.get('coulomb') else 0};\n"
     txt += f"real ffTol = {tol!r};\nint ffMaxIt = {maxit};\nreal cScale = 1.0;\n"
     txt += f"include {ff_string(FF_CONTACT if contact else FF_LINEAR)}\n"
     return txt

@@ -15,7 +15,9 @@ def expand_variants(names, scene: dict) -> list[str]:
     out = []
     for v in names:
         v = v.strip()
-        if v == "all":
+        if v == "all" and scene.get("friction", {}).get("model", "tresca") == "coulomb":
+            out += ["frictionless"] + (["coulomb"] if scene.get("friction", {}).get("law") in ("ramp", "table") else [])
+        elif v == "all":
             out += ["frictionless", "tresca"] + (["slipdep"] if scene_law_depends_on_slip(scene) else [])
         elif v:
             out.append(v)
@@ -79,7 +81,9 @@ def perturb_law(law: dict, items: list[str]) -> dict:
             raise SideFailed(f"--perturb-freefem-law {kv!r}: expected KEY=VALUE with KEY one of "
                              f"{', '.join(x for x in ('high', 'low', 't0', 'param', 'g') if x in law)}")
         law[k] = float(v)
-    if law["kind"] == 1:
+    if law.get("coulomb"):
+        law["s"] = None  # F·λ_n: known after the solve
+    elif law["kind"] == 1:
         law["s"] = law["g"] * max(law["high"], law["low"])
     elif law["kind"] == 2:
         law["s"] = law["g"] * max(law["F"])
@@ -88,7 +92,8 @@ def perturb_law(law: dict, items: list[str]) -> dict:
 
 def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> tuple[dict, dict, str]:
     """The [friction] table for the variant, the FreeFEM law ({"kind": 0, "s": F*g} for a constant
-    bound; kind 1 ramp / 2 table with "g" and the law's parameters, "s" = g*max F), a label."""
+    bound; kind 1 ramp / 2 table with "g" and the law's parameters, "s" = g*max F; for the variant
+    coulomb also "coulomb": True and "s" None, the bound being F·λ_n), a label."""
     fr = scene.get("friction", {})
     g = float(fr.get("slip_bound", 0.0))
     if variant == "frictionless":
@@ -105,8 +110,20 @@ def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> t
         keys = ("high", "low", "t0", "param") if law["kind"] == 1 else ("points",)
         table = {"law": fr["law"], "slip_bound": g, **{k: fr[k] for k in keys if k in fr}}
         return table, law, law_label(law)
+    if variant == "coulomb":
+        # the scene's slip-dependent law with Coulomb's bound F(φ)·λ_n instead of F(φ)·g
+        law = dict(slipdep_law(dict(fr, slip_bound=1.0), scene_path), g=1.0, coulomb=True)
+        law["s"] = None  # the bound's scale is F·λ_n: known after the solve
+        keys = ("high", "low", "t0", "param") if law["kind"] == 1 else ("points",)
+        table = {"model": "coulomb", "law": fr["law"], **{k: fr[k] for k in keys if k in fr}}
+        return table, law, "Coulomb " + law_label(law).replace(", g=1", "")
     if variant == "scene":
         law = fr.get("law", "none")
+        if fr.get("model", "tresca") == "coulomb" and law in ("ramp", "table"):
+            table, ffl, label = variant_friction(scene, "coulomb", F, scene_path)
+            return table, ffl, label + " (scene)"
+        if fr.get("model", "tresca") == "coulomb" and law != "none":
+            raise SideFailed(f"{scene_path}: Coulomb with law {law!r} has no FreeFEM reference (ramp or table only)")
         if law == "none" or g == 0:
             return {"law": "none"}, {"kind": 0, "s": 0.0}, "frictionless (scene)"
         if law == "constant":

@@ -10,8 +10,8 @@ double scale_of(const Eigen::VectorXd& v) {
 
 }  // namespace
 
-CoulombMap::CoulombMap(TrescaStep& tresca, int n_contact_nodes, int n_cells)
-    : tresca_(tresca), n_nodes_(n_contact_nodes), n_cells_(n_cells) {}
+CoulombMap::CoulombMap(TrescaStep& tresca, int n_contact_nodes, int n_cells, bool slip_dependent_law)
+    : tresca_(tresca), n_nodes_(n_contact_nodes), n_cells_(n_cells), slip_starts_at_zero_(slip_dependent_law) {}
 
 SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rtol) {
   const bool first = phi_scale_ == 0;
@@ -24,8 +24,16 @@ SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rt
     phi_scale_ = scale_of(eval.slip);
     g_scale_ = scale_of(pressure);
   }
+  // The first solve (g = 0) is frictionless: it gives the first normal pressure, but its slip is not
+  // fed back. The slip starts at φ⁰ = 0, the sticking start of (5.7), as in the Tresca iteration:
+  // starting from the frictionless slip instead (every node at F's far end) made a jump law's
+  // sticking front creep back node by node (37 steps instead of 7 on the hexagonal prism) and, where
+  // the problem has several solutions, ended at another one than the sticking start reaches.
   Eigen::VectorXd next(size());
-  next << eval.slip / phi_scale_, pressure / g_scale_;
+  if (first && slip_starts_at_zero_)
+    next << Eigen::VectorXd::Zero(n_nodes_), pressure / g_scale_;
+  else
+    next << eval.slip / phi_scale_, pressure / g_scale_;
   eval.slip = std::move(next);
   return eval;
 }

@@ -193,7 +193,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     fp.qp_rtol_per_err = scene.solver.qp_rtol_per_err;
     fp.inexact = scene.solver.inexact_fixed_point;
     if (scene.coulomb()) {
-      CoulombMap coulomb(tresca, n_contact_nodes, res.n_cells);
+      CoulombMap coulomb(tresca, n_contact_nodes, res.n_cells, scene.law.depends_on_slip());
       fp.blocks = coulomb.blocks();
       res.fixed_point = solve_fixed_point(std::ref(coulomb), coulomb.size(), fp, scene.solver.qp_rtol, progress);
     } else {

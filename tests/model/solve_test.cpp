@@ -271,6 +271,23 @@ TEST(SolveCoulomb, SlipDependentLawMeetsTheRelationAndLiftOffIsFree) {
   EXPECT_GT(max_difference(res.u, solve_text().u), 1e-3 * res.u.cwiseAbs().maxCoeff());
 }
 
+// Coulomb's iteration starts like Tresca's, from the sticking start φ⁰ = 0: the first solve is
+// frictionless and only provides λ_n, so the second solve's radii are F(0)·λ_n of the first on every
+// cell (the paper's ramp: F(0) = 0.3), not F at the frictionless slip (0.2 on most of the face).
+TEST(SolveCoulomb, SlipStartsAtZeroAfterTheFrictionlessSolve) {
+  const SolveResult res =
+      solve_text({"friction.model=\"coulomb\"", "friction.slip_bound=0", "solver.fixed_point=\"plain\""});
+  ASSERT_TRUE(res.converged) << res.status;
+  ASSERT_GE(res.steps.size(), 2u);
+  const int r = res.n_cells;
+  const Eigen::VectorXd first_pressure = res.steps[0].lambda.head(r);
+  const Eigen::VectorXd& second_radius = res.steps[1].radius;
+  ASSERT_EQ(second_radius.size(), r);
+  const double scale = 0.3 * first_pressure.maxCoeff();
+  ASSERT_GT(scale, 0);
+  for (int i = 0; i < r; ++i) EXPECT_NEAR(second_radius[i], 0.3 * first_pressure[i], 1e-12 * scale) << "cell " << i;
+}
+
 // An initial gap: the brick lifted by d above the foundation, its clamp moved down by d, is the
 // paper's problem translated — u + d e_z equals the paper's u (the constraint ∫(w_n − d) <= 0
 // carries the gap; the prescribed clamp carries the translation).
