@@ -78,20 +78,22 @@ set_tests_properties(crosscheck_freefem_made_mesh_n8 PROPERTIES TIMEOUT 300 LABE
 # measured rel L2(Gc) 0.0089, normal force 0.21%. Without the second material in FreeFEM the normal
 # force differs by 33% and u by 0.050; without the side pressure u differs by 0.021 (its tangential
 # part by 105%): both must fail the tolerances below. The friction variants converge with h
-# (results/crosscheck/capblock.md) but differ by 19% in the tangential force at this h.
+# (results/crosscheck/capblock_series.md) but differ by 19% in the tangential force at this h (the
+# scene's own h = 0.025: 3.6%).
 set(CONTACT3D_CC_CAP ${CMAKE_SOURCE_DIR}/pipeline/scenes/capblock.toml)
 add_test(NAME crosscheck_capblock_frictionless
   COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_CAP}
-          --variant frictionless --tolerance 0.015 --force-tolerance 0.02
+          --mesh-param h=0.05 --variant frictionless --tolerance 0.015 --force-tolerance 0.02
           --workdir ${CONTACT3D_CC_WORK}/capblock --report ${CONTACT3D_CC_WORK}/capblock.md)
 set_tests_properties(crosscheck_capblock_frictionless PROPERTIES TIMEOUT 120 LABELS crosscheck)
 foreach(dropped regions pressure)
   add_test(NAME crosscheck_capblock_detects_missing_${dropped}
     COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_CAP}
-            --variant frictionless --tolerance 0.015 --force-tolerance 0.02 --perturb-freefem-drop ${dropped}
+            --mesh-param h=0.05 --variant frictionless --tolerance 0.015 --force-tolerance 0.02
+            --perturb-freefem-drop ${dropped}
             --workdir ${CONTACT3D_CC_WORK}/capblock-no-${dropped} --report ${CONTACT3D_CC_WORK}/capblock-no-${dropped}.md)
   set_tests_properties(crosscheck_capblock_detects_missing_${dropped} PROPERTIES TIMEOUT 120 LABELS crosscheck
-    PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: capblock scene frictionless: .* exceeds tolerance"
+    PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: capblock h=0.05 frictionless: .* exceeds tolerance"
     FAIL_REGULAR_EXPRESSION "error:")
 endforeach()
 
