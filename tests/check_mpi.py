@@ -7,7 +7,8 @@ steps, an equilibrium residual under 1e-8 (rank 0 forms K·w element by element,
 and a summary naming the backend, the ranks and each rank's peak memory. Cases: the paper's
 brick (n = 8, slip-dependent law; both routes) and an unstructured body with a hole (hexagonal
 prism, gmsh; also on 3 ranks, so the mesh is cut into three parts), and the quarter block on a
-spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap). One rank bound to one core must get summary.json's note on unbinding. A negative check compares the serial
+spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap), and the brick
+with Coulomb's bound. One rank bound to one core must get summary.json's note on unbinding. A negative check compares the serial
 solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
 
 usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR
@@ -36,6 +37,9 @@ CASES = [
     # two materials (each rank's mesh part carries its tets' material), prescribed non-zero
     # displacement and rollers instead of a clamp, a pressure, gravity, a curved Γc with a gap
     ("quarter block on a cap, two materials", "capblock.toml", ["mesh.parameters.h=0.05"], "mumps"),
+    # Coulomb's bound F(φ)·λ_n: the fixed point on (φ, λ_n), each step a MUMPS solve
+    ("paper brick n=8, Coulomb", "paper_brick.toml",
+     ["mesh.generator=paper_brick", "mesh.n=8", "friction.model=coulomb", "friction.slip_bound=0"], "mumps"),
 ]
 
 
