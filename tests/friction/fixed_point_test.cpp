@@ -120,15 +120,20 @@ TEST(FixedPoint, RelaxationConvergesWhereThePlainIterationOscillatesApart) {
   }
 }
 
-TEST(FixedPoint, StagnationOnlyWhenTheMapDoesNotContract) {
-  // G oscillates between two points: no contraction however tight the QP.
-  SlipMap two_cycle = [](const Eigen::VectorXd& phi, double) {
+// G oscillates between two points: no contraction however tight the QP (`qp_iterations` per step).
+SlipMap two_cycle_map(int qp_iterations = 0) {
+  return [qp_iterations](const Eigen::VectorXd& phi, double) {
     SlipEvaluation e;
     e.slip = phi.sum() > 0.5 * phi.size() ? Eigen::VectorXd::Zero(phi.size()).eval()
                                           : Eigen::VectorXd::Ones(phi.size()).eval();
     e.slip[0] += 0.1;
+    e.qp_iterations = qp_iterations;
     return e;
   };
+}
+
+TEST(FixedPoint, StagnationOnlyWhenTheMapDoesNotContract) {
+  const SlipMap two_cycle = two_cycle_map();
   FixedPointSettings s = settings();
   s.max_iterations = 200;
   const FixedPointResult r = solve_fixed_point(two_cycle, 3, s, 1e-6);
@@ -205,14 +210,7 @@ TEST(FixedPoint, AcceleratedFallsBackToPlainStepsBeforeCallingStagnation) {
 }
 
 TEST(FixedPoint, StagnationAfterTheFallbackWhenPlainStepsDoNotContractEither) {
-  SlipMap two_cycle = [](const Eigen::VectorXd& phi, double) {
-    SlipEvaluation e;
-    e.slip = phi.sum() > 0.5 * phi.size() ? Eigen::VectorXd::Zero(phi.size()).eval()
-                                          : Eigen::VectorXd::Ones(phi.size()).eval();
-    e.slip[0] += 0.1;
-    e.qp_iterations = 100;
-    return e;
-  };
+  const SlipMap two_cycle = two_cycle_map(100);  // a busy QP: not inner noise
   FixedPointSettings s = settings(FixedPointVariant::Accelerated);
   s.max_iterations = 200;
   const FixedPointResult r = solve_fixed_point(two_cycle, 3, s, 1e-6);
