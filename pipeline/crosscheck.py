@@ -87,6 +87,15 @@ CROSSCHECK_KEYS = {"tolerance", "force_tolerance", "n", "variants", "friction_co
 
 
 def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
+    """problem_data_of, with a scene entry that lacks a key or has a wrong type reported as SideFailed."""
+    try:
+        return problem_data_of(scene, scene_path, mesh)
+    except (KeyError, TypeError, ValueError) as e:
+        raise SideFailed(f"{scene_path}: a [material] or [boundary] entry the FreeFEM reference needs is missing "
+                         f"or malformed ({type(e).__name__}: {e})") from None
+
+
+def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
     """The scene as the FreeFEM reference states it: materials (per volume group), clamped groups,
     prescribed displacement components, tractions, pressures, body force, contact groups. Scene keys
     the reference cannot state are refused (a cross-check of another problem would prove nothing)."""
@@ -110,10 +119,8 @@ def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
         raise SideFailed(f"{scene_path}: {what} is not stated by the FreeFEM reference: nothing to cross-check")
 
     contact_tbl = scene.get("contact", {})
-    if any(k in contact_tbl for k in ("plane_point", "plane_normal")):
-        if (contact_tbl.get("plane_point", [0, 0, 0]) != [0, 0, 0]
-                or contact_tbl.get("plane_normal", [0, 0, 1]) != [0, 0, 1]):
-            refuse("[contact] plane_point / plane_normal other than z = 0")
+    if contact_tbl.get("plane_point", [0, 0, 0]) != [0, 0, 0] or contact_tbl.get("plane_normal", [0, 0, 1]) != [0, 0, 1]:
+        refuse("[contact] plane_point / plane_normal other than z = 0")
     try:
         young = float(mat["young"])
         poisson = float(mat["poisson"])
@@ -189,7 +196,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     prob = problem_data(scene, scene_path, mesh)
     for feature in args.perturb_freefem_drop or []:  # negative tests: FreeFEM solves without it
         prob[feature] = []
-    case = {"scene": name, "n": mesh_label(n) if isinstance(n, tuple) else params.get("n", n), "variant": variant,
+    case = {"scene": name, "n": params.get("n"), "variant": variant,
             "mesh_label": mesh_label(n if n is not None else params.get("n")), "friction": label, "slip_bound_s": s,
             "ff_law": ff_law,
             "mesh": str(msh), "n_nodes": int(len(mesh["coords"])), "work": str(work)}

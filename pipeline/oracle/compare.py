@@ -58,7 +58,7 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
     contact_tris = mesh["tris"][np.isin(mesh["tri_tags"], prob["contact"])]
     # held nodes: clamped, or all three components prescribed (u given on both sides)
     held_tags = list(prob["clamped"]) + [t for t, mask, _ in prob.get("displacement", []) if all(mask)]
-    clamped_nodes = set(np.unique(mesh["tris"][np.isin(mesh["tri_tags"], held_tags)]).tolist())
+    held_nodes = set(np.unique(mesh["tris"][np.isin(mesh["tri_tags"], held_tags)]).tolist())
     gnodes = np.unique(contact_tris)
     local = {int(g): k for k, g in enumerate(gnodes)}
     ltris = np.vectorize(local.get)(contact_tris) if len(contact_tris) else contact_tris
@@ -86,7 +86,7 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
     only_ours = int((ho & ~hf).sum())
     # nodes in neither list must be clamped ones (u = 0 on both sides)
     neither = [int(gnodes[k]) for k in np.where(~hf & ~ho)[0]]
-    unclamped = [g for g in neither if g not in clamped_nodes]
+    unclamped = [g for g in neither if g not in held_nodes]
     if unclamped:
         raise SideFailed(f"{len(unclamped)} nodes of the contact face are in neither output and not clamped")
 

@@ -90,6 +90,12 @@ def perturb_law(law: dict, items: list[str]) -> dict:
     return law
 
 
+def law_parameters(fr: dict, law: dict) -> dict:
+    """The keys of the scene's [friction] table that define its ramp (kind 1) or table (kind 2) law."""
+    keys = ("high", "low", "t0", "param") if law["kind"] == 1 else ("points",)
+    return {k: fr[k] for k in keys if k in fr}
+
+
 def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> tuple[dict, dict, str]:
     """The [friction] table for the variant, the FreeFEM law ({"kind": 0, "s": F*g} for a constant
     bound; kind 1 ramp / 2 table with "g" and the law's parameters, "s" = g*max F; for the variant
@@ -107,15 +113,12 @@ def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> t
         if g <= 0:
             raise SideFailed(f"{scene_path}: variant slipdep needs friction.slip_bound > 0")
         law = slipdep_law(fr, scene_path)
-        keys = ("high", "low", "t0", "param") if law["kind"] == 1 else ("points",)
-        table = {"law": fr["law"], "slip_bound": g, **{k: fr[k] for k in keys if k in fr}}
-        return table, law, law_label(law)
+        return {"law": fr["law"], "slip_bound": g, **law_parameters(fr, law)}, law, law_label(law)
     if variant == "coulomb":
         # the scene's slip-dependent law with Coulomb's bound F(φ)·λ_n instead of F(φ)·g
         law = dict(slipdep_law(dict(fr, slip_bound=1.0), scene_path), g=1.0, coulomb=True)
         law["s"] = None  # the bound's scale is F·λ_n: known after the solve
-        keys = ("high", "low", "t0", "param") if law["kind"] == 1 else ("points",)
-        table = {"model": "coulomb", "law": fr["law"], **{k: fr[k] for k in keys if k in fr}}
+        table = {"model": "coulomb", "law": fr["law"], **law_parameters(fr, law)}
         return table, law, "Coulomb " + law_label(law).replace(", g=1", "")
     if variant == "scene":
         law = fr.get("law", "none")

@@ -519,8 +519,9 @@ std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source
         for (Eigen::SparseMatrix<double>::InnerIterator it(*B, j); it; ++it) share.add(fz->n + it.row(), j, it.value());
       for (std::int64_t r = 0; r < fz->m; ++r) share.add(fz->n + r, fz->n + r, 0.0);
     } else {
-      const MeshPart part = receive_part(static_cast<int>(fz->n));
-      share = lower_columns(part.mesh, part.dofs, TetMaterials(part.materials), part.first_node, part.last_node);
+      MeshPart part = receive_part(static_cast<int>(fz->n));
+      share =
+          lower_columns(part.mesh, part.dofs, TetMaterials(std::move(part.materials)), part.first_node, part.last_node);
     }
   });
 #ifdef __GLIBC__

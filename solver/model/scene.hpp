@@ -44,21 +44,21 @@ inline constexpr NameTable<DualMethod, 6> kDualMethodNames{{{DualMethod::Auto, "
 
 // [solver]: every option with its default; the scene key is the field name unless noted.
 struct SolverSettings {
-  double qp_rtol = 1e-6;          // ‖g̃‖ <= qp_rtol ‖h‖ (the paper's criterion)
-  double fixed_point_tol = 1e-4;  // err(k) <= this (the paper's)
-  int fixed_point_max_iter = 100;
+  double qp_rtol = 1e-6;                              // ‖g̃‖ <= qp_rtol ‖h‖ (the paper's criterion)
+  double fixed_point_tol = FixedPointSettings{}.tol;  // err(k) <= this (the paper's 1e-4)
+  int fixed_point_max_iter = FixedPointSettings{}.max_iterations;
   // qp (variant: "auto" MPGP switching to Newton steps where it is slow, "mpgp" the paper's
   // algorithm, "mpgp_projcg", "ssn"), qp_scaling ("jacobi": a diagonal scaling that keeps
   // half-lines and discs; "none": the paper's plain MPGP), qp_max_iterations.
   QpSettings qp;
   // "accelerated" (default: plain while it contracts fast, Aitken's relaxation once it does not),
   // "plain" (the paper's (5.7)), "aitken" (relaxation from the start) or "anderson" (FixedPointVariant).
-  FixedPointVariant fixed_point = FixedPointVariant::Accelerated;
-  int anderson_depth = 5;
+  FixedPointVariant fixed_point = FixedPointSettings{}.variant;
+  int anderson_depth = FixedPointSettings{}.anderson_depth;
   // Fixed-point step k solves its QP to min(qp_rtol, qp_rtol_per_err · err(k−1)); 0: at qp_rtol.
   double qp_rtol_per_err = FixedPointSettings{}.qp_rtol_per_err;
   DualMethod dual_method = DualMethod::Auto;  // key `schur`: how Q = 𝔹K⁻¹𝔹ᵀ is formed (DualMethod)
-  bool inexact_fixed_point = false;           // QP tolerance tied to err(k) in early fixed-point steps
+  bool inexact_fixed_point = FixedPointSettings{}.inexact;  // QP tolerance tied to err(k) in early fixed-point steps
   bool reference_factorization =
       false;  // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
 };
