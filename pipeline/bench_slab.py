@@ -64,7 +64,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--bin", default=str(ROOT / "build" / "contact3d"))
     ap.add_argument("--h", default="0.05,0.035,0.025,0.0175", help="mesh sizes, coarse to fine")
-    ap.add_argument("--qps", default="auto,ssn,mpgp", help="solver.qp values to compare")
+    ap.add_argument("--qps", default="auto,auto:double,ssn,mpgp",
+                    help="solver.qp values to compare; qp:precision also sets solver.qp_precision (auto:double is "
+                         "the default solver with every product in double)")
     ap.add_argument("--compare-max-multipliers", type=int, default=5000,
                     help="above this many multipliers run only qp=auto (the others take minutes to an hour per solve)")
     ap.add_argument("--timeout", type=float, default=1800)
@@ -90,12 +92,14 @@ def main():
                 "friction.law=ramp", "friction.high=0.3", "friction.low=0.2", f"friction.t0={0.2 * scale:.6g}",
                 f"friction.param={2.0 / scale:.6g}"]
             for qp in args.qps.split(","):
-                out = hw / f"{law}_{qp}"
+                qp_name, _, precision = qp.partition(":")
+                out = hw / f"{law}_{qp_name}_{precision or 'default'}"
                 n_dual = 3 * s["n_cells"]  # with friction
-                if qp != "auto" and n_dual > args.compare_max_multipliers:
+                if qp_name != "auto" and n_dual > args.compare_max_multipliers:
                     print(f"skip h={h} {law} {qp} ({n_dual} multipliers > --compare-max-multipliers)", flush=True)
                     continue
-                summ, rss, wall, code = run(args.bin, out, [f"solver.qp={qp}", *law_sets], mesh=msh,
+                precision_set = [f"solver.qp_precision={precision}"] if precision else []
+                summ, rss, wall, code = run(args.bin, out, [f"solver.qp={qp_name}", *precision_set, *law_sets], mesh=msh,
                                             timeout=args.timeout)
                 if summ is None:
                     rows.append({"h": h, "law": law, "qp": qp, "status": f"timeout {args.timeout:g} s"})
@@ -110,10 +114,10 @@ def main():
                 row = {"h": h, "law": law, "qp": qp, "status": summ["status"], "n_p": summ["n_primal"],
                        "n_dual": summ["n_dual"], "steps": summ["fixed_point_iterations"],
                        "qp_iterations": summ["qp_iterations"], "newton_steps": summ.get("qp_newton_steps", 0),
-                       "n_mult": products, "kkt_max": max(v for v in summ["kkt"].values() if isinstance(v, (int, float))),
+                       "n_mult": products, "single_products": summ.get("qp_single_products", 0), "kkt_max": max(v for v in summ["kkt"].values() if isinstance(v, (int, float))),
                        "cond_Q": summ.get("stability_condition_estimate"),
                        "max_penetration": summ.get("max_penetration"),
-                       "s_per_product": round(t.get("dual_solve", 0.0) / products, 6) if qp == "mpgp" else "",
+                       "s_per_product": round(t.get("dual_solve", 0.0) / products, 6) if qp_name == "mpgp" else "",
                        "solve_s": round(solve, 3), "reference_factorization_s": round(ref, 3),
                        "ratio": round(solve / ref, 2), "peak_rss_mib": round(rss, 0), "wall_s": round(wall, 2)}
                 for k in STAGES:
@@ -134,16 +138,19 @@ def main():
          "(pipeline/scenes/slab.toml), default cell size 2h. `ratio` = (assembly + contact + factorization + "
          "forming Q + stability check + dual solve) / one CHOLMOD factorization of K in the same process. "
          "`qp`: auto (the default: MPGP switching to semismooth Newton steps where slow), ssn (Newton, MPGP "
-         "fallback), mpgp (the paper's algorithm on the Jacobi-scaled dual). Wall seconds, 2-core machine.\n",
-         "| h | law | qp | n_p | multipliers | steps | QP it. | Newton | n_mult | factor. | Q | stability | dual solve | "
-         "ratio | peak MiB | KKT max | status |",
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+         "fallback), mpgp (the paper's algorithm on the Jacobi-scaled dual); `:double` = solver.qp_precision = double "
+         "(the others use the default, single-precision products from 2000 multipliers on; `single` counts "
+         "them). Wall seconds, 2-core machine.\n",
+         "| h | law | qp | n_p | multipliers | steps | QP it. | Newton | n_mult | single | factor. | Q | stability | "
+         "dual solve | ratio | peak MiB | KKT max | status |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "n_p" not in r:
-            L.append(f"| {r['h']} | {r['law']} | {r['qp']} | | | | | | | | | | | | | | {r['status']} |")
+            L.append(f"| {r['h']} | {r['law']} | {r['qp']} | | | | | | | | | | | | | | | {r['status']} |")
             continue
         L.append(f"| {r['h']} | {r['law']} | {r['qp']} | {r['n_p']} | {r['n_dual']} | {r['steps']} | "
-                 f"{r['qp_iterations']} | {r['newton_steps']} | {r['n_mult']} | {r['t_factorization']:.2f} | "
+                 f"{r['qp_iterations']} | {r['newton_steps']} | {r['n_mult']} | {r['single_products']} | "
+                 f"{r['t_factorization']:.2f} | "
                  f"{r['t_dual']:.2f} | {r['t_stability']:.2f} | {r['t_dual_solve']:.2f} | {r['ratio']:.2f} | "
                  f"{r['peak_rss_mib']:.0f} | {r['kkt_max']:.1e} | {r['status']} |")
     (out_dir / "slab.md").write_text("\n".join(L) + "\n")

@@ -40,8 +40,8 @@ with tempfile.TemporaryDirectory() as tmp:
     for stage in ["total", "mesh", "assembly", "factorization", "dual"]:
         if stage not in s["time_s"]:
             fail(f"time_s lacks {stage}")
-    expected_settings = {"qp": "auto", "qp_scaling": "jacobi", "fixed_point": "accelerated", "schur": "auto",
-                         "qp_rtol": 1e-6, "fixed_point_tol": 1e-4}
+    expected_settings = {"qp": "auto", "qp_scaling": "jacobi", "qp_precision": "auto", "fixed_point": "accelerated",
+                         "schur": "auto", "qp_rtol": 1e-6, "fixed_point_tol": 1e-4}
     if any(s.get("settings", {}).get(k) != v for k, v in expected_settings.items()):
         fail(f"summary.json settings are not the resolved defaults: {s.get('settings')}")
     if (s["n_primal"], s["n_dual"], s["n_cells"], s["n_contact_nodes"]) != (900, 36, 12, 60):

@@ -221,8 +221,9 @@ int main(int argc, char** argv) {
   solve->add_option("--out", args.out, "output folder");
   solve->add_flag("--quiet", args.quiet, "print nothing but errors");
   solve->footer("Solver choices (scene keys, also for --set): solver.qp = " + names_list(kQpVariantNames) +
-                "; solver.qp_scaling = " + names_list(kQpScalingNames) + "; solver.fixed_point = " +
-                names_list(kFixedPointVariantNames) + "; solver.schur = " + names_list(kDualMethodNames) +
+                "; solver.qp_scaling = " + names_list(kQpScalingNames) + "; solver.qp_precision = " +
+                names_list(kQpPrecisionNames) + "; solver.fixed_point = " + names_list(kFixedPointVariantNames) +
+                "; solver.schur = " + names_list(kDualMethodNames) +
                 ". summary.json records the resolved settings under \"settings\".");
   auto* check = app.add_subcommand("check", "validate a scene and its mesh without solving");
   check->add_option("scene", args.scene, "scene file (TOML)")->required();

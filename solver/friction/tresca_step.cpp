@@ -23,6 +23,7 @@ SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::Vector
   products_ += eval.hessian_products;
   qp_iterations_ += last_qp_.iterations;
   newton_steps_ += last_qp_.newton_steps;
+  single_products_ += last_qp_.single_products;
   eval.slip = face_dofs_.slip(face_, u_face);
   last_face_ = std::move(u_face);
   history_.push_back({lambda_, radius_});

@@ -40,7 +40,8 @@ class TrescaStep {
   const QpResult& last_qp() const { return last_qp_; }
   int products() const { return products_; }  // K⁻¹ applications in the paper's sense
   int qp_iterations() const { return qp_iterations_; }
-  int newton_steps() const { return newton_steps_; }  // semismooth Newton steps inside the QP solves
+  int newton_steps() const { return newton_steps_; }        // semismooth Newton steps inside the QP solves
+  int single_products() const { return single_products_; }  // of the products, those in single precision
   // u on Γc after the last solve (FaceDofs order, 3 per node).
   const Eigen::VectorXd& last_face_displacement() const { return last_face_; }
   // λ and the radii of every solve so far, in order (one value per multiplier: small).
@@ -58,7 +59,7 @@ class TrescaStep {
   Eigen::VectorXd slip_bound_;
   Eigen::VectorXd lambda_, radius_, slip_input_, slip_bound_input_;
   QpResult last_qp_;
-  int products_ = 0, qp_iterations_ = 0, newton_steps_ = 0;
+  int products_ = 0, qp_iterations_ = 0, newton_steps_ = 0, single_products_ = 0;
   Eigen::VectorXd last_face_;
   std::vector<Solve> history_;
 };

@@ -10,6 +10,7 @@ namespace contact3d {
 inline void write_solver_settings(JsonWriter& j, const SolverSettings& s) {
   j.begin_object("settings");
   j.value("qp", name_of(s.qp.variant, kQpVariantNames)).value("qp_scaling", name_of(s.qp.scaling, kQpScalingNames));
+  j.value("qp_precision", name_of(s.qp.precision, kQpPrecisionNames));
   j.value("qp_rtol", s.qp_rtol).value("qp_max_iterations", s.qp.max_iterations);
   j.value("fixed_point", name_of(s.fixed_point, kFixedPointVariantNames)).value("anderson_depth", s.anderson_depth);
   j.value("qp_rtol_per_err", s.qp_rtol_per_err);

@@ -1,8 +1,12 @@
 #include "linalg/dense_cholesky.hpp"
 
+#include <algorithm>
+#include <random>
 #include <utility>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
 extern "C" {
 void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
@@ -47,6 +51,37 @@ Eigen::VectorXd DenseCholesky::solve(const Eigen::VectorXd& b) const {
     dpotrs_("L", &n, &one, L_.data(), &n, x.data(), &n, &info);
   }
   return x;
+}
+
+Eigen::MatrixXd DenseCholesky::solve_columns(const Eigen::MatrixXd& B) const {
+  Eigen::MatrixXd X = B;
+  const int n = static_cast<int>(L_.rows()), k = static_cast<int>(B.cols());
+  if (n == 0 || k == 0) return X;
+  if (n < kLapackMin) {
+    const auto L = L_.triangularView<Eigen::Lower>();
+    L.solveInPlace(X);
+    L.transpose().solveInPlace(X);
+  } else {
+    int info = 0;
+    dpotrs_("L", &n, &k, L_.data(), &n, X.data(), &n, &info);
+  }
+  return X;
+}
+
+double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A) {
+  const Eigen::Index n = A.rows(), k = std::min<Eigen::Index>(8, n);
+  constexpr int kIterations = 12;
+  std::mt19937 gen(1);  // fixed: the same estimate on every run
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd X(n, k);
+  for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = normal(gen);
+  for (int it = 0; it < kIterations; ++it) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(factor.solve_columns(X));
+    X = qr.householderQ() * Eigen::MatrixXd::Identity(n, k);
+  }
+  const Eigen::MatrixXd AX = A.selfadjointView<Eigen::Lower>() * X;
+  const Eigen::MatrixXd T = X.transpose() * AX;
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(T, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
 }
 
 }  // namespace contact3d

@@ -14,8 +14,9 @@ class DenseCholesky {
   // storage). ok() is false when A is not numerically positive definite.
   explicit DenseCholesky(Eigen::MatrixXd A);
   bool ok() const { return ok_; }
-  // x = A⁻¹ b.
+  // x = A⁻¹ b, and X = A⁻¹ B for several right-hand sides at once (one pass over the factor).
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
   // The squared diagonal of the factor (the pivots of LDLᵀ): tiny ones flag near-dependence.
   Eigen::VectorXd pivots() const { return L_.diagonal().cwiseAbs2(); }
 
@@ -23,5 +24,11 @@ class DenseCholesky {
   Eigen::MatrixXd L_;
   bool ok_ = false;
 };
+
+// An estimate of the smallest eigenvalue of the symmetric positive definite `A`, given its factor:
+// subspace iteration on A⁻¹ with a block of 8 vectors (each iteration one pass over the factor, as
+// costly as a single-vector solve, which is memory-bound), then the Rayleigh–Ritz value on the block.
+// From above: the estimate is never below the true λmin.
+double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A);
 
 }  // namespace contact3d

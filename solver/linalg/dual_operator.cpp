@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "linalg/symmetric_product.hpp"
+
 extern "C" {
 void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
             const double* alpha, const double* a, const int* lda, double* b, const int* ldb);
@@ -93,10 +95,11 @@ DualOperator make_dual_operator_augmented(const SparseCholesky& K_aug, const Eig
   const int m = static_cast<int>(B.rows()), n = K_aug.size();
   std::vector<int> row(m);
   for (int k = 0; k < m; ++k) row[k] = order[k] - n;
-  op.Q.resize(m, m);
-  for (int b = 0; b < m; ++b)
-    for (int a = 0; a < m; ++a) op.Q(row[a], row[b]) = G(a, b);
-  op.Q = 0.5 * (op.Q + op.Q.transpose()).eval();
+  op.Q.resize(m, m);  // G is symmetric to the bit (trailing_gram mirrors it): only permute
+  for (int b = 0; b < m; ++b) {
+    double* column = op.Q.col(row[b]).data();
+    for (int a = 0; a < m; ++a) column[row[a]] = G(a, b);
+  }
   return op;
 }
 
@@ -105,13 +108,13 @@ double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {
   Eigen::VectorXd x = Eigen::VectorXd::Ones(Q.rows()).normalized();
   double lambda = 0;
   for (int k = 0; k < iterations; ++k) {
-    const Eigen::VectorXd y = Q.selfadjointView<Eigen::Lower>() * x;
+    const Eigen::VectorXd y = symmetric_product(Q, x);
     const double norm = y.norm();
     if (norm == 0) return 0;
     lambda = x.dot(y);
     x = y / norm;
   }
-  return std::max(lambda, (Q.selfadjointView<Eigen::Lower>() * x).norm());
+  return std::max(lambda, symmetric_product(Q, x).norm());
 }
 
 }  // namespace contact3d

@@ -95,9 +95,9 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   return op;
 }
 
-// Q is dense (m²) and the dual solve keeps about three matrices of its size (Q, its Jacobi-scaled
-// copy, the stability check's factor): refuse what this machine cannot hold rather than dying in
-// the allocator.
+// Q is dense (m²); with its working copies it takes at most 24 bytes per entry (16 in the stability
+// check: Q and its factor; 20 in the dual solve: Q, its Jacobi-scaled copy and the single-precision
+// copy of the latter): refuse what this machine cannot hold rather than dying in the allocator.
 void require_memory_for_dense_dual(const ContactOperator& op) {
   const double bytes = 3 * 8.0 * op.rows() * static_cast<double>(op.rows());
   const double available = static_cast<double>(available_memory_bytes());
@@ -131,11 +131,8 @@ double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partit
     if (llt.ok()) {
       const Eigen::VectorXd d = llt.pivots();
       if (d.minCoeff() > 1e-11 * d.maxCoeff()) {
-        // cond(Q) = λmax / λmin: power iteration on Q and (with the factor) on Q⁻¹.
-        Eigen::VectorXd x = Eigen::VectorXd::Ones(Q.rows()).normalized();
-        for (int k = 0; k < 30; ++k) x = llt.solve(x).normalized();
-        const double lambda_min = x.dot(Q * x);
-        return lambda_max / lambda_min;
+        // cond(Q) = λmax / λmin: power iterations on Q (lambda_max) and, with the factor, on Q⁻¹.
+        return lambda_max / smallest_eigenvalue(llt, Q);
       }
     }
   }
@@ -289,6 +286,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.last_qp = tresca.last_qp();
   res.qp_iterations = tresca.qp_iterations();
   res.qp_newton_steps = tresca.newton_steps();
+  res.qp_single_products = tresca.single_products();
   res.n_mult =
       tresca.products() + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   res.u = expand_to_nodes(res.dofs, w);

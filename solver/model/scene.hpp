@@ -49,7 +49,9 @@ struct SolverSettings {
   int fixed_point_max_iter = FixedPointSettings{}.max_iterations;
   // qp (variant: "auto" MPGP switching to Newton steps where it is slow, "mpgp" the paper's
   // algorithm, "mpgp_projcg", "ssn"), qp_scaling ("jacobi": a diagonal scaling that keeps
-  // half-lines and discs; "none": the paper's plain MPGP), qp_max_iterations.
+  // half-lines and discs; "none": the paper's plain MPGP), qp_precision ("auto": MPGP's products
+  // through a single-precision Q from kMixedPrecisionMinSize multipliers on, "double", "mixed";
+  // the tolerance is always checked in double), qp_max_iterations.
   QpSettings qp;
   // "accelerated" (default: plain while it contracts fast, Aitken's relaxation once it does not),
   // "plain" (the paper's (5.7)), "aitken" (relaxation from the start) or "anderson" (FixedPointVariant).

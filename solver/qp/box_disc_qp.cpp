@@ -5,21 +5,17 @@
 #include <limits>
 #include <stdexcept>
 
-extern "C" void dsymv_(const char* uplo, const int* n, const double* alpha, const double* a, const int* lda,
-                       const double* x, const int* incx, const double* beta, double* y, const int* incy);
+#include "linalg/symmetric_product.hpp"
 
 namespace contact3d {
 namespace {
 constexpr double kActiveRelTol = 1e-12;
 }
 
-Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
-  const int n = static_cast<int>(Q->rows()), one = 1;
-  if (v.size() != n) throw std::invalid_argument("BoxDiscQP::apply: vector size differs from Q");
-  const double alpha = 1, beta = 0;
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
-  if (n > 0) dsymv_("L", &n, &alpha, Q->data(), &n, v.data(), &one, &beta, out.data(), &one);
-  return out;
+Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const { return symmetric_product(*Q, v); }
+
+Eigen::VectorXd BoxDiscQP::apply_single(const Eigen::VectorXd& v) const {
+  return Q_single ? symmetric_product(*Q_single, single_scale, v) : apply(v);
 }
 
 double BoxDiscQP::value(const Eigen::VectorXd& lambda) const { return 0.5 * lambda.dot(apply(lambda)) - h.dot(lambda); }

@@ -1,9 +1,14 @@
 #include "qp/dual_qp_solver.hpp"
 
+#include "linalg/symmetric_product.hpp"
 #include "qp/hybrid_qp.hpp"
 #include "qp/ssn.hpp"
 
 namespace contact3d {
+
+bool uses_single_products(QpPrecision precision, int multipliers) {
+  return precision == QpPrecision::Mixed || (precision == QpPrecision::Auto && multipliers >= kMixedPrecisionMinSize);
+}
 
 DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                            const QpSettings& settings)
@@ -15,11 +20,20 @@ DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, i
   qp_.radius = Eigen::VectorXd::Zero(r);
   qp_.q_norm = 1.05 * q_norm;  // the estimate is a Rayleigh quotient, from below
   if (settings.scaling == QpScaling::Jacobi) jacobi_.emplace(qp_);
+  if (uses_single_products(settings.precision, qp_.size())) {
+    const BoxDiscQP& solved = jacobi_ ? jacobi_->scaled(qp_.radius) : qp_;
+    single_scale_ = solved.q_norm > 0 ? solved.q_norm : 1.0;
+    q_single_ = lower_triangle_in_single(*solved.Q, single_scale_);
+  }
 }
 
 QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
   if (qp_.with_friction) qp_.radius = radius;
-  const BoxDiscQP& problem = jacobi_ ? jacobi_->scaled(qp_.radius) : qp_;
+  BoxDiscQP problem = jacobi_ ? jacobi_->scaled(qp_.radius) : qp_;
+  if (q_single_.size() > 0) {
+    problem.Q_single = &q_single_;
+    problem.single_scale = single_scale_;
+  }
   Eigen::VectorXd x = jacobi_ ? jacobi_->to_scaled(lambda) : lambda;
   QpResult result;
   if (progress_) progress_->restart();

@@ -25,9 +25,19 @@ inline constexpr NameTable<QpVariant, 4> kQpVariantNames{{{QpVariant::Auto, "aut
 enum class QpScaling { None, Jacobi };
 inline constexpr NameTable<QpScaling, 2> kQpScalingNames{{{QpScaling::Jacobi, "jacobi"}, {QpScaling::None, "none"}}};
 
+// Products of MPGP's recursive gradient updates: in double, or through a single-precision copy of Q
+// with every convergence decision on a gradient computed in double (mpgp.hpp). "auto": mixed from
+// kMixedPrecisionMinSize multipliers on, where Q outgrows the caches and its products stream memory.
+enum class QpPrecision { Auto, Double, Mixed };
+inline constexpr NameTable<QpPrecision, 3> kQpPrecisionNames{
+    {{QpPrecision::Auto, "auto"}, {QpPrecision::Double, "double"}, {QpPrecision::Mixed, "mixed"}}};
+inline constexpr int kMixedPrecisionMinSize = 2000;
+bool uses_single_products(QpPrecision precision, int multipliers);
+
 struct QpSettings {
   QpVariant variant = QpVariant::Auto;  // MPGP, switching to Newton steps where it is slow (hybrid_qp.hpp)
   QpScaling scaling = QpScaling::Jacobi;
+  QpPrecision precision = QpPrecision::Auto;
   int max_iterations = 100000;
 };
 
@@ -45,6 +55,8 @@ class DualQpSolver {
  private:
   BoxDiscQP qp_;
   std::optional<JacobiScaledQP> jacobi_;
+  Eigen::MatrixXf q_single_;  // lower triangle of the solved (scaled) Q / ‖Q‖ (empty: double products)
+  double single_scale_ = 1;
   QpSettings settings_;
   Progress* progress_ = nullptr;
 };

@@ -17,6 +17,7 @@ double relative_projected_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& l
 void add_work(QpResult& total, const QpResult& part) {
   total.iterations += part.iterations;
   total.hessian_products += part.hessian_products;
+  total.single_products += part.single_products;
   total.cg_steps += part.cg_steps;
   total.expansion_steps += part.expansion_steps;
   total.proportioning_steps += part.proportioning_steps;

@@ -27,23 +27,55 @@ std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double
 
 namespace {
 
-// Gradient bookkeeping shared by the step kinds: g = Qλ − h and its split.
+// Gradient bookkeeping shared by the step kinds: g = Qλ − h and its split. `single`: products of
+// the recursive updates go through Q's single-precision copy; `drifted`: g carries their rounding.
 struct State {
   const BoxDiscQP& qp;
   Eigen::VectorXd& lambda;
   Eigen::VectorXd g;
   GradientSplit split;
   QpResult& result;
+  bool single = qp.Q_single != nullptr;
+  bool drifted = false;
+  int false_stops = 0, single_updates = 0;
 
   void refresh_gradient() {
     g = qp.apply(lambda) - qp.h;
     ++result.hessian_products;
     split = split_gradient(qp, lambda, g);
+    drifted = false;
+    single_updates = 0;
+  }
+  // g at λ from g at `before`: g += Q (λ − before) through the single copy (a product of the same
+  // cost as any other: mixing double products in would evict the single copy from the caches), and
+  // afresh in double every kSingleRefreshEvery such updates and whenever products are in double.
+  void move_gradient_from(const Eigen::VectorXd& before) {
+    if (!single || ++single_updates >= kSingleRefreshEvery) {
+      refresh_gradient();
+      return;
+    }
+    g += apply(lambda - before);
+    split = split_gradient(qp, lambda, g);
   }
   void resplit() { split = split_gradient(qp, lambda, g); }
   Eigen::VectorXd apply(const Eigen::VectorXd& v) {
     ++result.hessian_products;
-    return qp.apply(v);
+    if (!single) return qp.apply(v);
+    ++result.single_products;
+    drifted = true;
+    return qp.apply_single(v);
+  }
+  double projected_gradient_norm() const { return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm()); }
+  // The stopping test on an exact gradient: a drifted g that meets `tol` is recomputed first; a
+  // refusal restarts the conjugate directions (`p`), and kSingleFalseStops of them end single products.
+  bool meets(double tol, Eigen::VectorXd& p) {
+    if (projected_gradient_norm() > tol) return false;
+    if (!drifted) return true;
+    refresh_gradient();
+    if (projected_gradient_norm() <= tol) return true;
+    if (++false_stops >= kSingleFalseStops) single = false;
+    p = split.free;
+    return false;
   }
 };
 
@@ -63,19 +95,21 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
   Eigen::VectorXd p = s.split.free;
 
   for (result.iterations = 0; result.iterations < settings.max_iterations; ++result.iterations) {
+    const bool converged = s.meets(tol, p);
     const double free_sq = s.split.free.squaredNorm(), chopped_sq = s.split.chopped.squaredNorm();
     result.projected_gradient = std::sqrt(free_sq + chopped_sq) / h_norm;
     if (!std::isfinite(result.projected_gradient)) {
       result.status = QpStatus::Breakdown;
       return result;
     }
-    if (std::sqrt(free_sq + chopped_sq) <= tol) {
+    if (converged) {
       result.status = QpStatus::Converged;
       return result;
     }
     if (settings.progress)
       settings.progress->beat([&] { return qp_heartbeat_line("mpgp", result, settings.rtol, *settings.progress); });
 
+    const Eigen::VectorXd before = lambda;  // g is valid here
     if (chopped_sq <= settings.gamma * settings.gamma * free_sq) {
       // Proportional iterate: conjugate-gradient step on the free set, or expansion.
       const Eigen::VectorXd Qp = s.apply(p);
@@ -100,23 +134,21 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
         case ExpansionKind::ProjectedCG:
           lambda -= a_cg * p;
           project(qp, lambda);
+          s.move_gradient_from(before);
           break;
         case ExpansionKind::FreeGradient:
+        case ExpansionKind::FullGradient: {
           lambda -= a_f * p;
           s.g -= a_f * Qp;
           project(qp, lambda);
-          lambda -= alpha * split_gradient(qp, lambda, s.g).free;
+          const Eigen::VectorXd on_boundary = lambda;
+          lambda -=
+              alpha * (settings.expansion == ExpansionKind::FullGradient ? s.g : split_gradient(qp, lambda, s.g).free);
           project(qp, lambda);
+          s.move_gradient_from(on_boundary);
           break;
-        case ExpansionKind::FullGradient:
-          lambda -= a_f * p;
-          s.g -= a_f * Qp;
-          project(qp, lambda);
-          lambda -= alpha * s.g;
-          project(qp, lambda);
-          break;
+        }
       }
-      s.refresh_gradient();
       p = s.split.free;
       continue;
     }
@@ -147,7 +179,7 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
     if (!done) {
       lambda -= alpha * s.g;
       project(qp, lambda);
-      s.refresh_gradient();
+      s.move_gradient_from(before);
     }
     p = s.split.free;
   }

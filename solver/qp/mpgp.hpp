@@ -3,6 +3,11 @@
 // active constraints, and expansion steps that add them (Kučera 2008, ref. [10] of the paper;
 // the paper performs proportioning and expansion "simultaneously"). Stops when the projected
 // gradient satisfies ‖gᴾ(λ)‖ <= rtol ‖h‖ (the paper's criterion).
+// With a single-precision copy of Q (BoxDiscQP::Q_single) every product goes through it and g is
+// updated recursively; g = Qλ − h is recomputed in double every kSingleRefreshEvery updates after a
+// projection, and by the stopping test before it accepts: a solve ends only when the exact ‖gᴾ‖
+// meets the tolerance. After kSingleFalseStops stops that the exact gradient refuses (the rounding
+// of the single products then sits at the tolerance), the solve continues in double.
 #pragma once
 
 #include <string>
@@ -26,6 +31,9 @@ enum class ExpansionKind {
   ProjectedCG,   // λ ← P(λ − a_cg p): project the full conjugate-gradient step
 };
 
+inline constexpr int kSingleFalseStops = 2;
+inline constexpr int kSingleRefreshEvery = 50;
+
 struct MpgpSettings {
   double rtol = 1e-6;  // ‖gᴾ‖ <= rtol ‖h‖
   int max_iterations = 100000;
@@ -39,6 +47,7 @@ struct QpResult {
   QpStatus status = QpStatus::Breakdown;
   int iterations = 0;
   int hessian_products = 0;  // products Q·v — each one is a K⁻¹ application in the paper's count
+  int single_products = 0;   // of which through the single-precision copy of Q
   int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
   int newton_steps = 0;           // semismooth Newton steps (ssn.hpp, hybrid_qp.hpp; none in MPGP)
   double projected_gradient = 0;  // final ‖gᴾ‖ / ‖h‖

@@ -39,6 +39,7 @@ TEST(Scene, RefusesWhatMakesNoSense) {
   EXPECT_NE(error_of({"material.young=nan"}).find("young"), std::string::npos);
   EXPECT_NE(error_of({"friction.slip_bound=-1"}).find("slip_bound"), std::string::npos);
   EXPECT_NE(error_of({"solver.qp_scaling=\"diagonal\""}).find("qp_scaling"), std::string::npos);
+  EXPECT_NE(error_of({"solver.qp_precision=\"half\""}).find("qp_precision"), std::string::npos);
   EXPECT_NE(error_of({"mesh.n=65"}).find("mesh.n"), std::string::npos);
   EXPECT_NE(error_of({"frobnicate=1"}).find("frobnicate"), std::string::npos);
 }

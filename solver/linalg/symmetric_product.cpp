@@ -1,0 +1,45 @@
+#include "linalg/symmetric_product.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+extern "C" {
+void dsymv_(const char* uplo, const int* n, const double* alpha, const double* a, const int* lda, const double* x,
+            const int* incx, const double* beta, double* y, const int* incy);
+void ssymv_(const char* uplo, const int* n, const float* alpha, const float* a, const int* lda, const float* x,
+            const int* incx, const float* beta, float* y, const int* incy);
+}
+
+namespace contact3d {
+
+Eigen::VectorXd symmetric_product(const Eigen::MatrixXd& Q, const Eigen::VectorXd& v) {
+  const int n = static_cast<int>(Q.rows()), one = 1;
+  if (v.size() != n) throw std::invalid_argument("symmetric_product: vector size differs from Q");
+  const double alpha = 1, beta = 0;
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+  if (n > 0) dsymv_("L", &n, &alpha, Q.data(), &n, v.data(), &one, &beta, out.data(), &one);
+  return out;
+}
+
+Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale, const Eigen::VectorXd& v) {
+  const int n = static_cast<int>(Q_single.rows()), one = 1;
+  if (v.size() != n) throw std::invalid_argument("symmetric_product: vector size differs from Q");
+  if (n == 0) return Eigen::VectorXd();
+  const double v_scale = v.cwiseAbs().maxCoeff();
+  if (v_scale == 0) return Eigen::VectorXd::Zero(n);
+  if (!std::isfinite(v_scale)) return Eigen::VectorXd::Constant(n, v_scale);  // propagates NaN / inf
+  const float alpha = 1, beta = 0;
+  const Eigen::VectorXf x = (v / v_scale).cast<float>();
+  Eigen::VectorXf out = Eigen::VectorXf::Zero(n);
+  ssymv_("L", &n, &alpha, Q_single.data(), &n, x.data(), &one, &beta, out.data(), &one);
+  return out.cast<double>() * (scale * v_scale);
+}
+
+Eigen::MatrixXf lower_triangle_in_single(const Eigen::MatrixXd& Q, double scale) {
+  const Eigen::Index m = Q.rows();
+  Eigen::MatrixXf out(m, m);
+  for (Eigen::Index j = 0; j < m; ++j) out.col(j).tail(m - j) = (Q.col(j).tail(m - j) / scale).cast<float>();
+  return out;
+}
+
+}  // namespace contact3d

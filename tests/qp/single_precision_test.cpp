@@ -1,0 +1,100 @@
+// MPGP with its products through a single-precision copy of Q (mpgp.hpp): the answer must meet the
+// tolerance on a gradient computed in double, however far below single precision the tolerance is.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "linalg/dual_operator.hpp"
+#include "qp/box_disc_qp.hpp"
+#include "qp/dual_qp_solver.hpp"
+#include "qp/mpgp.hpp"
+#include "test_support.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+using contact3d::testing::make_random_qp;
+using contact3d::testing::RandomQp;
+
+// The single copy as DualQpSolver makes it: the lower triangle of Q / ‖Q‖.
+struct SingleCopy {
+  Eigen::MatrixXf Q;
+  double scale;
+  explicit SingleCopy(const Eigen::MatrixXd& Qd) : Q((Qd / Qd.norm()).cast<float>()), scale(Qd.norm()) {}
+  void attach(BoxDiscQP& qp) const {
+    qp.Q_single = &Q;
+    qp.single_scale = scale;
+  }
+};
+
+// ‖gᴾ(λ)‖ / ‖h‖ from a gradient computed here, in double.
+double exact_projected_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& x) {
+  const GradientSplit s = split_gradient(qp, x, *qp.Q * x - qp.h);
+  return std::sqrt(s.free.squaredNorm() + s.chopped.squaredNorm()) / qp.h.norm();
+}
+
+// Q with eigenvalues spread over `condition` (random eigenvectors).
+Eigen::MatrixXd with_condition(int m, double condition, unsigned seed) {
+  const RandomQp base = make_random_qp(m, false, seed);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(base.Q);
+  const Eigen::MatrixXd V = qr.householderQ();
+  Eigen::VectorXd eig(m);
+  for (int i = 0; i < m; ++i) eig[i] = std::pow(condition, -double(i) / (m - 1));
+  return V * eig.asDiagonal() * V.transpose();
+}
+
+}  // namespace
+
+TEST(SinglePrecisionProducts, MpgpMeetsADoubleToleranceOnRandomQps) {
+  for (const ExpansionKind expansion :
+       {ExpansionKind::FullGradient, ExpansionKind::FreeGradient, ExpansionKind::ProjectedCG}) {
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+      RandomQp rq = make_random_qp(20, true, seed * 31);
+      rq.qp.Q = &rq.Q;
+      rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+      MpgpSettings settings;
+      settings.rtol = 1e-10;
+      settings.expansion = expansion;
+      Eigen::VectorXd reference;
+      ASSERT_EQ(solve_mpgp(rq.qp, reference, settings).status, QpStatus::Converged);
+      const SingleCopy single(rq.Q);
+      single.attach(rq.qp);
+      Eigen::VectorXd x;
+      const QpResult res = solve_mpgp(rq.qp, x, settings);
+      ASSERT_EQ(res.status, QpStatus::Converged) << "seed " << seed;
+      EXPECT_GT(res.single_products, 0);
+      EXPECT_TRUE(is_feasible(rq.qp, x, 1e-12));
+      EXPECT_LE(exact_projected_gradient(rq.qp, x), 1e-10) << "seed " << seed;
+      EXPECT_LT((x - reference).norm(), 1e-7 * (1 + reference.norm())) << "seed " << seed;
+    }
+  }
+}
+
+// cond(Q) = 1e6 and a tolerance of 1e-9: single-precision rounding sits far above it, so the
+// recursive gradient claims convergence where the exact one does not; the solve must go on (in
+// double, after kSingleFalseStops refusals) until the exact one does.
+TEST(SinglePrecisionProducts, StopsOnlyWhenTheExactGradientMeetsTheTolerance) {
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    RandomQp rq = make_random_qp(30, false, seed);
+    rq.Q = with_condition(30, 1e6, seed);
+    rq.qp.Q = &rq.Q;
+    rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+    const SingleCopy single(rq.Q);
+    single.attach(rq.qp);
+    MpgpSettings settings;
+    settings.rtol = 1e-9;
+    Eigen::VectorXd x;
+    const QpResult res = solve_mpgp(rq.qp, x, settings);
+    ASSERT_EQ(res.status, QpStatus::Converged) << "seed " << seed;
+    EXPECT_LE(exact_projected_gradient(rq.qp, x), 1e-9) << "seed " << seed;
+    EXPECT_LE(res.projected_gradient, 1e-9);
+  }
+}
+
+TEST(SinglePrecisionProducts, AutoUsesThemFromTheThresholdOn) {
+  EXPECT_FALSE(uses_single_products(QpPrecision::Auto, kMixedPrecisionMinSize - 1));
+  EXPECT_TRUE(uses_single_products(QpPrecision::Auto, kMixedPrecisionMinSize));
+  EXPECT_FALSE(uses_single_products(QpPrecision::Double, 10 * kMixedPrecisionMinSize));
+  EXPECT_TRUE(uses_single_products(QpPrecision::Mixed, 3));
+}
