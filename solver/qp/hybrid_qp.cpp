@@ -36,7 +36,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
   }
   const int m = qp.size();
   const double h_norm = qp.h.norm();
-  const int window = settings.window > 0 ? settings.window : std::max(50, m / 16);
+  const int window = settings.window > 0 ? settings.window : std::max(50, m / 128);
   double pg_before = relative_projected_gradient(qp, lambda, h_norm);
   ++total.hessian_products;
   int newton_rounds = 0;

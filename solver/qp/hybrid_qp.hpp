@@ -4,7 +4,10 @@
 // contact, half lifting off). A Newton step costs one dense Cholesky factorization of the free
 // size (about m/14 products at m = 4800) and moves whole regions between the active sets at once,
 // but settles the last degenerate cells (λ and the gap both ~0) one ring per step. So:
-//   1. MPGP in windows of max(50, m/16) iterations while each window cuts ‖gᴾ‖ at least tenfold;
+//   1. MPGP in windows of max(50, m/128) iterations while each window cuts ‖gᴾ‖ at least tenfold
+//      (m/16 until 2026-11-25: windows that long let MPGP crawl through hundreds of expansions before
+//      a Newton step; the shorter ones cut the slab's dual solve by 12-50% at 2523-10092 multipliers
+//      and the brick's products at n = 24 and 32, results/bench/slab.md);
 //   2. otherwise Newton steps (ssn.hpp) until they converge or their full steps stop halving ‖F‖;
 //   3. then MPGP again from Newton's iterate (at most three Newton rounds, then MPGP alone).
 // Same stopping test and answer as MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ.
@@ -21,7 +24,7 @@ struct HybridSettings {
   double rtol = 1e-6;            // same criterion as MpgpSettings::rtol
   int max_iterations = 100000;   // MPGP iterations + Newton steps
   int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before MPGP alone
-  int window = 0;                // MPGP iterations per window (0: max(50, m/16))
+  int window = 0;                // MPGP iterations per window (0: max(50, m/128))
   Progress* progress = nullptr;  // heartbeat (none: silent)
 };
 
