@@ -1,6 +1,7 @@
 #include "linalg/dense_cholesky.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <utility>
 
@@ -12,6 +13,9 @@ extern "C" {
 void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
 void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, double* b,
              const int* ldb, int* info);
+void spotrf_(const char* uplo, const int* n, float* a, const int* lda, int* info);
+void spotrs_(const char* uplo, const int* n, const int* nrhs, const float* a, const int* lda, float* b, const int* ldb,
+             int* info);
 }
 
 namespace contact3d {
@@ -66,6 +70,24 @@ Eigen::MatrixXd DenseCholesky::solve_columns(const Eigen::MatrixXd& B) const {
     dpotrs_("L", &n, &k, L_.data(), &n, X.data(), &n, &info);
   }
   return X;
+}
+
+SingleCholesky::SingleCholesky(Eigen::MatrixXf A) : L_(std::move(A)) {
+  const int n = static_cast<int>(L_.rows());
+  int info = 0;
+  if (n > 0) spotrf_("L", &n, L_.data(), &n, &info);
+  ok_ = info == 0 && L_.diagonal().allFinite();
+}
+
+Eigen::VectorXd SingleCholesky::solve(const Eigen::VectorXd& b) const {
+  const int n = static_cast<int>(L_.rows()), one = 1;
+  if (n == 0) return b;
+  const double scale = b.cwiseAbs().maxCoeff();
+  if (!(scale > 0) || !std::isfinite(scale)) return Eigen::VectorXd::Zero(n) * scale;
+  Eigen::VectorXf x = (b / scale).cast<float>();
+  int info = 0;
+  spotrs_("L", &n, &one, L_.data(), &n, x.data(), &n, &info);
+  return x.cast<double>() * scale;
 }
 
 double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A) {

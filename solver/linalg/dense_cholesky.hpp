@@ -25,6 +25,21 @@ class DenseCholesky {
   bool ok_ = false;
 };
 
+// The same in single precision (LAPACK spotrf: half the bytes and about half the time of dpotrf at
+// 4800 rows), for solves whose answer is refined in double by the caller (iterative refinement).
+class SingleCholesky {
+ public:
+  // Factors the lower triangle of `A`; ok() is false when it is not positive definite in single.
+  explicit SingleCholesky(Eigen::MatrixXf A);
+  bool ok() const { return ok_; }
+  // x = A⁻¹ b, computed in single precision.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+
+ private:
+  Eigen::MatrixXf L_;
+  bool ok_ = false;
+};
+
 // An estimate of the smallest eigenvalue of the symmetric positive definite `A`, given its factor:
 // subspace iteration on A⁻¹ with a block of 8 vectors (each iteration one pass over the factor, as
 // costly as a single-vector solve, which is memory-bound), then the Rayleigh–Ritz value on the block.

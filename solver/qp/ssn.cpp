@@ -58,8 +58,10 @@ ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, dou
   return step;
 }
 
-// Dᵀ Q D + diag(shift), lower triangle (column-major, k x k).
-void reduced_matrix(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, Eigen::MatrixXd& A) {
+// Dᵀ Q D + diag(shift), lower triangle (column-major, k x k), in double or in single precision.
+template <typename Matrix>
+void reduced_matrix(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, Matrix& A) {
+  using Scalar = typename Matrix::Scalar;
   const int k = static_cast<int>(d.size());
   A.resize(k, k);
   for (int col = 0; col < k; ++col) {
@@ -70,14 +72,57 @@ void reduced_matrix(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, E
       const Direction& e = d[static_cast<std::size_t>(row)];
       double v = c.w_a * (e.w_a * qa[e.a] + (e.b >= 0 ? e.w_b * qa[e.b] : 0.0));
       if (qb) v += c.w_b * (e.w_a * qb[e.a] + (e.b >= 0 ? e.w_b * qb[e.b] : 0.0));
-      A(row, col) = v;
+      A(row, col) = static_cast<Scalar>(row == col ? v + c.shift : v);
     }
-    A(col, col) += c.shift;
   }
 }
 
-// Solves the reduced system for λ⁺; false if its Cholesky factorization fails.
-bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new) {
+// (Dᵀ Q D + diag(shift)) y with one product by Q in double.
+Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y) {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(qp.size());
+  for (std::size_t j = 0; j < d.size(); ++j) {
+    v[d[j].a] += d[j].w_a * y[static_cast<Eigen::Index>(j)];
+    if (d[j].b >= 0) v[d[j].b] += d[j].w_b * y[static_cast<Eigen::Index>(j)];
+  }
+  const Eigen::VectorXd Qv = qp.apply(v);
+  Eigen::VectorXd out(y.size());
+  for (std::size_t j = 0; j < d.size(); ++j) {
+    const Direction& e = d[j];
+    const auto i = static_cast<Eigen::Index>(j);
+    out[i] = e.w_a * Qv[e.a] + (e.b >= 0 ? e.w_b * Qv[e.b] : 0.0) + e.shift * y[i];
+  }
+  return out;
+}
+
+// The reduced system solved by a single-precision Cholesky factorization refined in double (each
+// refinement one product by Q): for large systems (with a single copy of Q, see BoxDiscQP), where
+// the factorization is the cost of a Newton step. False when the single factorization fails or the
+// refinement does not reach kRefinedResidual: the caller then solves in double.
+constexpr int kMaxRefinements = 4;
+constexpr double kRefinedResidual = 1e-10;
+bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products) {
+  Eigen::MatrixXf A;
+  reduced_matrix(*qp.Q, d, A);
+  const SingleCholesky chol(std::move(A));
+  if (!chol.ok()) return false;
+  const Eigen::VectorXd b = y;
+  Eigen::VectorXd x = chol.solve(b);
+  for (int it = 0; it < kMaxRefinements; ++it) {
+    const Eigen::VectorXd r = b - reduced_product(qp, d, x);
+    ++products;
+    if (!r.allFinite()) return false;
+    if (r.norm() <= kRefinedResidual * b.norm()) {
+      y = x;
+      return true;
+    }
+    x += chol.solve(r);
+  }
+  return false;
+}
+
+// Solves the reduced system for λ⁺; false if its Cholesky factorization fails. `products` counts the
+// products by Q of a single-precision solve's refinement.
+bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new, int& products) {
   const int k = static_cast<int>(step.directions.size());
   const Eigen::VectorXd residual = qp.h - qp.apply(step.lambda_fixed);
   Eigen::VectorXd y(k);
@@ -85,7 +130,7 @@ bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd
     const Direction& d = step.directions[static_cast<std::size_t>(j)];
     y[j] = d.w_a * residual[d.a] + (d.b >= 0 ? d.w_b * residual[d.b] : 0.0);
   }
-  if (k > 0) {
+  if (k > 0 && !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
     Eigen::MatrixXd A;
     reduced_matrix(*qp.Q, step.directions, A);
     const DenseCholesky chol(std::move(A));
@@ -149,8 +194,8 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       settings.progress->beat([&] { return qp_heartbeat_line("ssn", result, settings.rtol, *settings.progress); });
     const double F_before = F_norm;
     const ReducedStep step = split_active_sets(qp, z, rho);
-    ++result.hessian_products;                    // Q λ_fixed
-    if (!newton_target(qp, step, target)) break;  // hand over to MPGP
+    ++result.hessian_products;                                             // Q λ_fixed
+    if (!newton_target(qp, step, target, result.hessian_products)) break;  // hand over to MPGP
     ++result.iterations;
     ++result.newton_steps;
     const Eigen::VectorXd delta = target - lambda;

@@ -64,3 +64,21 @@ TEST(DenseCholesky, SmallestEigenvalueFromAbove) {
     for (int j = 0; j < 3; ++j) EXPECT_LT((X.col(j) - chol.solve(Eigen::VectorXd(B.col(j)))).norm(), 1e-10) << n;
   }
 }
+
+// The single-precision factorization: solves to single's rounding (the caller refines), reports a
+// matrix that is not positive definite, and passes zero and non-finite right-hand sides through.
+TEST(SingleCholesky, SolvesToSinglePrecision) {
+  for (int n : {30, 450}) {
+    const Eigen::MatrixXd A = random_spd(n, 5);
+    const SingleCholesky chol(A.cast<float>());
+    ASSERT_TRUE(chol.ok()) << n;
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, -1e30, 2e30);
+    const Eigen::VectorXd y = chol.solve(A * x);
+    EXPECT_LT((y - x).norm(), 1e-2 * x.norm()) << n;
+    EXPECT_GT((y - x).norm(), 1e-12 * x.norm()) << "not computed in single precision";
+    EXPECT_TRUE(chol.solve(Eigen::VectorXd::Zero(n)).isZero(0));
+  }
+  Eigen::MatrixXd B = random_spd(20, 3);
+  B(4, 4) = -1;
+  EXPECT_FALSE(SingleCholesky(B.cast<float>()).ok());
+}

@@ -1,5 +1,5 @@
-// MPGP with its products through a single-precision copy of Q (mpgp.hpp): the answer must meet the
-// tolerance on a gradient computed in double, however far below single precision the tolerance is.
+// MPGP and semismooth Newton with a single-precision copy of Q (mpgp.hpp, ssn.hpp): the answer must meet
+// the tolerance on a gradient computed in double, however far below single precision the tolerance is.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -8,6 +8,7 @@
 #include "qp/box_disc_qp.hpp"
 #include "qp/dual_qp_solver.hpp"
 #include "qp/mpgp.hpp"
+#include "qp/ssn.hpp"
 #include "test_support.hpp"
 
 using namespace contact3d;
@@ -97,4 +98,28 @@ TEST(SinglePrecisionProducts, AutoUsesThemFromTheThresholdOn) {
   EXPECT_TRUE(uses_single_products(QpPrecision::Auto, kMixedPrecisionMinSize));
   EXPECT_FALSE(uses_single_products(QpPrecision::Double, 10 * kMixedPrecisionMinSize));
   EXPECT_TRUE(uses_single_products(QpPrecision::Mixed, 3));
+}
+
+// Semismooth Newton with a single copy of Q solves its reduced systems in single precision refined in
+// double: the same answer as in double, to the same exact tolerance, and the refinement's products
+// are counted.
+TEST(SinglePrecisionProducts, NewtonStepsRefinedToTheDoubleAnswer) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    RandomQp rq = make_random_qp(40, true, seed * 13);
+    rq.qp.Q = &rq.Q;
+    rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+    SsnSettings settings;
+    settings.rtol = 1e-11;
+    Eigen::VectorXd reference;
+    const QpResult in_double = solve_ssn(rq.qp, reference, settings);
+    ASSERT_EQ(in_double.status, QpStatus::Converged);
+    const SingleCopy single(rq.Q);
+    single.attach(rq.qp);
+    Eigen::VectorXd x;
+    const QpResult mixed = solve_ssn(rq.qp, x, settings);
+    ASSERT_EQ(mixed.status, QpStatus::Converged) << "seed " << seed;
+    EXPECT_LE(exact_projected_gradient(rq.qp, x), 1e-11) << "seed " << seed;
+    EXPECT_LT((x - reference).norm(), 1e-8 * (1 + reference.norm())) << "seed " << seed;
+    EXPECT_GT(mixed.hessian_products, in_double.hessian_products) << "no refinement products: not solved in single";
+  }
 }
