@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include "linalg/dual_operator.hpp"
 #include "qp/box_disc_qp.hpp"
 
 namespace contact3d::testing {
@@ -37,7 +38,12 @@ param = 6e4
 
 struct RandomQp {
   Eigen::MatrixXd Q;
-  BoxDiscQP qp;  // qp.Q is left null: point it at Q where the object will live
+  BoxDiscQP qp;  // qp.Q is left null: point it at Q where the object will live (use_operator)
+  // Points qp at Q and sets ‖Q‖ (power iteration, 5% margin): call once the object stays put.
+  void use_operator() {
+    qp.Q = &Q;
+    qp.q_norm = 1.05 * estimate_norm(Q, 200);
+  }
 };
 
 // Q = AᵀA + shift·I with A Gaussian (m+extra_rows) x m, h Gaussian, radii uniform in [0, 2)

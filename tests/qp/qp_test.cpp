@@ -61,8 +61,7 @@ TEST_P(MpgpRandom, MatchesKktAndBruteForce) {
   const auto [r, friction, expansion] = GetParam();
   for (unsigned seed = 1; seed <= 6; ++seed) {
     RandomQp rq = make_random_qp(r, friction, seed * 7919 + r);
-    rq.qp.Q = &rq.Q;
-    rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+    rq.use_operator();
     MpgpSettings settings;
     settings.rtol = 1e-10;
     settings.expansion = expansion;

@@ -52,8 +52,7 @@ TEST(SinglePrecisionProducts, MpgpMeetsADoubleToleranceOnRandomQps) {
        {ExpansionKind::FullGradient, ExpansionKind::FreeGradient, ExpansionKind::ProjectedCG}) {
     for (unsigned seed = 1; seed <= 4; ++seed) {
       RandomQp rq = make_random_qp(20, true, seed * 31);
-      rq.qp.Q = &rq.Q;
-      rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+      rq.use_operator();
       MpgpSettings settings;
       settings.rtol = 1e-10;
       settings.expansion = expansion;
@@ -79,8 +78,7 @@ TEST(SinglePrecisionProducts, StopsOnlyWhenTheExactGradientMeetsTheTolerance) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     RandomQp rq = make_random_qp(30, false, seed);
     rq.Q = with_condition(30, 1e6, seed);
-    rq.qp.Q = &rq.Q;
-    rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+    rq.use_operator();
     const SingleCopy single(rq.Q);
     single.attach(rq.qp);
     MpgpSettings settings;
@@ -106,8 +104,7 @@ TEST(SinglePrecisionProducts, AutoUsesThemFromTheThresholdOn) {
 TEST(SinglePrecisionProducts, NewtonStepsRefinedToTheDoubleAnswer) {
   for (unsigned seed = 1; seed <= 4; ++seed) {
     RandomQp rq = make_random_qp(40, true, seed * 13);
-    rq.qp.Q = &rq.Q;
-    rq.qp.q_norm = 1.05 * estimate_norm(rq.Q, 200);
+    rq.use_operator();
     SsnSettings settings;
     settings.rtol = 1e-11;
     Eigen::VectorXd reference;
