@@ -105,6 +105,13 @@ TEST(SolvePaperBrick, FrictionlessAndConstantAreSingleSolves) {
   const SolveResult constant = solve_text({"friction.law=\"constant\"", "friction.value=0.3"});
   ASSERT_TRUE(constant.converged);
   EXPECT_EQ(constant.n_dual, 36);
+  // The one QP is the whole answer: solved to qp_rtol_per_err · fixed_point_tol, not to a first
+  // step's qp_rtol (unless qp_rtol_per_err = 0, the paper's criterion).
+  for (const SolveResult* single : {&frictionless, &constant}) EXPECT_LE(single->last_qp.projected_gradient, 1e-10);
+  const SolveResult paper = solve_text({"friction.law=\"constant\"", "friction.value=0.3", "solver.qp_rtol_per_err=0"});
+  ASSERT_TRUE(paper.converged);
+  EXPECT_GT(paper.last_qp.projected_gradient, 1e-10);
+  EXPECT_LE(paper.last_qp.projected_gradient, 1e-6);
   // Less friction lets the body slide further in x than with a higher coefficient.
   const SolveResult low = solve_text({"friction.law=\"constant\"", "friction.value=0.05"});
   double ux_low = 0, ux_high = 0;
