@@ -184,6 +184,11 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
 
 }  // namespace
 
+double final_step_qp_rtol(const FixedPointSettings& settings, double qp_rtol) {
+  if (!settings.adaptive_qp_tolerance || !(settings.qp_rtol_per_err > 0)) return qp_rtol;
+  return std::min(qp_rtol, std::max(settings.qp_rtol_floor, settings.qp_rtol_per_err * settings.tol));
+}
+
 FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPointSettings& settings, double qp_rtol,
                                    const StepObserver& observe) {
   FixedPointResult result;

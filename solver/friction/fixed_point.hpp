@@ -103,6 +103,11 @@ struct FixedPointResult {
 using SlipMap = std::function<SlipEvaluation(const Eigen::VectorXd& phi, double suggested_qp_rtol)>;
 using StepObserver = std::function<void(const FixedPointStep&)>;
 
+// The QP tolerance of the last step of a converged run: qp_rtol_per_err · tol (not below the floor,
+// nor above qp_rtol); qp_rtol when the inner tolerance does not follow the outer progress. A problem
+// solved by one QP (no fixed point) gets this one, since that QP is its whole answer.
+double final_step_qp_rtol(const FixedPointSettings& settings, double qp_rtol);
+
 // `qp_rtol` is passed on to G unchanged (exact steps, as in the paper) unless settings.inexact.
 FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPointSettings& settings, double qp_rtol,
                                    const StepObserver& observe = {});

@@ -96,11 +96,16 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   return op;
 }
 
-// Q is dense (m²); with its working copies it takes at most 24 bytes per entry (16 in the stability
-// check: Q and its factor; 20 in the dual solve: Q, its Jacobi-scaled copy and the single-precision
-// copy of the latter): refuse what this machine cannot hold rather than dying in the allocator.
-void require_memory_for_dense_dual(const ContactOperator& op) {
-  const double bytes = 3 * 8.0 * op.rows() * static_cast<double>(op.rows());
+// Bytes per entry of Q that the dual solve holds at most: Q, its Jacobi-scaled copy and a Newton
+// step's reduced matrix (up to m² in double), plus the single-precision copy when it is used (the
+// stability check holds less: Q and its factor).
+double dense_dual_bytes_per_entry(const QpSettings& qp, int rows) {
+  return 3 * 8.0 + (uses_single_products(qp.precision, rows) ? 4.0 : 0.0);
+}
+
+// Q is dense (m²): refuse what this machine cannot hold rather than dying in the allocator.
+void require_memory_for_dense_dual(const ContactOperator& op, const QpSettings& qp) {
+  const double bytes = dense_dual_bytes_per_entry(qp, op.rows()) * op.rows() * static_cast<double>(op.rows());
   const double available = static_cast<double>(available_memory_bytes());
   if (available > 0 && bytes > 0.9 * available)
     throw InputError("the contact partition has " + std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
@@ -124,7 +129,7 @@ void time_reference_factorizations(const Eigen::SparseMatrix<double>& K, StageCl
 constexpr double kIllConditionedDual = 1e10;
 
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
-// estimate of cond(Q) (power iterations on Q and Q⁻¹); when its Cholesky fails or is
+// estimate of cond(Q) (power iterations on Q, subspace iteration on Q⁻¹); when its Cholesky fails or is
 // near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws).
 double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partition& part, int r) {
   {  // the fast path: LAPACK Cholesky (blocked, threaded; far faster than the pivoted LDLᵀ)
@@ -132,7 +137,7 @@ double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partit
     if (llt.ok()) {
       const Eigen::VectorXd d = llt.pivots();
       if (d.minCoeff() > 1e-11 * d.maxCoeff()) {
-        // cond(Q) = λmax / λmin: power iterations on Q (lambda_max) and, with the factor, on Q⁻¹.
+        // cond(Q) = λmax / λmin: λmax by power iterations on Q, λmin with the factor.
         return lambda_max / smallest_eigenvalue(llt, Q);
       }
     }
@@ -179,26 +184,21 @@ RadiusRule radius_rule(const Scene& scene, const Mesh& mesh, const SolveResult& 
 
 // The successive approximations (5.7) when F depends on the slip (on (φ, g = λ_n) for Coulomb);
 // otherwise one Tresca (or frictionless) solve, which is then the whole answer.
-// That one solve gets the tolerance the last step of a converged fixed point reaches,
-// qp_rtol_per_err · fixed_point_tol (1e-10 by default), not the paper's 1e-6 of a first step: on the
-// thin slab (cond(Q) ≈ 1.4e5) a Tresca solve stopped at 1e-6 left the body's displacement 2.6-4.1%
-// from the exact discrete answer, at 1e-7 already 2e-5, for 15-30% more dual-solve time.
-// qp_rtol_per_err = 0 keeps qp_rtol (the paper's criterion) here too.
-double single_solve_qp_rtol(const SolverSettings& s) {
-  return s.qp_rtol_per_err > 0 ? std::min(s.qp_rtol, s.qp_rtol_per_err * s.fixed_point_tol) : s.qp_rtol;
-}
-
+// That one solve gets the tolerance the last step of a converged fixed point reaches
+// (final_step_qp_rtol: 1e-10 by default), not the paper's 1e-6 of a first step: on the thin slab
+// (cond(Q) ≈ 1.4e5) a Tresca solve stopped at 1e-6 left the body's displacement 2.6-4.1% from the
+// exact discrete answer, at 1e-7 already 2e-5, for 15-30% more dual-solve time.
 void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes, const ProgressCallback& progress,
                      SolveResult& res) {
   const Eigen::VectorXd phi0 = Eigen::VectorXd::Zero(n_contact_nodes);
+  FixedPointSettings fp;
+  fp.tol = scene.solver.fixed_point_tol;
+  fp.max_iterations = scene.solver.fixed_point_max_iter;
+  fp.variant = scene.solver.fixed_point;
+  fp.anderson_depth = scene.solver.anderson_depth;
+  fp.qp_rtol_per_err = scene.solver.qp_rtol_per_err;
+  fp.inexact = scene.solver.inexact_fixed_point;
   if (scene.needs_fixed_point()) {
-    FixedPointSettings fp;
-    fp.tol = scene.solver.fixed_point_tol;
-    fp.max_iterations = scene.solver.fixed_point_max_iter;
-    fp.variant = scene.solver.fixed_point;
-    fp.anderson_depth = scene.solver.anderson_depth;
-    fp.qp_rtol_per_err = scene.solver.qp_rtol_per_err;
-    fp.inexact = scene.solver.inexact_fixed_point;
     if (scene.coulomb()) {
       CoulombMap coulomb(tresca, n_contact_nodes, res.n_cells, scene.law.depends_on_slip());
       fp.blocks = coulomb.blocks();
@@ -209,7 +209,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     res.status = to_string(res.fixed_point.status);
     res.converged = res.fixed_point.status == FixedPointStatus::Converged;
   } else {
-    const double rtol = single_solve_qp_rtol(scene.solver);
+    const double rtol = final_step_qp_rtol(fp, scene.solver.qp_rtol);
     const auto t0 = std::chrono::steady_clock::now();
     const SlipEvaluation eval = tresca(phi0, rtol);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -472,7 +472,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   const ContactOperator op = contact_stage(scene, mesh, res);
   clock.lap("contact");
   describe_contact(report, res, op);
-  require_memory_for_dense_dual(op);
+  require_memory_for_dense_dual(op, scene.solver.qp);
 
   stage.enter("factorization",
               "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
@@ -495,7 +495,9 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   check_dual_stability(*dual, q_norm, op, report, res);
   clock.lap("stability");
 
-  stage.enter("dual solve", "the QP's copy of Q (" + gib(8.0 * op.rows() * op.rows()) + ")");
+  stage.enter("dual solve",
+              "the QP's working copies of Q (" +
+                  gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) * op.rows() * op.rows()) + ")");
   DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp);
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),

@@ -14,8 +14,9 @@ namespace contact3d {
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
   // Optional single-precision copy of Q (its lower triangle is read): products through it stream
-  // half the bytes (BLAS ssymv, 1.8-2.7x faster than dsymv at 4800-14000 multipliers). Solvers use it
-  // only for recursive updates of the gradient and check convergence with apply() (see mpgp.hpp).
+  // half the bytes (BLAS ssymv, 1.8-2.7x faster than dsymv at 4800-14000 multipliers). MPGP uses it
+  // for recursive updates of the gradient and checks convergence with apply() (mpgp.hpp); when it is
+  // set, Newton steps factor their reduced systems in single precision and refine in double (ssn.hpp).
   const Eigen::MatrixXf* Q_single = nullptr;
   double single_scale = 1;  // Q = single_scale · Q_single (kept near 1 in float: no under- or overflow)
   Eigen::VectorXd h;

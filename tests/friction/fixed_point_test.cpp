@@ -232,5 +232,23 @@ TEST(FixedPoint, InnerFailureIsNamed) {
   EXPECT_NE(r.hint.find("qp"), std::string::npos);
 }
 
+// The tolerance of a converged run's last step, which a problem solved by one QP gets: qp_rtol_per_err
+// · tol, never above qp_rtol, never below the floor (a tolerance under rounding would only run the QP
+// to its iteration limit), and qp_rtol itself when the inner tolerance does not follow the outer one.
+TEST(FixedPoint, FinalStepQpToleranceIsBoundedOnBothSides) {
+  FixedPointSettings s;
+  EXPECT_DOUBLE_EQ(final_step_qp_rtol(s, 1e-6), 1e-10);
+  s.tol = 1e-9;
+  EXPECT_DOUBLE_EQ(final_step_qp_rtol(s, 1e-6), s.qp_rtol_floor);
+  s.tol = 0.5;
+  s.qp_rtol_per_err = 0.5;
+  EXPECT_DOUBLE_EQ(final_step_qp_rtol(s, 1e-6), 1e-6);
+  s.qp_rtol_per_err = 0;
+  EXPECT_DOUBLE_EQ(final_step_qp_rtol(s, 1e-6), 1e-6);
+  s.qp_rtol_per_err = 1e-6;
+  s.adaptive_qp_tolerance = false;
+  EXPECT_DOUBLE_EQ(final_step_qp_rtol(s, 1e-6), 1e-6);
+}
+
 }  // namespace
 }  // namespace contact3d
