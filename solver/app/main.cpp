@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "base/errors.hpp"
+#include "base/memory.hpp"
 #include "distributed/backend.hpp"
 #include "io/results_writer.hpp"
 #include "io/run_folder.hpp"
@@ -203,6 +204,7 @@ int run_check(const SolveArgs& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();  // stages reuse the pages earlier stages freed (base/memory.hpp)
   // The distributed build: every rank but 0 only serves rank 0's factorization and solves.
   distributed::Session session(argc, argv);
   if (!session.is_root()) {

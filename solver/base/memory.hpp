@@ -1,14 +1,28 @@
-// What this process can still get: MemAvailable from /proc/meminfo, capped by the cgroup's memory
-// limit (containers, batch schedulers) and by the address-space limit (ulimit -v) minus what the
-// process already maps; 0 when unknown. Size limits follow the machine instead of a fixed number.
+// What this process can still get: MemAvailable from /proc/meminfo plus what its allocator holds
+// free, capped by the cgroup's memory limit (containers, batch schedulers) and by the
+// address-space limit (ulimit -v) minus what the process already maps; 0 when unknown. Size limits
+// follow the machine instead of a fixed number.
+//
+// And how the process allocates: a solve allocates and frees dense m × m arrays (Q, its copies, the
+// Newton matrices) and sparse factors stage after stage. glibc serves each such block with a fresh
+// mmap and unmaps it on free, so every stage touches new pages and pays a page fault per 4 KiB (11 µs
+// each on the 2-core virtual machine we measure on). keep_freed_memory() makes large
+// blocks come from the heap and stay there when freed, so a later stage reuses pages already
+// touched: on the slab at h = 0.025 page faults 519k → 263k (the peak working set), wall time
+// 13.3 → 9.4 s, peak resident memory 1036 → 1058 MiB. release_freed_memory() hands the free heap
+// back (before timing a reference factorization that must start as cold as the first).
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include <sys/resource.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 namespace contact3d {
 
@@ -44,13 +58,36 @@ inline std::uint64_t address_space_headroom() {
   return lim.rlim_cur > used ? lim.rlim_cur - used : 1;
 }
 
+// Bytes the allocator holds free (reusable without asking the system).
+inline std::uint64_t allocator_free_bytes() {
+#ifdef __GLIBC__
+  return static_cast<std::uint64_t>(mallinfo2().fordblks);
+#else
+  return 0;
+#endif
+}
+
 }  // namespace memory_detail
+
+inline void keep_freed_memory() {
+#ifdef __GLIBC__
+  mallopt(M_MMAP_MAX, 0);                                      // large blocks from the heap, not from mmap
+  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());  // freed heap stays with the process
+#endif
+}
+
+inline void release_freed_memory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
 
 inline std::uint64_t available_memory_bytes() {
   std::uint64_t avail = memory_detail::meminfo_available();
   for (const std::uint64_t cap : {memory_detail::cgroup_headroom(), memory_detail::address_space_headroom()})
     if (cap > 0) avail = avail > 0 ? std::min(avail, cap) : cap;
-  return avail;
+  // The system counts the heap this process keeps free as used; the process can reuse it.
+  return avail > 0 ? avail + memory_detail::allocator_free_bytes() : 0;
 }
 
 }  // namespace contact3d

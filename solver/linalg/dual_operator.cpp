@@ -90,11 +90,17 @@ DualOperator make_dual_operator_augmented(const SparseCholesky& K_aug, const Eig
   op.u_free = u_free ? *u_free : K_aug.solve(f);
   op.h = B * op.u_free;
   op.solves = u_free ? 0 : 1;
-  const Eigen::MatrixXd G = K_aug.trailing_gram();
+  Eigen::MatrixXd G = K_aug.trailing_gram();
   const std::vector<int> order = K_aug.trailing_order();  // n + (row of 𝔹), in the factor's order
   const int m = static_cast<int>(B.rows()), n = K_aug.size();
   std::vector<int> row(m);
   for (int k = 0; k < m; ++k) row[k] = order[k] - n;
+  bool in_order = true;  // the usual case: the factor keeps 𝔹's rows in the order they were given
+  for (int k = 0; k < m && in_order; ++k) in_order = row[k] == k;
+  if (in_order) {
+    op.Q = std::move(G);
+    return op;
+  }
   op.Q.resize(m, m);  // G is symmetric to the bit (trailing_gram mirrors it): only permute
   for (int b = 0; b < m; ++b) {
     double* column = op.Q.col(row[b]).data();
