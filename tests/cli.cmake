@@ -39,6 +39,14 @@ add_test(NAME warns_ill_conditioned_dual
          COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/slab.toml --set mesh.parameters.h=0.1
                  --set contact.cell_size=\"1h\" --out ${CMAKE_BINARY_DIR}/cli-tests/slab-1h --quiet)
 set_tests_properties(warns_ill_conditioned_dual PROPERTIES PASS_REGULAR_EXPRESSION "warning: the dual operator Q is ill-conditioned")
+# The same through the single-precision stability check (solver.qp_precision = mixed forces it at
+# any size): its factor is refused for pivots near single's rounding, and the double check warns.
+add_test(NAME warns_ill_conditioned_dual_single_check
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/slab.toml --set mesh.parameters.h=0.1
+                 --set contact.cell_size=\"1h\" --set solver.qp_precision=mixed
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/slab-1h-single --quiet)
+set_tests_properties(warns_ill_conditioned_dual_single_check PROPERTIES PASS_REGULAR_EXPRESSION
+                     "warning: the dual operator Q is ill-conditioned \\(cond\\(Q\\) ≈ [0-9.]+e\\+1[5-7]\\)")
 add_test(NAME no_warning_on_the_paper_brick
          COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
                  --out ${CMAKE_BINARY_DIR}/cli-tests/brick-n4-warnings --quiet)

@@ -90,7 +90,22 @@ Eigen::VectorXd SingleCholesky::solve(const Eigen::VectorXd& b) const {
   return x.cast<double>() * scale;
 }
 
-double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A) {
+Eigen::MatrixXd SingleCholesky::solve_columns(const Eigen::MatrixXd& B) const {
+  const int n = static_cast<int>(L_.rows()), k = static_cast<int>(B.cols());
+  if (n == 0 || k == 0) return B;
+  const double scale = B.cwiseAbs().maxCoeff();
+  if (!(scale > 0) || !std::isfinite(scale)) return Eigen::MatrixXd::Zero(n, k) * scale;
+  Eigen::MatrixXf X = (B / scale).cast<float>();
+  int info = 0;
+  spotrs_("L", &n, &k, L_.data(), &n, X.data(), &n, &info);
+  return X.cast<double>() * scale;
+}
+
+namespace {
+
+// Subspace iteration on A⁻¹ (through `factor`), then Rayleigh–Ritz with A.
+template <class Factor>
+double smallest_eigenvalue_with(const Factor& factor, const Eigen::MatrixXd& A) {
   const Eigen::Index n = A.rows(), k = std::min<Eigen::Index>(8, n);
   constexpr int kIterations = 12;
   std::mt19937 gen(1);  // fixed: the same estimate on every run
@@ -104,6 +119,16 @@ double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A
   const Eigen::MatrixXd AX = A.selfadjointView<Eigen::Lower>() * X;
   const Eigen::MatrixXd T = X.transpose() * AX;
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(T, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
+}
+
+}  // namespace
+
+double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A) {
+  return smallest_eigenvalue_with(factor, A);
+}
+
+double smallest_eigenvalue(const SingleCholesky& factor, const Eigen::MatrixXd& A) {
+  return smallest_eigenvalue_with(factor, A);
 }
 
 }  // namespace contact3d

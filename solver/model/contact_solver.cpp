@@ -24,6 +24,7 @@
 #include "linalg/dense_cholesky.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "linalg/symmetric_product.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "model/plane_frame.hpp"
 #include "model/solution_fields.hpp"
@@ -134,8 +135,19 @@ constexpr double kIllConditionedDual = 1e10;
 
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
 // estimate of cond(Q) (power iterations on Q, subspace iteration on Q⁻¹); when its Cholesky fails or is
-// near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws).
-double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partition& part, int r) {
+// near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws). With `single`
+// (the QP's single-precision products are on: large Q) the factor for the subspace iteration is
+// first tried in single precision; it is kept only when its pivots stay far above single's
+// rounding (kSinglePivotFloor), so that a nearly dependent Q always reaches the double tests.
+double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partition& part, int r, bool single) {
+  constexpr double kSinglePivotFloor = 1e-4;
+  if (single && lambda_max > 0) {
+    const SingleCholesky llt(lower_triangle_in_single(Q, lambda_max));
+    if (llt.ok()) {
+      const Eigen::VectorXd d = llt.pivots();
+      if (d.minCoeff() > kSinglePivotFloor * d.maxCoeff()) return lambda_max / smallest_eigenvalue(llt, Q);
+    }
+  }
   {  // the fast path: LAPACK Cholesky (blocked, threaded; far faster than the pivoted LDLᵀ)
     const DenseCholesky llt(Q);
     if (llt.ok()) {
@@ -446,9 +458,10 @@ std::string describe_dual_solve(const Scene& scene) {
 }
 
 // Stability (5.1) and its warning; cond(Q) on the progress line.
-void check_dual_stability(const DualProblem& dual, double q_norm, const ContactOperator& op, Progress& report,
-                          SolveResult& res) {
-  res.stability_condition = check_stability(dual.Q(), q_norm, res.partition, op.r);
+void check_dual_stability(const DualProblem& dual, double q_norm, const ContactOperator& op, QpPrecision precision,
+                          Progress& report, SolveResult& res) {
+  const bool single = uses_single_products(precision, dual.size());
+  res.stability_condition = check_stability(dual.Q(), q_norm, res.partition, op.r, single);
   if (res.stability_condition > kIllConditionedDual)
     res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
                            "): some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or a "
@@ -496,7 +509,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
 
   stage.enter("stability check", "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
   const double q_norm = estimate_norm(dual->Q());  // once: for cond(Q) and for MPGP's step ᾱ
-  check_dual_stability(*dual, q_norm, op, report, res);
+  check_dual_stability(*dual, q_norm, op, scene.solver.qp.precision, report, res);
   clock.lap("stability");
 
   stage.enter("dual solve",

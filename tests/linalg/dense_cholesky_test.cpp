@@ -65,6 +65,32 @@ TEST(DenseCholesky, SmallestEigenvalueFromAbove) {
   }
 }
 
+// λmin from a single-precision factor: the subspace iteration runs on single's A⁻¹, the
+// Rayleigh–Ritz values use A in double, so the estimate is as close as the double factor's and
+// still from above (cond(A) = 1e4, where single keeps about three digits of A⁻¹).
+TEST(SingleCholesky, SmallestEigenvalueAsCloseAsInDouble) {
+  for (int n : {60, 500}) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(random_spd(n, 12));
+    const Eigen::MatrixXd V = qr.householderQ();
+    Eigen::VectorXd eig(n);
+    for (int k = 0; k < n; ++k) eig[k] = std::pow(10.0, -4.0 * k / (n - 1));
+    const Eigen::MatrixXd A = V * eig.asDiagonal() * V.transpose();
+    const SingleCholesky single(A.cast<float>());
+    ASSERT_TRUE(single.ok()) << n;
+    EXPECT_NEAR(single.pivots().maxCoeff(), DenseCholesky(A).pivots().maxCoeff(), 1e-5 * A.diagonal().maxCoeff());
+    const double estimate = smallest_eigenvalue(single, A), exact = eig.minCoeff();
+    const double in_double = smallest_eigenvalue(DenseCholesky(A), A);
+    EXPECT_GE(estimate, exact * (1 - 1e-9)) << n;
+    EXPECT_LT(estimate - exact, 2 * (in_double - exact) + 1e-9 * exact) << n;
+    const Eigen::MatrixXd B = A.leftCols(3) * 1e-20;
+    const Eigen::MatrixXd X = single.solve_columns(B);
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_LT((X.col(j) - single.solve(Eigen::VectorXd(B.col(j)))).norm(), 5e-3 * X.col(j).norm()) << n;
+      EXPECT_LT((A * X.col(j) - B.col(j)).norm(), 1e-2 * B.col(j).norm()) << n;
+    }
+  }
+}
+
 // The single-precision factorization: solves to single's rounding (the caller refines), reports a
 // matrix that is not positive definite, and passes zero and non-finite right-hand sides through.
 TEST(SingleCholesky, SolvesToSinglePrecision) {
