@@ -4,7 +4,8 @@
 called directly with our ordering and through PETSc's interface) must give the same displacement
 on Γc and the same multipliers to 1e-8 (relative to their largest entries), the same fixed-point
 steps, an equilibrium residual under 1e-8 (rank 0 forms K·w element by element, having freed K),
-and a summary naming the backend, the ranks and each rank's peak memory. Cases: the paper's
+and a summary naming the backend, the ranks, each rank's peak memory and (PETSc route) the six
+rigid-body modes attached to its matrix as the near-null space. Cases: the paper's
 brick (n = 8, slip-dependent law; both routes) and an unstructured body with a hole (hexagonal
 prism, gmsh; also on 3 ranks, so the mesh is cut into three parts), and the quarter block on a
 spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap), and the brick
@@ -107,6 +108,10 @@ def main():
             if backend.get("name") != route or backend.get("ranks") != np_run or \
                     len(backend.get("peak_memory_mib_per_rank", [])) != np_run:
                 fails.append(f"{label}: summary.json backend {backend}, expected {route} on {np_run} ranks")
+            # The PETSc route's matrix carries the six rigid-body modes as its near-null space (the
+            # backend checks the ranks' copy against rank 0's K·R); the direct route has no matrix.
+            if backend.get("near_null_space") != (6 if route == "petsc-mumps" else 0):
+                fails.append(f"{label}: near-null space of {backend.get('near_null_space')} vectors on {route}")
             print(f"{label}: serial (CHOLMOD) vs {np_run} ranks (MUMPS): u {du:.1e}, λ {dl:.1e}; steps "
                   f"{s['fixed_point_iterations']} / {p['fixed_point_iterations']}; peak memory per rank (MiB) "
                   f"{backend.get('peak_memory_mib_per_rank')}")

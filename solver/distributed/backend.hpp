@@ -10,7 +10,9 @@
 // CHOLMOD path uses as its pivot order (ICNTL(7) = 1; from the node graph, as K is nowhere whole):
 // PETSc's interface cannot pass an ordering to a Cholesky with a Schur complement, and MUMPS's own
 // AMD fills 1.3-1.5× more. The PETSc route (MatFactorSetSchurIS on an MPISBAIJ matrix, K assembled
-// on rank 0 and scattered, then freed there) stays selectable.
+// on rank 0 and scattered, then freed there) stays selectable; its matrix carries the six rigid-body
+// modes as its near-null space (MatSetNearNullSpace, checked on the ranks against rank 0's K·R), what
+// PETSc's algebraic multigrid needs for elasticity. The direct route has no PETSc matrix to carry them.
 //
 // In the serial build the same interface exists: available() is false, Session does nothing and
 // make_mumps_dual_problem throws an InputError saying how to get the backend.

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <new>
@@ -176,6 +177,13 @@ void factorize_with_growing_workspace(DirectMumps& d) {
                              ", INFOG(2) = " + std::to_string(d.id.infog[1]) + ")");
 }
 
+// A near-null space attached to the PETSc route's matrix: how many vectors it holds, and ‖K·v‖_F over
+// them as the ranks' rows of K give it.
+struct AttachedSpace {
+  int vectors = 0;
+  double residual = 0;
+};
+
 // One factorization, on every rank between a factorizing command (kAssembleAndFactor, kFactorThroughPetsc) and
 // kRelease.
 struct Factorization {
@@ -186,7 +194,8 @@ struct Factorization {
   IS schur = nullptr;
   PetscInt n = 0, m = 0;
   double factor_entries = 0, flops = 0;
-  Eigen::MatrixXd Q;  // rank 0: −(Schur complement)
+  AttachedSpace near_null_space;  // attached to A (the PETSc route)
+  Eigen::MatrixXd Q;              // rank 0: −(Schur complement)
 
   ~Factorization() {
     VecScatterDestroy(&to_root);
@@ -268,8 +277,70 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
   }
 }
 
-// kFactorThroughPetsc, collective. On rank 0 `csr` holds the whole matrix; elsewhere it is empty.
-std::unique_ptr<Factorization> factor_through_petsc(UpperCsr csr) {
+// Rank 0's modes (rows = K's dofs; absent or empty: none) as A's near-null space: each rank gets the
+// rows it owns ([first[r], first[r + 1]), zero on the multipliers' rows). Returns the number of
+// vectors A then carries, read back from A, and ‖K·modes‖_F as A's rows of K give it (rank 0
+// checks it against its own K: the layout test of the scatter). Collective.
+AttachedSpace attach_near_null_space(Mat A, const Eigen::MatrixXd* modes, PetscInt n, const std::vector<int>& first,
+                                     const std::vector<int>& locals) {
+  const int rank = comm_rank(), size = comm_size();
+  int k = modes ? static_cast<int>(modes->cols()) : 0;
+  MPI_Bcast(&k, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  if (k == 0) return {};
+  std::vector<PetscScalar> packed;  // rank 0: every row, k values each, zero past K's dofs
+  std::vector<int> counts(size), offsets(size);
+  for (int r = 0; r < size; ++r) {
+    counts[r] = k * locals[r];
+    offsets[r] = k * first[r];
+  }
+  if (rank == 0) {
+    packed.assign(static_cast<std::size_t>(k) * first[size], 0.0);
+    for (PetscInt i = 0; i < n; ++i)
+      for (int c = 0; c < k; ++c) packed[static_cast<std::size_t>(k) * i + c] = (*modes)(i, c);
+  }
+  std::vector<PetscScalar> mine(static_cast<std::size_t>(counts[rank]));
+  MPI_Scatterv(packed.data(), counts.data(), offsets.data(), MPIU_SCALAR, mine.data(), counts[rank], MPIU_SCALAR, 0,
+               PETSC_COMM_WORLD);
+  std::vector<Vec> vectors(static_cast<std::size_t>(k), nullptr);
+  for (int c = 0; c < k; ++c) {
+    check(MatCreateVecs(A, &vectors[c], nullptr), "MatCreateVecs");
+    PetscScalar* a = nullptr;
+    check(VecGetArray(vectors[c], &a), "VecGetArray");
+    for (int i = 0; i < locals[rank]; ++i) a[i] = mine[static_cast<std::size_t>(k) * i + c];
+    check(VecRestoreArray(vectors[c], &a), "VecRestoreArray");
+  }
+  MatNullSpace space = nullptr;
+  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, k, vectors.data(), &space), "MatNullSpaceCreate");
+  check(MatSetNearNullSpace(A, space), "MatSetNearNullSpace");
+  MatNullSpaceDestroy(&space);
+  for (Vec& v : vectors) VecDestroy(&v);
+  AttachedSpace out;
+  MatNullSpace attached = nullptr;
+  check(MatGetNearNullSpace(A, &attached), "MatGetNearNullSpace");
+  PetscBool has_constant = PETSC_FALSE;
+  PetscInt count = 0;
+  const Vec* held = nullptr;
+  if (attached) check(MatNullSpaceGetVecs(attached, &has_constant, &count, &held), "MatNullSpaceGetVecs");
+  out.vectors = static_cast<int>(count);
+  double squares = 0;  // this rank's rows of K·v (the rows below n), over the attached vectors
+  Vec product = nullptr;
+  check(MatCreateVecs(A, nullptr, &product), "MatCreateVecs");
+  for (PetscInt c = 0; c < count; ++c) {
+    check(MatMult(A, held[c], product), "MatMult");
+    const PetscScalar* y = nullptr;
+    check(VecGetArrayRead(product, &y), "VecGetArrayRead");
+    for (int i = 0; i < locals[rank] && first[rank] + i < n; ++i) squares += y[i] * y[i];
+    check(VecRestoreArrayRead(product, &y), "VecRestoreArrayRead");
+  }
+  VecDestroy(&product);
+  MPI_Allreduce(MPI_IN_PLACE, &squares, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  out.residual = std::sqrt(squares);
+  return out;
+}
+
+// kFactorThroughPetsc, collective. On rank 0 `csr` holds the whole matrix and `modes` K's
+// near-null space (may be null); elsewhere both are empty.
+std::unique_ptr<Factorization> factor_through_petsc(UpperCsr csr, const Eigen::MatrixXd* modes) {
   const int rank = comm_rank(), size = comm_size();
   auto fz = std::make_unique<Factorization>();
   std::int64_t dims[2] = {csr.n, csr.m};
@@ -311,6 +382,7 @@ std::unique_ptr<Factorization> factor_through_petsc(UpperCsr csr) {
   check(MatCreateMPISBAIJWithArrays(PETSC_COMM_WORLD, 1, local, local, N, N, my_start.data(), my_cols.data(),
                                     my_vals.data(), &fz->A),
         "MatCreateMPISBAIJWithArrays");
+  fz->near_null_space = attach_near_null_space(fz->A, modes, fz->n, first, locals);
   check(MatGetFactor(fz->A, MATSOLVERMUMPS, MAT_FACTOR_CHOLESKY, &fz->F), "MatGetFactor (MUMPS Cholesky)");
   // The multipliers are the Schur set; MUMPS centralizes the Schur complement on rank 0, so the
   // other ranks pass an empty set.
@@ -598,10 +670,19 @@ class MumpsDualProblem final : public DualProblem {
       broadcast(kAssembleAndFactor);
       fz_ = assemble_and_factor(in.stiffness_source, &in.B, order);
     } else {
+      // ‖K·modes‖ from rank 0's K, to check the ranks' copy of the near-null space against.
+      const double expected_residual = in.near_null_space.cols() > 0 ? (in.K * in.near_null_space).norm() : 0.0;
       UpperCsr csr = augmented_upper(in.K, in.B);
       if (in.release_K) in.release_K();  // the ranks' shares come from csr: K need not stay for the factorization
       broadcast(kFactorThroughPetsc);
-      fz_ = factor_through_petsc(std::move(csr));
+      fz_ = factor_through_petsc(std::move(csr), &in.near_null_space);
+      const double residual = fz_->near_null_space.residual;
+      if (std::abs(residual - expected_residual) > 1e-10 * std::max(expected_residual, 1e-300)) {
+        release_factor();  // collective: the other ranks free theirs too
+        throw std::logic_error("the near-null space on the ranks is not K's: ‖K·R‖ = " + std::to_string(residual) +
+                               " there, " + std::to_string(expected_residual) + " on rank 0");
+      }
+      near_null_space = fz_->near_null_space.vectors;
     }
     factor_nonzeros = fz_->factor_entries;
     clock.lap("factorization");
@@ -669,7 +750,7 @@ void Session::serve() {
     try {
       switch (code) {
         case kFactorThroughPetsc:
-          fz = factor_through_petsc(UpperCsr());
+          fz = factor_through_petsc(UpperCsr(), nullptr);
           break;
         case kAssembleAndFactor:
           fz = assemble_and_factor(nullptr, nullptr, {});

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
@@ -76,31 +77,70 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_gr
   return map;
 }
 
-void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
-  // A rigid motion u(x) = t + ω × (x − x̄) is free iff it vanishes at every prescribed component.
-  // With coordinates scaled by the body's size, the 6×6 Gram matrix of those components' rows is
-  // singular exactly then; its null vector is the free motion.
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo, centre = Eigen::Vector3d::Zero();
+namespace {
+
+// The centroid and size of the nodes the tets use: rigid motions are written about the centroid
+// in coordinates scaled by the size, so that translations and rotations weigh alike.
+struct BodyFrame {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double size = 1;
   int n_used = 0;
+  Eigen::Vector3d scaled(const Eigen::Vector3d& x) const { return (x - centre) / size; }
+};
+
+BodyFrame body_frame(const Mesh& mesh, const DofMap& dofs) {
+  BodyFrame f;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
   for (int v = 0; v < dofs.n_nodes; ++v)
     if (dofs.used[v]) {
       lo = lo.cwiseMin(mesh.nodes[v]);
       hi = hi.cwiseMax(mesh.nodes[v]);
-      centre += mesh.nodes[v];
-      ++n_used;
+      f.centre += mesh.nodes[v];
+      ++f.n_used;
     }
-  if (n_used == 0) return;
-  centre /= n_used;
-  const double size = std::max((hi - lo).maxCoeff(), 1e-300);
+  if (f.n_used == 0) return f;
+  f.centre /= f.n_used;
+  f.size = std::max((hi - lo).maxCoeff(), 1e-300);
+  return f;
+}
+
+// Row c: component c of the six rigid motions at the scaled point x (translations e_c, then the
+// rotations e_a × x).
+Eigen::Matrix<double, 3, 6> rigid_motion_basis(const Eigen::Vector3d& x) {
+  return (Eigen::Matrix<double, 3, 6>() << 1, 0, 0, 0, x.z(), -x.y(),  //
+          0, 1, 0, -x.z(), 0, x.x(),                                   //
+          0, 0, 1, x.y(), -x.x(), 0)
+      .finished();
+}
+
+}  // namespace
+
+Eigen::MatrixXd rigid_body_modes(const Mesh& mesh, const DofMap& dofs) {
+  const BodyFrame frame = body_frame(mesh, dofs);
+  Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(dofs.n_free, 6);
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    if (!dofs.used[v]) continue;
+    const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
+    for (int c = 0; c < 3; ++c)
+      if (const int d = dofs.dof(v, c); d >= 0) modes.row(d) = basis.row(c);
+  }
+  if (dofs.n_free < 6) return modes;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(modes);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(dofs.n_free, 6);
+}
+
+void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
+  // A rigid motion u(x) = t + ω × (x − x̄) is free iff it vanishes at every prescribed component.
+  // With coordinates scaled by the body's size, the 6×6 Gram matrix of those components' rows is
+  // singular exactly then; its null vector is the free motion.
+  const BodyFrame frame = body_frame(mesh, dofs);
+  if (frame.n_used == 0) return;
+  const Eigen::Vector3d centre = frame.centre;
+  const double size = frame.size;
   Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
   for (int v = 0; v < dofs.n_nodes; ++v) {
     if (!dofs.used[v] || !dofs.fixed[v]) continue;
-    const Eigen::Vector3d x = (mesh.nodes[v] - centre) / size;
-    // Row c of the rigid-motion basis at x: translations e_c, rotations e_a × x.
-    const Eigen::Matrix<double, 3, 6> basis = (Eigen::Matrix<double, 3, 6>() << 1, 0, 0, 0, x.z(), -x.y(),  //
-                                               0, 1, 0, -x.z(), 0, x.x(),                                   //
-                                               0, 0, 1, x.y(), -x.x(), 0)
-                                                  .finished();
+    const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
     for (int c = 0; c < 3; ++c)
       if (dofs.fixed[v] >> c & 1) gram += basis.row(c).transpose() * basis.row(c);
   }

@@ -44,6 +44,12 @@ struct DofMap {
 DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_groups,
                     const std::vector<PrescribedDisplacement>& displacements = {});
 
+// The six rigid motions (translations, rotations about the centroid) at the free dofs, as
+// orthonormal columns (n_free × 6): the near-null space of K. K annihilates them except in the rows
+// next to prescribed components; algebraic multigrid for elasticity (PETSc's GAMG, hypre) builds its
+// coarse spaces from them (the distributed backend attaches them to its matrix).
+Eigen::MatrixXd rigid_body_modes(const Mesh& mesh, const DofMap& dofs);
+
 // Throws InputError, before anything is factorized, when the prescribed components leave a rigid
 // motion of the body free (K would be singular), naming the motion: a translation along a
 // direction or a rotation about an axis through a point.

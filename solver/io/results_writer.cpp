@@ -124,7 +124,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
         .value("qp_single_products", res.qp_single_products);
     j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
     j.begin_object("backend").value("name", res.backend);
-    j.value("ranks", res.ranks).begin_array("peak_memory_mib_per_rank");
+    j.value("ranks", res.ranks).value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");
     for (double mib : res.peak_memory_per_rank_mib) j.element(mib);
     j.end_array().end_object();
     j.value("friction_model",

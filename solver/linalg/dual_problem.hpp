@@ -58,6 +58,9 @@ struct DualProblemInput {
   // Set, with K left empty, for the direct MUMPS route: it assembles K on its ranks from this, so
   // that no process ever holds the whole of K.
   const StiffnessSource* stiffness_source = nullptr;
+  // K's near-null space (n × 6, fem's rigid_body_modes) for a backend whose matrix object carries
+  // one (the PETSc route attaches it for multigrid); empty: not asked for.
+  Eigen::MatrixXd near_null_space = Eigen::MatrixXd();
 };
 
 // The entries of w at `dofs`, in that order (a face displacement from a whole one).
@@ -86,6 +89,7 @@ class DualProblem {
   std::string backend = "cholmod";  // the library behind it: "cholmod", "mumps" (called directly) or "petsc-mumps"
   double factor_nonzeros = 0;       // nnz(L) of the factorization held
   double step_solve_fraction = 1;   // share of the factor one face_displacement() reads (1: a full solve)
+  int near_null_space = 0;          // vectors attached to the backend's matrix as its near-null space
 
  protected:
   Eigen::MatrixXd Q_;

@@ -18,6 +18,7 @@
 #include "contact/face_dofs.hpp"
 #include "distributed/backend.hpp"
 #include "fem/assembly.hpp"
+#include "fem/dof_map.hpp"
 #include "friction/coulomb_map.hpp"
 #include "friction/slip_bound.hpp"
 #include "friction/tresca_step.hpp"
@@ -502,6 +503,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                          disc.f,           face_dofs.dofs,
                          op.offset,        factor_size_check(report, &stage),
                          disc.release_K(), K_on_ranks ? &source : nullptr};
+  if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
   std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, clock);
   report.stage("  done in " + number(stage_seconds(res, "factorization") + stage_seconds(res, "dual"), 3) +
                " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +
@@ -535,6 +537,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
   res.backend = dual->backend;
+  res.near_null_space = dual->near_null_space;
   res.ranks = is_mumps(method) ? distributed::ranks() : 1;
   if (is_mumps(method))
     if (std::string note = distributed::core_binding_note(); !note.empty()) res.notes.push_back(std::move(note));

@@ -81,6 +81,7 @@ struct SolveResult {
   std::string schur_method;         // how Q was formed: "augmented", "contactlast", "blocksolve" or "mumps"
   std::string backend = "cholmod";  // the linear-algebra library: "cholmod", "mumps" (called directly) or "petsc-mumps"
   int ranks = 1;                    // MPI ranks of the factorization (the distributed backend)
+  int near_null_space = 0;          // rigid-body modes attached to the backend's matrix (the PETSc route: 6)
   std::vector<double> peak_memory_per_rank_mib;  // peak resident memory of each rank at the end
   std::string qp_method;                         // "auto", "mpgp", "mpgp_projcg" or "ssn"
 };

@@ -308,3 +308,46 @@ TEST(Assembly, NodeOrderedAssemblyEqualsTripletAssembly) {
     EXPECT_LT((Eigen::SparseMatrix<double>(fast.transpose()) - fast).norm(), 1e-13 * ref.norm());
   }
 }
+
+// The near-null space: orthonormal, annihilated by the unconstrained K to rounding, and on a
+// clamped body the same motions restricted to the free dofs (K·R then vanishes away from Γu).
+TEST(DofMap, RigidBodyModesSpanTheKernelOfTheFreeBody) {
+  const Mesh mesh = make_paper_brick({3});
+  const Material mat{2e11, 0.3};
+  const DofMap all = make_dof_map(mesh, {});
+  const Eigen::MatrixXd R = rigid_body_modes(mesh, all);
+  ASSERT_EQ(R.cols(), 6);
+  EXPECT_LT((R.transpose() * R - Eigen::MatrixXd::Identity(6, 6)).norm(), 1e-12);
+  const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, all, mat);
+  const double k_norm = Eigen::MatrixXd(K).norm();
+  EXPECT_LT((K * R).norm(), 1e-12 * k_norm);
+  // The six modes are independent: K has no other null vector, so its seventh-smallest eigenvalue
+  // is far from zero (the modes are the whole kernel).
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(K), Eigen::EigenvaluesOnly);
+  EXPECT_GT(eig.eigenvalues()[6], 1e-6 * eig.eigenvalues().maxCoeff());
+
+  const DofMap clamped = make_dof_map(mesh, {"clamped"});
+  const Eigen::MatrixXd Rc = rigid_body_modes(mesh, clamped);
+  Eigen::MatrixXd restricted(clamped.n_free, 6);
+  for (int v = 0; v < clamped.n_nodes; ++v)
+    for (int c = 0; c < 3; ++c)
+      if (const int d = clamped.dof(v, c); d >= 0) restricted.row(d) = R.row(all.dof(v, c));
+  // Same span: projecting the restricted motions onto Rc's columns loses nothing.
+  EXPECT_LT((restricted - Rc * (Rc.transpose() * restricted)).norm(), 1e-12 * restricted.norm());
+  const Eigen::VectorXd residual = (assemble_stiffness(mesh, clamped, mat) * Rc).rowwise().norm();
+  int quiet_rows = 0;  // rows of nodes whose tets touch no clamped node
+  std::vector<char> near_clamp(mesh.nodes.size(), 0);
+  for (const auto& t : mesh.tets) {
+    bool touches = false;
+    for (int v : t) touches = touches || clamped.fixed[v] != 0;
+    if (touches)
+      for (int v : t) near_clamp[v] = 1;
+  }
+  for (int v = 0; v < clamped.n_nodes; ++v)
+    for (int c = 0; c < 3; ++c)
+      if (const int d = clamped.dof(v, c); d >= 0 && !near_clamp[v]) {
+        EXPECT_LT(residual[d], 1e-12 * k_norm) << "node " << v;
+        ++quiet_rows;
+      }
+  EXPECT_GT(quiet_rows, clamped.n_free / 2);
+}
