@@ -19,6 +19,15 @@ Eigen::MatrixXd random_spd(int n, unsigned seed) {
     for (int j = 0; j < n; ++j) A(i, j) = normal(gen);
   return A.transpose() * A + 0.1 * Eigen::MatrixXd::Identity(n, n);
 }
+// A random orthogonal basis times λ_k = 10^(−decades k / (n − 1)): a known spectrum (returned in
+// `eig`) graded like a dual operator's.
+Eigen::MatrixXd graded_spectrum_matrix(int n, unsigned seed, double decades, Eigen::VectorXd& eig) {
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(random_spd(n, seed));
+  const Eigen::MatrixXd V = qr.householderQ();
+  eig.resize(n);
+  for (int k = 0; k < n; ++k) eig[k] = std::pow(10.0, -decades * k / (n - 1));
+  return V * eig.asDiagonal() * V.transpose();
+}
 }  // namespace
 
 TEST(DenseCholesky, SolvesOnBothPaths) {
@@ -49,11 +58,8 @@ TEST(DenseCholesky, ReportsIndefiniteMatrices) {
 // single one.
 TEST(DenseCholesky, SmallestEigenvalueFromAbove) {
   for (int n : {60, 500}) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(random_spd(n, 11));
-    const Eigen::MatrixXd V = qr.householderQ();
-    Eigen::VectorXd eig(n);
-    for (int k = 0; k < n; ++k) eig[k] = std::pow(10.0, -6.0 * k / (n - 1));
-    const Eigen::MatrixXd A = V * eig.asDiagonal() * V.transpose();
+    Eigen::VectorXd eig;
+    const Eigen::MatrixXd A = graded_spectrum_matrix(n, 11, 6, eig);
     const DenseCholesky chol(A);
     ASSERT_TRUE(chol.ok()) << n;
     const double estimate = smallest_eigenvalue(chol, A), exact = eig.minCoeff();
@@ -70,11 +76,8 @@ TEST(DenseCholesky, SmallestEigenvalueFromAbove) {
 // still from above (cond(A) = 1e4, where single keeps about three digits of A⁻¹).
 TEST(SingleCholesky, SmallestEigenvalueAsCloseAsInDouble) {
   for (int n : {60, 500}) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(random_spd(n, 12));
-    const Eigen::MatrixXd V = qr.householderQ();
-    Eigen::VectorXd eig(n);
-    for (int k = 0; k < n; ++k) eig[k] = std::pow(10.0, -4.0 * k / (n - 1));
-    const Eigen::MatrixXd A = V * eig.asDiagonal() * V.transpose();
+    Eigen::VectorXd eig;
+    const Eigen::MatrixXd A = graded_spectrum_matrix(n, 12, 4, eig);
     const SingleCholesky single(A.cast<float>());
     ASSERT_TRUE(single.ok()) << n;
     EXPECT_NEAR(single.pivots().maxCoeff(), DenseCholesky(A).pivots().maxCoeff(), 1e-5 * A.diagonal().maxCoeff());
