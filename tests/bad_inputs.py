@@ -569,6 +569,10 @@ def c_qp_rtol_per_err_negative(c):
     return ["check", c.scene(), "--set", "solver.qp_rtol_per_err=-1e-6"], ["solver.qp_rtol_per_err", "[0, 1)"]
 
 
+def c_fixed_point_tail_err_one(c):
+    return ["check", c.scene(), "--set", "solver.fixed_point_tail_err=1"], ["solver.fixed_point_tail_err", "[0, 1)"]
+
+
 def c_fixed_point_variant_unknown(c):
     return ["check", c.scene(), "--set", "solver.fixed_point=aitkin"], ["solver.fixed_point", "aitken", "aitkin"]
 

@@ -35,6 +35,16 @@ SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rt
   else
     next << eval.slip / phi_scale_, pressure / g_scale_;
   eval.slip = std::move(next);
+  // The derivative of the scaled map, from the second solve on (the first one's slip is not fed back).
+  if (eval.ok && !first) {
+    eval.derivative = [this, s_phi, s_g](const Eigen::VectorXd& v) {
+      const TrescaStep::Derivative d = tresca_.derivative(s_phi * v.head(n_nodes_), s_g * v.tail(n_cells_));
+      Eigen::VectorXd out(size());
+      out << d.slip / phi_scale_, d.normal_pressure / g_scale_;
+      return out;
+    };
+    eval.products_per_derivative = TrescaStep::kDerivativeProducts;
+  }
   return eval;
 }
 

@@ -23,7 +23,8 @@ class CoulombMap {
   // solve; with a constant F the slip does not enter the radii and the frictionless one is kept.
   CoulombMap(TrescaStep& tresca, int n_contact_nodes, int n_cells, bool slip_dependent_law);
 
-  // G(x) for the scaled state x = [φ/s_φ ; g/s_g] (the SlipMap of the fixed point).
+  // G(x) for the scaled state x = [φ/s_φ ; g/s_g] (the SlipMap of the fixed point), with its
+  // derivative from the second solve on (TrescaStep::derivative).
   SlipEvaluation operator()(const Eigen::VectorXd& state, double qp_rtol);
 
   int size() const { return n_nodes_ + n_cells_; }

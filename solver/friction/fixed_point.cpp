@@ -7,6 +7,7 @@
 #include <deque>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -47,10 +48,26 @@ double relative_change(const Eigen::VectorXd& next, const Eigen::VectorXd& prev,
   return worst;
 }
 
-// Anderson mixing (type II) over the last pairs (x_j, G(x_j)).
+// Weights that make each block of the state (sizes `blocks`; none: one block) of unit size in G(x):
+// 1/‖block of gx‖. Secants and least-squares fits over a state made of quantities with different
+// units (Coulomb's slip in m and normal pressure in Pa) then see every block, not only the one with
+// the largest numbers.
+Eigen::VectorXd block_weights(const std::vector<int>& blocks, const Eigen::VectorXd& gx) {
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(gx.size());
+  Eigen::Index start = 0;
+  for (int size : blocks) {
+    const double norm = gx.segment(start, size).norm();
+    if (norm > 0) w.segment(start, size).setConstant(1 / norm);
+    start += size;
+  }
+  return w;
+}
+
+// Anderson mixing (type II) over the last pairs (x_j, G(x_j)); the least-squares fit of the
+// residual differences is weighted per block (block_weights).
 class AndersonMixer {
  public:
-  explicit AndersonMixer(int depth) : depth_(depth) {}
+  AndersonMixer(int depth, std::vector<int> blocks) : depth_(depth), blocks_(std::move(blocks)) {}
   void reset() {
     xs_.clear();
     gs_.clear();
@@ -64,10 +81,11 @@ class AndersonMixer {
     }
     const int m = static_cast<int>(xs_.size()) - 1;
     if (m == 0) return gx;
-    const Eigen::VectorXd f = gx - x;
+    const Eigen::VectorXd w = block_weights(blocks_, gx);
+    const Eigen::VectorXd f = w.cwiseProduct(gx - x);
     Eigen::MatrixXd dF(x.size(), m), dG(x.size(), m);
     for (int j = 0; j < m; ++j) {
-      dF.col(j) = (gs_[j + 1] - xs_[j + 1]) - (gs_[j] - xs_[j]);
+      dF.col(j) = w.cwiseProduct((gs_[j + 1] - xs_[j + 1]) - (gs_[j] - xs_[j]));
       dG.col(j) = gs_[j + 1] - gs_[j];
     }
     const Eigen::VectorXd gamma = dF.colPivHouseholderQr().solve(f);
@@ -75,11 +93,12 @@ class AndersonMixer {
       reset();
       return gx;
     }
-    return (gx - dG * gamma).cwiseMax(0.0);  // slips are norms: keep them non-negative
+    return (gx - dG * gamma).cwiseMax(0.0);  // slips and pressures are non-negative
   }
 
  private:
   int depth_;
+  std::vector<int> blocks_;
   std::deque<Eigen::VectorXd> xs_, gs_;
 };
 
@@ -95,13 +114,17 @@ class AndersonMixer {
 // robustness` 107 of 110 cases within 12 steps instead of 105.)
 class AitkenRelaxation {
  public:
+  explicit AitkenRelaxation(std::vector<int> blocks) : blocks_(std::move(blocks)) {}
   Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& gx) {
     const Eigen::VectorXd r = gx - x;
     if (last_residual_.size() == r.size()) {
-      const Eigen::VectorXd dr = r - last_residual_;
+      // The secant in block-weighted residuals (block_weights), the same weights for both.
+      const Eigen::VectorXd w = block_weights(blocks_, gx);
+      const Eigen::VectorXd last = w.cwiseProduct(last_residual_);
+      const Eigen::VectorXd dr = w.cwiseProduct(r) - last;
       const double dr2 = dr.squaredNorm();
       if (dr2 > 0) {
-        const double secant = -omega_ * last_residual_.dot(dr) / dr2;
+        const double secant = -omega_ * last.dot(dr) / dr2;
         omega_ = secant <= 0 ? 1.0 : std::clamp(secant, 0.1, 4.0);
       }
     }
@@ -116,9 +139,77 @@ class AitkenRelaxation {
   }
 
  private:
+  std::vector<int> blocks_;
   double omega_ = 1;
   Eigen::VectorXd last_residual_;
 };
+
+// An update the accelerated variant tries in place of the relaxation (Newton steps, tail mixing),
+// on probation: it is on from the first step `may_start` allows. A step of it that does not cut err
+// to `required_ratio` of the err before it fails (a Newton step that only creeps is worse than the
+// relaxation); a failed step that raised err is also rejected (the caller goes on from the step
+// before it). A failure hands back to the relaxation, and after two the run relaxes for good.
+class GuardedUpdate {
+ public:
+  explicit GuardedUpdate(double required_ratio) : required_ratio_(required_ratio) {}
+  // Whether the next iterate comes from this update, given the steps so far (called once per step).
+  bool use(const std::vector<FixedPointStep>& history, bool may_start) {
+    const std::size_t n = history.size();
+    just_failed_ = rejected_ = false;
+    if (on_ && n >= 2 && history[n - 1].err > required_ratio_ * history[n - 2].err) {
+      on_ = false;
+      ++failures_;
+      just_failed_ = true;
+      rejected_ = history[n - 1].err > history[n - 2].err;
+    } else if (!on_ && failures_ < kMaxFailures && may_start) {
+      on_ = true;
+    }
+    return on_;
+  }
+  bool just_failed() const { return just_failed_; }  // the last call found a failed step of this update
+  bool rejected() const { return rejected_; }        // ... which also raised err
+
+ private:
+  static constexpr int kMaxFailures = 2;
+  double required_ratio_;
+  bool on_ = false, just_failed_ = false, rejected_ = false;
+  int failures_ = 0;
+};
+
+// A Newton step on φ − G(φ) = 0: (I − G'(φ)) δ = G(φ) − φ solved by GMRES (from δ = 0, to 1e-2 of
+// the residual or 30 Krylov vectors: an inexact Newton step is enough on a map that is only
+// piecewise smooth), each iteration one derivative product (`applications` counts them). Near the
+// fixed point it converges superlinearly where the relaxation's single ω cannot fit the map's
+// different rates (a rate q needs the step r/(1 − q), a different one per direction).
+
+Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::VectorXd& residual, int& applications) {
+  constexpr int kMaxKrylov = 30;
+  constexpr double kRelativeResidual = 1e-2;
+  const double beta = residual.norm();
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(residual.size());
+  if (!(beta > 0)) return delta;
+  std::vector<Eigen::VectorXd> basis{residual / beta};
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(kMaxKrylov + 1, kMaxKrylov);
+  Eigen::VectorXd y;
+  for (int j = 0; j < kMaxKrylov; ++j) {
+    Eigen::VectorXd w = basis[j] - derivative(basis[j]);
+    ++applications;
+    for (int i = 0; i <= j; ++i) {  // modified Gram–Schmidt
+      H(i, j) = w.dot(basis[i]);
+      w -= H(i, j) * basis[i];
+    }
+    H(j + 1, j) = w.norm();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(j + 2);
+    rhs[0] = beta;
+    const auto Hj = H.topLeftCorner(j + 2, j + 1);
+    y = Hj.colPivHouseholderQr().solve(rhs);
+    const double krylov_residual = (rhs - Hj * y).norm();
+    if (!(krylov_residual > kRelativeResidual * beta) || !(H(j + 1, j) > 1e-14 * beta)) break;
+    basis.push_back(w / H(j + 1, j));
+  }
+  for (Eigen::Index i = 0; i < y.size(); ++i) delta += y[i] * basis[static_cast<std::size_t>(i)];
+  return delta.allFinite() ? delta : Eigen::VectorXd::Zero(residual.size());
+}
 
 // q from the last three step lengths ‖G(xₖ) − xₖ‖ (the largest of their two ratios: conservative).
 double contraction_factor(const std::vector<double>& step_lengths) {
@@ -193,13 +284,20 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
                                    const StepObserver& observe) {
   FixedPointResult result;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n_phi);
-  AndersonMixer mixer(settings.anderson_depth);
-  AitkenRelaxation relaxation;
+  AndersonMixer mixer(settings.anderson_depth, settings.blocks);
+  AitkenRelaxation relaxation(settings.blocks);
   bool relaxing = settings.variant == FixedPointVariant::Aitken;  // accelerated: from the first slow step on
+  // Newton steps must at least halve err (near a fixed point they do far better); mixed steps must
+  // not raise it.
+  GuardedUpdate newton(0.5), tail_mixing(1.0);
+  double newton_trust = INFINITY, last_newton_ratio = 0;  // ‖δ‖ / ‖G(x) − x‖ allowed, and of the last step
+  Eigen::VectorXd previous_x, previous_gx;                // the step before the current one: x, G(x)
   std::vector<double> step_lengths;
   std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
-  auto next_iterate = [&](const Eigen::VectorXd& xk, const Eigen::VectorXd& gx, const std::vector<double>& lengths,
+  int derivative_products = 0;            // K⁻¹ applications of the Newton steps' derivative products
+  auto next_iterate = [&](const Eigen::VectorXd& xk, const SlipEvaluation& eval, const std::vector<double>& lengths,
                           bool err_grew) -> Eigen::VectorXd {
+    const Eigen::VectorXd& gx = eval.slip;
     if (result.plain_fallback_step > 0) return gx;  // the mixing stalled: the paper's steps from here on
     switch (settings.variant) {
       case FixedPointVariant::Plain:
@@ -212,7 +310,46 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
         break;
     }
     if (!relaxing && !contracts_fast(lengths)) relaxing = true;
-    return relaxing ? relaxation.next(xk, gx) : relaxation.plain(xk, gx);
+    const bool accelerated = relaxing && settings.variant == FixedPointVariant::Accelerated;
+    // The tail: err < tail_err, and the iterates no longer travel one way — the front of slipping
+    // nodes has settled and the map is close to its linearization about the fixed point. There a
+    // Newton step (where G has a derivative) or Anderson's multisecant fit replaces the relaxation's
+    // scalar ω, which cannot fit different rates and an oscillation at once. Before the tail the
+    // linearization misleads: Newton steps from the start overshot the front (slab h = 0.08, jump
+    // law: 24 steps against 21 relaxed, 14 with Newton in the tail).
+    const bool in_tail = result.history.back().err < settings.tail_err && !still_travelling(residuals);
+    const bool use_newton = accelerated && settings.newton && newton.use(result.history, in_tail && eval.derivative);
+    const bool use_mixing = accelerated && !use_newton && tail_mixing.use(result.history, in_tail);
+    // A Newton or mixed step that raised err is rejected: the update that follows starts again from
+    // the step before it (x, G(x) of the previous step), not from where the bad step led (the U-shaped
+    // footprint with Coulomb and a steep law: a Newton step to err 0.6 left the relaxation drifting
+    // for 20 steps). A rejected Newton step also shrinks the trust region: later ones are cut to half
+    // its length relative to the plain step (as ω <= 4 bounds the relaxation's).
+    const bool rejected = newton.rejected() || tail_mixing.rejected();
+    if (newton.rejected()) newton_trust = 0.5 * last_newton_ratio;
+    const Eigen::VectorXd& x0 = rejected ? previous_x : xk;
+    const Eigen::VectorXd& g0 = rejected ? previous_gx : gx;
+    if (use_newton) {
+      int applications = 0;
+      const Eigen::VectorXd residual = gx - xk;
+      Eigen::VectorXd delta = newton_direction(eval.derivative, residual, applications);
+      if (delta.norm() > newton_trust * residual.norm()) delta *= newton_trust * residual.norm() / delta.norm();
+      last_newton_ratio = delta.norm() / residual.norm();
+      derivative_products += applications * eval.products_per_derivative;
+      relaxation.plain(xk, gx);  // the relaxation's secant starts afresh should Newton stop
+      mixer.reset();
+      ++result.newton_steps;
+      return (xk + delta).cwiseMax(0.0);
+    }
+    if (use_mixing) {
+      if (rejected) mixer.reset();
+      relaxation.plain(x0, g0);
+      ++result.mixed_steps;
+      return mixer.next(x0, g0);
+    }
+    mixer.reset();
+    if (rejected) return relaxation.plain(x0, g0);
+    return relaxing ? relaxation.next(x0, g0) : relaxation.plain(x0, g0);
   };
   int n_mult = 0;
   double best_err = INFINITY;
@@ -240,7 +377,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (settings.inexact && !force_exact)
       rtol_k = std::max(exact_k, k == 1 ? 1e-3 : std::min(1e-3, 1e-2 * result.history[k - 2].err));
     const SlipEvaluation eval = G(x, rtol_k);
-    n_mult += eval.hessian_products;
+    n_mult += eval.hessian_products + derivative_products;
+    derivative_products = 0;
     FixedPointStep step;
     step.k = k;
     step.err = relative_change(eval.slip, x, settings.blocks);
@@ -285,7 +423,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       result.plain_fallback_step = k;
       best_err = INFINITY;
     }
-    x = next_iterate(x, eval.slip, step_lengths, k > 1 && step.err > 2 * result.history[k - 2].err);
+    Eigen::VectorXd next = next_iterate(x, eval, step_lengths, k > 1 && step.err > 2 * result.history[k - 2].err);
+    previous_x = std::move(x);
+    previous_gx = eval.slip;
+    x = std::move(next);
   }
   return finish(FixedPointStatus::IterationLimit);
 }

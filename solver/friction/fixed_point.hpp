@@ -14,7 +14,9 @@
 // new minimum of err for `stagnation_window` steps — is only declared when inner noise is ruled
 // out (the QP is at the floor, or busy with every step) and the iterates are not travelling one way
 // (a slip front spreading over a large face raises err for many steps while the last residuals
-// G(φ) − φ stay aligned), i.e. when the map itself does not contract. An accelerated variant
+// G(φ) − φ stay aligned), i.e. when the map itself does not contract. In the tail (err < tail_err)
+// the accelerated variant takes Newton steps on φ − G(φ) = 0 where G gives its derivative
+// (SlipEvaluation::derivative: the Tresca solve's sensitivity to the radii), by GMRES. An accelerated variant
 // (Aitken, Anderson) that would stagnate falls back to the plain steps first (a relaxed step breaks
 // a slow front's alignment; plain steps ride it out) and stagnates only if they do too. The observed
 // contraction factor q (the largest ratio of successive steps ‖φᵏ⁺¹ − φᵏ‖ / ‖φᵏ − φᵏ⁻¹‖ over the last three) gives the
@@ -38,7 +40,9 @@ enum class FixedPointStatus { Converged, IterationLimit, Stagnation, InnerSolver
 // from the start. Aitken: Aitken's dynamic relaxation φᵏ = φᵏ⁻¹ + ωₖ(G(φᵏ⁻¹) − φᵏ⁻¹), ωₖ the
 // secant step along the residual, from the start. Accelerated (the default): the paper's plain
 // iteration while each step is under half the one before (so scenes it handles keep its steps
-// exactly: the brick's 6), Aitken's relaxation from the first step that is not.
+// exactly: the brick's 6), Aitken's relaxation from the first step that is not, and in the tail
+// (err < tail_err) Newton steps on φ − G(φ) = 0 where G gives its derivative, Anderson mixing
+// where it does not — each safeguarded: two steps of it that raise err, and the relaxation goes on.
 enum class FixedPointVariant { Plain, Anderson, Accelerated, Aitken };
 inline constexpr NameTable<FixedPointVariant, 4> kFixedPointVariantNames{
     {{FixedPointVariant::Plain, "plain"},
@@ -52,6 +56,11 @@ struct FixedPointSettings {
   int max_iterations = 100;
   FixedPointVariant variant = FixedPointVariant::Accelerated;
   int anderson_depth = 5;
+  // Accelerated: the tail begins once err < tail_err (and the iterates no longer travel one way);
+  // there Newton steps on φ − G(φ) = 0 (where G gives its derivative and `newton` is on), else
+  // Anderson mixing (depth anderson_depth), replace the relaxation. 0: no tail, relaxation to the end.
+  double tail_err = 0.1;
+  bool newton = true;
   int stagnation_window = 8;  // stop when err has not reached a new minimum for this many steps
   // Inexact early steps: QP tolerance max(qp_rtol, min(1e-3, 1e-2·err(k−1))); a step that meets
   // `tol` with a looser QP tolerance is repeated exactly before declaring convergence.
@@ -69,12 +78,17 @@ struct FixedPointSettings {
   std::vector<int> blocks;
 };
 
+// v ↦ G'(φ) v, the derivative of G at the φ just evaluated (valid until the next evaluation).
+using SlipDerivative = std::function<Eigen::VectorXd(const Eigen::VectorXd& v)>;
+
 // One evaluation of G: what the Tresca solve reports back.
 struct SlipEvaluation {
   Eigen::VectorXd slip;  // G(φ) at the contact nodes
   bool ok = true;        // false when the inner QP failed
   int qp_iterations = 0;
   int hessian_products = 0;
+  SlipDerivative derivative;        // empty: G gives no derivative (Coulomb, tests)
+  int products_per_derivative = 0;  // K⁻¹ applications (paper's count) of one derivative product
 };
 
 struct FixedPointStep {
@@ -96,6 +110,8 @@ struct FixedPointResult {
   double distance_bound = std::numeric_limits<double>::infinity();
   int qp_tolerance_tightenings = 0;  // times the inner tolerance was tightened against noise
   int plain_fallback_step = 0;       // the step after which an accelerated variant fell back to plain steps (0: never)
+  int mixed_steps = 0;               // iterates the accelerated variant took from its tail mixing
+  int newton_steps = 0;              // iterates the accelerated variant took from Newton steps
   std::string hint;                  // what to try when the status is not "converged"
   int iterations() const { return static_cast<int>(history.size()); }
 };

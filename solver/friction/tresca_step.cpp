@@ -1,5 +1,7 @@
 #include "friction/tresca_step.hpp"
 
+#include <algorithm>
+
 namespace contact3d {
 
 TrescaStep::TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs& face_dofs, const ContactFace& face,
@@ -12,8 +14,49 @@ TrescaStep::TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs
       slip_bound_(std::move(slip_bound)),
       lambda_(Eigen::VectorXd::Zero(dual.size())) {}
 
+SlipEvaluation TrescaStep::operator()(const Eigen::VectorXd& phi, double qp_rtol) {
+  SlipEvaluation eval = solve(phi, slip_bound_, qp_rtol);
+  if (eval.ok) {
+    eval.derivative = [this](const Eigen::VectorXd& v) {
+      return derivative(v, Eigen::VectorXd::Zero(slip_bound_.size())).slip;
+    };
+    eval.products_per_derivative = kDerivativeProducts;
+  }
+  return eval;
+}
+
+namespace {
+
+// The step t of a difference quotient at x along v: t·v is 1e-7 of the larger of x's and v's sizes.
+double difference_step(const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
+  const double v_size = v.lpNorm<Eigen::Infinity>();
+  return v_size > 0 ? 1e-7 * std::max(x.lpNorm<Eigen::Infinity>(), v_size) / v_size : 0.0;
+}
+
+}  // namespace
+
+TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, const Eigen::VectorXd& v_g) {
+  // One step for both inputs (their units differ: the smaller of the two blocks' steps).
+  const double t_phi = difference_step(slip_input_, v_phi), t_g = difference_step(slip_bound_input_, v_g);
+  const double t = t_phi > 0 && t_g > 0 ? std::min(t_phi, t_g) : std::max(t_phi, t_g);
+  Derivative out{Eigen::VectorXd::Zero(v_phi.size()), Eigen::VectorXd::Zero(slip_bound_.size())};
+  if (!(t > 0)) return out;
+  const Eigen::VectorXd dc =
+      (radii_((slip_input_ + t * v_phi).cwiseMax(0.0), (slip_bound_input_ + t * v_g).cwiseMax(0.0)) - radius_) / t;
+  if (!sensitivity_) sensitivity_.emplace(qp_.radius_sensitivity(lambda_));
+  if (!sensitivity_->ok()) return out;
+  const Eigen::VectorXd dlambda = sensitivity_->apply(dc);
+  out.normal_pressure = dlambda.head(slip_bound_.size());
+  // λ ↦ w is affine: its change along dλ, from one application of K⁻¹ on Γc.
+  const Eigen::VectorXd dw = face_dofs_.scatter(dual_.face_displacement(lambda_ + dlambda)) - last_face_;
+  const double s = difference_step(last_face_, dw);
+  if (s > 0) out.slip = (face_dofs_.slip(face_, last_face_ + s * dw) - face_dofs_.slip(face_, last_face_)) / s;
+  return out;
+}
+
 SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol) {
   radius_ = radii_(phi, g);
+  sensitivity_.reset();
   last_qp_ = qp_.solve(radius_, lambda_, qp_rtol);
   Eigen::VectorXd u_face = face_dofs_.scatter(dual_.face_displacement(lambda_));
   SlipEvaluation eval;

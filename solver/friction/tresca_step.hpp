@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,10 +28,24 @@ class TrescaStep {
   TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs& face_dofs, const ContactFace& face,
              RadiusRule radii, Eigen::VectorXd slip_bound);
 
-  // G(φ): one Tresca solve with the QP tolerance `qp_rtol` (the SlipMap of the fixed point).
-  SlipEvaluation operator()(const Eigen::VectorXd& phi, double qp_rtol) { return solve(phi, slip_bound_, qp_rtol); }
+  // G(φ): one Tresca solve with the QP tolerance `qp_rtol` (the SlipMap of the fixed point), with
+  // its derivative (slip_derivative).
+  SlipEvaluation operator()(const Eigen::VectorXd& phi, double qp_rtol);
   // One Tresca solve with radii c(φ, g) for a given slip bound g per cell (Coulomb: g = λ_n).
   SlipEvaluation solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol);
+
+  // The derivative of the last solve's answer (the slip at the nodes and λ_n per cell) along a change
+  // (v_φ, v_g) of its input (φ, g): the radii's difference quotient (c(φ, g) is a cell integral of
+  // F(φ) times g, piecewise smooth), λ's sensitivity to the radii at the solution
+  // (qp/radius_sensitivity.hpp), the displacement on Γc it moves (one K⁻¹ application, linear), and
+  // the slip's difference quotient along it. Costs kDerivativeProducts in the paper's count (the
+  // sensitivity's products by Q, one K⁻¹ on Γc); the first call after a solve also factors the
+  // reduced system.
+  struct Derivative {
+    Eigen::VectorXd slip, normal_pressure;
+  };
+  Derivative derivative(const Eigen::VectorXd& v_phi, const Eigen::VectorXd& v_g);
+  static constexpr int kDerivativeProducts = RadiusSensitivity::kProductsPerApply + 1;
 
   const Eigen::VectorXd& lambda() const { return lambda_; }
   const Eigen::VectorXd& radius() const { return radius_; }
@@ -62,6 +77,7 @@ class TrescaStep {
   int products_ = 0, qp_iterations_ = 0, newton_steps_ = 0, single_products_ = 0;
   Eigen::VectorXd last_face_;
   std::vector<Solve> history_;
+  std::optional<RadiusSensitivity> sensitivity_;  // of the last solve, made by the first derivative()
 };
 
 }  // namespace contact3d

@@ -355,8 +355,8 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   if (const toml::table* sv = table_at(root, "solver")) {
     check_keys(*sv, "solver",
                {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
-                "qp_precision", "fixed_point", "anderson_depth", "qp_rtol_per_err", "schur", "inexact_fixed_point",
-                "reference_factorization"});
+                "qp_precision", "fixed_point", "anderson_depth", "fixed_point_tail_err", "fixed_point_newton",
+                "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
     o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
@@ -364,6 +364,9 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     o.fixed_point_max_iter = get_int(*sv, "solver", "fixed_point_max_iter", o.fixed_point_max_iter, 1, 100000);
     o.anderson_depth = get_int(*sv, "solver", "anderson_depth", o.anderson_depth, 1, 50);
     o.qp_rtol_per_err = get_number(*sv, "solver", "qp_rtol_per_err", o.qp_rtol_per_err);
+    o.fixed_point_tail_err = get_number(*sv, "solver", "fixed_point_tail_err", o.fixed_point_tail_err);
+    if (!(o.fixed_point_tail_err >= 0 && o.fixed_point_tail_err < 1))
+      throw InputError("solver.fixed_point_tail_err must lie in [0, 1) (0: no tail, the relaxation to the end)");
     if (!(o.qp_rtol > 0 && o.qp_rtol < 1)) throw InputError("solver.qp_rtol must lie in (0, 1)");
     if (!(o.qp_rtol_per_err >= 0 && o.qp_rtol_per_err < 1))
       throw InputError("solver.qp_rtol_per_err must lie in [0, 1) (0: every step at qp_rtol)");
@@ -375,6 +378,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     get_enum(*sv, "solver", "schur", kDualMethodNames, o.dual_method);
     get_enum(*sv, "solver", "fixed_point", kFixedPointVariantNames, o.fixed_point);
     for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},
+                                      {"fixed_point_newton", &o.fixed_point_newton},
                                       {"reference_factorization", &o.reference_factorization}}) {
       if (!sv->contains(key)) continue;
       const auto v = (*sv)[key].value<bool>();

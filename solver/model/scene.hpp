@@ -57,6 +57,10 @@ struct SolverSettings {
   // "plain" (the paper's (5.7)), "aitken" (relaxation from the start) or "anderson" (FixedPointVariant).
   FixedPointVariant fixed_point = FixedPointSettings{}.variant;
   int anderson_depth = FixedPointSettings{}.anderson_depth;
+  // "accelerated": the tail begins at err < fixed_point_tail_err (0: never), where Newton steps on the
+  // slip (fixed_point_newton) or Anderson mixing replace the relaxation (FixedPointSettings).
+  double fixed_point_tail_err = FixedPointSettings{}.tail_err;
+  bool fixed_point_newton = FixedPointSettings{}.newton;
   // Fixed-point step k solves its QP to min(qp_rtol, qp_rtol_per_err · err(k−1)); 0: at qp_rtol.
   double qp_rtol_per_err = FixedPointSettings{}.qp_rtol_per_err;
   DualMethod dual_method = DualMethod::Auto;  // key `schur`: how Q = 𝔹K⁻¹𝔹ᵀ is formed (DualMethod)

@@ -13,6 +13,7 @@
 #include "qp/box_disc_qp.hpp"
 #include "qp/jacobi_scaling.hpp"
 #include "qp/mpgp.hpp"
+#include "qp/radius_sensitivity.hpp"
 
 namespace contact3d {
 
@@ -49,6 +50,11 @@ class DualQpSolver {
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
   // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
+  // dλ/dc at `lambda`, the solution of the last solve(), in the original variables (valid until the
+  // next solve(): it reads the radii of this one).
+  RadiusSensitivity radius_sensitivity(const Eigen::VectorXd& lambda) const {
+    return {qp_, lambda, uses_single_products(settings_.precision, qp_.size())};
+  }
   // Heartbeat lines of long solves go to `progress` (must outlive the solver; null: none).
   void report_progress_to(Progress* progress) { progress_ = progress; }
 

@@ -5,6 +5,7 @@
 // bound are checked against the known rate.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "friction/fixed_point.hpp"
@@ -217,6 +218,122 @@ TEST(FixedPoint, StagnationAfterTheFallbackWhenPlainStepsDoNotContractEither) {
   EXPECT_EQ(r.status, FixedPointStatus::Stagnation);
   EXPECT_GT(r.plain_fallback_step, 0);
   EXPECT_GE(r.iterations(), r.plain_fallback_step + s.stagnation_window);
+}
+
+// G(φ) = φ* + diag(rates)(φ − φ*), φ* = scale·(1, 2, ...): one rate per component.
+SlipMap diagonal_map(const std::vector<double>& rates, const std::vector<double>& scale) {
+  return [=](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip.resize(phi.size());
+    for (Eigen::Index i = 0; i < phi.size(); ++i) {
+      const double star = scale[i] * static_cast<double>(i + 1);
+      e.slip[i] = star + rates[i] * (phi[i] - star);
+    }
+    e.qp_iterations = 100;
+    return e;
+  };
+}
+
+TEST(FixedPoint, AcceleratedMixesTheTailWhereNoSingleRelaxationFactorFitsEveryRate) {
+  // Rates 0.9 and −0.8 at once: ω = 1/(1 − 0.9) = 10 would fit the first and blow up the second, ω
+  // = 1/1.8 the reverse. Anderson's multisecant fit takes both once the tail is reached.
+  const std::vector<double> rates{0.9, -0.8, 0.6, 0.3}, unit(4, 1.0);
+  FixedPointSettings relax_only = settings(FixedPointVariant::Accelerated);
+  relax_only.tail_err = 0;
+  const FixedPointResult relaxed = solve_fixed_point(diagonal_map(rates, unit), 4, relax_only, 1e-6);
+  const FixedPointResult mixed =
+      solve_fixed_point(diagonal_map(rates, unit), 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  ASSERT_EQ(relaxed.status, FixedPointStatus::Converged);
+  ASSERT_EQ(mixed.status, FixedPointStatus::Converged);
+  EXPECT_EQ(relaxed.mixed_steps, 0);
+  EXPECT_GT(mixed.mixed_steps, 0);
+  EXPECT_LT(mixed.iterations(), relaxed.iterations() - 3);
+  for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(mixed.phi[i], i + 1.0, 1e-3 * (i + 1));
+}
+
+TEST(FixedPoint, TailMixingFitsEveryBlockOfTheStateWhateverItsUnits) {
+  // Coulomb's state: slips (~1e-6 m) and pressures (~1e7 Pa). Unweighted, the least-squares fit sees
+  // only the pressures and the slips keep their slow rates (0.9, −0.8); weighted per block, both
+  // blocks converge as fast as one block alone does.
+  const std::vector<double> rates{0.9, -0.8, 0.6, 0.3};
+  FixedPointSettings s = settings(FixedPointVariant::Accelerated);
+  const FixedPointResult alone = solve_fixed_point(diagonal_map(rates, {1, 1, 1, 1}), 4, s, 1e-6);
+  s.blocks = {2, 2};
+  const FixedPointResult units = solve_fixed_point(diagonal_map(rates, {1e-6, 1e-6, 1e7, 1e7}), 4, s, 1e-6);
+  ASSERT_EQ(alone.status, FixedPointStatus::Converged);
+  ASSERT_EQ(units.status, FixedPointStatus::Converged);
+  EXPECT_LE(units.iterations(), alone.iterations() + 1);
+  EXPECT_NEAR(units.phi[0], 1e-6, 1e-9);
+  EXPECT_NEAR(units.phi[1], 2e-6, 2e-9);
+}
+
+TEST(FixedPoint, TailMixingThatRaisesErrHandsBackToTheRelaxation) {
+  // A contraction with different rates (so the tail is mixed) that answers any iterate off the lines
+  // of its earlier steps — a mixed one; a plain or relaxed iterate lies on one — with a worse point:
+  // the run must still converge, relaxing for good after two mixed steps that raised err (two
+  // episodes), each rejected (the relaxation goes on from the step before it).
+  const std::vector<double> rates{0.8, 0.6, 0.5};
+  SlipMap spoiled = [G = diagonal_map(rates, {1, 1, 1}),
+                     steps = std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>>()](const Eigen::VectorXd& phi,
+                                                                                         double rtol) mutable {
+    SlipEvaluation e = G(phi, rtol);
+    auto on_line = [&phi](const std::pair<Eigen::VectorXd, Eigen::VectorXd>& s) {
+      const Eigen::VectorXd step = phi - s.first, line = (s.second - s.first).normalized();
+      return (step - step.dot(line) * line).norm() <= 1e-6 * step.norm();
+    };
+    if (!steps.empty() && std::none_of(steps.begin(), steps.end(), on_line)) e.slip *= 1.5;  // off every line
+    steps.emplace_back(phi, e.slip);
+    return e;
+  };
+  const FixedPointResult r = solve_fixed_point(spoiled, 3, settings(FixedPointVariant::Accelerated), 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Converged);
+  // Two episodes of at most three mixed iterates (the first is G(x) itself: one pair, on the line);
+  // without the safeguard the run mixes 14 times and takes 36 steps.
+  EXPECT_LE(r.mixed_steps, 6);
+  EXPECT_LE(r.iterations(), 20);
+  for (Eigen::Index i = 0; i < 3; ++i) EXPECT_NEAR(r.phi[i], i + 1.0, 5e-3 * (i + 1));  // q = 0.8: 5 err
+}
+
+// G(φ) = φ* + A(φ − φ*) + (φ − φ*)²/4 componentwise, A = diag(rates), with its derivative (the
+// Tresca map's comes from the QP's sensitivity to the radii; `derivative_products` per product).
+SlipMap smooth_map_with_derivative(const std::vector<double>& rates, int derivative_products) {
+  return [=](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    const Eigen::VectorXd star = Eigen::VectorXd::LinSpaced(phi.size(), 1.0, 2.0);
+    const Eigen::VectorXd a = Eigen::Map<const Eigen::VectorXd>(rates.data(), phi.size());
+    const Eigen::VectorXd d = phi - star;
+    e.slip = star + a.cwiseProduct(d) + 0.25 * d.cwiseAbs2();
+    e.qp_iterations = 100;
+    e.hessian_products = 100;
+    e.derivative = [a, d](const Eigen::VectorXd& v) { return Eigen::VectorXd((a + 0.5 * d).cwiseProduct(v)); };
+    e.products_per_derivative = derivative_products;
+    return e;
+  };
+}
+
+TEST(FixedPoint, NewtonStepsInTheTailConvergeFasterThanRelaxationOrMixing) {
+  const std::vector<double> rates{0.9, -0.8, 0.6, 0.95};
+  FixedPointSettings without = settings(FixedPointVariant::Accelerated);
+  without.newton = false;
+  const FixedPointResult mixed = solve_fixed_point(smooth_map_with_derivative(rates, 3), 4, without, 1e-6);
+  const FixedPointResult newton =
+      solve_fixed_point(smooth_map_with_derivative(rates, 3), 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  ASSERT_EQ(mixed.status, FixedPointStatus::Converged);
+  ASSERT_EQ(newton.status, FixedPointStatus::Converged);
+  EXPECT_EQ(mixed.newton_steps, 0);
+  EXPECT_GT(newton.newton_steps, 0);
+  EXPECT_LT(newton.iterations(), mixed.iterations());
+  // Once Newton runs err falls at least fivefold per step (the relaxation's rate here is 0.95 at
+  // best; GMRES solves each Newton system to 1e-2).
+  const int first = newton.iterations() - newton.newton_steps - 1;
+  for (int k = first + 2; k < newton.iterations(); ++k)
+    EXPECT_LT(newton.history[k].err, 0.25 * newton.history[k - 1].err) << "step " << k + 1;
+  // n_mult counts the derivative products: more than the evaluations' 100 per step.
+  EXPECT_GT(newton.history.back().n_mult, 100 * newton.iterations());
+  for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(newton.phi[i], 1.0 + i / 3.0, 5e-3);  // rate 0.95: 20 err
+  // Plain and Aitken never take Newton steps.
+  for (FixedPointVariant v : {FixedPointVariant::Plain, FixedPointVariant::Aitken})
+    EXPECT_EQ(solve_fixed_point(smooth_map_with_derivative(rates, 3), 4, settings(v), 1e-6).newton_steps, 0);
 }
 
 TEST(FixedPoint, InnerFailureIsNamed) {

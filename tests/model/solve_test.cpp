@@ -153,6 +153,27 @@ TEST(SolvePaperBrick, AitkenRelaxationGivesTheSameAnswerInNoMoreSteps) {
   EXPECT_LT((plain.u - aitken.u).norm(), 1e-3 * plain.u.norm());
 }
 
+TEST(SolvePaperBrick, NewtonStepsInTheTailGiveThePlainAnswerInFewerSteps) {
+  // A slip-weakening law (0.4 → 0.15 over the brick's slip scale) contracts slowly enough for the
+  // accelerated variant's tail: its Newton steps (G' from the QP's sensitivity to the radii) reach
+  // the plain iteration's fixed point, with Tresca's bound and with Coulomb's.
+  const std::vector<std::string> weakening{"friction.law=\"table\"", "friction.points=[[0.0, 0.4], [2.7e-4, 0.15]]"};
+  for (const std::vector<std::string>& model :
+       {std::vector<std::string>{}, std::vector<std::string>{"friction.model=\"coulomb\"", "friction.slip_bound=0"}}) {
+    std::vector<std::string> plain_overrides = weakening, newton_overrides = weakening;
+    plain_overrides.insert(plain_overrides.end(), model.begin(), model.end());
+    newton_overrides.insert(newton_overrides.end(), model.begin(), model.end());
+    plain_overrides.push_back("solver.fixed_point=\"plain\"");
+    const SolveResult plain = solve_text(plain_overrides);
+    const SolveResult newton = solve_text(newton_overrides);
+    ASSERT_TRUE(plain.converged) << model.size();
+    ASSERT_TRUE(newton.converged) << model.size();
+    EXPECT_GE(newton.fixed_point.newton_steps, 1) << model.size();
+    EXPECT_LT(newton.fixed_point.iterations(), plain.fixed_point.iterations()) << model.size();
+    EXPECT_LT((plain.u - newton.u).norm(), 1e-3 * plain.u.norm()) << model.size();
+  }
+}
+
 TEST(SolvePaperBrick, QpToleranceFollowsTheFixedPointErr) {
   // Default: each step after the first solved to min(qp_rtol, 1e-6·err(k−1)); 0 keeps qp_rtol.
   const SolveResult tied = solve_text();

@@ -1,0 +1,54 @@
+#include "qp/newton_system.hpp"
+
+#include <cmath>
+
+namespace contact3d {
+
+ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho) {
+  const int r = qp.r;
+  ReducedStep step{Eigen::VectorXd::Zero(z.size()), {}};
+  step.directions.reserve(static_cast<std::size_t>(z.size()));
+  for (int i = 0; i < r; ++i)
+    if (z[i] > 0) step.directions.push_back({i, -1, 1.0, 0.0, 0.0});
+  if (!qp.with_friction) return step;
+  for (int i = 0; i < r; ++i) {
+    const int a = qp.layout().t1(i), b = qp.layout().t2(i);
+    const double c = qp.radius[i], zn = std::hypot(z[a], z[b]);
+    if (c <= 0) continue;  // a point disc: λ_t = 0
+    if (zn <= c) {         // inside the disc
+      step.directions.push_back({a, -1, 1.0, 0.0, 0.0});
+      step.directions.push_back({b, -1, 1.0, 0.0, 0.0});
+      continue;
+    }
+    const double nu_a = z[a] / zn, nu_b = z[b] / zn, kappa = c / zn;
+    step.lambda_fixed[a] = c * nu_a;
+    step.lambda_fixed[b] = c * nu_b;
+    step.directions.push_back({a, b, -nu_b, nu_a, (1 - kappa) / (rho * kappa)});
+  }
+  return step;
+}
+
+Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y) {
+  Eigen::VectorXd out = restrict_to(d, qp.apply(prolong(d, y, qp.size())));
+  for (std::size_t j = 0; j < d.size(); ++j)
+    out[static_cast<Eigen::Index>(j)] += d[j].shift * y[static_cast<Eigen::Index>(j)];
+  return out;
+}
+
+Eigen::VectorXd restrict_to(const std::vector<Direction>& d, const Eigen::VectorXd& v) {
+  Eigen::VectorXd y(static_cast<Eigen::Index>(d.size()));
+  for (std::size_t j = 0; j < d.size(); ++j)
+    y[static_cast<Eigen::Index>(j)] = d[j].w_a * v[d[j].a] + (d[j].b >= 0 ? d[j].w_b * v[d[j].b] : 0.0);
+  return y;
+}
+
+Eigen::VectorXd prolong(const std::vector<Direction>& d, const Eigen::VectorXd& y, int size) {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(size);
+  for (std::size_t j = 0; j < d.size(); ++j) {
+    v[d[j].a] += d[j].w_a * y[static_cast<Eigen::Index>(j)];
+    if (d[j].b >= 0) v[d[j].b] += d[j].w_b * y[static_cast<Eigen::Index>(j)];
+  }
+  return v;
+}
+
+}  // namespace contact3d

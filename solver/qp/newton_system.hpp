@@ -1,0 +1,61 @@
+// The reduced Newton system of the dual QP (5.5) at given active sets — shared by the semismooth
+// Newton solver (ssn.hpp) and the sensitivity of the solution to the disc radii
+// (radius_sensitivity.hpp). For z = λ − ρ g(λ), the generalized Jacobian of
+//   F(λ) = λ − P(λ − ρ (Qλ − h)),   P the projection onto {λ_n >= 0, ‖λ_t,i‖ <= c_i},
+// fixes part of λ (λ_n = 0 off contact, λ_t = 0 on a point disc, λ_t = c ν on a sliding disc,
+// ν = z_t / ‖z_t‖) and leaves free unit directions d_k (normal in contact, tangential inside a disc)
+// and the sliding tangents τ ⊥ ν, each with the diagonal term (1 − κ) / (ρ κ), κ = c / ‖z_t‖:
+//   λ = λ_fixed + Σ_k y_k d_k,   (Dᵀ Q D + diag(shift)) y = Dᵀ (h − Q λ_fixed).
+// This is J δ = −F row by row in the (ν, τ) frame of each sliding disc, and, unlike J, it is
+// symmetric positive definite.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "qp/box_disc_qp.hpp"
+
+namespace contact3d {
+
+// One unknown of the reduced system: λ moves along w_a e_a + w_b e_b (b < 0: a unit vector), and
+// `shift` is the diagonal term a sliding disc adds in its tangent direction.
+struct Direction {
+  int a, b;
+  double w_a, w_b, shift;
+};
+
+struct ReducedStep {
+  Eigen::VectorXd lambda_fixed;  // what the active sets fix (c ν on sliding discs, 0 elsewhere)
+  std::vector<Direction> directions;
+};
+
+// The active sets of z = λ − ρ g and the reduced system's unknowns.
+ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho);
+
+// Dᵀ Q D + diag(shift), lower triangle (column-major, k x k), in double or in single precision.
+template <typename Matrix>
+void reduced_matrix(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, Matrix& A) {
+  using Scalar = typename Matrix::Scalar;
+  const int k = static_cast<int>(d.size());
+  A.resize(k, k);
+  for (int col = 0; col < k; ++col) {
+    const Direction& c = d[static_cast<std::size_t>(col)];
+    const double* qa = Q.col(c.a).data();
+    const double* qb = c.b >= 0 ? Q.col(c.b).data() : nullptr;
+    for (int row = col; row < k; ++row) {
+      const Direction& e = d[static_cast<std::size_t>(row)];
+      double v = c.w_a * (e.w_a * qa[e.a] + (e.b >= 0 ? e.w_b * qa[e.b] : 0.0));
+      if (qb) v += c.w_b * (e.w_a * qb[e.a] + (e.b >= 0 ? e.w_b * qb[e.b] : 0.0));
+      A(row, col) = static_cast<Scalar>(row == col ? v + c.shift : v);
+    }
+  }
+}
+
+// (Dᵀ Q D + diag(shift)) y with one product by Q in double.
+Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y);
+// Dᵀ v (the reduced right-hand side of a full-size v) and D y (a reduced vector in full size).
+Eigen::VectorXd restrict_to(const std::vector<Direction>& d, const Eigen::VectorXd& v);
+Eigen::VectorXd prolong(const std::vector<Direction>& d, const Eigen::VectorXd& y, int size);
+
+}  // namespace contact3d
