@@ -182,7 +182,10 @@ class GuardedUpdate {
 // fixed point it converges superlinearly where the relaxation's single ω cannot fit the map's
 // different rates (a rate q needs the step r/(1 − q), a different one per direction).
 
-Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::VectorXd& residual, int& applications) {
+// `map_norm` returns ‖G′‖ on the Krylov space, from the Arnoldi relation (I − G′)V = V₊H: the largest
+// singular value of [I; 0] − H, a lower estimate of the map's local Lipschitz constant.
+Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::VectorXd& residual, int& applications,
+                                 double& map_norm) {
   constexpr int kMaxKrylov = 30;
   constexpr double kRelativeResidual = 1e-2;
   const double beta = residual.norm();
@@ -208,6 +211,9 @@ Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::
     basis.push_back(w / H(j + 1, j));
   }
   for (Eigen::Index i = 0; i < y.size(); ++i) delta += y[i] * basis[static_cast<std::size_t>(i)];
+  const Eigen::Index k = y.size();
+  const Eigen::MatrixXd J = Eigen::MatrixXd::Identity(k + 1, k) - H.topLeftCorner(k + 1, k);
+  map_norm = k > 0 ? Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues()[0] : 0.0;
   return delta.allFinite() ? delta : Eigen::VectorXd::Zero(residual.size());
 }
 
@@ -292,6 +298,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   GuardedUpdate newton(0.5), tail_mixing(1.0);
   double newton_trust = INFINITY, last_newton_ratio = 0;  // ‖δ‖ / ‖G(x) − x‖ allowed, and of the last step
   Eigen::VectorXd previous_x, previous_gx;                // the step before the current one: x, G(x)
+  // Newton and mixed steps contract far faster than the map itself, so their step lengths say
+  // nothing of its Lipschitz constant: the a posteriori bound takes the larger of the steps' q, the q
+  // observed when the tail began (relaxed or plain steps) and ‖G′‖ of the last Newton step.
+  double tail_start_q = -1, newton_map_norm = 0;
   std::vector<double> step_lengths;
   std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
   int derivative_products = 0;            // K⁻¹ applications of the Newton steps' derivative products
@@ -332,7 +342,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (use_newton) {
       int applications = 0;
       const Eigen::VectorXd residual = gx - xk;
-      Eigen::VectorXd delta = newton_direction(eval.derivative, residual, applications);
+      if (tail_start_q < 0) tail_start_q = contraction_factor(step_lengths);
+      Eigen::VectorXd delta = newton_direction(eval.derivative, residual, applications, newton_map_norm);
       if (delta.norm() > newton_trust * residual.norm()) delta *= newton_trust * residual.norm() / delta.norm();
       last_newton_ratio = delta.norm() / residual.norm();
       derivative_products += applications * eval.products_per_derivative;
@@ -342,6 +353,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       return (xk + delta).cwiseMax(0.0);
     }
     if (use_mixing) {
+      if (tail_start_q < 0) tail_start_q = contraction_factor(step_lengths);
       if (rejected) mixer.reset();
       relaxation.plain(x0, g0);
       ++result.mixed_steps;
@@ -360,6 +372,9 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   auto finish = [&](FixedPointStatus status) {
     result.status = status;
     result.contraction_factor = contraction_factor(step_lengths);
+    if (tail_start_q >= 0 || std::isnan(tail_start_q))  // a q not yet observed (NaN) when the tail began adds nothing
+      result.contraction_factor =
+          std::max({result.contraction_factor, std::isnan(tail_start_q) ? 0.0 : tail_start_q, newton_map_norm});
     const double q = result.contraction_factor, err = result.history.back().err;
     result.distance_bound = status == FixedPointStatus::Converged && result.history.size() == 1 ? err
                             : q < 1                                                             ? q / (1 - q) * err

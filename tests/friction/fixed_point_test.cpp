@@ -328,6 +328,11 @@ TEST(FixedPoint, NewtonStepsInTheTailConvergeFasterThanRelaxationOrMixing) {
   const int first = newton.iterations() - newton.newton_steps - 1;
   for (int k = first + 2; k < newton.iterations(); ++k)
     EXPECT_LT(newton.history[k].err, 0.25 * newton.history[k - 1].err) << "step " << k + 1;
+  // The a posteriori bound is the map's, not the Newton steps': q is ‖G′‖ (0.95 here, estimated on
+  // the Krylov space) however fast the steps fell, so the bound is 19 err, not a fraction of it.
+  EXPECT_GT(newton.contraction_factor, 0.9);
+  EXPECT_LT(newton.contraction_factor, 0.96);
+  EXPECT_GT(newton.distance_bound, 10 * newton.history.back().err);
   // n_mult counts the derivative products: more than the evaluations' 100 per step.
   EXPECT_GT(newton.history.back().n_mult, 100 * newton.iterations());
   for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(newton.phi[i], 1.0 + i / 3.0, 5e-3);  // rate 0.95: 20 err
