@@ -155,24 +155,22 @@ class GuardedUpdate {
   // Whether the next iterate comes from this update, given the steps so far (called once per step).
   bool use(const std::vector<FixedPointStep>& history, bool may_start) {
     const std::size_t n = history.size();
-    just_failed_ = rejected_ = false;
+    rejected_ = false;
     if (on_ && n >= 2 && history[n - 1].err > required_ratio_ * history[n - 2].err) {
       on_ = false;
       ++failures_;
-      just_failed_ = true;
       rejected_ = history[n - 1].err > history[n - 2].err;
     } else if (!on_ && failures_ < kMaxFailures && may_start) {
       on_ = true;
     }
     return on_;
   }
-  bool just_failed() const { return just_failed_; }  // the last call found a failed step of this update
-  bool rejected() const { return rejected_; }        // ... which also raised err
+  bool rejected() const { return rejected_; }  // the last call found a failed step of it that raised err
 
  private:
   static constexpr int kMaxFailures = 2;
   double required_ratio_;
-  bool on_ = false, just_failed_ = false, rejected_ = false;
+  bool on_ = false, rejected_ = false;
   int failures_ = 0;
 };
 
@@ -181,7 +179,6 @@ class GuardedUpdate {
 // piecewise smooth), each iteration one derivative product (`applications` counts them). Near the
 // fixed point it converges superlinearly where the relaxation's single ω cannot fit the map's
 // different rates (a rate q needs the step r/(1 − q), a different one per direction).
-
 // `map_norm` returns ‖G′‖ on the Krylov space, from the Arnoldi relation (I − G′)V = V₊H: the largest
 // singular value of [I; 0] − H, a lower estimate of the map's local Lipschitz constant.
 Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::VectorXd& residual, int& applications,
@@ -301,10 +298,16 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   // Newton and mixed steps contract far faster than the map itself, so their step lengths say
   // nothing of its Lipschitz constant: the a posteriori bound takes the larger of the steps' q, the q
   // observed when the tail began (relaxed or plain steps) and ‖G′‖ of the last Newton step.
-  double tail_start_q = -1, newton_map_norm = 0;
+  double tail_start_q = 0, newton_map_norm = 0;
   std::vector<double> step_lengths;
   std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
-  int derivative_products = 0;            // K⁻¹ applications of the Newton steps' derivative products
+  auto note_tail_start = [&] {            // before the tail's first Newton or mixed step
+    if (result.newton_steps + result.mixed_steps == 0) {
+      const double q = contraction_factor(step_lengths);
+      tail_start_q = std::isnan(q) ? 0.0 : q;
+    }
+  };
+  int derivative_products = 0;  // K⁻¹ applications of the Newton steps' derivative products
   auto next_iterate = [&](const Eigen::VectorXd& xk, const SlipEvaluation& eval, const std::vector<double>& lengths,
                           bool err_grew) -> Eigen::VectorXd {
     const Eigen::VectorXd& gx = eval.slip;
@@ -342,7 +345,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (use_newton) {
       int applications = 0;
       const Eigen::VectorXd residual = gx - xk;
-      if (tail_start_q < 0) tail_start_q = contraction_factor(step_lengths);
+      note_tail_start();
       Eigen::VectorXd delta = newton_direction(eval.derivative, residual, applications, newton_map_norm);
       if (delta.norm() > newton_trust * residual.norm()) delta *= newton_trust * residual.norm() / delta.norm();
       last_newton_ratio = delta.norm() / residual.norm();
@@ -353,7 +356,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       return (xk + delta).cwiseMax(0.0);
     }
     if (use_mixing) {
-      if (tail_start_q < 0) tail_start_q = contraction_factor(step_lengths);
+      note_tail_start();
       if (rejected) mixer.reset();
       relaxation.plain(x0, g0);
       ++result.mixed_steps;
@@ -372,9 +375,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   auto finish = [&](FixedPointStatus status) {
     result.status = status;
     result.contraction_factor = contraction_factor(step_lengths);
-    if (tail_start_q >= 0 || std::isnan(tail_start_q))  // a q not yet observed (NaN) when the tail began adds nothing
-      result.contraction_factor =
-          std::max({result.contraction_factor, std::isnan(tail_start_q) ? 0.0 : tail_start_q, newton_map_norm});
+    // Both are 0 without a tail; a q not observed yet (NaN, fewer than three steps) stays NaN.
+    result.contraction_factor = std::max({result.contraction_factor, tail_start_q, newton_map_norm});
     const double q = result.contraction_factor, err = result.history.back().err;
     result.distance_bound = status == FixedPointStatus::Converged && result.history.size() == 1 ? err
                             : q < 1                                                             ? q / (1 - q) * err

@@ -87,7 +87,7 @@ struct SlipEvaluation {
   bool ok = true;        // false when the inner QP failed
   int qp_iterations = 0;
   int hessian_products = 0;
-  SlipDerivative derivative;        // empty: G gives no derivative (Coulomb, tests)
+  SlipDerivative derivative;        // empty: G gives no derivative (the frictionless first Coulomb solve, tests)
   int products_per_derivative = 0;  // K⁻¹ applications (paper's count) of one derivative product
 };
 

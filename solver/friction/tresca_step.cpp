@@ -50,7 +50,7 @@ TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, cons
   // λ ↦ w is affine: its change along dλ, from one application of K⁻¹ on Γc.
   const Eigen::VectorXd dw = face_dofs_.scatter(dual_.face_displacement(lambda_ + dlambda)) - last_face_;
   const double s = difference_step(last_face_, dw);
-  if (s > 0) out.slip = (face_dofs_.slip(face_, last_face_ + s * dw) - face_dofs_.slip(face_, last_face_)) / s;
+  if (s > 0) out.slip = (face_dofs_.slip(face_, last_face_ + s * dw) - last_slip_) / s;
   return out;
 }
 
@@ -68,6 +68,7 @@ SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::Vector
   newton_steps_ += last_qp_.newton_steps;
   single_products_ += last_qp_.single_products;
   eval.slip = face_dofs_.slip(face_, u_face);
+  last_slip_ = eval.slip;
   last_face_ = std::move(u_face);
   history_.push_back({lambda_, radius_});
   slip_input_ = phi;

@@ -29,7 +29,7 @@ class TrescaStep {
              RadiusRule radii, Eigen::VectorXd slip_bound);
 
   // G(φ): one Tresca solve with the QP tolerance `qp_rtol` (the SlipMap of the fixed point), with
-  // its derivative (slip_derivative).
+  // its derivative (derivative()).
   SlipEvaluation operator()(const Eigen::VectorXd& phi, double qp_rtol);
   // One Tresca solve with radii c(φ, g) for a given slip bound g per cell (Coulomb: g = λ_n).
   SlipEvaluation solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol);
@@ -75,7 +75,7 @@ class TrescaStep {
   Eigen::VectorXd lambda_, radius_, slip_input_, slip_bound_input_;
   QpResult last_qp_;
   int products_ = 0, qp_iterations_ = 0, newton_steps_ = 0, single_products_ = 0;
-  Eigen::VectorXd last_face_;
+  Eigen::VectorXd last_face_, last_slip_;  // u on Γc after the last solve, and its slip G(φ)
   std::vector<Solve> history_;
   std::optional<RadiusSensitivity> sensitivity_;  // of the last solve, made by the first derivative()
 };

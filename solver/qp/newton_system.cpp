@@ -1,8 +1,11 @@
 #include "qp/newton_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace contact3d {
+
+double projection_scale(const BoxDiscQP& qp) { return qp.size() / std::max(qp.Q->diagonal().sum(), 1e-300); }
 
 ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho) {
   const int r = qp.r;

@@ -30,6 +30,9 @@ struct ReducedStep {
   std::vector<Direction> directions;
 };
 
+// ρ of z = λ − ρ g: 1 / (mean diagonal of Q), which scales the gradient to the size of λ.
+double projection_scale(const BoxDiscQP& qp);
+
 // The active sets of z = λ − ρ g and the reduced system's unknowns.
 ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho);
 

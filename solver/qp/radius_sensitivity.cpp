@@ -8,8 +8,8 @@ namespace contact3d {
 
 RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, bool single_precision)
     : qp_(qp), nu_(Eigen::VectorXd::Zero(qp.size())) {
-  // The active sets of z = λ − ρ g with ssn.cpp's ρ = 1 / (mean diagonal of Q).
-  const double rho = qp.size() / std::max(qp.Q->diagonal().sum(), 1e-300);
+  // The active sets of z = λ − ρ g, with the semismooth Newton solver's ρ.
+  const double rho = projection_scale(qp);
   const Eigen::VectorXd z = lambda - rho * (qp.apply(lambda) - qp.h);
   step_ = split_active_sets(qp, z, rho);
   if (qp.with_friction)

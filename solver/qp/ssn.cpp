@@ -66,12 +66,9 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     result.status = QpStatus::Converged;
     return result;
   }
-  const int m = qp.size();
   const double h_norm = qp.h.norm();
-  const Eigen::MatrixXd& Q = *qp.Q;
   const double tol = settings.rtol * h_norm;
-  // ρ scales the gradient to the size of λ: 1 / (mean diagonal of Q).
-  const double rho = m / std::max(Q.diagonal().sum(), 1e-300);
+  const double rho = projection_scale(qp);
   Eigen::VectorXd g = qp.apply(lambda) - qp.h;
   ++result.hessian_products;
   auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z) {
