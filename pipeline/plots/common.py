@@ -27,7 +27,8 @@ class Run:
         return os.path.join(self.dir, name)
 
     def table(self, name):
-        """A CSV table as a dict of numpy columns (empty dict when the file is missing or empty)."""
+        """A CSV table as a dict of numpy columns (empty dict when the file is missing or empty); a
+        column of words (history.csv's `update`) stays a column of strings."""
         p = self.path(name)
         if not os.path.isfile(p):
             return {}
@@ -35,7 +36,12 @@ class Run:
             rows = list(csv.DictReader(f))
         if not rows:
             return {}
-        return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+        def column(k):
+            try:
+                return np.array([float(r[k]) for r in rows])
+            except ValueError:
+                return np.array([r[k] for r in rows])
+        return {k: column(k) for k in rows[0]}
 
     def history(self):
         return self.table("history.csv")

@@ -117,8 +117,8 @@ int run_solve(const SolveArgs& args) {
                mesh.triangles.size(), info.mesh_seconds);
   auto progress = [&](const FixedPointStep& s) {
     if (!args.quiet)
-      fmt::print("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s\n", s.k, s.err, s.qp_iterations,
-                 s.n_mult, s.seconds);
+      fmt::print("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s  ({})\n", s.k, s.err,
+                 s.qp_iterations, s.n_mult, s.seconds, name_of(s.update, kFixedPointUpdateNames));
     std::fflush(stdout);
   };
   // Stage lines and the QP's heartbeat (every 2 s on a terminal, every 10 s into a log file).

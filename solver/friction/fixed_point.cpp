@@ -80,6 +80,7 @@ class AndersonMixer {
       gs_.pop_front();
     }
     const int m = static_cast<int>(xs_.size()) - 1;
+    mixed_ = false;
     if (m == 0) return gx;
     const Eigen::VectorXd w = block_weights(blocks_, gx);
     const Eigen::VectorXd f = w.cwiseProduct(gx - x);
@@ -93,13 +94,17 @@ class AndersonMixer {
       reset();
       return gx;
     }
+    mixed_ = true;
     return (gx - dG * gamma).cwiseMax(0.0);  // slips and pressures are non-negative
   }
+  // Whether the last next() mixed; false when it had no earlier pair (or no fit) and returned G(x).
+  bool mixed() const { return mixed_; }
 
  private:
   int depth_;
   std::vector<int> blocks_;
   std::deque<Eigen::VectorXd> xs_, gs_;
+  bool mixed_ = false;
 };
 
 // Aitken's dynamic relaxation (Irons & Tuck): x ← x + ω r with r = G(x) − x, and ω from the last
@@ -145,18 +150,21 @@ class AitkenRelaxation {
 };
 
 // An update the accelerated variant tries in place of the relaxation (Newton steps, tail mixing),
-// on probation: it is on from the first step `may_start` allows. A step of it that does not cut err
-// to `required_ratio` of the err before it fails (a Newton step that only creeps is worse than the
-// relaxation); a failed step that raised err is also rejected (the caller goes on from the step
-// before it). A failure hands back to the relaxation, and after two the run relaxes for good.
+// on probation: it is on from the first step `may_start` allows. A step of it (one whose input it
+// made: FixedPointStep::update, so the mixing's first step, a plain one, is not judged) that does
+// not cut err to `required_ratio` of the err before it fails (a Newton step that only creeps is
+// worse than the relaxation); a failed step that raised err is also rejected (the caller goes on
+// from the step before it). A failure hands back to the relaxation, and after two the run relaxes
+// for good.
 class GuardedUpdate {
  public:
-  explicit GuardedUpdate(double required_ratio) : required_ratio_(required_ratio) {}
+  GuardedUpdate(FixedPointUpdate kind, double required_ratio) : kind_(kind), required_ratio_(required_ratio) {}
   // Whether the next iterate comes from this update, given the steps so far (called once per step).
   bool use(const std::vector<FixedPointStep>& history, bool may_start) {
     const std::size_t n = history.size();
     rejected_ = false;
-    if (on_ && n >= 2 && history[n - 1].err > required_ratio_ * history[n - 2].err) {
+    const bool judged = on_ && n >= 2 && history[n - 1].update == kind_;
+    if (judged && history[n - 1].err > required_ratio_ * history[n - 2].err) {
       on_ = false;
       ++failures_;
       rejected_ = history[n - 1].err > history[n - 2].err;
@@ -169,6 +177,7 @@ class GuardedUpdate {
 
  private:
   static constexpr int kMaxFailures = 2;
+  FixedPointUpdate kind_;
   double required_ratio_;
   bool on_ = false, rejected_ = false;
   int failures_ = 0;
@@ -292,7 +301,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   bool relaxing = settings.variant == FixedPointVariant::Aitken;  // accelerated: from the first slow step on
   // Newton steps must at least halve err (near a fixed point they do far better); mixed steps must
   // not raise it.
-  GuardedUpdate newton(0.5), tail_mixing(1.0);
+  GuardedUpdate newton(FixedPointUpdate::Newton, 0.5), tail_mixing(FixedPointUpdate::Mixed, 1.0);
   double newton_trust = INFINITY, last_newton_ratio = 0;  // ‖δ‖ / ‖G(x) − x‖ allowed, and of the last step
   Eigen::VectorXd previous_x, previous_gx;                // the step before the current one: x, G(x)
   // Newton and mixed steps contract far faster than the map itself, so their step lengths say
@@ -307,17 +316,22 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       tail_start_q = std::isnan(q) ? 0.0 : q;
     }
   };
-  int derivative_products = 0;  // K⁻¹ applications of the Newton steps' derivative products
+  int derivative_products = 0;                         // K⁻¹ applications of the Newton steps' derivative products
+  FixedPointUpdate made_by = FixedPointUpdate::Start;  // how the next input x is made (next_iterate sets it)
   auto next_iterate = [&](const Eigen::VectorXd& xk, const SlipEvaluation& eval, const std::vector<double>& lengths,
                           bool err_grew) -> Eigen::VectorXd {
     const Eigen::VectorXd& gx = eval.slip;
+    made_by = FixedPointUpdate::Plain;
     if (result.plain_fallback_step > 0) return gx;  // the mixing stalled: the paper's steps from here on
     switch (settings.variant) {
       case FixedPointVariant::Plain:
         return gx;
-      case FixedPointVariant::Anderson:
+      case FixedPointVariant::Anderson: {
         if (err_grew) mixer.reset();  // safeguard
-        return mixer.next(xk, gx);
+        Eigen::VectorXd next = mixer.next(xk, gx);
+        made_by = mixer.mixed() ? FixedPointUpdate::Mixed : FixedPointUpdate::Plain;
+        return next;
+      }
       case FixedPointVariant::Aitken:
       case FixedPointVariant::Accelerated:
         break;
@@ -353,17 +367,26 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       relaxation.plain(xk, gx);  // the relaxation's secant starts afresh should Newton stop
       mixer.reset();
       ++result.newton_steps;
+      made_by = FixedPointUpdate::Newton;
       return (xk + delta).cwiseMax(0.0);
     }
     if (use_mixing) {
       note_tail_start();
       if (rejected) mixer.reset();
       relaxation.plain(x0, g0);
-      ++result.mixed_steps;
-      return mixer.next(x0, g0);
+      Eigen::VectorXd next = mixer.next(x0, g0);
+      made_by = mixer.mixed() ? FixedPointUpdate::Mixed
+                : rejected    ? FixedPointUpdate::Restart
+                              : FixedPointUpdate::Plain;
+      if (mixer.mixed()) ++result.mixed_steps;
+      return next;
     }
     mixer.reset();
-    if (rejected) return relaxation.plain(x0, g0);
+    if (rejected) {
+      made_by = FixedPointUpdate::Restart;
+      return relaxation.plain(x0, g0);
+    }
+    made_by = relaxing ? FixedPointUpdate::Relaxed : FixedPointUpdate::Plain;
     return relaxing ? relaxation.next(x0, g0) : relaxation.plain(x0, g0);
   };
   int n_mult = 0;
@@ -402,6 +425,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     step.qp_iterations = eval.qp_iterations;
     step.n_mult = n_mult;
     step.qp_rtol = rtol_k;
+    step.update = made_by;
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(step);
     result.phi = x;
@@ -413,6 +437,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (step.err <= settings.tol) {
       if (rtol_k <= exact_k) return finish(FixedPointStatus::Converged);
       force_exact = true;  // same φ again (x unchanged), now with the exact QP tolerance
+      made_by = FixedPointUpdate::Repeat;
       continue;
     }
     // A step that barely moves err may be the QP's noise: tighten the inner tolerance first.

@@ -91,13 +91,27 @@ struct SlipEvaluation {
   int products_per_derivative = 0;  // K⁻¹ applications (paper's count) of one derivative product
 };
 
+// How a step's input φᵏ⁻¹ was made from the steps before it (history.csv's `update` column):
+// start (φ⁰ = 0), plain (G of the last input), relaxed (Aitken), newton, mixed (Anderson), restart
+// (a plain or relaxed step from the input before a rejected Newton or mixed step), repeat (the same
+// φ again with the exact QP tolerance, after an inexact step met tol).
+enum class FixedPointUpdate { Start, Plain, Relaxed, Newton, Mixed, Restart, Repeat };
+inline constexpr NameTable<FixedPointUpdate, 7> kFixedPointUpdateNames{{{FixedPointUpdate::Start, "start"},
+                                                                        {FixedPointUpdate::Plain, "plain"},
+                                                                        {FixedPointUpdate::Relaxed, "relaxed"},
+                                                                        {FixedPointUpdate::Newton, "newton"},
+                                                                        {FixedPointUpdate::Mixed, "mixed"},
+                                                                        {FixedPointUpdate::Restart, "restart"},
+                                                                        {FixedPointUpdate::Repeat, "repeat"}}};
+
 struct FixedPointStep {
   int k = 0;
   double err = 0;
   int qp_iterations = 0;
-  int n_mult = 0;      // cumulative multiplications by K⁻¹ (paper's count)
-  double seconds = 0;  // wall time of this step
-  double qp_rtol = 0;  // the QP tolerance this step was solved to
+  int n_mult = 0;                                     // cumulative multiplications by K⁻¹ (paper's count)
+  double seconds = 0;                                 // wall time of this step
+  double qp_rtol = 0;                                 // the QP tolerance this step was solved to
+  FixedPointUpdate update = FixedPointUpdate::Start;  // how this step's input was made
 };
 
 struct FixedPointResult {

@@ -41,6 +41,7 @@ TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, cons
   const double t = t_phi > 0 && t_g > 0 ? std::min(t_phi, t_g) : std::max(t_phi, t_g);
   Derivative out{Eigen::VectorXd::Zero(v_phi.size()), Eigen::VectorXd::Zero(slip_bound_.size())};
   if (!(t > 0)) return out;
+  products_ += kDerivativeProducts;  // in the run's n_mult, as the fixed point's history counts them
   const Eigen::VectorXd dc =
       (radii_((slip_input_ + t * v_phi).cwiseMax(0.0), (slip_bound_input_ + t * v_g).cwiseMax(0.0)) - radius_) / t;
   if (!sensitivity_) sensitivity_.emplace(qp_.radius_sensitivity(lambda_));

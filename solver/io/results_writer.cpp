@@ -224,9 +224,10 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
     }
   });
   write_file(dir / "history.csv", [&](std::ostream& out) {
-    out << "k,err,qp_iterations,n_mult,seconds\n";
+    out << "k,err,qp_iterations,n_mult,seconds,update\n";
     for (const auto& s : solve_history(res))
-      out << s.k << ',' << s.err << ',' << s.qp_iterations << ',' << s.n_mult << ',' << s.seconds << '\n';
+      out << s.k << ',' << s.err << ',' << s.qp_iterations << ',' << s.n_mult << ',' << s.seconds << ','
+          << name_of(s.update, kFixedPointUpdateNames) << '\n';
   });
   const TetMaterials materials = tet_materials(scene, mesh);
   const VtuContext ctx{scene, mesh, res, materials};

@@ -33,6 +33,12 @@ FixedPointSettings settings(FixedPointVariant v = FixedPointVariant::Plain) {
   return s;
 }
 
+// How many steps' inputs were made by `update` (history.csv's `update` column).
+int steps_made_by(const FixedPointResult& r, FixedPointUpdate update) {
+  return static_cast<int>(
+      std::count_if(r.history.begin(), r.history.end(), [&](const FixedPointStep& s) { return s.update == update; }));
+}
+
 TEST(FixedPoint, ConvergesOnAContractionWithTheRateItObserves) {
   const FixedPointResult r = solve_fixed_point(linear_map(0.3), 5, settings(), 1e-6);
   EXPECT_EQ(r.status, FixedPointStatus::Converged);
@@ -249,6 +255,12 @@ TEST(FixedPoint, AcceleratedMixesTheTailWhereNoSingleRelaxationFactorFitsEveryRa
   EXPECT_GT(mixed.mixed_steps, 0);
   EXPECT_LT(mixed.iterations(), relaxed.iterations() - 3);
   for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(mixed.phi[i], i + 1.0, 1e-3 * (i + 1));
+  // Each step says how its input was made: the count of mixed inputs is mixed_steps, the first
+  // input is φ⁰ = 0, and the relaxation-only run relaxes after its plain steps.
+  EXPECT_EQ(steps_made_by(mixed, FixedPointUpdate::Mixed), mixed.mixed_steps);
+  EXPECT_EQ(mixed.history.front().update, FixedPointUpdate::Start);
+  EXPECT_EQ(steps_made_by(relaxed, FixedPointUpdate::Mixed), 0);
+  EXPECT_GT(steps_made_by(relaxed, FixedPointUpdate::Relaxed), 0);
 }
 
 TEST(FixedPoint, TailMixingFitsEveryBlockOfTheStateWhateverItsUnits) {
@@ -287,9 +299,12 @@ TEST(FixedPoint, TailMixingThatRaisesErrHandsBackToTheRelaxation) {
   };
   const FixedPointResult r = solve_fixed_point(spoiled, 3, settings(FixedPointVariant::Accelerated), 1e-6);
   EXPECT_EQ(r.status, FixedPointStatus::Converged);
-  // Two episodes of at most three mixed iterates (the first is G(x) itself: one pair, on the line);
-  // without the safeguard the run mixes 14 times and takes 36 steps.
-  EXPECT_LE(r.mixed_steps, 6);
+  // Two episodes of at most two mixed iterates (the mixing's first iterate is G(x) itself — one pair,
+  // on the line — and counts as a plain step, not judged as the mixing's); without the safeguard the
+  // run mixes 14 times and takes 36 steps. Each raised err, so each episode ends in a restart.
+  EXPECT_LE(r.mixed_steps, 4);
+  EXPECT_EQ(steps_made_by(r, FixedPointUpdate::Mixed), r.mixed_steps);
+  EXPECT_GE(steps_made_by(r, FixedPointUpdate::Restart), 1);
   EXPECT_LE(r.iterations(), 20);
   for (Eigen::Index i = 0; i < 3; ++i) EXPECT_NEAR(r.phi[i], i + 1.0, 5e-3 * (i + 1));  // q = 0.8: 5 err
 }
@@ -322,6 +337,7 @@ TEST(FixedPoint, NewtonStepsInTheTailConvergeFasterThanRelaxationOrMixing) {
   ASSERT_EQ(newton.status, FixedPointStatus::Converged);
   EXPECT_EQ(mixed.newton_steps, 0);
   EXPECT_GT(newton.newton_steps, 0);
+  EXPECT_EQ(steps_made_by(newton, FixedPointUpdate::Newton), newton.newton_steps);
   EXPECT_LT(newton.iterations(), mixed.iterations());
   // Once Newton runs err falls at least fivefold per step (the relaxation's rate here is 0.95 at
   // best; GMRES solves each Newton system to 1e-2).
@@ -339,6 +355,10 @@ TEST(FixedPoint, NewtonStepsInTheTailConvergeFasterThanRelaxationOrMixing) {
   // Plain and Aitken never take Newton steps.
   for (FixedPointVariant v : {FixedPointVariant::Plain, FixedPointVariant::Aitken})
     EXPECT_EQ(solve_fixed_point(smooth_map_with_derivative(rates, 3), 4, settings(v), 1e-6).newton_steps, 0);
+  // The paper's iteration: every input after φ⁰ is G of the one before.
+  const FixedPointResult plain =
+      solve_fixed_point(smooth_map_with_derivative(rates, 3), 4, settings(FixedPointVariant::Plain), 1e-6);
+  EXPECT_EQ(steps_made_by(plain, FixedPointUpdate::Plain), plain.iterations() - 1);
 }
 
 TEST(FixedPoint, InnerFailureIsNamed) {

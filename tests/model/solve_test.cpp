@@ -171,6 +171,9 @@ TEST(SolvePaperBrick, NewtonStepsInTheTailGiveThePlainAnswerInFewerSteps) {
     EXPECT_GE(newton.fixed_point.newton_steps, 1) << model.size();
     EXPECT_LT(newton.fixed_point.iterations(), plain.fixed_point.iterations()) << model.size();
     EXPECT_LT((plain.u - newton.u).norm(), 1e-3 * plain.u.norm()) << model.size();
+    // The run's n_mult is the history's (its Newton steps' derivative products included) + h = 𝔹K⁻¹f.
+    EXPECT_EQ(newton.n_mult, newton.fixed_point.history.back().n_mult + 1) << model.size();
+    EXPECT_EQ(plain.n_mult, plain.fixed_point.history.back().n_mult + 1) << model.size();
     // The run ends with its Newton steps, and each cuts err at least twentyfold (0.004 → 3.7e-5 with
     // Tresca, 0.011 → 1.2e-4 → 3.1e-7 with Coulomb). The derivative chain — radii, the QP's
     // sensitivity, w on Γc, the slip — taken with the wrong sign fails this; 30% off does not (the
