@@ -71,7 +71,7 @@ void BM_Q_ContactLast(benchmark::State& st) {
 void BM_Q_Augmented(benchmark::State& st) {
   const Problem& p = cached(static_cast<int>(st.range(0)));
   for (auto _ : st) {
-    const SparseCholesky F(p.K, p.B);
+    SparseCholesky F(p.K, p.B);
     benchmark::DoNotOptimize(make_dual_operator_augmented(F, p.B, p.f).Q.data());
   }
 }
@@ -97,7 +97,7 @@ void BM_Qp(benchmark::State& st) {
   static std::map<int, DualOperator> duals;
   auto it = duals.find(p.r);
   if (it == duals.end()) {
-    const SparseCholesky F(p.K, p.B);
+    SparseCholesky F(p.K, p.B);
     it = duals.emplace(p.r, make_dual_operator_augmented(F, p.B, p.f)).first;
   }
   BoxDiscQP qp;

@@ -82,7 +82,7 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
   return op;
 }
 
-DualOperator make_dual_operator_augmented(const SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
+DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
                                           const Eigen::VectorXd& f, const Eigen::VectorXd* u_free) {
   if (!K_aug.augmented() || K_aug.trailing_size() != B.rows())
     throw std::logic_error("make_dual_operator_augmented: not the augmented factor of this 𝔹");
@@ -90,7 +90,7 @@ DualOperator make_dual_operator_augmented(const SparseCholesky& K_aug, const Eig
   op.u_free = u_free ? *u_free : K_aug.solve(f);
   op.h = B * op.u_free;
   op.solves = u_free ? 0 : 1;
-  Eigen::MatrixXd G = K_aug.trailing_gram();
+  Eigen::MatrixXd G = K_aug.take_trailing_gram();
   const std::vector<int> order = K_aug.trailing_order();  // n + (row of 𝔹), in the factor's order
   const int m = static_cast<int>(B.rows()), n = K_aug.size();
   std::vector<int> row(m);

@@ -31,9 +31,10 @@ DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatr
 DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
                                       const Eigen::VectorXd& f);
 
-// The same from the augmented factor SparseCholesky(K, 𝔹): Q = L_21 L_21ᵀ, one solve for h
-// (none when the caller passes u_free = K⁻¹f, e.g. from DisplacementTrace::everywhere(0)).
-DualOperator make_dual_operator_augmented(const SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
+// The same from the augmented factor SparseCholesky(K, 𝔹): Q = the Schur block that factorization
+// captured (handed over, so a second call forms L_21 L_21ᵀ), one solve for h (none when the caller
+// passes u_free = K⁻¹f, e.g. from DisplacementTrace::everywhere(0)).
+DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
                                           const Eigen::VectorXd& f, const Eigen::VectorXd* u_free = nullptr);
 
 // The dofs (columns) on which 𝔹 has a nonzero, ascending.

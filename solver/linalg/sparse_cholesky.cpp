@@ -9,6 +9,8 @@
 
 #include <cholmod.h>
 
+#include "linalg/schur_capture.hpp"
+
 extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
                        const double* a, const int* lda, const double* beta, double* c, const int* ldc);
 
@@ -298,20 +300,71 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen
     : impl_(new Impl(observe)), n_(static_cast<int>(K.rows())) {
   const int n = n_, m = static_cast<int>(B.rows());
   if (B.cols() != n) throw std::invalid_argument("augmented factor: 𝔹 and K sizes differ");
+  n_aug_ = n + m;
+  n_trailing_ = m;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<SuiteSparse_long> perm = quotient_nested_dissection(K, &impl_->common);  // K's dofs first
+  for (int i = 0; i < m; ++i) perm.push_back(n + i);                                   // then the multipliers
+  // σ = 0 and the trailing block captured unfactored (schur_capture.hpp): −𝔹K⁻¹𝔹ᵀ from CHOLMOD's own
+  // updates. Should the capture not take effect, or not land on the root supernode, the
+  // factorization is repeated the old way.
+  if (!(sigma > 0) && m > 0 && SchurCapture::works()) {
+    UpperCsc upper = augmented_upper_csc(K, B, 0.0);
+    try {
+      SchurCapture capture(m);
+      impl_->analyze_and_factorize(upper, &perm, m, t0);
+      if (take_schur_block(capture)) {
+        record_times();
+        return;
+      }
+    } catch (const std::runtime_error&) {}
+    if (impl_->factor) cholmod_l_free_factor(&impl_->factor, &impl_->common);
+  }
   if (!(sigma > 0)) {
     // λmax(𝔹K⁻¹𝔹ᵀ) <= ‖𝔹‖_F² / λmin(K) and λmin(K) >= max diag(K) / cond(K); a K with
     // cond(K) > 1e20 is beyond double precision anyway.
     const double dmax = K.diagonal().cwiseAbs().maxCoeff();
     sigma = std::max(1.0, B.squaredNorm()) * 1e20 / std::max(dmax, 1e-300);
   }
-  n_aug_ = n + m;
-  n_trailing_ = m;
   UpperCsc upper = augmented_upper_csc(K, B, sigma);
-  const auto t0 = std::chrono::steady_clock::now();
-  std::vector<SuiteSparse_long> perm = quotient_nested_dissection(K, &impl_->common);  // K's dofs first
-  for (int i = 0; i < m; ++i) perm.push_back(n + i);                                   // then the multipliers
   impl_->analyze_and_factorize(upper, &perm, m, t0);
   record_times();
+}
+
+bool SparseCholesky::take_schur_block(const SchurCapture& capture) {
+  cholmod_factor* L = impl_->factor;
+  const int m = n_trailing_, first = n_aug_ - m;
+  if (!capture.fired() || !L || !L->is_super || L->nsuper == 0) return false;
+  const auto* super = static_cast<const SuiteSparse_long*>(L->super);
+  const auto* pi = static_cast<const SuiteSparse_long*>(L->pi);
+  const auto* px = static_cast<const SuiteSparse_long*>(L->px);
+  const std::size_t s = L->nsuper - 1;  // the root supernode
+  const SuiteSparse_long ncols = super[s + 1] - super[s], nrows = pi[s + 1] - pi[s];
+  double* block = static_cast<double*>(L->x) + px[s];
+  if (block != capture.block() || ncols != capture.block_size() || nrows != ncols || super[s] > first ||
+      super[s + 1] != n_aug_)
+    return false;
+  // The trailing m × m part of the root holds −𝔹K⁻¹𝔹ᵀ (lower triangle, the factor's order).
+  const SuiteSparse_long o = ncols - m;
+  schur_.resize(m, m);
+  for (int j = 0; j < m; ++j) {
+    double* col = block + (o + j) * nrows + o;
+    for (int i = j; i < m; ++i) schur_(i, j) = -col[i];
+  }
+  schur_.triangularView<Eigen::StrictlyUpper>() = schur_.transpose();
+  if (!schur_.allFinite()) return false;
+  // That block of the factor becomes the identity: solves through the factor stay finite (they use
+  // only its leading part, see solve()).
+  for (int j = 0; j < m; ++j) {
+    double* col = block + (o + j) * nrows + o;
+    for (int i = j; i < m; ++i) col[i] = i == j ? 1.0 : 0.0;
+  }
+  return true;
+}
+
+Eigen::MatrixXd SparseCholesky::take_trailing_gram() {
+  if (schur_.size() > 0) return std::move(schur_);
+  return trailing_gram();
 }
 
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing,

@@ -16,6 +16,7 @@
 #include "fem/dof_map.hpp"
 #include "linalg/displacement_trace.hpp"
 #include "linalg/dual_operator.hpp"
+#include "linalg/schur_capture.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "mesh/brick_generator.hpp"
 #include "model/contact_solver.hpp"
@@ -67,14 +68,26 @@ void expect_same_dual(int n, bool friction) {
   // The contact-last factor is a factorization of K: residual of a solve.
   const Eigen::VectorXd w = last.solve(d.f);
   EXPECT_LT((d.K * w - d.f).norm() / d.f.norm(), 1e-10);
-  // Augmented [K 𝔹ᵀ; 𝔹 σI]: Q = L21 L21ᵀ, and K⁻¹ through the leading block.
-  const SparseCholesky aug(d.K, d.B);
+  // Augmented [K 𝔹ᵀ; 𝔹 0]: Q is the Schur block captured from CHOLMOD's factorization (this
+  // process's interposed dpotrf_ leaves it unfactored), and K⁻¹ goes through the leading block.
+  ASSERT_TRUE(SchurCapture::works());
+  SparseCholesky aug(d.K, d.B);
   EXPECT_TRUE(aug.augmented());
+  EXPECT_TRUE(aug.captured_schur());
   const DualOperator fa = make_dual_operator_augmented(aug, d.B, d.f);
+  EXPECT_FALSE(aug.captured_schur());  // handed over
   EXPECT_LT((fa.Q - ref.Q).norm() / ref.Q.norm(), 1e-10) << "augmented, n = " << n;
   EXPECT_LT((fa.h - ref.h).norm() / ref.h.norm(), 1e-10);
   const Eigen::VectorXd wa = aug.solve(d.f);
   EXPECT_LT((d.K * wa - d.f).norm() / d.f.norm(), 1e-10);
+  // L21 is the whole factor's: its Gram is Q too, and so is the old route's (σ huge, the trailing
+  // block factored).
+  EXPECT_LT((make_dual_operator_augmented(aug, d.B, d.f).Q - ref.Q).norm() / ref.Q.norm(), 1e-10);
+  const double sigma = 1e20 * std::max(1.0, d.B.squaredNorm()) / d.K.diagonal().maxCoeff();
+  SparseCholesky whole(d.K, d.B, sigma);
+  EXPECT_FALSE(whole.captured_schur());
+  EXPECT_LT((make_dual_operator_augmented(whole, d.B, d.f).Q - ref.Q).norm() / ref.Q.norm(), 1e-10);
+  EXPECT_LT((d.K * whole.solve(d.f) - d.f).norm() / d.f.norm(), 1e-10);
 }
 
 using contact3d::testing::RandomQp;
