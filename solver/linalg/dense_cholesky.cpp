@@ -9,14 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
-extern "C" {
-void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
-void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, double* b,
-             const int* ldb, int* info);
-void spotrf_(const char* uplo, const int* n, float* a, const int* lda, int* info);
-void spotrs_(const char* uplo, const int* n, const int* nrhs, const float* a, const int* lda, float* b, const int* ldb,
-             int* info);
-}
+#include "linalg/blas.hpp"
 
 namespace contact3d {
 namespace {

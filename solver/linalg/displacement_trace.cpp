@@ -3,12 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-extern "C" {
-void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a, const int* lda,
-            const double* x, const int* incx, const double* beta, double* y, const int* incy);
-void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n, const double* a, const int* lda,
-            double* x, const int* incx);
-}
+#include "linalg/blas.hpp"
 
 namespace contact3d {
 namespace {

@@ -3,14 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "linalg/blas.hpp"
 #include "linalg/symmetric_product.hpp"
-
-extern "C" {
-void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
-            const double* alpha, const double* a, const int* lda, double* b, const int* ldb);
-void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
-            const int* lda, const double* beta, double* c, const int* ldc);
-}
 
 namespace contact3d {
 

@@ -3,18 +3,9 @@
 #include <dlfcn.h>
 
 #include <atomic>
-#include <cmath>
 #include <stdexcept>
-#include <vector>
 
-#include <cholmod.h>
-
-extern "C" {
-void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
-            const double* alpha, const double* a, const int* lda, double* b, const int* ldb);
-void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
-            const int* lda, const double* beta, double* c, const int* ldc);
-}
+#include "linalg/blas.hpp"
 
 namespace contact3d {
 namespace {
@@ -53,43 +44,6 @@ int SchurCapture::factor_leading(int n, double* a) {
   block_ = a;
   block_size_ = n;
   return 0;
-}
-
-bool SchurCapture::works() {
-  // [K b; bᵀ 0] with K = 2I (2 × 2), b = (1, 1): the Schur block is −bᵀK⁻¹b = −1.
-  std::vector<SuiteSparse_long> col_ptr{0, 1, 2, 5}, row_idx{0, 1, 0, 1, 2};
-  std::vector<double> values{2, 2, 1, 1, 0};
-  cholmod_sparse A{};
-  A.nrow = A.ncol = 3;
-  A.nzmax = values.size();
-  A.p = col_ptr.data();
-  A.i = row_idx.data();
-  A.x = values.data();
-  A.stype = 1;
-  A.itype = CHOLMOD_LONG;
-  A.xtype = CHOLMOD_REAL;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = A.packed = 1;
-  cholmod_common c;
-  cholmod_l_start(&c);
-  c.print = 0;
-  c.supernodal = CHOLMOD_SUPERNODAL;
-  c.final_ll = 1;
-  c.nmethods = 1;
-  c.method[0].ordering = CHOLMOD_NATURAL;
-  bool ok = false;
-  {
-    SchurCapture capture(1);
-    cholmod_factor* L = cholmod_l_analyze(&A, &c);
-    if (L) {
-      cholmod_l_factorize(&A, L, &c);
-      const std::size_t n = capture.fired() ? static_cast<std::size_t>(capture.block_size()) : 0;
-      ok = n > 0 && c.status == CHOLMOD_OK && L->is_super && std::abs(capture.block()[n * n - 1] + 1.0) < 1e-12;
-      cholmod_l_free_factor(&L, &c);
-    }
-  }
-  cholmod_l_finish(&c);
-  return ok;
 }
 
 }  // namespace contact3d

@@ -36,10 +36,6 @@ class SchurCapture {
   int factor_leading(int n, double* a);
   int trailing() const { return trailing_; }
 
-  // Whether dpotrf_ calls from CHOLMOD reach the interposer in this process: a 3 × 3 augmented
-  // matrix factored with a capture armed.
-  static bool works();
-
  private:
   int trailing_;
   double* block_ = nullptr;

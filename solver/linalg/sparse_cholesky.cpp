@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -9,10 +10,8 @@
 
 #include <cholmod.h>
 
+#include "linalg/blas.hpp"
 #include "linalg/schur_capture.hpp"
-
-extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
-                       const double* a, const int* lda, const double* beta, double* c, const int* ldc);
 
 namespace contact3d {
 namespace {
@@ -295,6 +294,28 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrderin
   record_times();
 }
 
+bool SparseCholesky::schur_capture_works() {
+  // [K b; bᵀ 0] with K = 2I (2 × 2) and b = (1, 1): the Schur block is −bᵀK⁻¹b = −1. Where the
+  // interposition does not take effect, CHOLMOD factors that block and fails (not positive definite).
+  UpperCsc upper;
+  upper.push(0, 2);
+  upper.end_column();
+  upper.push(1, 2);
+  upper.end_column();
+  upper.push(0, 1);
+  upper.push(1, 1);
+  upper.push(2, 0);
+  upper.end_column();
+  SchurCapture capture(1);
+  try {
+    Impl probe({});
+    const std::vector<SuiteSparse_long> natural{0, 1, 2};
+    probe.analyze_and_factorize(upper, &natural, 1, std::chrono::steady_clock::now());
+    const std::size_t n = capture.fired() ? static_cast<std::size_t>(capture.block_size()) : 0;
+    return n > 0 && std::abs(capture.block()[n * n - 1] + 1.0) < 1e-12;
+  } catch (const std::runtime_error&) { return false; }
+}
+
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma,
                                const AnalysisObserver& observe)
     : impl_(new Impl(observe)), n_(static_cast<int>(K.rows())) {
@@ -308,7 +329,7 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen
   // σ = 0 and the trailing block captured unfactored (schur_capture.hpp): −𝔹K⁻¹𝔹ᵀ from CHOLMOD's own
   // updates. Should the capture not take effect, or not land on the root supernode, the
   // factorization is repeated the old way.
-  if (!(sigma > 0) && m > 0 && SchurCapture::works()) {
+  if (!(sigma > 0) && m > 0 && schur_capture_works()) {
     UpperCsc upper = augmented_upper_csc(K, B, 0.0);
     try {
       SchurCapture capture(m);

@@ -103,6 +103,9 @@ class SparseCholesky {
   Eigen::MatrixXd schur_;  // 𝔹K⁻¹𝔹ᵀ captured from the factorization (trailing order), until taken
   void record_times();
   bool take_schur_block(const class SchurCapture& capture);
+  // Whether CHOLMOD's dpotrf_ calls reach the interposer (schur_capture.hpp) in this process: a
+  // 3 × 3 augmented matrix factored with a capture armed.
+  static bool schur_capture_works();
 };
 
 }  // namespace contact3d

@@ -3,12 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-extern "C" {
-void dsymv_(const char* uplo, const int* n, const double* alpha, const double* a, const int* lda, const double* x,
-            const int* incx, const double* beta, double* y, const int* incy);
-void ssymv_(const char* uplo, const int* n, const float* alpha, const float* a, const int* lda, const float* x,
-            const int* incx, const float* beta, float* y, const int* incy);
-}
+#include "linalg/blas.hpp"
 
 namespace contact3d {
 
