@@ -327,8 +327,10 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen
   std::vector<SuiteSparse_long> perm = quotient_nested_dissection(K, &impl_->common);  // K's dofs first
   for (int i = 0; i < m; ++i) perm.push_back(n + i);                                   // then the multipliers
   // σ = 0 and the trailing block captured unfactored (schur_capture.hpp): −𝔹K⁻¹𝔹ᵀ from CHOLMOD's own
-  // updates. Should the capture not take effect, or not land on the root supernode, the
-  // factorization is repeated the old way.
+  // updates. Should the capture not take effect, or not land on the root supernode (CHOLMOD then
+  // stops in the trailing block, −Q not being positive definite), the factorization is repeated the
+  // old way; a failure in K's own part (no Γu, out of memory) is the user's and is reported at once,
+  // not after a second factorization.
   if (!(sigma > 0) && m > 0 && schur_capture_works()) {
     UpperCsc upper = augmented_upper_csc(K, B, 0.0);
     try {
@@ -338,7 +340,12 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen
         record_times();
         return;
       }
-    } catch (const std::runtime_error&) {}
+    } catch (const std::runtime_error&) {
+      const cholmod_factor* L = impl_->factor;
+      const bool in_trailing_block =
+          impl_->common.status == CHOLMOD_NOT_POSDEF && L && static_cast<SuiteSparse_long>(L->minor) >= n;
+      if (!in_trailing_block) throw;
+    }
     if (impl_->factor) cholmod_l_free_factor(&impl_->factor, &impl_->common);
   }
   if (!(sigma > 0)) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <string>
 
 #include <Eigen/Dense>
 
@@ -100,6 +101,21 @@ TEST(FastPaths, ContactLastSchurMatchesBlockSolves) {
   expect_same_dual(4, true);
   expect_same_dual(4, false);
   expect_same_dual(6, true);
+}
+
+TEST(FastPaths, AugmentedFactorOfAnIndefiniteKNamesK) {
+  // The Schur capture falls back to the σ route only for a failure in the trailing block; a K that is
+  // not positive definite is reported as such (its pivot, not the trailing block).
+  BrickData d = brick_data(2, true);
+  d.K.coeffRef(0, 0) = -d.K.coeff(0, 0);
+  try {
+    const SparseCholesky aug(d.K, d.B);
+    FAIL() << "an indefinite K was factored";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("not positive definite"), std::string::npos) << what;
+    EXPECT_EQ(what.find("trailing block"), std::string::npos) << what;
+  }
 }
 
 TEST(FastPaths, TrailingFactorIsTheSchurComplementFactor) {
