@@ -55,6 +55,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
       ssn.progress = settings.progress;
       ssn.stop_when_linear = true;
       ssn.fallback_to_mpgp = false;
+      ssn.damped_step_budget = window;  // a damped step must not cost more than an MPGP window
       add_work(total, solve_ssn(qp, lambda, ssn));
       if (total.status == QpStatus::Converged) return total;
     }

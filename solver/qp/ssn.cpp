@@ -60,6 +60,11 @@ bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd
 
 }  // namespace
 
+double newton_step_cost(int free_directions, int m) {
+  const double k = free_directions;
+  return m > 0 ? k * k * k / 3.0 / (2.0 * m * static_cast<double>(m)) : 0.0;
+}
+
 QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings) {
   QpResult result;
   if (!prepare_start(qp, lambda)) {
@@ -129,9 +134,13 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     }
     if (!accepted) break;
     // Full steps that no longer halve ‖F‖: the active sets are settling a few cells at a time
-    // (degenerate cells, λ and the gap both ~0), where MPGP finishes far more cheaply.
-    slow_steps = (t == 1 && F_norm > 0.5 * F_before) ? slow_steps + 1 : 0;
+    // (degenerate cells, λ and the gap both ~0), where MPGP finishes far more cheaply; so do damped
+    // steps that cost more than SsnSettings::damped_step_budget.
+    const bool may_be_slow =
+        t == 1 || newton_step_cost(static_cast<int>(step.directions.size()), qp.size()) > settings.damped_step_budget;
+    slow_steps = (may_be_slow && F_norm > 0.5 * F_before) ? slow_steps + 1 : 0;
     if (settings.stop_when_linear && slow_steps >= 2) {
+      project(qp, lambda);  // a damped step may leave λ just off a circle
       result.status = QpStatus::IterationLimit;
       return result;
     }

@@ -13,6 +13,8 @@
 // per refinement, until its residual is 1e-10 of the right-hand side; otherwise in double.
 #pragma once
 
+#include <limits>
+
 #include <Eigen/Core>
 
 #include "qp/box_disc_qp.hpp"
@@ -29,7 +31,17 @@ struct SsnSettings {
   // steps that did not halve ‖F‖, and return instead of running MPGP when Newton fails.
   bool stop_when_linear = false;
   bool fallback_to_mpgp = true;
+  // With stop_when_linear: a damped step that does not halve ‖F‖ counts as slow too when its reduced
+  // factorization costs more than this many products by Q (newton_step_cost). Damped steps near the
+  // solution creep (3-30% of ‖F‖ each on a slab with 10 092 multipliers, 1 500 products' worth of
+  // flops apiece), where MPGP finishes for less; on small faces they are cheap and often precede a
+  // full step that converges, so they go on.
+  double damped_step_budget = std::numeric_limits<double>::infinity();
 };
+
+// The flops of a Newton step's factorization (k³/3 for k free directions) in products by the
+// m x m Q (2m² each): an upper estimate of its time (dpotrf runs nearer peak than a product).
+double newton_step_cost(int free_directions, int m);
 
 // Warm start from `lambda`; on return it holds the (feasible) solution. iterations counts
 // Newton steps (+ MPGP iterations of a fallback); hessian_products counts products Q·v.

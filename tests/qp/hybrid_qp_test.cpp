@@ -92,3 +92,29 @@ TEST(HybridQp, ReducedNewtonOnTheLapackPath) {  // free size >= 400: dpotrf
   EXPECT_TRUE(is_feasible(p.qp, lambda));
   EXPECT_LT((lambda - reference).norm(), 1e-6 * reference.norm());
 }
+
+TEST(HybridQp, CostlyDampedStepsCountAsSlow) {
+  // A Newton step's factorization in products: k³/3 flops against 2m² per product.
+  EXPECT_DOUBLE_EQ(newton_step_cost(600, 600), 100.0);
+  EXPECT_DOUBLE_EQ(newton_step_cost(300, 600), 12.5);
+  // With a zero budget every damped step that does not halve ‖F‖ is slow, so Newton rounds stop
+  // sooner than when only full steps count (the infinite default), and never later.
+  int sooner = 0;
+  for (unsigned seed = 1; seed <= 40; ++seed) {
+    RandomQp a = make_random_qp(20 + static_cast<int>(seed) % 11, true, seed);
+    a.qp.Q = &a.Q;
+    a.qp.q_norm = 1.05 * estimate_norm(a.Q);
+    SsnSettings ss;
+    ss.rtol = 1e-12;
+    ss.stop_when_linear = true;
+    ss.fallback_to_mpgp = false;
+    Eigen::VectorXd free_lambda, budget_lambda;
+    const QpResult free_run = solve_ssn(a.qp, free_lambda, ss);
+    ss.damped_step_budget = 0;
+    const QpResult budget_run = solve_ssn(a.qp, budget_lambda, ss);
+    EXPECT_LE(budget_run.newton_steps, free_run.newton_steps) << "seed " << seed;
+    EXPECT_TRUE(is_feasible(a.qp, budget_lambda)) << "seed " << seed;
+    sooner += budget_run.newton_steps < free_run.newton_steps;
+  }
+  EXPECT_GE(sooner, 1);
+}
