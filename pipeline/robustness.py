@@ -48,6 +48,7 @@ BODIES = [
     ("slotted, rotated footprint", "slotted", ["mesh.parameters.h=0.07"], ["mesh.parameters.h=0.05"]),
     ("thin slab 2x2x0.05", "slab", ["mesh.parameters.h=0.08"], ["mesh.parameters.h=0.06"]),
     ("quarter block on a cap, two materials", "capblock", ["mesh.parameters.h=0.05"], ["mesh.parameters.h=0.035"]),
+    ("split ring, top displaced", "ring", ["mesh.parameters.h=0.04"], ["mesh.parameters.h=0.03"]),
 ]
 
 

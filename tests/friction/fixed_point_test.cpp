@@ -190,6 +190,43 @@ TEST(FixedPoint, RelaxationTakesPlainStepsWhileTheResidualGrowsAlongTheStep) {
   }
 }
 
+TEST(FixedPoint, RelaxationTakesPlainStepsWhereResidualsTurnAtAWideAngle) {
+  // G(φ) = φ* + 0.6 R (φ − φ*), R a quarter turn: each plain residual is the last one turned by 90°,
+  // so the secant (1/1.36 here) says nothing of a rate along it. Aitken must take the plain steps.
+  SlipMap turning = [](const Eigen::VectorXd& phi, double) {
+    const Eigen::Vector2d star(10.0, 10.0), e = phi - star;
+    SlipEvaluation out;
+    out.slip = star + 0.6 * Eigen::Vector2d(-e[1], e[0]);
+    out.qp_iterations = 100;
+    return out;
+  };
+  const FixedPointResult plain = solve_fixed_point(turning, 2, settings(), 1e-6);
+  const FixedPointResult aitken = solve_fixed_point(turning, 2, settings(FixedPointVariant::Aitken), 1e-6);
+  ASSERT_EQ(plain.status, FixedPointStatus::Converged);
+  ASSERT_EQ(aitken.status, FixedPointStatus::Converged);
+  ASSERT_EQ(aitken.iterations(), plain.iterations());
+  for (std::size_t k = 0; k < plain.history.size(); ++k)
+    EXPECT_NEAR(aitken.history[k].err, plain.history[k].err, 1e-12 * plain.history[k].err) << "step " << k + 1;
+}
+
+TEST(FixedPoint, NoStagnationWhileErrFallsAfterARise) {
+  // G ignores φ and returns c + (−1)ᵏ aₖ (1, 1, 1): the residuals flip each step (not travelling);
+  // err reaches 2e-4 at step 3, rises for three steps (as when a slip front spreads) and then falls
+  // by 0.85 per step. The window of 8 steps without a new minimum ends while err is falling: that is
+  // convergence, not stagnation.
+  SlipMap rise_then_fall = [k = 0](const Eigen::VectorXd& phi, double) mutable {
+    ++k;
+    const double a = k <= 3 ? 1e-3 : k <= 6 ? 1e-3 * std::pow(8.0, k - 3) : 0.512 * std::pow(0.85, k - 6);
+    SlipEvaluation e;
+    e.slip = Eigen::VectorXd::Constant(phi.size(), 10.0 + (k % 2 ? a : -a));
+    e.qp_iterations = 100;  // a busy QP: not inner noise
+    return e;
+  };
+  const FixedPointResult r = solve_fixed_point(rise_then_fall, 3, settings(), 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_GT(r.iterations(), 3 + settings().stagnation_window);  // the window did run out on the way
+}
+
 TEST(FixedPoint, AcceleratedFallsBackToPlainStepsBeforeCallingStagnation) {
   // A map that contracts (q = 0.5 towards φ* = 1) only along its own plain steps, and answers any
   // other input (a relaxed or mixed iterate) with a point that is no better — as a slow slip front
@@ -264,14 +301,19 @@ TEST(FixedPoint, AcceleratedMixesTheTailWhereNoSingleRelaxationFactorFitsEveryRa
 }
 
 TEST(FixedPoint, TailMixingFitsEveryBlockOfTheStateWhateverItsUnits) {
-  // Coulomb's state: slips (~1e-6 m) and pressures (~1e7 Pa). Unweighted, the least-squares fit sees
-  // only the pressures and the slips keep their slow rates (0.9, −0.8); weighted per block, both
-  // blocks converge as fast as one block alone does.
-  const std::vector<double> rates{0.9, -0.8, 0.6, 0.3};
+  // Coulomb's state: slips (~1e-6 m) and pressures (~1e7 Pa), ten of each with rates spread over
+  // (−0.9, 0.9), more directions than the mixing's depth. Unweighted, the least-squares fit sees
+  // only the pressures and the slips keep their slow rates; weighted per block (block_weights), the
+  // scaled state converges as the same state in unit scale does.
+  std::vector<double> rates, unit(20, 1.0), scaled;
+  for (int j = 0; j < 20; ++j) {
+    rates.push_back(0.9 * std::cos(0.37 * j + 0.2));
+    scaled.push_back(j < 10 ? 1e-6 : 1e7);
+  }
   FixedPointSettings s = settings(FixedPointVariant::Accelerated);
-  const FixedPointResult alone = solve_fixed_point(diagonal_map(rates, {1, 1, 1, 1}), 4, s, 1e-6);
-  s.blocks = {2, 2};
-  const FixedPointResult units = solve_fixed_point(diagonal_map(rates, {1e-6, 1e-6, 1e7, 1e7}), 4, s, 1e-6);
+  s.blocks = {10, 10};
+  const FixedPointResult alone = solve_fixed_point(diagonal_map(rates, unit), 20, s, 1e-6);
+  const FixedPointResult units = solve_fixed_point(diagonal_map(rates, scaled), 20, s, 1e-6);
   ASSERT_EQ(alone.status, FixedPointStatus::Converged);
   ASSERT_EQ(units.status, FixedPointStatus::Converged);
   EXPECT_LE(units.iterations(), alone.iterations() + 1);
