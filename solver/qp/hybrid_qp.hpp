@@ -9,7 +9,8 @@
 //      a Newton step; the shorter ones cut the slab's dual solve by 12-50% at 2523-10092 multipliers
 //      and the brick's products at n = 24 and 32, results/bench/slab.md);
 //   2. otherwise Newton steps (ssn.hpp) until they converge or two steps in a row stop halving ‖F‖
-//      (full steps; damped steps too when one costs more than a window, by newton_step_cost: until
+//      (full steps; after a full step, damped steps too when one costs more than a window, by
+//      newton_step_cost, SlowNewtonSteps: until
 //      2026-11-26 only full steps counted, and on the slab at 10 092 multipliers seven damped steps
 //      of about 2 s each crept on where MPGP finished in 156 iterations);
 //   3. then MPGP again from Newton's iterate (at most three Newton rounds, then MPGP alone).

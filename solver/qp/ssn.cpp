@@ -60,6 +60,14 @@ bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd
 
 }  // namespace
 
+bool SlowNewtonSteps::record(double step_length, double F_before, double F_after, double cost) {
+  const bool full = step_length == 1;
+  const bool judged = full || (took_full_step_ && cost > damped_step_budget_);
+  in_a_row_ = (judged && F_after > 0.5 * F_before) ? in_a_row_ + 1 : 0;
+  took_full_step_ = took_full_step_ || full;
+  return in_a_row_ >= 2;
+}
+
 double newton_step_cost(int free_directions, int m) {
   const double k = free_directions;
   return m > 0 ? k * k * k / 3.0 / (2.0 * m * static_cast<double>(m)) : 0.0;
@@ -85,7 +93,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   Eigen::VectorXd z;
   double F_norm = residual(lambda, g, z);
   Eigen::VectorXd target;
-  int slow_steps = 0;
+  SlowNewtonSteps slow_steps{settings.damped_step_budget};
   for (int it = 0; it < settings.max_newton; ++it) {
     // Stopping test at the feasible point P(λ) (λ itself may sit slightly off a circle).
     Eigen::VectorXd lam_f = lambda;
@@ -133,13 +141,9 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       }
     }
     if (!accepted) break;
-    // Full steps that no longer halve ‖F‖: the active sets are settling a few cells at a time
-    // (degenerate cells, λ and the gap both ~0), where MPGP finishes far more cheaply; so do damped
-    // steps that cost more than SsnSettings::damped_step_budget.
-    const bool may_be_slow =
-        t == 1 || newton_step_cost(static_cast<int>(step.directions.size()), qp.size()) > settings.damped_step_budget;
-    slow_steps = (may_be_slow && F_norm > 0.5 * F_before) ? slow_steps + 1 : 0;
-    if (settings.stop_when_linear && slow_steps >= 2) {
+    const bool slow =
+        slow_steps.record(t, F_before, F_norm, newton_step_cost(static_cast<int>(step.directions.size()), qp.size()));
+    if (settings.stop_when_linear && slow) {
       project(qp, lambda);  // a damped step may leave λ just off a circle
       result.status = QpStatus::IterationLimit;
       return result;

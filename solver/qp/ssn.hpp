@@ -31,12 +31,30 @@ struct SsnSettings {
   // steps that did not halve ‖F‖, and return instead of running MPGP when Newton fails.
   bool stop_when_linear = false;
   bool fallback_to_mpgp = true;
-  // With stop_when_linear: a damped step that does not halve ‖F‖ counts as slow too when its reduced
-  // factorization costs more than this many products by Q (newton_step_cost). Damped steps near the
-  // solution creep (3-30% of ‖F‖ each on a slab with 10 092 multipliers, 1 500 products' worth of
-  // flops apiece), where MPGP finishes for less; on small faces they are cheap and often precede a
-  // full step that converges, so they go on.
+  // With stop_when_linear: a damped step after a full one that does not halve ‖F‖ counts as slow too
+  // when its reduced factorization costs more than this many products by Q (SlowNewtonSteps). Such
+  // steps crept (3-30% of ‖F‖ each on a slab with 10 092 multipliers, 1 500 products' worth of flops
+  // apiece) where MPGP finishes for less.
   double damped_step_budget = std::numeric_limits<double>::infinity();
+};
+
+// When Newton steps stop paying (the hybrid's round ends, SsnSettings::stop_when_linear): two steps
+// in a row that do not halve ‖F‖. Full steps count: the active sets are settling a few cells at a
+// time (degenerate cells, λ and the gap both ~0), where MPGP finishes far more cheaply. Damped steps
+// count after a full one (Newton has left its local regime) when they cost more than
+// `damped_step_budget` products (newton_step_cost); damped steps before any full step are the
+// globalization Newton needs far from the solution, and go on.
+class SlowNewtonSteps {
+ public:
+  explicit SlowNewtonSteps(double damped_step_budget) : damped_step_budget_(damped_step_budget) {}
+  // One accepted step of length `step_length` (1: full) that took ‖F‖ from F_before to F_after and
+  // cost `cost` products; true when the steps stop paying.
+  bool record(double step_length, double F_before, double F_after, double cost);
+
+ private:
+  double damped_step_budget_;
+  int in_a_row_ = 0;
+  bool took_full_step_ = false;
 };
 
 // The flops of a Newton step's factorization (k³/3 for k free directions) in products by the

@@ -1,7 +1,8 @@
 // The hybrid QP solver (MPGP + semismooth Newton, the default "auto"): the same minimiser as
 // MPGP on random QPs, also when every round goes through Newton steps; MPGP alone where it
 // converges within its first window; and the reduced symmetric Newton step of solve_ssn on a QP
-// large enough for the LAPACK path. (Its speed on slabs is measured by `make bench-slab`.)
+// large enough for the LAPACK path; when a Newton round ends (SlowNewtonSteps). (Its speed on slabs
+// is measured by `make bench-slab`.)
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -93,28 +94,32 @@ TEST(HybridQp, ReducedNewtonOnTheLapackPath) {  // free size >= 400: dpotrf
   EXPECT_LT((lambda - reference).norm(), 1e-6 * reference.norm());
 }
 
-TEST(HybridQp, CostlyDampedStepsCountAsSlow) {
+TEST(HybridQp, NewtonRoundsEndWhereStepsStopPaying) {
   // A Newton step's factorization in products: k³/3 flops against 2m² per product.
   EXPECT_DOUBLE_EQ(newton_step_cost(600, 600), 100.0);
   EXPECT_DOUBLE_EQ(newton_step_cost(300, 600), 12.5);
-  // With a zero budget every damped step that does not halve ‖F‖ is slow, so Newton rounds stop
-  // sooner than when only full steps count (the infinite default), and never later.
-  int sooner = 0;
-  for (unsigned seed = 1; seed <= 40; ++seed) {
-    RandomQp a = make_random_qp(20 + static_cast<int>(seed) % 11, true, seed);
-    a.qp.Q = &a.Q;
-    a.qp.q_norm = 1.05 * estimate_norm(a.Q);
-    SsnSettings ss;
-    ss.rtol = 1e-12;
-    ss.stop_when_linear = true;
-    ss.fallback_to_mpgp = false;
-    Eigen::VectorXd free_lambda, budget_lambda;
-    const QpResult free_run = solve_ssn(a.qp, free_lambda, ss);
-    ss.damped_step_budget = 0;
-    const QpResult budget_run = solve_ssn(a.qp, budget_lambda, ss);
-    EXPECT_LE(budget_run.newton_steps, free_run.newton_steps) << "seed " << seed;
-    EXPECT_TRUE(is_feasible(a.qp, budget_lambda)) << "seed " << seed;
-    sooner += budget_run.newton_steps < free_run.newton_steps;
+  const double budget = 50, costly = 100, cheap = 10;
+  {  // two full steps in a row that do not halve ‖F‖, whatever they cost
+    SlowNewtonSteps s{budget};
+    EXPECT_FALSE(s.record(1, 1.0, 0.8, cheap));
+    EXPECT_TRUE(s.record(1, 0.8, 0.7, cheap));
   }
-  EXPECT_GE(sooner, 1);
+  {  // a step that halves ‖F‖ resets the count
+    SlowNewtonSteps s{budget};
+    EXPECT_FALSE(s.record(1, 1.0, 0.8, cheap));
+    EXPECT_FALSE(s.record(1, 0.8, 0.1, cheap));
+    EXPECT_FALSE(s.record(1, 0.1, 0.09, cheap));
+  }
+  {  // damped steps before any full step: globalization, never slow
+    SlowNewtonSteps s{budget};
+    for (int k = 0; k < 5; ++k) EXPECT_FALSE(s.record(0.25, 1.0, 0.9, costly)) << k;
+  }
+  {  // after a full step, costly damped steps that creep end the round; cheap ones go on
+    SlowNewtonSteps creeping{budget}, cheap_steps{budget};
+    EXPECT_FALSE(creeping.record(1, 1.0, 1e-3, costly));
+    EXPECT_FALSE(creeping.record(0.5, 1e-3, 8e-4, costly));
+    EXPECT_TRUE(creeping.record(0.5, 8e-4, 7e-4, costly));
+    EXPECT_FALSE(cheap_steps.record(1, 1.0, 1e-3, cheap));
+    for (int k = 0; k < 5; ++k) EXPECT_FALSE(cheap_steps.record(0.5, 1e-3, 9e-4, cheap)) << k;
+  }
 }
