@@ -148,10 +148,11 @@ class AitkenRelaxation {
     constexpr double kMinCosine = 0.5;
     const Eigen::VectorXd w = block_weights(blocks_, gx);
     const Eigen::VectorXd last = w.cwiseProduct(last_residual_), now = w.cwiseProduct(r);
-    const double dr2 = (now - last).squaredNorm();
+    const Eigen::VectorXd dr = now - last;
+    const double dr2 = dr.squaredNorm();
     if (!(dr2 > 0)) return omega_;
     if (!(std::abs(now.dot(last)) > kMinCosine * now.norm() * last.norm())) return 1.0;  // at a wide angle
-    const double secant = -omega_ * last.dot(now - last) / dr2;
+    const double secant = -omega_ * last.dot(dr) / dr2;
     return secant <= 0 ? 1.0 : std::clamp(secant, 0.1, 4.0);
   }
 
@@ -257,12 +258,15 @@ bool contracts_fast(const std::vector<double>& lengths) {
 // with the one before above 1/2): a slip front spreading node by node (a weakening or jump law on a
 // large contact face) keeps err from falling for many steps while the state moves steadily towards
 // the fixed point. A map that does not contract cycles instead: its residuals turn against each
-// other (cosines near −1 for a two-cycle).
-bool still_travelling(const std::deque<Eigen::VectorXd>& residuals) {
+// other (cosines near −1 for a two-cycle). The cosines are taken with one set of block weights `w`
+// (block_weights of the latest G(x)) for all three, so that each block of the state counts (Coulomb's
+// slips beside its pressures); with one block they are the plain cosines.
+bool still_travelling(const std::deque<Eigen::VectorXd>& residuals, const Eigen::VectorXd& w) {
   if (residuals.size() < 3) return false;
   for (std::size_t j = 1; j < residuals.size(); ++j) {
-    const double norms = residuals[j].norm() * residuals[j - 1].norm();
-    if (!(norms > 0) || residuals[j].dot(residuals[j - 1]) <= 0.5 * norms) return false;
+    const Eigen::VectorXd a = w.cwiseProduct(residuals[j]), b = w.cwiseProduct(residuals[j - 1]);
+    const double norms = a.norm() * b.norm();
+    if (!(norms > 0) || a.dot(b) <= 0.5 * norms) return false;
   }
   return true;
 }
@@ -328,7 +332,8 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   // observed when the tail began (relaxed or plain steps) and ‖G′‖ of the last Newton step.
   double tail_start_q = 0, newton_map_norm = 0;
   std::vector<double> step_lengths;
-  std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x, block-weighted
+  std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
+  bool travelling = false;                // still_travelling(residuals) after the latest step
   auto note_tail_start = [&] {            // before the tail's first Newton or mixed step
     if (result.newton_steps + result.mixed_steps == 0) {
       const double q = contraction_factor(step_lengths);
@@ -363,7 +368,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     // scalar ω, which cannot fit different rates and an oscillation at once. Before the tail the
     // linearization misleads: Newton steps from the start overshot the front (slab h = 0.08, jump
     // law: 24 steps against 21 relaxed, 14 with Newton in the tail).
-    const bool in_tail = result.history.back().err < settings.tail_err && !still_travelling(residuals);
+    const bool in_tail = result.history.back().err < settings.tail_err && !travelling;
     const bool use_newton = accelerated && settings.newton && newton.use(result.history, in_tail && eval.derivative);
     const bool use_mixing = accelerated && !use_newton && tail_mixing.use(result.history, in_tail);
     // A Newton or mixed step that raised err is rejected: the update that follows starts again from
@@ -448,10 +453,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(step);
     result.phi = x;
-    step_lengths.push_back((eval.slip - x).norm());
-    // Block-weighted (block_weights), so that each block of the state counts in their directions.
-    residuals.push_back(block_weights(settings.blocks, eval.slip).cwiseProduct(eval.slip - x));
+    residuals.push_back(eval.slip - x);
+    step_lengths.push_back(residuals.back().norm());
     if (residuals.size() > 3) residuals.pop_front();
+    travelling = still_travelling(residuals, block_weights(settings.blocks, eval.slip));
     if (observe) observe(step);
     if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
     if (step.err <= settings.tol) {
@@ -474,8 +479,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (step.err < best_err) {
       best_err = step.err;
       best_k = k;
-    } else if (k - best_k >= settings.stagnation_window && !still_travelling(residuals) &&
-               !still_falling(result.history) &&
+    } else if (k - best_k >= settings.stagnation_window && !travelling && !still_falling(result.history) &&
                (!settings.adaptive_qp_tolerance || rtol <= settings.qp_rtol_floor || !qp_idle)) {
       // No new minimum for a window of steps, the iterates not moving steadily one way nor err
       // falling step by step (the minimum may date from before a slip front spread), and not

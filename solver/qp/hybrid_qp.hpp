@@ -8,11 +8,11 @@
 //      (m/16 until 2026-11-25: windows that long let MPGP crawl through hundreds of expansions before
 //      a Newton step; the shorter ones cut the slab's dual solve by 12-50% at 2523-10092 multipliers
 //      and the brick's products at n = 24 and 32, results/bench/slab.md);
-//   2. otherwise Newton steps (ssn.hpp) until they converge or two steps in a row stop halving ‖F‖
-//      (full steps; after a full step, damped steps too when one costs more than a window, by
-//      newton_step_cost, SlowNewtonSteps: until
-//      2026-11-26 only full steps counted, and on the slab at 10 092 multipliers seven damped steps
-//      of about 2 s each crept on where MPGP finished in 156 iterations);
+//   2. otherwise Newton steps (ssn.hpp) until they converge or stop paying (SlowNewtonSteps: two
+//      steps in a row that do not halve ‖F‖, full ones, or after a full one damped ones that cost
+//      more than a window; until 2026-11-26 only full steps counted, and on the slab at 10 092
+//      multipliers seven damped steps of about 2 s each crept on where MPGP finished in 156
+//      iterations);
 //   3. then MPGP again from Newton's iterate (at most three Newton rounds, then MPGP alone).
 // Same stopping test and answer as MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ.
 #pragma once

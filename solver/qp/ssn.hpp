@@ -27,8 +27,8 @@ struct SsnSettings {
   int max_newton = 40;           // Newton steps before falling back to MPGP
   int max_iterations = 100000;   // for the MPGP fallback
   Progress* progress = nullptr;  // heartbeat (none: silent)
-  // For the hybrid solver (qp/hybrid_qp.hpp): return (status IterationLimit) after two full Newton
-  // steps that did not halve ‖F‖, and return instead of running MPGP when Newton fails.
+  // For the hybrid solver (qp/hybrid_qp.hpp): return (status IterationLimit) once the steps stop
+  // paying (SlowNewtonSteps), and return instead of running MPGP when Newton fails.
   bool stop_when_linear = false;
   bool fallback_to_mpgp = true;
   // With stop_when_linear: a damped step after a full one that does not halve ‖F‖ counts as slow too
