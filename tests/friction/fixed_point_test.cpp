@@ -190,6 +190,28 @@ TEST(FixedPoint, RelaxationTakesPlainStepsWhileTheResidualGrowsAlongTheStep) {
   }
 }
 
+TEST(FixedPoint, RelaxationKeepsItsLongStepsWhileTheIteratesRunAway) {
+  // Residual r(φ) = G(φ) − φ: a slow contraction below φ = 1 (G′ = 0.6: Aitken lengthens the steps,
+  // ω = 2.5 and more), then feedback (G′ = 1.5: r grows along itself, the secant is negative) up to
+  // φ = 5, then an oscillating contraction (G′ = −0.5) to φ* = 6.4. In the runaway the relaxation
+  // keeps ω (here 4) rather than falling back to the plain step.
+  SlipMap runaway = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi.unaryExpr([](double t) {
+      const double r = t < 1 ? 0.5 - 0.4 * t : t < 5 ? 0.1 + 0.5 * (t - 1) : 2.1 - 1.5 * (t - 5);
+      return t + r;
+    });
+    return e;
+  };
+  const FixedPointResult plain = solve_fixed_point(runaway, 1, settings(), 1e-8);
+  const FixedPointResult aitken = solve_fixed_point(runaway, 1, settings(FixedPointVariant::Aitken), 1e-8);
+  ASSERT_EQ(plain.status, FixedPointStatus::Converged);
+  ASSERT_EQ(aitken.status, FixedPointStatus::Converged);
+  EXPECT_NEAR(aitken.phi[0], 6.4, 1e-6);
+  EXPECT_LE(aitken.iterations(), 8);  // resetting ω to 1 in the runaway: 9 steps
+  EXPECT_LT(aitken.iterations(), plain.iterations());
+}
+
 TEST(FixedPoint, RelaxationTakesPlainStepsWhereResidualsTurnAtAWideAngle) {
   // G(φ) = φ* + 0.6 R (φ − φ*), R a quarter turn: each plain residual is the last one turned by 90°,
   // so the secant (1/1.36 here) says nothing of a rate along it. Aitken must take the plain steps.
