@@ -26,7 +26,8 @@ import c3d.run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "scenes", "paper_brick.toml")
-ROUTE_LABELS = {"mumps": "MUMPS, our ND", "mumps_petsc": "MUMPS via PETSc (AMD)"}
+ROUTE_LABELS = {"mumps": "MUMPS, our ND", "mumps_ooc": "MUMPS, our ND, out of core",
+                "mumps_petsc": "MUMPS via PETSc (AMD)"}
 STAGES = ["assembly", "contact", "factorization", "dual", "stability", "dual_solve", "postprocess"]
 
 
@@ -64,20 +65,25 @@ def main():
     ap.add_argument("--mpiexec", default="mpirun")
     ap.add_argument("--n", type=int, nargs="+", default=[16, 24, 32])
     ap.add_argument("--np", type=int, nargs="+", default=[1, 2])
-    ap.add_argument("--routes", nargs="+", default=["mumps", "mumps_petsc"],
+    ap.add_argument("--routes", nargs="+", default=["mumps", "mumps_ooc", "mumps_petsc"],
                     help="solver.schur values: mumps (MUMPS called directly, our nested dissection), "
-                         "mumps_petsc (through PETSc, MUMPS's AMD)")
+                         "mumps_ooc (the same with the factor out of core: solver.out_of_core_dir in the run's "
+                         "temporary folder), mumps_petsc (through PETSc, MUMPS's AMD)")
     ap.add_argument("--out", default=os.path.join(HERE, "..", "results", "runs", "distributed.md"))
     args = ap.parse_args()
     os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
     os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
     rows = []
     with tempfile.TemporaryDirectory(prefix="c3d_bench_mpi_") as tmp:
+        ooc_dir = os.path.join(tmp, "ooc_files")
+        os.makedirs(ooc_dir)
+        route_sets = {"mumps": ["solver.schur=mumps"], "mumps_petsc": ["solver.schur=mumps_petsc"],
+                      "mumps_ooc": ["solver.schur=mumps", f"solver.out_of_core_dir={ooc_dir}"]}
         for n in args.n:
             serial_dir = os.path.join(tmp, f"serial{n}")
             configs = [("CHOLMOD (serial)", [args.serial], serial_dir, [])]
             configs += [(f"{ROUTE_LABELS[route]} np={p}", [args.mpiexec, "-np", str(p), *binding(p), args.mpi],
-                         os.path.join(tmp, f"{route}_np{p}_{n}"), [f"solver.schur={route}"])
+                         os.path.join(tmp, f"{route}_np{p}_{n}"), route_sets[route])
                         for route in args.routes for p in args.np]
             for label, cmd, out, extra in configs:
                 s, wall = run(cmd, out, n, extra)
@@ -110,7 +116,9 @@ def write_report(args, rows):
          "(rank 0). nnz(L): CHOLMOD's factor of [K 𝔹ᵀ; 𝔹 σI], or MUMPS's INFOG(29) entries of the factor of "
          "[K 𝔹ᵀ; 𝔹 0]. 'MUMPS, our ND': MUMPS called directly with the nested dissection CHOLMOD's path uses "
          "as its pivot order (ICNTL(7) = 1); 'via PETSc (AMD)': PETSc's MUMPS interface, which cannot pass an "
-         "ordering with a Schur complement, so MUMPS orders by AMD (Debian's MUMPS has no METIS). Peak memory: each rank's peak "
+         "ordering with a Schur complement, so MUMPS orders by AMD (Debian's MUMPS has no METIS); 'out of core': "
+         "the direct route with the factor in files (solver.out_of_core_dir on the same disk, MUMPS's ICNTL(22) = 1), "
+         "read back in every solve. Peak memory: each rank's peak "
          "resident set at the end of the solve. Ranks fewer than the cores run with `--bind-to none` (Open MPI binds "
          "each rank to one core by default, which leaves one rank's BLAS threads a single core). du: largest difference of u on Γc to the serial run, relative.", "",
          "| n | run | n_p | n_d | it | n_mult | factorization (s) | Q + h (s) | QP (s) | solve (s) | × serial solve | "

@@ -583,6 +583,19 @@ def c_schur_mumps_in_serial_build(c):
              "--set", "mesh.n=2", "--set", "solver.schur=mumps"], ["solver.schur", "mumps", "make build-mpi"])
 
 
+def c_out_of_core_in_serial_build(c):
+    # MUMPS's out-of-core mode asked of the serial binary (CHOLMOD keeps its factor in memory).
+    return (["solve", c.scene(), "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick",
+             "--set", "mesh.n=2", "--set", f"solver.out_of_core_dir={c.path('.')}"],
+            ["solver.out_of_core_dir", "mumps", "make build-mpi"])
+
+
+def c_out_of_core_dir_missing(c):
+    # The directory for MUMPS's factor files must exist and be writable: refused when the scene is read.
+    missing = c.path("no_such_dir")
+    return ["check", c.scene(), "--set", f"solver.out_of_core_dir={missing}"], ["solver.out_of_core_dir", missing]
+
+
 def c_memory_factor_too_big(c):
     # The brick n=24 (a 0.63 GiB factor) in a process limited to 700 MB of address space: refused
     # after CHOLMOD's analysis, before the numeric factorization, naming the factor's size.

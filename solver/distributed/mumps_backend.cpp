@@ -28,6 +28,7 @@
 #include <type_traits>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 #include "distributed/backend.hpp"
 #include "fem/assembly.hpp"
 #include "fem/mesh_part.hpp"
@@ -160,18 +161,24 @@ struct DirectMumps {
 // holds and the default's reserve is resident memory for nothing (80 MB on rank 0 at n = 32). Should a
 // factorization still run short (INFOG(1) = −8 or −9), it is repeated with 25% and then 100%, as
 // MUMPS's guide advises. INFOG(1) is global, so every rank takes the same branch.
-void factorize_with_growing_workspace(DirectMumps& d) {
+void factorize_with_growing_workspace(DirectMumps& d, const std::string& out_of_core_dir) {
   for (const int percent : {5, 25, 100}) {
     d.id.icntl[13] = percent;
     d.id.job = 2;
     dmumps_c(&d.id);
     if (d.id.infog[0] != -8 && d.id.infog[0] != -9) break;
   }
+  // −70 … −79 and −90: MUMPS could not create, write or read its out-of-core files.
+  if (const int code = d.id.infog[0]; (code <= -70 && code >= -79) || code == -90)
+    throw InputError("MUMPS could not write its factor to files in solver.out_of_core_dir '" + out_of_core_dir +
+                     "' (INFOG(1) = " + std::to_string(code) + "): the directory must exist on every machine, be " +
+                     "writable and have room for the factor, about " +
+                     number(8.0 * mumps_count(d.id.infog[2]) / (1 << 30), 3) + " GiB over all ranks");
   if (d.id.infog[0] == -13)  // an allocation failed on some rank: the machine(s) ran out of memory
     throw InputError("not enough memory for MUMPS's factorization: allocating " +
                      std::to_string(static_cast<long long>(mumps_count(d.id.infog[1]))) +
                      " entries failed on one of the ranks (INFOG(1) = -13); run more ranks, on more machines, "
-                     "or use a coarser mesh");
+                     "keep the factor on disk (solver.out_of_core_dir), or use a coarser mesh");
   if (d.id.infog[0] < 0)
     throw std::runtime_error("MUMPS failed in the MUMPS factorization (INFOG(1) = " + std::to_string(d.id.infog[0]) +
                              ", INFOG(2) = " + std::to_string(d.id.infog[1]) + ")");
@@ -221,7 +228,8 @@ struct Triplets {
 
 // The direct route: this rank's entries, and on rank 0 the pivot order of K's dofs (`order`).
 // The entries move into MUMPS's arrays (no second copy of this rank's share).
-void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets share) {
+void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets share,
+                   const std::string& out_of_core_dir) {
   static_assert(std::is_same_v<PetscInt, MUMPS_INT> && std::is_same_v<PetscScalar, double>,
                 "PETSc's 32-bit real indices and scalars are MUMPS's");
   const bool root = comm_rank() == 0;
@@ -241,6 +249,10 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
   id.icntl[6] = 1;   // ICNTL(7): the pivot order PERM_IN
   id.icntl[18] = 1;  // ICNTL(19): the Schur complement, centralized on the host
   id.icntl[25] = 0;  // ICNTL(26): solves on the interior problem
+  if (!out_of_core_dir.empty()) {
+    id.icntl[21] = 1;  // ICNTL(22): the factor in files in OOC_TMPDIR, read back by every solve
+    std::snprintf(id.ooc_tmpdir, sizeof id.ooc_tmpdir, "%s", out_of_core_dir.c_str());
+  }
   if (root) {
     id.n = static_cast<MUMPS_INT>(N);
     d.pivot_position.resize(static_cast<std::size_t>(N));
@@ -259,7 +271,7 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
     id.schur_lld = static_cast<MUMPS_INT>(fz.m);
   }
   d.run(1, "the MUMPS analysis");
-  factorize_with_growing_workspace(d);
+  factorize_with_growing_workspace(d, out_of_core_dir);
   // The solves use only the factor (no iterative refinement, ICNTL(10) = 0): the matrix can go.
   std::vector<MUMPS_INT>().swap(d.rows);
   std::vector<MUMPS_INT>().swap(d.cols);
@@ -577,10 +589,13 @@ Triplets send_parts_and_assemble(const StiffnessSource& source) {
 // the mesh); rank 0 adds 𝔹 and the multipliers' zero diagonal and gives the pivot order (`source`,
 // `B` and `order` are read on rank 0 only).
 std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source, const Eigen::SparseMatrix<double>* B,
-                                                   const std::vector<int>& order) {
+                                                   const std::vector<int>& order, std::string out_of_core_dir) {
   auto fz = std::make_unique<Factorization>();
-  std::int64_t dims[2] = {source ? source->dofs.n_free : 0, B ? B->rows() : 0};
-  MPI_Bcast(dims, 2, MPI_INT64_T, 0, PETSC_COMM_WORLD);
+  std::int64_t dims[3] = {source ? source->dofs.n_free : 0, B ? B->rows() : 0,
+                          static_cast<std::int64_t>(out_of_core_dir.size())};
+  MPI_Bcast(dims, 3, MPI_INT64_T, 0, PETSC_COMM_WORLD);
+  out_of_core_dir.resize(static_cast<std::size_t>(dims[2]));
+  MPI_Bcast(out_of_core_dir.data(), static_cast<int>(dims[2]), MPI_CHAR, 0, PETSC_COMM_WORLD);
   fz->n = static_cast<PetscInt>(dims[0]);
   fz->m = static_cast<PetscInt>(dims[1]);
   Triplets share;
@@ -599,7 +614,7 @@ std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source
 #ifdef __GLIBC__
   malloc_trim(0);  // the assembly's many small lists, freed, would stay resident beside MUMPS's factor
 #endif
-  factor_direct(*fz, order, std::move(share));
+  factor_direct(*fz, order, std::move(share), out_of_core_dir);
   return fz;
 }
 
@@ -657,8 +672,9 @@ std::vector<double> gather_memory() {
 // Rank 0's side of the dual problem: every method sends the command, then runs the collective.
 class MumpsDualProblem final : public DualProblem {
  public:
-  MumpsDualProblem(const DualProblemInput& in, StageClock& clock, MumpsRoute route)
+  MumpsDualProblem(const DualProblemInput& in, StageClock& clock, const MumpsOptions& options)
       : B_(in.B), f_(in.f), face_dofs_(in.face_dofs) {
+    const MumpsRoute route = options.route;
     method = route == MumpsRoute::Direct ? "mumps" : "mumps_petsc";
     backend = route == MumpsRoute::Direct ? "mumps" : "petsc-mumps";
     if (route == MumpsRoute::Direct) {
@@ -668,7 +684,7 @@ class MumpsDualProblem final : public DualProblem {
       const NodeGraph graph = free_node_graph(in.stiffness_source->mesh, in.stiffness_source->dofs);
       const std::vector<int> order = nested_dissection_order(graph.first_dof, graph.adj_start, graph.adj);
       broadcast(kAssembleAndFactor);
-      fz_ = assemble_and_factor(in.stiffness_source, &in.B, order);
+      fz_ = assemble_and_factor(in.stiffness_source, &in.B, order, options.out_of_core_dir);
     } else {
       // ‖K·modes‖ from rank 0's K, to check the ranks' copy of the near-null space against.
       const double expected_residual = in.near_null_space.cols() > 0 ? (in.K * in.near_null_space).norm() : 0.0;
@@ -753,7 +769,7 @@ void Session::serve() {
           fz = factor_through_petsc(UpperCsr(), nullptr);
           break;
         case kAssembleAndFactor:
-          fz = assemble_and_factor(nullptr, nullptr, {});
+          fz = assemble_and_factor(nullptr, nullptr, {}, "");
           break;
         case kSolve:
           if (fz) solve(*fz, nullptr, nullptr);
@@ -774,8 +790,10 @@ void Session::serve() {
 }
 
 std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput& input, StageClock& clock,
-                                                     MumpsRoute route) {
-  return std::make_unique<MumpsDualProblem>(input, clock, route);
+                                                     const MumpsOptions& options) {
+  if (options.route == MumpsRoute::ThroughPetsc && !options.out_of_core_dir.empty())
+    throw InputError("solver.out_of_core_dir works with MUMPS called directly (solver.schur = \"mumps\")");
+  return std::make_unique<MumpsDualProblem>(input, clock, options);
 }
 
 int ranks() { return comm_size(); }

@@ -12,7 +12,7 @@ Session::Session(int&, char**&) {}
 Session::~Session() = default;
 void Session::serve() {}
 
-std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput&, StageClock&, MumpsRoute) {
+std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput&, StageClock&, const MumpsOptions&) {
   throw InputError(
       "solver.schur = \"mumps\" or \"mumps_petsc\" needs the distributed build: `make build-mpi`, then `mpirun -np P "
       "build-mpi/contact3d solve SCENE`");

@@ -18,6 +18,7 @@ inline void write_solver_settings(JsonWriter& j, const SolverSettings& s) {
   j.value("fixed_point_tol", s.fixed_point_tol).value("fixed_point_max_iter", s.fixed_point_max_iter);
   j.value("inexact_fixed_point", s.inexact_fixed_point).value("schur", name_of(s.dual_method, kDualMethodNames));
   j.value("reference_factorization", s.reference_factorization);
+  j.value("out_of_core_dir", s.out_of_core_dir.string());
   j.end_object();
 }
 

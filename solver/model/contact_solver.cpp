@@ -394,10 +394,23 @@ DualMethod resolved_dual_method(DualMethod method) {
   return distributed::available() ? DualMethod::Mumps : DualMethod::Augmented;
 }
 
-std::unique_ptr<DualProblem> make_dual_problem(DualMethod method, const DualProblemInput& input, StageClock& clock) {
-  if (method == DualMethod::Mumps) return distributed::make_mumps_dual_problem(input, clock);
+// solver.out_of_core_dir is MUMPS's (direct route): refused, before any work, where it cannot act.
+void require_backend_for_out_of_core(const SolverSettings& settings, DualMethod method) {
+  if (!settings.out_of_core_dir.empty() && method != DualMethod::Mumps)
+    throw InputError(
+        "solver.out_of_core_dir is MUMPS's out-of-core mode: it needs the distributed build with "
+        "solver.schur = \"mumps\" (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`); "
+        "the factorization here (" +
+        std::string(name_of(method, kDualMethodNames)) + ") keeps its factor in memory");
+}
+
+std::unique_ptr<DualProblem> make_dual_problem(DualMethod method, const DualProblemInput& input,
+                                               const SolverSettings& settings, StageClock& clock) {
+  if (method == DualMethod::Mumps)
+    return distributed::make_mumps_dual_problem(input, clock,
+                                                {distributed::MumpsRoute::Direct, settings.out_of_core_dir.string()});
   if (method == DualMethod::MumpsPetsc)
-    return distributed::make_mumps_dual_problem(input, clock, distributed::MumpsRoute::ThroughPetsc);
+    return distributed::make_mumps_dual_problem(input, clock, {distributed::MumpsRoute::ThroughPetsc, ""});
   return make_cholmod_dual_problem(method, input, clock);
 }
 
@@ -480,6 +493,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
   const DualMethod method = resolved_dual_method(scene.solver.dual_method);
+  require_backend_for_out_of_core(scene.solver, method);
   const bool K_on_ranks = method == DualMethod::Mumps && !scene.contact.empty();
   Discretisation disc = discretise(scene, mesh, res, !K_on_ranks);
   clock.lap("assembly");
@@ -506,7 +520,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                          op.offset,        factor_size_check(report, &stage),
                          disc.release_K(), K_on_ranks ? &source : nullptr};
   if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
-  std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, clock);
+  std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, scene.solver, clock);
   report.stage("  done in " + number(stage_seconds(res, "factorization") + stage_seconds(res, "dual"), 3) +
                " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +
                number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");

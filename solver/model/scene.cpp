@@ -1,5 +1,7 @@
 #include "model/scene.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -194,6 +196,20 @@ std::filesystem::path resolve(const std::filesystem::path& base, const std::stri
   return path.is_absolute() ? path : (base / path).lexically_normal();
 }
 
+// solver.out_of_core_dir: an existing directory this process may write in (MUMPS's files go there;
+// its name must fit MUMPS's 255 characters).
+std::filesystem::path out_of_core_dir(const std::filesystem::path& base, const toml::table& solver) {
+  const std::string given = get_string(solver, "solver", "out_of_core_dir", "");
+  if (given.empty()) return {};
+  const std::filesystem::path dir = resolve(base, given);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec) || access(dir.c_str(), W_OK | X_OK) != 0)
+    throw InputError("solver.out_of_core_dir '" + dir.string() + "' is not a directory this process can write in");
+  if (dir.string().size() > 255)
+    throw InputError("solver.out_of_core_dir '" + dir.string() + "' is longer than MUMPS's 255 characters");
+  return dir;
+}
+
 // Applies "a.b.c=value" to the table, creating tables on the way.
 void apply_override(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
@@ -356,7 +372,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     check_keys(*sv, "solver",
                {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
                 "qp_precision", "fixed_point", "anderson_depth", "fixed_point_tail_err", "fixed_point_newton",
-                "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization"});
+                "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization", "out_of_core_dir"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
     o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
@@ -385,6 +401,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
       if (!v || !(*sv)[key].is_boolean()) throw InputError(std::string("solver.") + key + " must be true or false");
       *target = *v;
     }
+    if (sv->contains("out_of_core_dir")) o.out_of_core_dir = out_of_core_dir(base, *sv);
   }
   if (const toml::table* out = table_at(root, "output")) {
     check_keys(*out, "output", {"dir", "steps", "units"});

@@ -67,6 +67,10 @@ struct SolverSettings {
   bool inexact_fixed_point = FixedPointSettings{}.inexact;  // QP tolerance tied to err(k) in early fixed-point steps
   bool reference_factorization =
       false;  // also time plain factorizations of K (time_s.reference_factorization: CHOLMOD's ordering; _nd: ours)
+  // The MUMPS backend's out-of-core mode (schur = "mumps"): each rank writes its part of the factor
+  // to files in this directory (relative to the scene file; on every machine) and reads it back in
+  // each solve, so that it holds only the fronts being worked on. "" (default): in memory.
+  std::filesystem::path out_of_core_dir;
 };
 
 // [output]: where the run is written and what it keeps.
