@@ -151,6 +151,13 @@ def main():
             fails.append(f"out of core: MUMPS's files left in {ooc_dir}: {os.listdir(ooc_dir)}")
         print(f"brick n=12 out of core vs in memory (2 ranks): u {du:.1e}, λ {dl:.1e}; largest rank peak "
               f"{peak_out:.0f} against {peak_in:.0f} MiB")
+        # Without a contact group the solve is one CHOLMOD solve on rank 0: the option cannot act there
+        # and is refused (exit 2) rather than ignored.
+        argv = mpi + ["--quiet", "--out", os.path.join(tmp, "no_contact")] + [
+            a for s in sets + [f"solver.out_of_core_dir={ooc_dir}", "boundary.contact=[]"] for a in ("--set", s)]
+        refused = subprocess.run(argv, capture_output=True, text=True, timeout=300)
+        if refused.returncode != 2 or "out_of_core_dir" not in refused.stderr:
+            fails.append(f"out of core without a contact group: exit {refused.returncode}, {refused.stderr.strip()[:200]}")
         # Negative check: a 1e-6 change of the input must be seen by the same comparison.
         label, scene, sets, _ = CASES[0]
         path = os.path.join(args.source, "pipeline", "scenes", scene)

@@ -395,7 +395,12 @@ DualMethod resolved_dual_method(DualMethod method) {
 }
 
 // solver.out_of_core_dir is MUMPS's (direct route): refused, before any work, where it cannot act.
-void require_backend_for_out_of_core(const SolverSettings& settings, DualMethod method) {
+void require_backend_for_out_of_core(const Scene& scene, DualMethod method) {
+  const SolverSettings& settings = scene.solver;
+  if (!settings.out_of_core_dir.empty() && method == DualMethod::Mumps && scene.contact.empty())
+    throw InputError(
+        "solver.out_of_core_dir: this scene has no contact group, so it is one linear solve by CHOLMOD "
+        "on rank 0, with its factor in memory; remove the option or add a [boundary] contact group");
   if (!settings.out_of_core_dir.empty() && method != DualMethod::Mumps)
     throw InputError(
         "solver.out_of_core_dir is MUMPS's out-of-core mode: it needs the distributed build with "
@@ -493,7 +498,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
   const DualMethod method = resolved_dual_method(scene.solver.dual_method);
-  require_backend_for_out_of_core(scene.solver, method);
+  require_backend_for_out_of_core(scene, method);
   const bool K_on_ranks = method == DualMethod::Mumps && !scene.contact.empty();
   Discretisation disc = discretise(scene, mesh, res, !K_on_ranks);
   clock.lap("assembly");
