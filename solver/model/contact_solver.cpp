@@ -396,17 +396,17 @@ DualMethod resolved_dual_method(DualMethod method) {
 
 // solver.out_of_core_dir is MUMPS's (direct route): refused, before any work, where it cannot act.
 void require_backend_for_out_of_core(const Scene& scene, DualMethod method) {
-  const SolverSettings& settings = scene.solver;
-  if (!settings.out_of_core_dir.empty() && method == DualMethod::Mumps && scene.contact.empty())
-    throw InputError(
-        "solver.out_of_core_dir: this scene has no contact group, so it is one linear solve by CHOLMOD "
-        "on rank 0, with its factor in memory; remove the option or add a [boundary] contact group");
-  if (!settings.out_of_core_dir.empty() && method != DualMethod::Mumps)
+  if (scene.solver.out_of_core_dir.empty()) return;
+  if (method != DualMethod::Mumps)
     throw InputError(
         "solver.out_of_core_dir is MUMPS's out-of-core mode: it needs the distributed build with "
         "solver.schur = \"mumps\" (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`); "
         "the factorization here (" +
         std::string(name_of(method, kDualMethodNames)) + ") keeps its factor in memory");
+  if (scene.contact.empty())
+    throw InputError(
+        "solver.out_of_core_dir: this scene has no contact group, so it is one linear solve by CHOLMOD "
+        "on rank 0, with its factor in memory; remove the option or add a [boundary] contact group");
 }
 
 std::unique_ptr<DualProblem> make_dual_problem(DualMethod method, const DualProblemInput& input,
