@@ -175,33 +175,46 @@ class AitkenRelaxation {
 // not cut err to `required_ratio` of the err before it fails (a Newton step that only creeps is
 // worse than the relaxation); a failed step that raised err is also rejected (the caller goes on
 // from the step before it). A failure hands back to the relaxation, and after two the run relaxes
-// for good.
+// for good. Each step, judge() comes first (for every update), then use().
 class GuardedUpdate {
  public:
   GuardedUpdate(FixedPointUpdate kind, double required_ratio) : kind_(kind), required_ratio_(required_ratio) {}
-  // Whether the next iterate comes from this update, given the steps so far (called once per step).
-  bool use(const std::vector<FixedPointStep>& history, bool may_start) {
+  // Judges the latest step if this update made it.
+  void judge(const std::vector<FixedPointStep>& history) {
     const std::size_t n = history.size();
-    rejected_ = false;
     const bool judged = on_ && n >= 2 && history[n - 1].update == kind_;
-    if (judged && history[n - 1].err > required_ratio_ * history[n - 2].err) {
+    failed_ = judged && history[n - 1].err > required_ratio_ * history[n - 2].err;
+    rejected_ = failed_ && history[n - 1].err > history[n - 2].err;
+    if (failed_) {
       on_ = false;
       ++failures_;
-      rejected_ = history[n - 1].err > history[n - 2].err;
-    } else if (!on_ && failures_ < kMaxFailures && may_start) {
-      on_ = true;
+      raises_ += rejected_;
     }
+  }
+  // Whether the next iterate comes from this update (not in the step right after a failure);
+  // `allowed` = false turns it off.
+  bool use(bool may_start, bool allowed) {
+    if (!on_ && !failed_ && failures_ < kMaxFailures && may_start) on_ = true;
+    if (!allowed) on_ = false;
     return on_;
   }
-  bool rejected() const { return rejected_; }  // the last call found a failed step of it that raised err
+  bool rejected() const { return rejected_; }  // the last judge() found a failed step of it that raised err
+  int raises() const { return raises_; }       // its failed steps that raised err, so far
 
  private:
   static constexpr int kMaxFailures = 2;
   FixedPointUpdate kind_;
   double required_ratio_;
-  bool on_ = false, rejected_ = false;
-  int failures_ = 0;
+  bool on_ = false, failed_ = false, rejected_ = false;
+  int failures_ = 0, raises_ = 0;
 };
+
+// Tail steps (Newton or mixed, together) that may raise err before the run relaxes for good. Where
+// both kinds raise err, the map is not near a linearization its iterates could fit — on a law with a
+// jump, nodes cross the jump back and forth — and every further try costs a rejected step and a
+// restart: the split ring with a jump law (results/robustness.md) took Newton, Newton, mixed, mixed
+// failures, each followed by a restart, 20 steps; relaxing after the second raise, 16.
+constexpr int kMaxTailRaises = 2;
 
 // A Newton step on φ − G(φ) = 0: (I − G'(φ)) δ = G(φ) − φ solved by GMRES (from δ = 0, to 1e-2 of
 // the residual or 30 Krylov vectors: an inexact Newton step is enough on a map that is only
@@ -377,8 +390,11 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     // linearization misleads: Newton steps from the start overshot the front (slab h = 0.08, jump
     // law: 24 steps against 21 relaxed, 14 with Newton in the tail).
     const bool in_tail = result.history.back().err < settings.tail_err && !travelling;
-    const bool use_newton = accelerated && settings.newton && newton.use(result.history, in_tail && eval.derivative);
-    const bool use_mixing = accelerated && !use_newton && tail_mixing.use(result.history, in_tail);
+    newton.judge(result.history);
+    tail_mixing.judge(result.history);
+    const bool tail_allowed = newton.raises() + tail_mixing.raises() < kMaxTailRaises;
+    const bool use_newton = accelerated && settings.newton && newton.use(in_tail && eval.derivative, tail_allowed);
+    const bool use_mixing = accelerated && !use_newton && tail_mixing.use(in_tail, tail_allowed);
     // A Newton or mixed step that raised err is rejected: the update that follows starts again from
     // the step before it (x, G(x) of the previous step), not from where the bad step led (the U-shaped
     // footprint with Coulomb and a steep law: a Newton step to err 0.6 left the relaxation drifting

@@ -425,6 +425,41 @@ TEST(FixedPoint, NewtonStepsInTheTailConvergeFasterThanRelaxationOrMixing) {
   EXPECT_EQ(steps_made_by(plain, FixedPointUpdate::Plain), plain.iterations() - 1);
 }
 
+TEST(FixedPoint, TwoTailStepsThatRaiseErrEndTheTailForNewtonAndMixingAlike) {
+  // A map with a derivative (so the tail takes Newton steps) and different rates (so mixing would
+  // fit it) that answers any iterate off the lines of its earlier steps — a Newton or mixed one — with
+  // a worse point, as a law with a jump answers an iterate that moves nodes across the jump. After two
+  // tail steps that raised err the run must relax for good: two Newton steps, each rejected, and no
+  // mixed step after them (before this rule the mixing then raised err twice more).
+  const std::vector<double> rates{0.9, -0.8, 0.6, 0.3};
+  SlipMap spoiled = [G = diagonal_map(rates, {1, 1, 1, 1}), rates,
+                     steps = std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>>()](const Eigen::VectorXd& phi,
+                                                                                         double rtol) mutable {
+    SlipEvaluation e = G(phi, rtol);
+    e.derivative = [rates](const Eigen::VectorXd& v) {
+      return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(rates.data(), v.size()).cwiseProduct(v));
+    };
+    auto on_line = [&phi](const std::pair<Eigen::VectorXd, Eigen::VectorXd>& s) {
+      const Eigen::VectorXd step = phi - s.first, line = (s.second - s.first).normalized();
+      return (step - step.dot(line) * line).norm() <= 1e-6 * step.norm();
+    };
+    if (!steps.empty() && std::none_of(steps.begin(), steps.end(), on_line)) e.slip *= 1.5;  // off every line
+    steps.emplace_back(phi, e.slip);
+    return e;
+  };
+  const FixedPointResult r = solve_fixed_point(spoiled, 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_EQ(r.newton_steps, 2);
+  EXPECT_EQ(r.mixed_steps, 0);
+  EXPECT_EQ(steps_made_by(r, FixedPointUpdate::Restart), 2);
+  // After the second restart every input is relaxed (or plain): no tail step comes back.
+  const auto last_restart = std::find_if(r.history.rbegin(), r.history.rend(),
+                                         [](const FixedPointStep& s) { return s.update == FixedPointUpdate::Restart; });
+  for (auto it = r.history.rbegin(); it != last_restart; ++it)
+    EXPECT_TRUE(it->update == FixedPointUpdate::Relaxed || it->update == FixedPointUpdate::Plain);
+  for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(r.phi[i], i + 1.0, 5e-3 * (i + 1));
+}
+
 TEST(FixedPoint, InnerFailureIsNamed) {
   SlipMap failing = [](const Eigen::VectorXd& phi, double) {
     SlipEvaluation e;
