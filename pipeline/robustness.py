@@ -51,6 +51,7 @@ BODIES = [
     ("thin slab 2x2x0.05", "slab", ["mesh.parameters.h=0.08"], ["mesh.parameters.h=0.06"]),
     ("quarter block on a cap, two materials", "capblock", ["mesh.parameters.h=0.05"], ["mesh.parameters.h=0.035"]),
     ("split ring, top displaced", "ring", ["mesh.parameters.h=0.04"], ["mesh.parameters.h=0.03"]),
+    ("roller, curved face with a gap", "roller", ["mesh.parameters.h=0.04"], ["mesh.parameters.h=0.03"]),
 ]
 
 
