@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "friction/fixed_point.hpp"
 
@@ -343,25 +345,29 @@ TEST(FixedPoint, TailMixingFitsEveryBlockOfTheStateWhateverItsUnits) {
   EXPECT_NEAR(units.phi[1], 2e-6, 2e-9);
 }
 
-TEST(FixedPoint, TailMixingThatRaisesErrHandsBackToTheRelaxation) {
-  // A contraction with different rates (so the tail is mixed) that answers any iterate off the lines
-  // of its earlier steps — a mixed one; a plain or relaxed iterate lies on one — with a worse point:
-  // the run must still converge, relaxing for good after two mixed steps that raised err (two
-  // episodes), each rejected (the relaxation goes on from the step before it).
-  const std::vector<double> rates{0.8, 0.6, 0.5};
-  SlipMap spoiled = [G = diagonal_map(rates, {1, 1, 1}),
-                     steps = std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>>()](const Eigen::VectorXd& phi,
-                                                                                         double rtol) mutable {
+// G answers any iterate off the lines of its earlier steps (φ, G(φ)) — a mixed or Newton iterate; a plain
+// or relaxed one lies on such a line — with a worse point, 1.5 G(φ).
+SlipMap spoiled_off_its_lines(SlipMap G) {
+  return [G = std::move(G), steps = std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>>()](
+             const Eigen::VectorXd& phi, double rtol) mutable {
     SlipEvaluation e = G(phi, rtol);
     auto on_line = [&phi](const std::pair<Eigen::VectorXd, Eigen::VectorXd>& s) {
       const Eigen::VectorXd step = phi - s.first, line = (s.second - s.first).normalized();
       return (step - step.dot(line) * line).norm() <= 1e-6 * step.norm();
     };
-    if (!steps.empty() && std::none_of(steps.begin(), steps.end(), on_line)) e.slip *= 1.5;  // off every line
+    if (!steps.empty() && std::none_of(steps.begin(), steps.end(), on_line)) e.slip *= 1.5;
     steps.emplace_back(phi, e.slip);
     return e;
   };
-  const FixedPointResult r = solve_fixed_point(spoiled, 3, settings(FixedPointVariant::Accelerated), 1e-6);
+}
+
+TEST(FixedPoint, TailMixingThatRaisesErrHandsBackToTheRelaxation) {
+  // A contraction with different rates (so the tail is mixed) that answers any iterate off the lines
+  // of its earlier steps — a mixed one; a plain or relaxed iterate lies on one — with a worse point:
+  // the run must still converge, relaxing for good after two mixed steps that raised err (two
+  // episodes), each rejected (the relaxation goes on from the step before it).
+  const FixedPointResult r = solve_fixed_point(spoiled_off_its_lines(diagonal_map({0.8, 0.6, 0.5}, {1, 1, 1})), 3,
+                                               settings(FixedPointVariant::Accelerated), 1e-6);
   EXPECT_EQ(r.status, FixedPointStatus::Converged);
   // Two episodes of at most two mixed iterates (the mixing's first iterate is G(x) itself — one pair,
   // on the line — and counts as a plain step, not judged as the mixing's); without the safeguard the
@@ -432,22 +438,15 @@ TEST(FixedPoint, TwoTailStepsThatRaiseErrEndTheTailForNewtonAndMixingAlike) {
   // tail steps that raised err the run must relax for good: two Newton steps, each rejected, and no
   // mixed step after them (before this rule the mixing then raised err twice more).
   const std::vector<double> rates{0.9, -0.8, 0.6, 0.3};
-  SlipMap spoiled = [G = diagonal_map(rates, {1, 1, 1, 1}), rates,
-                     steps = std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>>()](const Eigen::VectorXd& phi,
-                                                                                         double rtol) mutable {
+  SlipMap with_derivative = [G = diagonal_map(rates, {1, 1, 1, 1}), rates](const Eigen::VectorXd& phi, double rtol) {
     SlipEvaluation e = G(phi, rtol);
     e.derivative = [rates](const Eigen::VectorXd& v) {
       return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(rates.data(), v.size()).cwiseProduct(v));
     };
-    auto on_line = [&phi](const std::pair<Eigen::VectorXd, Eigen::VectorXd>& s) {
-      const Eigen::VectorXd step = phi - s.first, line = (s.second - s.first).normalized();
-      return (step - step.dot(line) * line).norm() <= 1e-6 * step.norm();
-    };
-    if (!steps.empty() && std::none_of(steps.begin(), steps.end(), on_line)) e.slip *= 1.5;  // off every line
-    steps.emplace_back(phi, e.slip);
     return e;
   };
-  const FixedPointResult r = solve_fixed_point(spoiled, 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  const FixedPointResult r =
+      solve_fixed_point(spoiled_off_its_lines(with_derivative), 4, settings(FixedPointVariant::Accelerated), 1e-6);
   EXPECT_EQ(r.status, FixedPointStatus::Converged);
   EXPECT_EQ(r.newton_steps, 2);
   EXPECT_EQ(r.mixed_steps, 0);
