@@ -216,6 +216,11 @@ class GuardedUpdate {
 // failures, each followed by a restart, 20 steps; relaxing after the second raise, 16.
 constexpr int kMaxTailRaises = 2;
 
+// How much looser than final_step_qp_rtol the QP of a converged run's last step may be: a run that
+// converges gradually solves its last step to qp_rtol_per_err · err(k−1) with err(k−1) <= 100 tol (the
+// paper's brick: 5e-10 against 1e-10); one that jumps to convergence from a larger err repeats it.
+constexpr double kFinalStepSlack = 100;
+
 // A Newton step on φ − G(φ) = 0: (I − G'(φ)) δ = G(φ) − φ solved by GMRES (from δ = 0, to 1e-2 of
 // the residual or 30 Krylov vectors: an inexact Newton step is enough on a map that is only
 // piecewise smooth), each iteration one derivative product (`applications` counts them). Near the
@@ -443,6 +448,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   double rtol = qp_rtol;  // the exact-step QP tolerance; tightened against inner noise
   double eta = settings.adaptive_qp_tolerance ? settings.qp_rtol_per_err : 0.0;  // rtol_k <= eta·err(k−1)
   bool force_exact = false;  // an inexact step met tol: repeat it with the exact QP tolerance
+  bool force_final = false;  // a step met tol with its QP far looser than a final step's: repeat it
   auto finish = [&](FixedPointStatus status) {
     result.status = status;
     result.contraction_factor = contraction_factor(step_lengths);
@@ -459,8 +465,9 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     const auto t0 = std::chrono::steady_clock::now();
     // This step's exact tolerance: rtol, and eta·err(k−1) below it once err has fallen.
     const double exact_k =
-        eta > 0 && k > 1 ? std::clamp(eta * result.history[k - 2].err, std::min(settings.qp_rtol_floor, rtol), rtol)
-                         : rtol;
+        force_final        ? final_step_qp_rtol(settings, rtol)
+        : eta > 0 && k > 1 ? std::clamp(eta * result.history[k - 2].err, std::min(settings.qp_rtol_floor, rtol), rtol)
+                           : rtol;
     double rtol_k = exact_k;
     if (settings.inexact && !force_exact)
       rtol_k = std::max(exact_k, k == 1 ? 1e-3 : std::min(1e-3, 1e-2 * result.history[k - 2].err));
@@ -484,11 +491,20 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     if (observe) observe(step);
     if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
     if (step.err <= settings.tol) {
-      if (rtol_k <= exact_k) return finish(FixedPointStatus::Converged);
-      force_exact = true;  // same φ again (x unchanged), now with the exact QP tolerance
+      // A run that converges abruptly (err(k−1) large: e.g. Coulomb with every cell sticking, err 1
+      // then 0) met tol with its QP at up to qp_rtol, far looser than the last step of a run that
+      // converges gradually: the answer would be that loose (the slab with a strong law: u on Γc
+      // 0.3% off). Its last step is repeated at final_step_qp_rtol.
+      const bool loose = eta > 0 && rtol_k > kFinalStepSlack * final_step_qp_rtol(settings, rtol);
+      if (rtol_k <= exact_k && !loose) return finish(FixedPointStatus::Converged);
+      if (rtol_k > exact_k)
+        force_exact = true;  // same φ again (x unchanged), now with the exact QP tolerance
+      else
+        force_final = true;  // same φ again, with the final step's tolerance
       made_by = FixedPointUpdate::Repeat;
       continue;
     }
+    force_final = false;
     // A step that barely moves err may be the QP's noise: tighten the inner tolerance first.
     // Noise shows as a stall in which the warm-started QP hardly moved (a few iterations against
     // the first step's); a stall with a busy QP is the map's own slow contraction.

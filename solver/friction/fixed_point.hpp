@@ -70,7 +70,9 @@ struct FixedPointSettings {
   double qp_rtol_floor = 1e-12;
   // The inner tolerance follows the outer progress: step k is solved to
   // min(qp_rtol, qp_rtol_per_err · err(k−1)) (not below the floor), so the QP's error in G stays
-  // well under err as err falls to tol. 0 turns it off (every step at qp_rtol, the paper's).
+  // well under err as err falls to tol. 0 turns it off (every step at qp_rtol, the paper's). A run that
+  // meets tol with its last QP more than 100× looser than final_step_qp_rtol (it converged abruptly)
+  // repeats that step at final_step_qp_rtol before declaring convergence.
   double qp_rtol_per_err = 1e-6;
   // Sizes of the blocks of the state (empty: one block). err(k) is the largest of the blocks'
   // relative changes, so a state made of quantities with different units (Coulomb's slip and
@@ -94,7 +96,8 @@ struct SlipEvaluation {
 // How a step's input φᵏ⁻¹ was made from the steps before it (history.csv's `update` column):
 // start (φ⁰ = 0), plain (G of the last input), relaxed (Aitken), newton, mixed (Anderson), restart
 // (a plain or relaxed step from the input before a rejected Newton or mixed step), repeat (the same
-// φ again with the exact QP tolerance, after an inexact step met tol).
+// φ again with the exact QP tolerance, after an inexact step met tol, or with final_step_qp_rtol, after
+// a step met tol with its QP more than 100× looser than that).
 enum class FixedPointUpdate { Start, Plain, Relaxed, Newton, Mixed, Restart, Repeat };
 inline constexpr NameTable<FixedPointUpdate, 7> kFixedPointUpdateNames{{{FixedPointUpdate::Start, "start"},
                                                                         {FixedPointUpdate::Plain, "plain"},

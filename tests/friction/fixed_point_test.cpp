@@ -167,9 +167,41 @@ TEST(FixedPoint, NoStagnationWhileTheIteratesTravelOneWay) {
   s.stagnation_window = 3;
   const FixedPointResult r = solve_fixed_point(spreading, 3, s, 1e-6);
   EXPECT_EQ(r.status, FixedPointStatus::Converged);
-  EXPECT_EQ(r.iterations(), 10);
+  // 10 steps to the cap, which the run reaches abruptly (err 0.1 → 0): the 11th repeats the last at
+  // the final step's QP tolerance.
+  EXPECT_EQ(r.iterations(), 11);
+  EXPECT_EQ(r.history.back().update, FixedPointUpdate::Repeat);
   EXPECT_GT(r.history[7].err, r.history[4].err);  // three steps without a new minimum on the way
   EXPECT_NEAR(r.phi[0], 40.0, 1e-12);
+}
+
+TEST(FixedPoint, ARunThatConvergesAbruptlyRepeatsItsLastStepAtTheFinalQpTolerance) {
+  // G jumps to its fixed point from any φ (as Coulomb with every cell sticking: err 1, then 0). The
+  // step that meets tol was solved to qp_rtol (eta·err(k−1) = 1e-6 is not below it), so it is
+  // repeated at final_step_qp_rtol, the tolerance a one-QP problem and a gradual run's last step get.
+  SlipMap jump = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = Eigen::VectorXd::LinSpaced(phi.size(), 1.0, 2.0);
+    e.qp_iterations = 10;
+    return e;
+  };
+  const FixedPointSettings s = settings();
+  const FixedPointResult r = solve_fixed_point(jump, 3, s, 1e-6);
+  ASSERT_EQ(r.status, FixedPointStatus::Converged);
+  ASSERT_EQ(r.iterations(), 3);
+  EXPECT_DOUBLE_EQ(r.history[1].qp_rtol, 1e-6);
+  EXPECT_LE(r.history[1].err, s.tol);
+  EXPECT_EQ(r.history[2].update, FixedPointUpdate::Repeat);
+  EXPECT_DOUBLE_EQ(r.history[2].qp_rtol, final_step_qp_rtol(s, 1e-6));
+  // A gradual contraction ends within 100× of that tolerance and takes no repeat; nor does a run
+  // whose QP tolerance does not follow err (the paper's qp_rtol in every step).
+  const FixedPointResult gradual = solve_fixed_point(linear_map(0.5), 3, s, 1e-6);
+  ASSERT_EQ(gradual.status, FixedPointStatus::Converged);
+  EXPECT_EQ(steps_made_by(gradual, FixedPointUpdate::Repeat), 0);
+  EXPECT_LE(gradual.history.back().qp_rtol, 100 * final_step_qp_rtol(s, 1e-6));
+  FixedPointSettings paper = s;
+  paper.qp_rtol_per_err = 0;
+  EXPECT_EQ(solve_fixed_point(jump, 3, paper, 1e-6).iterations(), 2);
 }
 
 TEST(FixedPoint, RelaxationTakesPlainStepsWhileTheResidualGrowsAlongTheStep) {
