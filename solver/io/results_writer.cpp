@@ -165,6 +165,12 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     if (has_friction(res))
       j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
     j.value("max_penetration", res.wn_plus_inf);       // max nodal (w_n − d)⁺ on Γc
+    j.value("penetration_ratio", res.penetration_ratio);             // max_penetration / the largest nodal displacement
+    if (const PartitionRefinement& pr = res.refinement; pr.tried) {  // contact.cell_size = "auto" solved twice
+      j.begin_object("partition_refinement").value("first_cell_size", pr.first_cell_size);
+      j.value("first_penetration_ratio", pr.first_penetration_ratio).value("first_seconds", pr.first_seconds);
+      j.value("kept_finer", pr.kept_finer).value("outcome", pr.outcome).end_object();
+    }
     j.value("friction_where_separated_area", res.friction_where_separated_area);  // Tresca's bound where λ_n = 0
     {  // areas of the cells by status (in the plane; the cells' own areas)
       const double no_friction = std::numeric_limits<double>::quiet_NaN();  // null: no stick/slip without friction

@@ -35,6 +35,17 @@ struct SolveStep {
   Eigen::VectorXd lambda, radius, u;
 };
 
+// contact.cell_size = "auto": the first solve's cells (2h) left the contact zone unresolved, so the
+// scene was solved again with cells of 1.5h (refine_unresolved_contact).
+struct PartitionRefinement {
+  bool tried = false;
+  double first_cell_size = 0;          // H of the first solve (m)
+  double first_penetration_ratio = 0;  // its SolveResult::penetration_ratio
+  double first_seconds = 0;            // its stages, also added into SolveResult::seconds
+  bool kept_finer = false;             // the answer is the 1.5h solve's
+  std::string outcome;                 // what happened, for the notes and summary.json
+};
+
 struct SolveResult {
   // Inputs as discretised.
   DofMap dofs;
@@ -70,6 +81,8 @@ struct SolveResult {
   double coulomb_relation = 0;
   ResultantForces forces;  // applied, contact and reaction forces and their balance
   double wn_plus_L2 = 0, wn_plus_inf = 0;
+  double penetration_ratio = 0;  // wn_plus_inf / the largest nodal displacement (0 without contact)
+  PartitionRefinement refinement;
   double stability_condition = 0;            // estimate of cond(Q) from its Cholesky pivots
   std::vector<std::string> warnings;         // what makes this answer less trustworthy than its residuals say
   std::vector<std::string> notes;            // what the model does that a user may not expect

@@ -349,10 +349,15 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
                                              : Eigen::Vector3d::UnitZ();
     s.foundation = FoundationFrame::from_plane(plane_point, plane_normal);
     if (const toml::node* n = ct->get("cell_size")) {
-      if (n->is_string()) {
+      s.cell_size_auto = n->is_string() && *n->value<std::string>() == "auto";
+      if (s.cell_size_auto) {
+        s.cell_size = 2;
+        s.cell_size_relative = true;
+      } else if (n->is_string()) {
         std::string v = *n->value<std::string>();
         if (v.empty() || v.back() != 'h')
-          throw InputError("contact.cell_size must be a length (m) or a multiple of h like \"2h\", got '" + v + "'");
+          throw InputError("contact.cell_size must be a length (m), a multiple of h like \"2h\" or \"auto\", got '" +
+                           v + "'");
         v.pop_back();
         try {
           std::size_t used = 0;

@@ -27,6 +27,10 @@ TEST(Scene, DefaultsAndOverrides) {
   EXPECT_FALSE(s.frictionless());
   EXPECT_TRUE(parse({"friction.law=\"none\""}).frictionless());
   EXPECT_TRUE(parse({"friction.law=\"constant\"", "friction.value=0"}).frictionless());
+  EXPECT_TRUE(s.cell_size_auto);  // "auto": 2h, and 1.5h when 2h leaves the contact zone unresolved
+  EXPECT_TRUE(parse({"contact.cell_size=\"auto\""}).cell_size_auto);
+  EXPECT_FALSE(parse({"contact.cell_size=\"2h\""}).cell_size_auto);
+  EXPECT_FALSE(parse({"contact.cell_size=0.25"}).cell_size_auto);
   EXPECT_DOUBLE_EQ(parse({"contact.cell_size=\"3h\""}).cell_size, 3.0);
   EXPECT_DOUBLE_EQ(parse({"contact.cell_size=0.25"}).cell_size, 0.25);
   EXPECT_EQ(parse({"mesh.file=\"x.msh\""}).mesh.generator, "");  // a new mesh source replaces the old

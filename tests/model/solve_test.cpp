@@ -90,11 +90,40 @@ TEST(SolvePaperBrick, PenetrationInsideCellsIsWarnedOnlyWhereTheBodyIsThinnerTha
   ASSERT_TRUE(brick.converged);
   EXPECT_FALSE(warns_unresolved(brick)) << brick.wn_plus_inf / brick.u.cwiseAbs().maxCoeff();
 
-  const Scene scene = parse_scene_text(kPaperScene, ".", {"friction.law=\"none\""});
+  const Scene scene = parse_scene_text(kPaperScene, ".", {"friction.law=\"none\"", "contact.cell_size=\"2h\""});
   const Mesh plate = make_paper_brick({4, 3.0, 1.0, 0.02});  // cells of 0.5 on a plate 0.02 thick
   const SolveResult thin = solve_scene(scene, plate);
   ASSERT_TRUE(thin.converged);
   EXPECT_TRUE(warns_unresolved(thin)) << thin.wn_plus_inf / thin.u.cwiseAbs().maxCoeff();
+  EXPECT_FALSE(thin.refinement.tried);  // an explicit cell size is kept
+}
+
+// contact.cell_size = "auto" (the default) solves again with cells of 1.5h where 2h leaves the contact
+// zone unresolved, and keeps the answer that penetrates less; a resolved body is solved once.
+TEST(SolvePaperBrick, AutoCellSizeSolvesAgainWithSmallerCellsWhereTheContactZoneIsUnresolved) {
+  const SolveResult brick = solve_text({"friction.law=\"none\""});
+  EXPECT_FALSE(brick.refinement.tried) << brick.penetration_ratio;
+
+  const Scene scene = parse_scene_text(kPaperScene, ".", {"friction.law=\"none\""});
+  const Mesh plate = make_paper_brick({4, 3.0, 1.0, 0.02});
+  const SolveResult fixed =
+      solve_scene(parse_scene_text(kPaperScene, ".", {"friction.law=\"none\"", "contact.cell_size=\"2h\""}), plate);
+  const SolveResult automatic = solve_scene(scene, plate);
+  ASSERT_TRUE(automatic.converged);
+  ASSERT_TRUE(automatic.refinement.tried);
+  EXPECT_DOUBLE_EQ(automatic.refinement.first_cell_size, fixed.cell_size);
+  EXPECT_DOUBLE_EQ(automatic.refinement.first_penetration_ratio, fixed.penetration_ratio);
+  EXPECT_GT(automatic.refinement.first_seconds, 0.0);
+  // The answer kept is the one that penetrates less, and the note says which it is.
+  EXPECT_LE(automatic.penetration_ratio, fixed.penetration_ratio);
+  if (automatic.refinement.kept_finer) {
+    EXPECT_NEAR(automatic.cell_size, 0.75 * fixed.cell_size, 1e-12 * fixed.cell_size);
+    EXPECT_GT(automatic.n_cells, fixed.n_cells);
+  } else {
+    EXPECT_EQ(automatic.cell_size, fixed.cell_size);
+  }
+  ASSERT_FALSE(automatic.notes.empty());
+  EXPECT_NE(automatic.notes.back().find("1.5h"), std::string::npos) << automatic.notes.back();
 }
 
 TEST(SolvePaperBrick, FrictionlessAndConstantAreSingleSolves) {
