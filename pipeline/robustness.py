@@ -95,6 +95,14 @@ def mesh_for(binary, scene, sets, work):
     return msh
 
 
+def cells_used(summ):
+    """The multiplier cells of the answer: 2h, or 1.5h when contact.cell_size = "auto" solved again."""
+    refinement = summ.get("partition_refinement")
+    if not refinement:
+        return "2h"
+    return "1.5h (auto)" if refinement["kept_finer"] else "2h (1.5h tried)"
+
+
 def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
     work.mkdir(parents=True, exist_ok=True)
     msh = mesh_for(binary, scene, sets, work)
@@ -119,7 +127,8 @@ def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
                        coulomb_relation=summ["kkt"].get("coulomb_relation"),
                        q=fp.get("contraction_factor"), bound=fp.get("distance_bound"),
                        tight=fp.get("qp_tolerance_tightenings", 0),
-                       newton=fp.get("newton_steps"), mixed=fp.get("mixed_steps"))
+                       newton=fp.get("newton_steps"), mixed=fp.get("mixed_steps"),
+                       cells=cells_used(summ))
         else:
             row.update(status=f"exit {proc.returncode}: {proc.stderr.strip().splitlines()[-1] if proc.stderr else ''}")
         rows.append(row)
@@ -142,20 +151,23 @@ def write(path, rows, argv, model="tresca"):
          "steps (5.7); n_mult = QP products + solves in",
          "the paper's sense; q = observed contraction factor; bound = a posteriori distance to the fixed point",
          "(relative); tight = times the QP tolerance was tightened against inner noise; newton / mixed = iterates",
-         "from Newton steps on the slip / Anderson mixing in the tail (solver.fixed_point = accelerated).\n",
+         "from Newton steps on the slip / Anderson mixing in the tail (solver.fixed_point = accelerated); cells =",
+         "the multiplier cells of the answer: 2h, or 1.5h where contact.cell_size = \"auto\" (the default) solved",
+         "the case again because 2h left the contact zone unresolved (steps, n_mult: the answer's solve; time: both).\n",
          f"**{len(ok)} of {len(rows)} cases converge in at most 12 steps with KKT ≤ 1e-6.** "
          f"Steps: max {max((r.get('steps') or 0) for r in rows)}, total {sum((r.get('steps') or 0) for r in rows)}; "
          f"n_mult total {sum((r.get('n_mult') or 0) for r in rows)}.\n",
          *(["Coulomb: KKT max is over the last Tresca step's residuals; `F λ_n` is max_i |c_i − F̄_i λ_n,i| / max c,",
              "how far the last step's radii are from Coulomb's F̄ λ_n of its own answer (a fixed-point residual, at the",
              "level of solver.fixed_point_tol).\n"] if model == "coulomb" else []),
-         "| body | mesh | n_p | n_dual | law | s (m) | steps | n_mult | time (s) | KKT max | status | q | bound | tight "
-         "| newton | mixed |"
+         "| body | mesh | n_p | n_dual | law | s (m) | cells | steps | n_mult | time (s) | KKT max | status | q | bound "
+         "| tight | newton | mixed |"
          + (" F λ_n |" if model == "coulomb" else ""),
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if model == "coulomb" else "")]
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if model == "coulomb" else "")]
     for r in rows:
         L.append(f"| {r['body']} | {r['h']} | {fmt(r.get('n_p'), 'd')} | {fmt(r.get('n_d'), 'd')} | {r['law']} | "
-                 f"{fmt(r.get('slip'), '.2e')} | {fmt(r.get('steps'), 'd')} | {fmt(r.get('n_mult'), 'd')} | "
+                 f"{fmt(r.get('slip'), '.2e')} | {r.get('cells', '–')} | {fmt(r.get('steps'), 'd')} | "
+                 f"{fmt(r.get('n_mult'), 'd')} | "
                  f"{fmt(r.get('wall'), '.2f')} | {fmt(r.get('kkt'), '.1e')} | {r.get('status')} | "
                  f"{fmt(r.get('q'), '.2f')} | {fmt(r.get('bound'), '.1e')} | {fmt(r.get('tight'), 'd')} | "
                  f"{fmt(r.get('newton'), 'd')} | {fmt(r.get('mixed'), 'd')} |"
