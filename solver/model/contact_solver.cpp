@@ -624,10 +624,15 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
     refinement.outcome = was + "; " + finer_cells + " did not fit in memory: the answer is the 2h one";
   }
   if (second) {
-    refinement.kept_finer = second->penetration_ratio < first.penetration_ratio;
+    // A converged answer is never traded for one that did not converge.
+    refinement.kept_finer =
+        second->penetration_ratio < first.penetration_ratio && (second->converged || !first.converged);
     refinement.outcome = was + "; with " + finer_cells + " (H = " + number(second->cell_size, 3) +
                          "): " + number(100 * second->penetration_ratio, 2) + "%" +
-                         (refinement.kept_finer ? ", the answer given" : ", no better: the answer is the 2h one");
+                         (refinement.kept_finer ? ", the answer given"
+                          : second->penetration_ratio < first.penetration_ratio
+                              ? " but that solve ended with " + second->status + ": the answer is the 2h one"
+                              : ", no better: the answer is the 2h one");
   }
   SolveResult kept = refinement.kept_finer ? std::move(*second) : std::move(first);
   if (second) add_stage_seconds(kept.seconds, refinement.kept_finer ? first.seconds : second->seconds);
