@@ -280,6 +280,9 @@ void flag_friction_where_separated(const Scene& scene, SolveResult& res) {
 // whatever the residuals say (the thin slab against FreeFEM, results/crosscheck/slab_series.md: 77% penetration ↔ 91%
 // difference at h = t, 11% ↔ 11% with cells of 1.5h).
 constexpr double kUnresolvedPenetration = 0.1;  // of the body's largest displacement
+// The cells (× h) contact.cell_size = "auto" takes where 2h leaves the contact zone unresolved
+// (refine_unresolved_contact); smaller ones make Q ill-conditioned.
+constexpr double kRefinedCellSize = 1.5;
 
 bool unresolved(const SolveResult& res) { return res.penetration_ratio > kUnresolvedPenetration; }
 
@@ -294,7 +297,7 @@ void flag_unresolved_contact(const Scene& scene, SolveResult& res) {
                          number(res.cell_size, 3) +
                          " and the body deforms inside a cell (a body about as thin as a cell, or a contact zone a "
                          "few cells wide), so the displacement near Γc is not resolved; refine the mesh (h)" +
-                         (scene.cell_size_relative && scene.cell_size <= 1.5
+                         (scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
                               ? std::string(" (cells smaller than 1.5h make Q ill-conditioned)")
                               : std::string(" or use a smaller contact.cell_size, e.g. \"1.5h\" (watch cond(Q))")));
 }
@@ -579,13 +582,12 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
 // contact.cell_size = "auto": cells of 2h leave the contact zone unresolved when the body deforms
 // inside a cell (flag_unresolved_contact, the warning's level: a contact strip one or two cells wide
 // under a cylinder, a body about as thin as a cell), and the cell averages then let it penetrate: a
-// half-cylinder pushed
-// 2 mm at h = 0.03 had its normal force 19% below FreeFEM's with cells of 2h, 0.2% with cells of
-// 1.5h; the thin slab at h = t 91% ↔ 11% (results/crosscheck/slab_series*.md). So the scene is
-// solved again with cells of 1.5h, and that answer is kept when it penetrates less. Smaller cells
-// raise cond(Q) and can break the stability (5.1) (cells of 1h on the slab: cond ≈ 1e16), so 1.5h is
-// the only step taken, and a refused or failed finer solve leaves the first answer (with its warning).
-constexpr double kRefinedCellSize = 1.5;  // × h
+// half-cylinder pushed 2 mm at h = 0.03 had its normal force 19% below FreeFEM's with cells of 2h,
+// 0.2% with cells of 1.5h; the thin slab at h = t 91% ↔ 11% (results/crosscheck/slab_series*.md). So
+// the scene is solved again with cells of 1.5h, and that answer is kept when it penetrates less (and
+// converged, if the first did). Smaller cells raise cond(Q) and can break the stability (5.1) (cells
+// of 1h on the slab: cond ≈ 1e16), so 1.5h is the only step taken, and a refused or failed finer
+// solve leaves the first answer (with its warning).
 
 // The stage times of `other` added into `into`'s, stage by stage (a benchmark's total is the user's wait).
 void add_stage_seconds(std::vector<std::pair<std::string, double>>& into,
