@@ -4,6 +4,9 @@
 // Newton systems of the semismooth Newton QP solver.
 #pragma once
 
+#include <cstddef>
+#include <optional>
+
 #include <Eigen/Core>
 
 namespace contact3d {
@@ -19,6 +22,8 @@ class DenseCholesky {
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
   // The squared diagonal of the factor (the pivots of LDLᵀ): tiny ones flag near-dependence.
   Eigen::VectorXd pivots() const { return L_.diagonal().cwiseAbs2(); }
+  // The factor L of A = L Lᵀ (its lower triangle; the strict upper one holds no meaning).
+  const Eigen::MatrixXd& lower() const { return L_; }
 
  private:
   Eigen::MatrixXd L_;
@@ -36,10 +41,24 @@ class SingleCholesky {
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
   Eigen::VectorXd pivots() const { return L_.diagonal().cast<double>().cwiseAbs2(); }
+  const Eigen::MatrixXf& lower() const { return L_; }
 
  private:
   Eigen::MatrixXf L_;
   bool ok_ = false;
+};
+
+// A Cholesky factor of the dense dual operator kept past the stability check (5.1), for the Newton
+// steps of the QP (qp/bordered_newton.hpp): Q = scale · L Lᵀ, L in double or in single precision
+// (exactly one of them is set).
+struct DualOperatorFactor {
+  std::optional<DenseCholesky> in_double;
+  std::optional<SingleCholesky> in_single;
+  double scale = 1;
+  std::size_t bytes() const {
+    const auto m = static_cast<std::size_t>(in_double ? in_double->lower().rows() : in_single->lower().rows());
+    return m * m * (in_double ? sizeof(double) : sizeof(float));
+  }
 };
 
 // An estimate of the smallest eigenvalue of the symmetric positive definite `A`, given its factor:

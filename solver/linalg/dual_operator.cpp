@@ -103,18 +103,33 @@ DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::Sp
   return op;
 }
 
-double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {
-  if (Q.rows() == 0) return 0;
-  Eigen::VectorXd x = Eigen::VectorXd::Ones(Q.rows()).normalized();
+namespace {
+
+template <class Product>
+double power_iteration(Eigen::Index size, const Product& product, int iterations) {
+  if (size == 0) return 0;
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(size).normalized();
   double lambda = 0;
   for (int k = 0; k < iterations; ++k) {
-    const Eigen::VectorXd y = symmetric_product(Q, x);
+    const Eigen::VectorXd y = product(x);
     const double norm = y.norm();
     if (norm == 0) return 0;
     lambda = x.dot(y);
     x = y / norm;
   }
-  return std::max(lambda, symmetric_product(Q, x).norm());
+  return std::max(lambda, product(x).norm());
+}
+
+}  // namespace
+
+double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {
+  return power_iteration(
+      Q.rows(), [&](const Eigen::VectorXd& x) { return symmetric_product(Q, x); }, iterations);
+}
+
+double estimate_norm(const Eigen::MatrixXf& Q_single, double scale, int iterations) {
+  return power_iteration(
+      Q_single.rows(), [&](const Eigen::VectorXd& x) { return symmetric_product(Q_single, scale, x); }, iterations);
 }
 
 }  // namespace contact3d

@@ -44,5 +44,8 @@ std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);
 // quotient: from below, within ~1% after 50 steps on dual operators; callers add a 5% margin, and
 // MPGP's step ᾱ = 1.8/‖Q‖ still decreases S if the estimate is low by up to 10%).
 double estimate_norm(const Eigen::MatrixXd& Q, int iterations = 50);
+// The same through a single-precision copy (Q = scale · Q_single, its lower triangle read; symmetric_product.hpp):
+// half the bytes per product, and the estimate differs from the one in double by single's rounding.
+double estimate_norm(const Eigen::MatrixXf& Q_single, double scale, int iterations = 50);
 
 }  // namespace contact3d

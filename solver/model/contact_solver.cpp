@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -135,27 +136,38 @@ void time_reference_factorizations(const Eigen::SparseMatrix<double>& K, StageCl
 constexpr double kIllConditionedDual = 1e10;
 
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
-// estimate of cond(Q) (power iterations on Q, subspace iteration on Q⁻¹); when its Cholesky fails or is
+// estimate of cond(Q) (power iterations on Q, subspace iteration on Q⁻¹) and the Cholesky factor it
+// used, which the QP's Newton steps go on solving with (qp/bordered_newton.hpp); when its Cholesky fails or is
 // near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws). With `single`
 // (the QP's single-precision products are on: large Q) the factor for the subspace iteration is
-// first tried in single precision; it is kept only when its pivots stay far above single's
-// rounding (kSinglePivotFloor), so that a nearly dependent Q always reaches the double tests.
-double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partition& part, int r, bool single) {
+// first tried in single precision, on `single_copy` (Q = single_scale · single_copy, consumed); it is
+// kept only when its pivots stay far above single's rounding (kSinglePivotFloor), so that a nearly
+// dependent Q always reaches the double tests.
+struct StabilityCheck {
+  double condition = 0;
+  std::shared_ptr<DualOperatorFactor> factor;  // Q = scale · L Lᵀ (null: the LDLᵀ path, no factor)
+};
+StabilityCheck check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partition& part, int r,
+                               Eigen::MatrixXf single_copy, double single_scale) {
   constexpr double kSinglePivotFloor = 1e-4;
-  if (single && lambda_max > 0) {
-    const SingleCholesky llt(lower_triangle_in_single(Q, lambda_max));
-    if (llt.ok()) {
-      const Eigen::VectorXd d = llt.pivots();
-      if (d.minCoeff() > kSinglePivotFloor * d.maxCoeff()) return lambda_max / smallest_eigenvalue(llt, Q);
+  if (single_copy.size() > 0 && lambda_max > 0) {
+    auto factor = std::make_shared<DualOperatorFactor>();
+    factor->in_single.emplace(std::move(single_copy));
+    factor->scale = single_scale;
+    if (factor->in_single->ok()) {
+      const Eigen::VectorXd d = factor->in_single->pivots();
+      if (d.minCoeff() > kSinglePivotFloor * d.maxCoeff())
+        return {lambda_max / smallest_eigenvalue(*factor->in_single, Q), std::move(factor)};
     }
   }
   {  // the fast path: LAPACK Cholesky (blocked, threaded; far faster than the pivoted LDLᵀ)
-    const DenseCholesky llt(Q);
-    if (llt.ok()) {
-      const Eigen::VectorXd d = llt.pivots();
+    auto factor = std::make_shared<DualOperatorFactor>();
+    factor->in_double.emplace(Q);
+    if (factor->in_double->ok()) {
+      const Eigen::VectorXd d = factor->in_double->pivots();
       if (d.minCoeff() > 1e-11 * d.maxCoeff()) {
         // cond(Q) = λmax / λmin: λmax by power iterations on Q, λmin with the factor.
-        return lambda_max / smallest_eigenvalue(llt, Q);
+        return {lambda_max / smallest_eigenvalue(*factor->in_double, Q), std::move(factor)};
       }
     }
   }
@@ -165,7 +177,7 @@ double check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partit
   std::vector<int> bad;
   for (int k = 0; k < d.size(); ++k)
     if (!(d[k] > 1e-11 * dmax)) bad.push_back(k);
-  if (bad.empty()) return dmax / d.minCoeff();
+  if (bad.empty()) return {dmax / d.minCoeff(), nullptr};
   // Map pivots back through the LDLT permutation to rows of 𝔹, then to cells.
   const auto& perm = ldlt.transpositionsP();
   Eigen::VectorXi order = Eigen::VectorXi::LinSpaced(d.size(), 0, static_cast<int>(d.size()) - 1);
@@ -486,17 +498,37 @@ std::string describe_dual_solve(const Scene& scene) {
          " (" + name_of(scene.solver.qp.variant, kQpVariantNames) + ")";
 }
 
-// Stability (5.1) and its warning; cond(Q) on the progress line.
-void check_dual_stability(const DualProblem& dual, double q_norm, const ContactOperator& op, QpPrecision precision,
-                          Progress& report, SolveResult& res) {
-  const bool single = uses_single_products(precision, dual.size());
-  res.stability_condition = check_stability(dual.Q(), q_norm, res.partition, op.r, single);
+// Stability (5.1) and its warning; cond(Q) on the progress line. Returns the factor of Q for the
+// QP's Newton steps when they are to use it and it fits in memory beside the dual solve's copies.
+// ‖Q‖ (power iteration) is estimated on the way, through a single-precision copy where the QP's
+// products are single, which the check then factors.
+std::shared_ptr<const DualOperatorFactor> check_dual_stability(const DualProblem& dual, double& q_norm,
+                                                               const ContactOperator& op, const QpSettings& qp,
+                                                               Progress& report, SolveResult& res) {
+  Eigen::MatrixXf single_copy;
+  double single_scale = 1;
+  if (uses_single_products(qp.precision, dual.size())) {
+    single_scale = std::max(dual.Q().diagonal().maxCoeff(), std::numeric_limits<double>::min());  // |Q_ij| <= max Q_kk
+    single_copy = lower_triangle_in_single(dual.Q(), single_scale);
+    q_norm = estimate_norm(single_copy, single_scale);
+  } else {
+    q_norm = estimate_norm(dual.Q());
+  }
+  StabilityCheck check = check_stability(dual.Q(), q_norm, res.partition, op.r, std::move(single_copy), single_scale);
+  res.stability_condition = check.condition;
   if (res.stability_condition > kIllConditionedDual)
     res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
                            "): some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or a "
                            "body thinner than a cell), so λ and the contact pressure are unreliable although the "
                            "residuals are small; use a larger contact.cell_size (H)");
   report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3));
+  if (!check.factor || qp.newton_systems != NewtonSystems::Auto || qp.variant == QpVariant::Mpgp ||
+      qp.variant == QpVariant::MpgpProjectedCG)
+    return nullptr;
+  const double m = op.rows(), needed = dense_dual_bytes_per_entry(qp, op.rows()) * m * m + check.factor->bytes();
+  const double available = static_cast<double>(available_memory_bytes());
+  if (available > 0 && needed > 0.9 * available) return nullptr;
+  return check.factor;
 }
 
 // The stages of one solve in the foundation plane's frame (the README's data flow).
@@ -539,14 +571,15 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
 
   stage.enter("stability check", "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
-  const double q_norm = estimate_norm(dual->Q());  // once: for cond(Q) and for MPGP's step ᾱ
-  check_dual_stability(*dual, q_norm, op, scene.solver.qp.precision, report, res);
+  double q_norm = 0;  // once: for cond(Q) and for MPGP's step ᾱ
+  std::shared_ptr<const DualOperatorFactor> q_factor =
+      check_dual_stability(*dual, q_norm, op, scene.solver.qp, report, res);
   clock.lap("stability");
 
   stage.enter("dual solve",
               "the QP's working copies of Q (" +
                   gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) * op.rows() * op.rows()) + ")");
-  DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp);
+  DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp, std::move(q_factor));
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));

@@ -51,7 +51,9 @@ struct SolverSettings {
   // algorithm, "mpgp_projcg", "ssn"), qp_scaling ("jacobi": a diagonal scaling that keeps
   // half-lines and discs; "none": the paper's plain MPGP), qp_precision ("auto": MPGP's products
   // through a single-precision Q from kMixedPrecisionMinSize multipliers on, "double", "mixed";
-  // the tolerance is always checked in double), qp_max_iterations.
+  // the tolerance is always checked in double), qp_newton_systems ("auto": Newton steps solve
+  // through the stability check's factor of Q where that is cheaper, "reduced": they factor their
+  // reduced matrix; NewtonSystems), qp_max_iterations.
   QpSettings qp;
   // "accelerated" (default: plain while it contracts fast, Aitken's relaxation once it does not),
   // "plain" (the paper's (5.7)), "aitken" (relaxation from the start) or "anderson" (FixedPointVariant).

@@ -11,6 +11,8 @@
 
 namespace contact3d {
 
+class BorderedNewton;
+
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
   // Optional single-precision copy of Q (its lower triangle is read): products through it stream
@@ -19,6 +21,9 @@ struct BoxDiscQP {
   // set, Newton steps factor their reduced systems in single precision and refine in double (ssn.hpp).
   const Eigen::MatrixXf* Q_single = nullptr;
   double single_scale = 1;  // Q = single_scale · Q_single (kept near 1 in float: no under- or overflow)
+  // Optional solver of the Newton steps' reduced systems through a factor of the whole Q, kept for
+  // the scene (bordered_newton.hpp); Newton steps try it before factoring the reduced matrix.
+  BorderedNewton* bordered = nullptr;
   Eigen::VectorXd h;
   int r = 0;
   bool with_friction = true;

@@ -1,5 +1,6 @@
 #include "qp/dual_qp_solver.hpp"
 
+#include "linalg/dual_operator.hpp"
 #include "linalg/symmetric_product.hpp"
 #include "qp/hybrid_qp.hpp"
 #include "qp/ssn.hpp"
@@ -11,7 +12,7 @@ bool uses_single_products(QpPrecision precision, int multipliers) {
 }
 
 DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
-                           const QpSettings& settings)
+                           const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor)
     : settings_(settings) {
   qp_.Q = &Q;
   qp_.h = h;
@@ -19,12 +20,19 @@ DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, i
   qp_.with_friction = with_friction;
   qp_.radius = Eigen::VectorXd::Zero(r);
   qp_.q_norm = 1.05 * q_norm;  // the estimate is a Rayleigh quotient, from below
-  if (settings.scaling == QpScaling::Jacobi) jacobi_.emplace(qp_);
-  if (uses_single_products(settings.precision, qp_.size())) {
+  const bool single = uses_single_products(settings.precision, qp_.size());
+  if (settings.scaling == QpScaling::Jacobi) jacobi_.emplace(qp_, !single);
+  if (single) {
     const BoxDiscQP& solved = jacobi_ ? jacobi_->scaled(qp_.radius) : qp_;
-    single_scale_ = solved.q_norm > 0 ? solved.q_norm : 1.0;
+    // Ŝ Q Ŝ has a diagonal of at most 1, so its entries are at most 1 in size: no scale needed in
+    // float, and its norm comes from the single copy (half the bytes of the 50 products in double).
+    single_scale_ = jacobi_ ? 1.0 : solved.q_norm > 0 ? solved.q_norm : 1.0;
     q_single_ = lower_triangle_in_single(*solved.Q, single_scale_);
+    if (jacobi_) jacobi_->set_norm(1.05 * estimate_norm(q_single_, single_scale_));
   }
+  if (settings.newton_systems == NewtonSystems::Auto)
+    bordered_ = make_bordered_newton(std::move(factor),
+                                     jacobi_ ? jacobi_->scale() : Eigen::VectorXd(Eigen::VectorXd::Ones(qp_.size())));
 }
 
 QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
@@ -34,6 +42,7 @@ QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lam
     problem.Q_single = &q_single_;
     problem.single_scale = single_scale_;
   }
+  problem.bordered = bordered_.get();
   Eigen::VectorXd x = jacobi_ ? jacobi_->to_scaled(lambda) : lambda;
   QpResult result;
   if (progress_) progress_->restart();

@@ -5,11 +5,14 @@
 // constraints (which change from one fixed-point step to the next) and a warm start.
 #pragma once
 
+#include <memory>
 #include <optional>
 
 #include <Eigen/Core>
 
 #include "base/named_enum.hpp"
+#include "linalg/dense_cholesky.hpp"
+#include "qp/bordered_newton.hpp"
 #include "qp/box_disc_qp.hpp"
 #include "qp/jacobi_scaling.hpp"
 #include "qp/mpgp.hpp"
@@ -35,18 +38,28 @@ inline constexpr NameTable<QpPrecision, 3> kQpPrecisionNames{
 inline constexpr int kMixedPrecisionMinSize = 2000;
 bool uses_single_products(QpPrecision precision, int multipliers);
 
+// How Newton steps solve their reduced systems (newton_system.hpp): "auto" through the factor of the
+// whole Q that the stability check (5.1) made, bordered by the fixed and sliding directions
+// (bordered_newton.hpp), wherever that costs fewer flops than factoring the reduced matrix, which
+// is done otherwise; "reduced": always a factorization of the reduced matrix.
+enum class NewtonSystems { Auto, Reduced };
+inline constexpr NameTable<NewtonSystems, 2> kNewtonSystemsNames{
+    {{NewtonSystems::Auto, "auto"}, {NewtonSystems::Reduced, "reduced"}}};
+
 struct QpSettings {
   QpVariant variant = QpVariant::Auto;  // MPGP, switching to Newton steps where it is slow (hybrid_qp.hpp)
   QpScaling scaling = QpScaling::Jacobi;
   QpPrecision precision = QpPrecision::Auto;
   int max_iterations = 100000;
+  NewtonSystems newton_systems = NewtonSystems::Auto;
 };
 
 class DualQpSolver {
  public:
   // `Q` must outlive the solver; `q_norm` is an estimate of ‖Q‖ (estimate_norm).
+  // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
   DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
-               const QpSettings& settings);
+               const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
   // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
@@ -63,6 +76,7 @@ class DualQpSolver {
   std::optional<JacobiScaledQP> jacobi_;
   Eigen::MatrixXf q_single_;  // lower triangle of the solved (scaled) Q / ‖Q‖ (empty: double products)
   double single_scale_ = 1;
+  std::unique_ptr<BorderedNewton> bordered_;  // the Newton steps' route through the factor of Q (or none)
   QpSettings settings_;
   Progress* progress_ = nullptr;
 };

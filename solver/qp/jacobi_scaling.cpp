@@ -11,7 +11,7 @@ namespace {
 double inverse_sqrt(double d) { return d > 0 ? 1.0 / std::sqrt(d) : 1.0; }
 }  // namespace
 
-JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp) : qp_(qp) {
+JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp, bool estimate) : qp_(qp) {
   const Eigen::MatrixXd& Q = *qp.Q;
   const int r = qp.r;
   s_.resize(qp.size());
@@ -24,7 +24,7 @@ JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp) : qp_(qp) {
   Q_ = s_.asDiagonal() * Q * s_.asDiagonal();
   qp_.Q = &Q_;
   qp_.h = s_.cwiseProduct(qp.h);
-  qp_.q_norm = 1.05 * estimate_norm(Q_);
+  qp_.q_norm = estimate ? 1.05 * estimate_norm(Q_) : 0.0;
 }
 
 const BoxDiscQP& JacobiScaledQP::scaled(const Eigen::VectorXd& radius) {

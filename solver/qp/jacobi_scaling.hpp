@@ -14,11 +14,15 @@ namespace contact3d {
 
 class JacobiScaledQP {
  public:
-  explicit JacobiScaledQP(const BoxDiscQP& qp);
+  // The scaled problem's ‖Q̂‖ by power iteration in double, or left for the caller to set (set_norm)
+  // when it estimates it from a single-precision copy.
+  explicit JacobiScaledQP(const BoxDiscQP& qp, bool estimate_norm = true);
+  void set_norm(double q_norm) { qp_.q_norm = q_norm; }
   // The scaled problem for the current radii of the original one.
   const BoxDiscQP& scaled(const Eigen::VectorXd& radius);
   Eigen::VectorXd to_scaled(const Eigen::VectorXd& lambda) const { return lambda.cwiseQuotient(s_); }
   Eigen::VectorXd from_scaled(const Eigen::VectorXd& mu) const { return mu.cwiseProduct(s_); }
+  const Eigen::VectorXd& scale() const { return s_; }  // S
 
  private:
   Eigen::VectorXd s_;

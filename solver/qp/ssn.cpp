@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "linalg/dense_cholesky.hpp"
+#include "qp/bordered_newton.hpp"
 #include "qp/newton_system.hpp"
 
 namespace contact3d {
@@ -16,19 +17,17 @@ double projected_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambd
   return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm());
 }
 
-// The reduced system solved by a single-precision Cholesky factorization refined in double (each
-// refinement one product by Q): for large systems (with a single copy of Q, see BoxDiscQP), where
-// the factorization is the cost of a Newton step. False when the single factorization fails or the
-// refinement does not reach kRefinedResidual: the caller then solves in double.
+// Iterative refinement in double (each refinement one product by Q) of `approximate`, a solver of
+// the reduced system in single precision or through the bordered factor, until the residual is
+// kRefinedResidual of the right-hand side. False when it does not get there: the caller then takes
+// a more accurate route.
 constexpr int kMaxRefinements = 4;
 constexpr double kRefinedResidual = 1e-10;
-bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products) {
-  Eigen::MatrixXf A;
-  reduced_matrix(*qp.Q, d, A);
-  const SingleCholesky chol(std::move(A));
-  if (!chol.ok()) return false;
+template <class ApproximateSolve>
+bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, const ApproximateSolve& approximate,
+                      Eigen::VectorXd& y, int& products) {
   const Eigen::VectorXd b = y;
-  Eigen::VectorXd x = chol.solve(b);
+  Eigen::VectorXd x = approximate(b);
   for (int it = 0; it < kMaxRefinements; ++it) {
     const Eigen::VectorXd r = b - reduced_product(qp, d, x);
     ++products;
@@ -37,17 +36,50 @@ bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& 
       y = x;
       return true;
     }
-    x += chol.solve(r);
+    x += approximate(r);
   }
   return false;
 }
 
+// The reduced system through the factor of the whole Q (bordered_newton.hpp), where that is cheaper
+// than factoring it (refined in double when the factor is single); `flops` gets that route's cost.
+bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products,
+                            double& flops) {
+  if (!qp.bordered || !qp.bordered->prepare(d)) return false;
+  if (qp.bordered->exact()) {  // as accurate as a factorization of the reduced matrix in double
+    const Eigen::VectorXd x = qp.bordered->solve(y);
+    if (!x.allFinite()) return false;
+    y = x;
+  } else if (!refine_in_double(
+                 qp, d, [&](const Eigen::VectorXd& v) { return qp.bordered->solve(v); }, y, products)) {
+    return false;
+  }
+  flops = qp.bordered->prepare_flops();
+  return true;
+}
+
+// The reduced system solved by a single-precision Cholesky factorization refined in double: for
+// large systems (with a single copy of Q, see BoxDiscQP), where the factorization is the cost of a
+// Newton step. False when the single factorization fails or the refinement does not converge: the
+// caller then solves in double.
+bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products) {
+  Eigen::MatrixXf A;
+  reduced_matrix(*qp.Q, d, A);
+  const SingleCholesky chol(std::move(A));
+  if (!chol.ok()) return false;
+  return refine_in_double(
+      qp, d, [&](const Eigen::VectorXd& v) { return chol.solve(v); }, y, products);
+}
+
 // Solves the reduced system for λ⁺; false if its Cholesky factorization fails. `products` counts the
-// products by Q of a single-precision solve's refinement.
-bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new, int& products) {
+// products by Q of a refinement, `flops` gets the step's factorization cost.
+bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new, int& products,
+                   double& flops) {
   const int k = static_cast<int>(step.directions.size());
+  flops = k * static_cast<double>(k) * k / 3.0;  // factoring the reduced matrix, unless the bordered route
   Eigen::VectorXd y = restrict_to(step.directions, qp.h - qp.apply(step.lambda_fixed));
-  if (k > 0 && !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
+  if (k > 0 && !solve_reduced_bordered(qp, step.directions, y, products, flops) &&
+      !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
     Eigen::MatrixXd A;
     reduced_matrix(*qp.Q, step.directions, A);
     const DenseCholesky chol(std::move(A));
@@ -68,9 +100,11 @@ bool SlowNewtonSteps::record(double step_length, double F_before, double F_after
   return in_a_row_ >= 2;
 }
 
+double flops_in_products(double flops, int m) { return m > 0 ? flops / (2.0 * m * static_cast<double>(m)) : 0.0; }
+
 double newton_step_cost(int free_directions, int m) {
   const double k = free_directions;
-  return m > 0 ? k * k * k / 3.0 / (2.0 * m * static_cast<double>(m)) : 0.0;
+  return flops_in_products(k * k * k / 3.0, m);
 }
 
 QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings) {
@@ -116,8 +150,9 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       settings.progress->beat([&] { return qp_heartbeat_line("ssn", result, settings.rtol, *settings.progress); });
     const double F_before = F_norm;
     const ReducedStep step = split_active_sets(qp, z, rho);
-    ++result.hessian_products;                                             // Q λ_fixed
-    if (!newton_target(qp, step, target, result.hessian_products)) break;  // hand over to MPGP
+    ++result.hessian_products;  // Q λ_fixed
+    double flops = 0;
+    if (!newton_target(qp, step, target, result.hessian_products, flops)) break;  // hand over to MPGP
     ++result.iterations;
     ++result.newton_steps;
     const Eigen::VectorXd delta = target - lambda;
@@ -141,8 +176,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       }
     }
     if (!accepted) break;
-    const bool slow =
-        slow_steps.record(t, F_before, F_norm, newton_step_cost(static_cast<int>(step.directions.size()), qp.size()));
+    const bool slow = slow_steps.record(t, F_before, F_norm, flops_in_products(flops, qp.size()));
     if (settings.stop_when_linear && slow) {
       project(qp, lambda);  // a damped step may leave λ just off a circle
       result.status = QpStatus::IterationLimit;

@@ -1,0 +1,238 @@
+#include "qp/bordered_newton.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <utility>
+
+#include "linalg/blas.hpp"
+
+namespace contact3d {
+namespace {
+
+// The BLAS calls by precision (column-major, leading dimension m for the factor and the cache).
+void forward(int m, const double* L, double* x) {
+  const int one = 1;
+  dtrsv_("L", "N", "N", &m, L, &m, x, &one);
+}
+void forward(int m, const float* L, float* x) {
+  const int one = 1;
+  strsv_("L", "N", "N", &m, L, &m, x, &one);
+}
+void backward(int m, const double* L, double* x) {
+  const int one = 1;
+  dtrsv_("L", "T", "N", &m, L, &m, x, &one);
+}
+void backward(int m, const float* L, float* x) {
+  const int one = 1;
+  strsv_("L", "T", "N", &m, L, &m, x, &one);
+}
+void forward_columns(int m, int n, const double* L, double* B) {
+  const double one = 1;
+  dtrsm_("L", "L", "N", "N", &m, &n, &one, L, &m, B, &m);
+}
+void forward_columns(int m, int n, const float* L, float* B) {
+  const float one = 1;
+  strsm_("L", "L", "N", "N", &m, &n, &one, L, &m, B, &m);
+}
+// C (rows × cols, leading dimension ldc) = Aᵀ B, A: m × rows, B: m × cols.
+void gram(int m, int rows, int cols, const double* A, const double* B, double* C, int ldc) {
+  const double one = 1, zero = 0;
+  dgemm_("T", "N", &rows, &cols, &m, &one, A, &m, B, &m, &zero, C, &ldc);
+}
+void gram(int m, int rows, int cols, const float* A, const float* B, float* C, int ldc) {
+  const float one = 1, zero = 0;
+  sgemm_("T", "N", &rows, &cols, &m, &one, A, &m, B, &m, &zero, C, &ldc);
+}
+// y = alpha op(A) x + beta y, A: m × n.
+void gemv(const char* trans, int m, int n, double alpha, const double* A, const double* x, double beta, double* y) {
+  const int one = 1;
+  dgemv_(trans, &m, &n, &alpha, A, &m, x, &one, &beta, y, &one);
+}
+void gemv(const char* trans, int m, int n, float alpha, const float* A, const float* x, float beta, float* y) {
+  const int one = 1;
+  sgemv_(trans, &m, &n, &alpha, A, &m, x, &one, &beta, y, &one);
+}
+
+// One column of the border U: w_a e_a + w_b e_b (b < 0: w_a e_a), with its entry of C.
+struct Border {
+  int a, b;
+  double w_a, w_b, c;
+};
+
+template <typename T>
+class BorderedNewtonWith final : public BorderedNewton {
+  using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vector = Eigen::Matrix<T, Eigen::Dynamic, 1>;
+
+ public:
+  BorderedNewtonWith(std::shared_ptr<const DualOperatorFactor> owner, const Matrix& L, const Eigen::VectorXd& scale)
+      : owner_(std::move(owner)), L_(L), m_(static_cast<int>(L.rows())), slot_(static_cast<std::size_t>(m_), -1) {
+    // Ŝ Q Ŝ = L̂ L̂ᵀ with L̂ = √scale_Q · S · L, so L̂⁻¹ v = L⁻¹ (unit_scale_ ⊙ v), L̂⁻ᵀ t = unit_scale_ ⊙ (L⁻ᵀ t).
+    unit_scale_ = scale.cwiseInverse() / std::sqrt(owner_->scale);
+  }
+
+  bool prepare(const std::vector<Direction>& d) override {
+    if (!collect_borders(d)) return false;
+    const std::vector<int> units = units_of_borders();
+    int fresh = 0;
+    for (int i : units) fresh += slot_[i] < 0;
+    const bool restart = cached() + fresh > m_ / 2;  // the cache holds at most m/2 unit vectors
+    if (restart) fresh = static_cast<int>(units.size());
+    const double m = m_, p = static_cast<double>(borders_.size()), k = static_cast<double>(d.size());
+    const double total = restart ? fresh : cached() + fresh;
+    const double flops = m * m * fresh + 2.0 * m * total * fresh + p * p * p / 3.0;
+    if (!(flops < k * k * k / 3.0)) return false;
+    if (restart) {
+      std::fill(slot_.begin(), slot_.end(), -1);
+      W_.resize(m_, 0);
+      gram_.resize(0, 0);
+    }
+    add_units(units);
+    if (!factor_border()) return false;
+    directions_ = d;
+    prepare_flops_ = flops;
+    return true;
+  }
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
+    const Eigen::VectorXd u = prolong(directions_, b, m_).cwiseProduct(unit_scale_);
+    const double size = u.cwiseAbs().maxCoeff();
+    if (!(size > 0) || !std::isfinite(size)) return Eigen::VectorXd::Zero(b.size()) * size;
+    Vector t = (u / size).template cast<T>();
+    forward(m_, L_.data(), t.data());  // t = L̂⁻¹ D b
+    const int n = cached();
+    Vector wt = Vector::Zero(n);  // Wᵀ t
+    if (n > 0) gemv("T", m_, n, T(1), W_.data(), t.data(), T(0), wt.data());
+    Eigen::VectorXd rhs(static_cast<Eigen::Index>(borders_.size()));  // Uᵀ Q̂⁻¹ D b
+    for (std::size_t j = 0; j < borders_.size(); ++j) {
+      const Border& e = borders_[j];
+      rhs[static_cast<Eigen::Index>(j)] =
+          e.w_a * wt[slot_[e.a]] + (e.b >= 0 ? e.w_b * static_cast<double>(wt[slot_[e.b]]) : 0.0);
+    }
+    const Eigen::VectorXd v = border_factor_ ? border_factor_->solve(rhs) : rhs;
+    Vector z = Vector::Zero(n);  // U v in the cached unit vectors
+    for (std::size_t j = 0; j < borders_.size(); ++j) {
+      const Border& e = borders_[j];
+      z[slot_[e.a]] += static_cast<T>(e.w_a * v[static_cast<Eigen::Index>(j)]);
+      if (e.b >= 0) z[slot_[e.b]] += static_cast<T>(e.w_b * v[static_cast<Eigen::Index>(j)]);
+    }
+    if (n > 0) gemv("N", m_, n, T(-1), W_.data(), z.data(), T(1), t.data());  // L̂⁻¹ (D b − U v)
+    backward(m_, L_.data(), t.data());
+    const Eigen::VectorXd x = t.template cast<double>().cwiseProduct(unit_scale_) * size;
+    return restrict_to(directions_, x);
+  }
+
+  double prepare_flops() const override { return prepare_flops_; }
+  int cached_units() const override { return cached(); }
+  bool exact() const override { return std::is_same_v<T, double>; }
+
+ private:
+  int cached() const { return static_cast<int>(W_.cols()); }
+
+  // U = [N T]: the complement of the directions (unit vectors they leave out; in a pair of
+  // indices the unit vector orthogonal to the direction) and the directions with a shift. False
+  // when the directions are not orthonormal unit or pair vectors on disjoint indices.
+  bool collect_borders(const std::vector<Direction>& d) {
+    borders_.clear();
+    std::vector<char> covered(static_cast<std::size_t>(m_), 0);
+    for (const Direction& e : d) {
+      if (e.a < 0 || e.a >= m_ || e.b >= m_ || covered[e.a] || (e.b >= 0 && covered[e.b])) return false;
+      covered[e.a] = 1;
+      if (e.b >= 0) {
+        covered[e.b] = 1;
+        if (std::abs(e.w_a * e.w_a + e.w_b * e.w_b - 1) > 1e-12) return false;
+        borders_.push_back({e.a, e.b, e.w_b, -e.w_a, 0.0});
+      } else if (std::abs(e.w_a) != 1) {
+        return false;
+      }
+      if (e.shift > 0) borders_.push_back({e.a, e.b, e.w_a, e.w_b, 1.0 / e.shift});
+    }
+    for (int i = 0; i < m_; ++i)
+      if (!covered[i]) borders_.push_back({i, -1, 1.0, 0.0, 0.0});
+    return true;
+  }
+
+  std::vector<int> units_of_borders() const {
+    std::vector<int> units;
+    std::vector<char> seen(static_cast<std::size_t>(m_), 0);
+    for (const Border& e : borders_)
+      for (int i : {e.a, e.b})
+        if (i >= 0 && !seen[i]) {
+          seen[i] = 1;
+          units.push_back(i);
+        }
+    return units;
+  }
+
+  // W = L̂⁻¹ e_i for the unit vectors not yet cached, and their rows and columns of the Gram matrix.
+  void add_units(const std::vector<int>& units) {
+    std::vector<int> fresh;
+    for (int i : units)
+      if (slot_[i] < 0) fresh.push_back(i);
+    if (fresh.empty()) return;
+    const int before = cached(), added = static_cast<int>(fresh.size()), after = before + added;
+    W_.conservativeResize(m_, after);
+    W_.rightCols(added).setZero();
+    for (int j = 0; j < added; ++j) {
+      W_(fresh[j], before + j) = static_cast<T>(unit_scale_[fresh[j]]);
+      slot_[fresh[j]] = before + j;
+    }
+    forward_columns(m_, added, L_.data(), W_.data() + static_cast<std::ptrdiff_t>(before) * m_);
+    gram_.conservativeResize(after, after);
+    gram(m_, after, added, W_.data(), W_.data() + static_cast<std::ptrdiff_t>(before) * m_,
+         gram_.data() + static_cast<std::ptrdiff_t>(before) * after, after);
+    gram_.block(before, 0, added, before) = gram_.block(0, before, before, added).transpose();
+  }
+
+  // Uᵀ Q̂⁻¹ U + C from the Gram matrix of the unit vectors, factored.
+  bool factor_border() {
+    const auto p = static_cast<Eigen::Index>(borders_.size());
+    border_factor_.reset();
+    if (p == 0) return true;
+    Eigen::MatrixXd G(p, p);
+    for (Eigen::Index j = 0; j < p; ++j) {
+      const Border& c = borders_[static_cast<std::size_t>(j)];
+      const int ca = slot_[c.a], cb = c.b >= 0 ? slot_[c.b] : -1;
+      for (Eigen::Index i = j; i < p; ++i) {
+        const Border& e = borders_[static_cast<std::size_t>(i)];
+        const int ea = slot_[e.a], eb = e.b >= 0 ? slot_[e.b] : -1;
+        double g = c.w_a * e.w_a * gram_(ea, ca);
+        if (eb >= 0) g += c.w_a * e.w_b * gram_(eb, ca);
+        if (cb >= 0) {
+          g += c.w_b * e.w_a * gram_(ea, cb);
+          if (eb >= 0) g += c.w_b * e.w_b * gram_(eb, cb);
+        }
+        G(i, j) = i == j ? g + c.c : g;
+      }
+    }
+    border_factor_.emplace(std::move(G));
+    return border_factor_->ok();
+  }
+
+  std::shared_ptr<const DualOperatorFactor> owner_;
+  const Matrix& L_;
+  int m_;
+  Eigen::VectorXd unit_scale_;
+  std::vector<int> slot_;  // unit index → its column of W_ and row of gram_ (−1: not cached)
+  Matrix W_;               // L̂⁻¹ e_i, one column per cached unit vector
+  Matrix gram_;            // W_ᵀ W_ = (Q̂⁻¹) on the cached indices
+  std::vector<Border> borders_;
+  std::vector<Direction> directions_;
+  std::optional<DenseCholesky> border_factor_;
+  double prepare_flops_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<BorderedNewton> make_bordered_newton(std::shared_ptr<const DualOperatorFactor> factor,
+                                                     const Eigen::VectorXd& scale) {
+  if (!factor || !(factor->scale > 0) || !(scale.array() > 0).all()) return nullptr;
+  if (factor->in_double && factor->in_double->ok() && factor->in_double->lower().rows() == scale.size())
+    return std::make_unique<BorderedNewtonWith<double>>(factor, factor->in_double->lower(), scale);
+  if (factor->in_single && factor->in_single->ok() && factor->in_single->lower().rows() == scale.size())
+    return std::make_unique<BorderedNewtonWith<float>>(factor, factor->in_single->lower(), scale);
+  return nullptr;
+}
+
+}  // namespace contact3d

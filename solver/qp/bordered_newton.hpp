@@ -1,0 +1,53 @@
+// The reduced Newton system of the dual QP (newton_system.hpp),
+//   (Dᵀ Q D + diag(shift)) y = b,
+// solved through one Cholesky factor Q = L Lᵀ of the whole Q (the stability check's, kept) instead
+// of a new factorization of the free size k at every step. With D and the fixed directions N
+// completing each other (an orthonormal basis), x = D y is the minimiser of
+// ½ xᵀ(Q + T S Tᵀ)x − (D b)ᵀx subject to Nᵀx = 0 (T: the directions with a shift S, the sliding
+// tangents). Bordering Q with U = [N T]:
+//   Q x + U v = D b,   Uᵀ x − C v = 0,   C = diag(0 on N, S⁻¹ on T),
+// so (Uᵀ Q⁻¹ U + C) v = Uᵀ Q⁻¹ D b, x = Q⁻¹(D b − U v), y = Dᵀ x — a system of the size p of the
+// border (cells off contact, point discs, sliding discs) instead of k. Every border vector combines
+// at most two unit vectors e_i, and W_i = L⁻¹ e_i and the Gram matrix Wᵢᵀ W_j = (Q⁻¹)_ij are
+// cached for the whole run (Q does not change between solves, only the radii): a step pays for
+// the unit vectors that are new to the border (m² each), its p × p Cholesky and two triangular
+// solves per right-hand side. prepare() takes this route only when it costs fewer flops than
+// factoring the reduced matrix (k³/3): on a slab most cells touch and few change from one step
+// to the next, on a brick with a small contact zone k is small and the reduced matrix wins.
+// In single precision (a single factor of Q) the answer is approximate; the caller refines it in
+// double (ssn.cpp).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "linalg/dense_cholesky.hpp"
+#include "qp/newton_system.hpp"
+
+namespace contact3d {
+
+class BorderedNewton {
+ public:
+  virtual ~BorderedNewton() = default;
+  // Sets up the system of the directions `d` (of an m-sized λ) when the bordered route is cheaper
+  // than factoring Dᵀ Q D + diag(shift); false otherwise (or when its small factorization fails),
+  // and solve() must not be called.
+  virtual bool prepare(const std::vector<Direction>& d) = 0;
+  // y = (Dᵀ Q D + diag(shift))⁻¹ b for the directions of the last successful prepare().
+  virtual Eigen::VectorXd solve(const Eigen::VectorXd& b) const = 0;
+  // Flops of the last successful prepare() (the unit vectors it added, the border's factorization).
+  virtual double prepare_flops() const = 0;
+  // Whether solve() is accurate to double's rounding (a factor in double) and needs no refinement.
+  virtual bool exact() const = 0;
+  // Unit vectors whose L⁻¹ e_i is cached (for tests and the progress of long runs).
+  virtual int cached_units() const = 0;
+};
+
+// For the QP on S Q S (S = diag(scale): the Jacobi scaling, jacobi_scaling.hpp; ones for the plain
+// problem) from a factor of Q. The factor is shared: it lives as long as the solver that uses it.
+std::unique_ptr<BorderedNewton> make_bordered_newton(std::shared_ptr<const DualOperatorFactor> factor,
+                                                     const Eigen::VectorXd& scale);
+
+}  // namespace contact3d

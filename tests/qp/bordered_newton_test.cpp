@@ -1,0 +1,175 @@
+// The Newton steps' reduced systems through a factor of the whole Q (bordered_newton.hpp): the same
+// y as factoring Dᵀ Q D + diag(shift), for every kind of direction (normals in and off contact,
+// discs inside, sliding and points), on the plain and the Jacobi-scaled problem, with the factor in
+// double and in single precision; the cache of L⁻¹ e_i carried from one active set to the next; the
+// route declined where the reduced matrix is cheaper; and the semismooth Newton solver's answer
+// unchanged by it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "linalg/dense_cholesky.hpp"
+#include "linalg/symmetric_product.hpp"
+#include "qp/bordered_newton.hpp"
+#include "qp/jacobi_scaling.hpp"
+#include "qp/newton_system.hpp"
+#include "qp/ssn.hpp"
+#include "test_support.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+using contact3d::testing::make_random_qp;
+using contact3d::testing::RandomQp;
+
+// z = λ − ρg whose active sets have most cells in contact and inside their discs, and some of each
+// other kind: off contact (z_n < 0), sliding (‖z_t‖ > c); every fifth disc of make_random_qp is a point.
+Eigen::VectorXd mostly_touching(const BoxDiscQP& qp, unsigned seed, double off = 0.05, double sliding = 0.05) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd z(qp.size());
+  for (int i = 0; i < qp.r; ++i) {
+    z[i] = u(gen) < off ? -1 - u(gen) : 1 + u(gen);
+    const double c = qp.radius[i], angle = 6.283 * u(gen);
+    const double length = u(gen) < sliding ? c * (1.5 + u(gen)) : 0.8 * c * u(gen);
+    z[qp.layout().t1(i)] = length * std::cos(angle);
+    z[qp.layout().t2(i)] = length * std::sin(angle);
+  }
+  return z;
+}
+
+// make_random_qp's every fifth disc is a point (c = 0), two of them stay so here: a border of 80
+// point discs of 200 would make factoring the reduced matrix the cheaper route at this size.
+RandomQp few_point_discs(int r, unsigned seed, double shift = 0.05) {
+  RandomQp rq = make_random_qp(r, true, seed, 3, shift);
+  int points = 0;
+  for (int i = 0; i < r; ++i)
+    if (rq.qp.radius[i] == 0 && ++points > 2) rq.qp.radius[i] = 1;
+  rq.use_operator();
+  return rq;
+}
+
+// The reference: the reduced matrix factored in double.
+Eigen::VectorXd reduced_solve(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, const Eigen::VectorXd& b) {
+  Eigen::MatrixXd A;
+  reduced_matrix(Q, d, A);
+  const DenseCholesky chol(A);
+  EXPECT_TRUE(chol.ok());
+  return chol.solve(b);
+}
+
+Eigen::VectorXd random_vector(Eigen::Index n, unsigned seed) {
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd v(n);
+  for (Eigen::Index i = 0; i < n; ++i) v[i] = normal(gen);
+  return v;
+}
+
+std::shared_ptr<DualOperatorFactor> double_factor(const Eigen::MatrixXd& Q) {
+  auto f = std::make_shared<DualOperatorFactor>();
+  f->in_double.emplace(Q);
+  return f;
+}
+
+// As the stability check makes it for large Q: the lower triangle of Q / scale in single.
+std::shared_ptr<DualOperatorFactor> single_factor(const Eigen::MatrixXd& Q, double scale) {
+  auto f = std::make_shared<DualOperatorFactor>();
+  f->in_single.emplace(lower_triangle_in_single(Q, scale));
+  f->scale = scale;
+  return f;
+}
+
+}  // namespace
+
+TEST(BorderedNewton, SolvesTheReducedSystemOfEveryKindOfDirection) {
+  RandomQp rq = few_point_discs(200, 7);
+  const double rho = projection_scale(rq.qp);
+  const ReducedStep step = split_active_sets(rq.qp, mostly_touching(rq.qp, 3), rho);
+  int off = 0, sliding = 0;
+  for (const Direction& d : step.directions) sliding += d.b >= 0;
+  for (int i = 0; i < rq.qp.r; ++i)
+    off += step.lambda_fixed[i] == 0 &&
+           std::none_of(step.directions.begin(), step.directions.end(), [&](const Direction& d) { return d.a == i; });
+  ASSERT_GT(off, 3);
+  ASSERT_GT(sliding, 3);
+  const Eigen::VectorXd b = random_vector(static_cast<Eigen::Index>(step.directions.size()), 11);
+  const Eigen::VectorXd reference = reduced_solve(rq.Q, step.directions, b);
+
+  auto solver = make_bordered_newton(double_factor(rq.Q), Eigen::VectorXd::Ones(rq.qp.size()));
+  ASSERT_TRUE(solver);
+  ASSERT_TRUE(solver->prepare(step.directions));
+  EXPECT_LT((solver->solve(b) - reference).norm(), 1e-10 * reference.norm());
+  EXPECT_GT(solver->prepare_flops(), 0);
+}
+
+TEST(BorderedNewton, JacobiScaledProblemFromAFactorOfTheUnscaledQInSingle) {
+  RandomQp rq = few_point_discs(200, 8);
+  JacobiScaledQP jacobi(rq.qp);
+  const BoxDiscQP& scaled = jacobi.scaled(rq.qp.radius);
+  const ReducedStep step = split_active_sets(scaled, mostly_touching(scaled, 4), projection_scale(scaled));
+  const Eigen::VectorXd b = random_vector(static_cast<Eigen::Index>(step.directions.size()), 12);
+  const Eigen::VectorXd reference = reduced_solve(*scaled.Q, step.directions, b);
+
+  auto in_double = make_bordered_newton(double_factor(rq.Q), jacobi.scale());
+  ASSERT_TRUE(in_double && in_double->prepare(step.directions));
+  EXPECT_LT((in_double->solve(b) - reference).norm(), 1e-10 * reference.norm());
+  // In single precision the answer is approximate (the caller refines it): to about cond · 1e-7.
+  auto in_single = make_bordered_newton(single_factor(rq.Q, rq.qp.q_norm), jacobi.scale());
+  ASSERT_TRUE(in_single && in_single->prepare(step.directions));
+  const double error = (in_single->solve(b) - reference).norm() / reference.norm();
+  EXPECT_LT(error, 1e-2);
+  EXPECT_GT(error, 0);  // it did run in single
+}
+
+TEST(BorderedNewton, CarriesItsCacheFromOneActiveSetToTheNext) {
+  RandomQp rq = few_point_discs(200, 9);
+  const double rho = projection_scale(rq.qp);
+  auto solver = make_bordered_newton(double_factor(rq.Q), Eigen::VectorXd::Ones(rq.qp.size()));
+  ASSERT_TRUE(solver);
+  int cached_before = 0;
+  for (unsigned seed : {5u, 6u, 5u}) {
+    const ReducedStep step = split_active_sets(rq.qp, mostly_touching(rq.qp, seed), rho);
+    const Eigen::VectorXd b = random_vector(static_cast<Eigen::Index>(step.directions.size()), seed);
+    ASSERT_TRUE(solver->prepare(step.directions));
+    EXPECT_LT((solver->solve(b) - reduced_solve(rq.Q, step.directions, b)).norm(), 1e-9 * b.norm());
+    EXPECT_GE(solver->cached_units(), cached_before);
+    if (seed == 5 && cached_before > 0) {
+      EXPECT_EQ(solver->cached_units(), cached_before);  // the first active set again: nothing new to add
+    }
+    cached_before = solver->cached_units();
+  }
+}
+
+TEST(BorderedNewton, DeclinesWhereFactoringTheReducedMatrixIsCheaper) {
+  RandomQp rq = make_random_qp(200, true, 10);
+  rq.use_operator();
+  auto solver = make_bordered_newton(double_factor(rq.Q), Eigen::VectorXd::Ones(rq.qp.size()));
+  // Most cells off contact and sliding: k small, the border large.
+  const ReducedStep step = split_active_sets(rq.qp, mostly_touching(rq.qp, 3, 0.8, 0.8), projection_scale(rq.qp));
+  EXPECT_FALSE(solver->prepare(step.directions));
+  // No factor (the stability check's LDLᵀ path): no solver.
+  EXPECT_FALSE(make_bordered_newton(nullptr, Eigen::VectorXd::Ones(rq.qp.size())));
+}
+
+TEST(BorderedNewton, SemismoothNewtonGivesTheSameAnswerThroughIt) {
+  RandomQp rq = few_point_discs(200, 12, 0.5);
+  const Eigen::MatrixXf q_single = lower_triangle_in_single(rq.Q, rq.qp.q_norm);
+  rq.qp.Q_single = &q_single;
+  rq.qp.single_scale = rq.qp.q_norm;
+  SsnSettings settings;
+  settings.rtol = 1e-10;
+  Eigen::VectorXd reference, bordered;
+  const QpResult plain = solve_ssn(rq.qp, reference, settings);
+  ASSERT_EQ(plain.status, QpStatus::Converged);
+  auto solver = make_bordered_newton(single_factor(rq.Q, rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()));
+  rq.qp.bordered = solver.get();
+  const QpResult through = solve_ssn(rq.qp, bordered, settings);
+  ASSERT_EQ(through.status, QpStatus::Converged);
+  EXPECT_GT(solver->cached_units(), 0);  // the route was taken
+  EXPECT_LT((bordered - reference).norm(), 1e-8 * reference.norm());
+}
