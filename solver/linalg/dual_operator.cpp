@@ -122,6 +122,11 @@ double power_iteration(Eigen::Index size, const Product& product, int iterations
 
 }  // namespace
 
+double estimate_norm(Eigen::Index size, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
+                     int iterations) {
+  return power_iteration(size, product, iterations);
+}
+
 double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {
   return power_iteration(
       Q.rows(), [&](const Eigen::VectorXd& x) { return symmetric_product(Q, x); }, iterations);

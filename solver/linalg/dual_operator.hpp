@@ -4,6 +4,8 @@
 // contact size.
 #pragma once
 
+#include <functional>
+
 #include <vector>
 
 #include <Eigen/Core>
@@ -47,5 +49,8 @@ double estimate_norm(const Eigen::MatrixXd& Q, int iterations = 50);
 // The same through a single-precision copy (Q = scale · Q_single, its lower triangle read; symmetric_product.hpp):
 // half the bytes per product, and the estimate differs from the one in double by single's rounding.
 double estimate_norm(const Eigen::MatrixXf& Q_single, double scale, int iterations = 50);
+// The same for an operator given by its product v ↦ A v (of vectors of `size`).
+double estimate_norm(Eigen::Index size, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
+                     int iterations = 50);
 
 }  // namespace contact3d

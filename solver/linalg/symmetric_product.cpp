@@ -30,10 +30,17 @@ Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale,
   return out.cast<double>() * (scale * v_scale);
 }
 
-Eigen::MatrixXf lower_triangle_in_single(const Eigen::MatrixXd& Q, double scale) {
+Eigen::MatrixXf lower_triangle_in_single(const Eigen::MatrixXd& Q, double scale, const Eigen::VectorXd& diagonal) {
   const Eigen::Index m = Q.rows();
   Eigen::MatrixXf out(m, m);
-  for (Eigen::Index j = 0; j < m; ++j) out.col(j).tail(m - j) = (Q.col(j).tail(m - j) / scale).cast<float>();
+  if (diagonal.size() == 0) {
+    for (Eigen::Index j = 0; j < m; ++j) out.col(j).tail(m - j) = (Q.col(j).tail(m - j) / scale).cast<float>();
+    return out;
+  }
+  if (diagonal.size() != m) throw std::invalid_argument("lower_triangle_in_single: diagonal size differs from Q");
+  for (Eigen::Index j = 0; j < m; ++j)
+    out.col(j).tail(m - j) =
+        (Q.col(j).tail(m - j).cwiseProduct(diagonal.tail(m - j)) * (diagonal[j] / scale)).cast<float>();
   return out;
 }
 

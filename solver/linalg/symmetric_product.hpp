@@ -15,7 +15,9 @@ Eigen::VectorXd symmetric_product(const Eigen::MatrixXd& Q, const Eigen::VectorX
 // overflow for any v); rounding error about 1e-7 ‖Q‖‖v‖.
 Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale, const Eigen::VectorXd& v);
 
-// The lower triangle of Q / scale in single precision (the upper one is left unset: never read).
-Eigen::MatrixXf lower_triangle_in_single(const Eigen::MatrixXd& Q, double scale);
+// The lower triangle of Q / scale in single precision (the upper one is left unset: never read); with
+// `diagonal` (size of Q), of S Q S / scale, S = diag(diagonal).
+Eigen::MatrixXf lower_triangle_in_single(const Eigen::MatrixXd& Q, double scale,
+                                         const Eigen::VectorXd& diagonal = Eigen::VectorXd());
 
 }  // namespace contact3d

@@ -99,11 +99,12 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   return op;
 }
 
-// Bytes per entry of Q that the dual solve holds at most: Q, its Jacobi-scaled copy and a Newton
-// step's reduced matrix (up to m² in double), plus the single-precision copy when it is used (the
-// stability check holds less: Q and its factor).
+// Bytes per entry of Q that the dual solve holds at most: Q and a Newton step's reduced matrix (up
+// to m² in double), plus the single-precision copy when it is used (the Jacobi scaling is applied
+// in each product, not stored; the stability check's factor, kept for the Newton steps when it fits,
+// is counted by check_dual_stability).
 double dense_dual_bytes_per_entry(const QpSettings& qp, int rows) {
-  return 3 * 8.0 + (uses_single_products(qp.precision, rows) ? 4.0 : 0.0);
+  return 2 * 8.0 + (uses_single_products(qp.precision, rows) ? 4.0 : 0.0);
 }
 
 // Q is dense (m²): refuse what this machine cannot hold rather than dying in the allocator.

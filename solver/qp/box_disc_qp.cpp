@@ -12,7 +12,14 @@ namespace {
 constexpr double kActiveRelTol = 1e-12;
 }
 
-Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const { return symmetric_product(*Q, v); }
+Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
+  if (scale.size() == 0) return symmetric_product(*Q, v);
+  return scale.cwiseProduct(symmetric_product(*Q, scale.cwiseProduct(v)));
+}
+
+Eigen::VectorXd BoxDiscQP::diagonal() const {
+  return scale.size() ? Eigen::VectorXd(Q->diagonal().cwiseProduct(scale.cwiseAbs2())) : Eigen::VectorXd(Q->diagonal());
+}
 
 Eigen::VectorXd BoxDiscQP::apply_single(const Eigen::VectorXd& v) const {
   return Q_single ? symmetric_product(*Q_single, single_scale, v) : apply(v);

@@ -15,6 +15,11 @@ class BorderedNewton;
 
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
+  // Optional diagonal scaling: the problem's operator is then S Q S, S = diag(scale) (the Jacobi
+  // scaling, jacobi_scaling.hpp), applied in each product instead of stored as a second dense copy
+  // (m² doubles: 800 MB at 10 000 multipliers). Empty: Q itself. Read Q through apply(),
+  // entry() and diagonal(), never directly.
+  Eigen::VectorXd scale;
   // Optional single-precision copy of Q (its lower triangle is read): products through it stream
   // half the bytes (BLAS ssymv, 1.8-2.7x faster than dsymv at 4800-14000 multipliers). MPGP uses it
   // for recursive updates of the gradient and checks convergence with apply() (mpgp.hpp); when it is
@@ -32,8 +37,11 @@ struct BoxDiscQP {
 
   MultiplierLayout layout() const { return {r, with_friction}; }
   int size() const { return layout().size(); }
-  // Q v from the lower triangle only (linalg/symmetric_product.hpp).
+  // Q v from the lower triangle only (linalg/symmetric_product.hpp), scaled when `scale` is set.
   Eigen::VectorXd apply(const Eigen::VectorXd& v) const;
+  // The operator's diagonal, and the factor its entry (i, j) carries over Q's (1 without a scale).
+  Eigen::VectorXd diagonal() const;
+  double entry_factor(Eigen::Index i) const { return scale.size() ? scale[i] : 1.0; }
   // Q v through Q_single (rounding error about 1e-7 ‖Q‖‖v‖); apply() when there is none.
   Eigen::VectorXd apply_single(const Eigen::VectorXd& v) const;
   double value(const Eigen::VectorXd& lambda) const;

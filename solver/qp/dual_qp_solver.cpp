@@ -27,7 +27,7 @@ DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, i
     // Ŝ Q Ŝ has a diagonal of at most 1, so its entries are at most 1 in size: no scale needed in
     // float, and its norm comes from the single copy (half the bytes of the 50 products in double).
     single_scale_ = jacobi_ ? 1.0 : solved.q_norm > 0 ? solved.q_norm : 1.0;
-    q_single_ = lower_triangle_in_single(*solved.Q, single_scale_);
+    q_single_ = lower_triangle_in_single(*solved.Q, single_scale_, solved.scale);
     if (jacobi_) jacobi_->set_norm(1.05 * estimate_norm(q_single_, single_scale_));
   }
   if (settings.newton_systems == NewtonSystems::Auto)

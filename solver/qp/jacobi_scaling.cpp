@@ -21,10 +21,10 @@ JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp, bool estimate) : qp_(qp) {
       const int a = qp.layout().t1(i), b = qp.layout().t2(i);
       s_[a] = s_[b] = inverse_sqrt(std::max(Q(a, a), Q(b, b)));
     }
-  Q_ = s_.asDiagonal() * Q * s_.asDiagonal();
-  qp_.Q = &Q_;
+  qp_.scale = s_;
   qp_.h = s_.cwiseProduct(qp.h);
-  qp_.q_norm = estimate ? 1.05 * estimate_norm(Q_) : 0.0;
+  qp_.q_norm =
+      estimate ? 1.05 * estimate_norm(qp_.size(), [this](const Eigen::VectorXd& v) { return qp_.apply(v); }) : 0.0;
 }
 
 const BoxDiscQP& JacobiScaledQP::scaled(const Eigen::VectorXd& radius) {

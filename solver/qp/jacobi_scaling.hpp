@@ -26,8 +26,7 @@ class JacobiScaledQP {
 
  private:
   Eigen::VectorXd s_;
-  Eigen::MatrixXd Q_;
-  BoxDiscQP qp_;
+  BoxDiscQP qp_;  // the original Q with scale = s_
 };
 
 }  // namespace contact3d

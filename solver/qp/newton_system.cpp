@@ -5,7 +5,7 @@
 
 namespace contact3d {
 
-double projection_scale(const BoxDiscQP& qp) { return qp.size() / std::max(qp.Q->diagonal().sum(), 1e-300); }
+double projection_scale(const BoxDiscQP& qp) { return qp.size() / std::max(qp.diagonal().sum(), 1e-300); }
 
 ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho) {
   const int r = qp.r;

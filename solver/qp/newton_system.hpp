@@ -36,18 +36,25 @@ double projection_scale(const BoxDiscQP& qp);
 // The active sets of z = λ − ρ g and the reduced system's unknowns.
 ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho);
 
-// Dᵀ Q D + diag(shift), lower triangle (column-major, k x k), in double or in single precision.
+// Dᵀ Q D + diag(shift), lower triangle (column-major, k x k), in double or in single precision, for
+// the problem's operator (qp.scale taken into the directions' weights).
 template <typename Matrix>
-void reduced_matrix(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, Matrix& A) {
+void reduced_matrix(const BoxDiscQP& qp, const std::vector<Direction>& d, Matrix& A) {
   using Scalar = typename Matrix::Scalar;
-  const int k = static_cast<int>(d.size());
+  const Eigen::MatrixXd& Q = *qp.Q;
+  std::vector<Direction> w = d;  // weights on Q's own entries
+  for (Direction& e : w) {
+    e.w_a *= qp.entry_factor(e.a);
+    if (e.b >= 0) e.w_b *= qp.entry_factor(e.b);
+  }
+  const int k = static_cast<int>(w.size());
   A.resize(k, k);
   for (int col = 0; col < k; ++col) {
-    const Direction& c = d[static_cast<std::size_t>(col)];
+    const Direction& c = w[static_cast<std::size_t>(col)];
     const double* qa = Q.col(c.a).data();
     const double* qb = c.b >= 0 ? Q.col(c.b).data() : nullptr;
     for (int row = col; row < k; ++row) {
-      const Direction& e = d[static_cast<std::size_t>(row)];
+      const Direction& e = w[static_cast<std::size_t>(row)];
       double v = c.w_a * (e.w_a * qa[e.a] + (e.b >= 0 ? e.w_b * qa[e.b] : 0.0));
       if (qb) v += c.w_b * (e.w_a * qb[e.a] + (e.b >= 0 ? e.w_b * qb[e.b] : 0.0));
       A(row, col) = static_cast<Scalar>(row == col ? v + c.shift : v);

@@ -27,12 +27,12 @@ RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd&
   }
   if (single_precision) {
     Eigen::MatrixXf A;
-    reduced_matrix(*qp.Q, step_.directions, A);
+    reduced_matrix(qp, step_.directions, A);
     single_factor_.emplace(std::move(A));
     ok_ = single_factor_->ok();
   } else {
     Eigen::MatrixXd A;
-    reduced_matrix(*qp.Q, step_.directions, A);
+    reduced_matrix(qp, step_.directions, A);
     factor_.emplace(std::move(A));
     ok_ = factor_->ok();
   }

@@ -64,7 +64,7 @@ bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d
 // caller then solves in double.
 bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products) {
   Eigen::MatrixXf A;
-  reduced_matrix(*qp.Q, d, A);
+  reduced_matrix(qp, d, A);
   const SingleCholesky chol(std::move(A));
   if (!chol.ok()) return false;
   return refine_in_double(
@@ -81,7 +81,7 @@ bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd
   if (k > 0 && !solve_reduced_bordered(qp, step.directions, y, products, flops) &&
       !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
     Eigen::MatrixXd A;
-    reduced_matrix(*qp.Q, step.directions, A);
+    reduced_matrix(qp, step.directions, A);
     const DenseCholesky chol(std::move(A));
     if (!chol.ok()) return false;
     y = chol.solve(y);

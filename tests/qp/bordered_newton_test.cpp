@@ -54,9 +54,9 @@ RandomQp few_point_discs(int r, unsigned seed, double shift = 0.05) {
 }
 
 // The reference: the reduced matrix factored in double.
-Eigen::VectorXd reduced_solve(const Eigen::MatrixXd& Q, const std::vector<Direction>& d, const Eigen::VectorXd& b) {
+Eigen::VectorXd reduced_solve(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b) {
   Eigen::MatrixXd A;
-  reduced_matrix(Q, d, A);
+  reduced_matrix(qp, d, A);
   const DenseCholesky chol(A);
   EXPECT_TRUE(chol.ok());
   return chol.solve(b);
@@ -98,7 +98,7 @@ TEST(BorderedNewton, SolvesTheReducedSystemOfEveryKindOfDirection) {
   ASSERT_GT(off, 3);
   ASSERT_GT(sliding, 3);
   const Eigen::VectorXd b = random_vector(static_cast<Eigen::Index>(step.directions.size()), 11);
-  const Eigen::VectorXd reference = reduced_solve(rq.Q, step.directions, b);
+  const Eigen::VectorXd reference = reduced_solve(rq.qp, step.directions, b);
 
   auto solver = make_bordered_newton(double_factor(rq.Q), Eigen::VectorXd::Ones(rq.qp.size()));
   ASSERT_TRUE(solver);
@@ -113,7 +113,7 @@ TEST(BorderedNewton, JacobiScaledProblemFromAFactorOfTheUnscaledQInSingle) {
   const BoxDiscQP& scaled = jacobi.scaled(rq.qp.radius);
   const ReducedStep step = split_active_sets(scaled, mostly_touching(scaled, 4), projection_scale(scaled));
   const Eigen::VectorXd b = random_vector(static_cast<Eigen::Index>(step.directions.size()), 12);
-  const Eigen::VectorXd reference = reduced_solve(*scaled.Q, step.directions, b);
+  const Eigen::VectorXd reference = reduced_solve(scaled, step.directions, b);
 
   auto in_double = make_bordered_newton(double_factor(rq.Q), jacobi.scale());
   ASSERT_TRUE(in_double && in_double->prepare(step.directions));
@@ -136,7 +136,7 @@ TEST(BorderedNewton, CarriesItsCacheFromOneActiveSetToTheNext) {
     const ReducedStep step = split_active_sets(rq.qp, mostly_touching(rq.qp, seed), rho);
     const Eigen::VectorXd b = random_vector(static_cast<Eigen::Index>(step.directions.size()), seed);
     ASSERT_TRUE(solver->prepare(step.directions));
-    EXPECT_LT((solver->solve(b) - reduced_solve(rq.Q, step.directions, b)).norm(), 1e-9 * b.norm());
+    EXPECT_LT((solver->solve(b) - reduced_solve(rq.qp, step.directions, b)).norm(), 1e-9 * b.norm());
     EXPECT_GE(solver->cached_units(), cached_before);
     if (seed == 5 && cached_before > 0) {
       EXPECT_EQ(solver->cached_units(), cached_before);  // the first active set again: nothing new to add
