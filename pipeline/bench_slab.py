@@ -144,7 +144,8 @@ def main():
          "`qp`: auto (the default: MPGP switching to semismooth Newton steps where slow), ssn (Newton, MPGP "
          "fallback), mpgp (the paper's algorithm on the Jacobi-scaled dual); `:double` = solver.qp_precision = double "
          "(the others use the default, single-precision products from 2000 multipliers on; `single` counts "
-         "them). Wall seconds, 2-core machine.\n",
+         "them; Newton steps solve through the stability check's factor of Q wherever that is cheaper than "
+         "factoring their reduced system, solver.qp_newton_systems = auto). Wall seconds, 2-core machine.\n",
          "| h | law | qp | n_p | multipliers | steps | QP it. | Newton | n_mult | single | factor. | Q | stability | "
          "dual solve | ratio | peak MiB | KKT max | status |",
          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
