@@ -75,3 +75,8 @@ if(TARGET contact3d-mpi AND MPIEXEC_EXECUTABLE)
   set_tests_properties(mpi_two_ranks_equal_serial PROPERTIES TIMEOUT 300
     ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
 endif()
+# The QP's Newton steps through the stability check's factor of Q (solver.qp_newton_systems = "auto")
+# give the answer of factoring each reduced system ("reduced"), and the default takes that route on a slab.
+add_test(NAME newton_steps_through_the_factor_of_Q_give_the_same_answer
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_newton_systems.py $<TARGET_FILE:contact3d>
+                 ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/newton-systems)

@@ -121,6 +121,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.value("n_mult", res.n_mult)
         .value("qp_iterations", res.qp_iterations)
         .value("qp_newton_steps", res.qp_newton_steps)
+        .value("qp_newton_steps_bordered", res.qp_bordered_newton_steps)
         .value("qp_single_products", res.qp_single_products);
     j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
     j.begin_object("backend").value("name", res.backend);

@@ -71,10 +71,11 @@ struct SolveResult {
   std::string status;            // "converged", "iteration_limit", "stagnation", ...
   FixedPointResult fixed_point;  // empty history when no fixed point was needed
   QpResult last_qp;
-  int n_mult = 0;              // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
-  int qp_iterations = 0;       // MPGP iterations and Newton steps of every QP solve
-  int qp_newton_steps = 0;     // of which semismooth Newton steps (each a dense Cholesky of the free size)
-  int qp_single_products = 0;  // products Q·v through the single-precision copy of Q (solver.qp_precision)
+  int n_mult = 0;                    // multiplications by K⁻¹ in the paper's sense (see DESIGN note in README)
+  int qp_iterations = 0;             // MPGP iterations and Newton steps of every QP solve
+  int qp_newton_steps = 0;           // of which semismooth Newton steps (each a dense Cholesky of the free size)
+  int qp_bordered_newton_steps = 0;  // of which solved through the factor of Q (solver.qp_newton_systems)
+  int qp_single_products = 0;        // products Q·v through the single-precision copy of Q (solver.qp_precision)
   KktResiduals kkt;
   // Coulomb: max_i |c_i − F̄_i(φ) λ_n,i| / max_i c_i for the final (λ, φ) — the fixed point's own
   // residual (of the order of fixed_point_tol), not part of kkt.max(); 0 for Tresca.

@@ -22,6 +22,7 @@ void add_work(QpResult& total, const QpResult& part) {
   total.expansion_steps += part.expansion_steps;
   total.proportioning_steps += part.proportioning_steps;
   total.newton_steps += part.newton_steps;
+  total.bordered_steps += part.bordered_steps;
   total.status = part.status;
   total.projected_gradient = part.projected_gradient;
 }

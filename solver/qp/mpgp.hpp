@@ -50,6 +50,7 @@ struct QpResult {
   int single_products = 0;   // of which through the single-precision copy of Q
   int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
   int newton_steps = 0;           // semismooth Newton steps (ssn.hpp, hybrid_qp.hpp; none in MPGP)
+  int bordered_steps = 0;         // of which solved through the factor of Q (bordered_newton.hpp)
   double projected_gradient = 0;  // final ‖gᴾ‖ / ‖h‖
 };
 

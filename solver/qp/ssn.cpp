@@ -74,12 +74,12 @@ bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& 
 // Solves the reduced system for λ⁺; false if its Cholesky factorization fails. `products` counts the
 // products by Q of a refinement, `flops` gets the step's factorization cost.
 bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new, int& products,
-                   double& flops) {
+                   double& flops, bool& bordered) {
   const int k = static_cast<int>(step.directions.size());
   flops = k * static_cast<double>(k) * k / 3.0;  // factoring the reduced matrix, unless the bordered route
   Eigen::VectorXd y = restrict_to(step.directions, qp.h - qp.apply(step.lambda_fixed));
-  if (k > 0 && !solve_reduced_bordered(qp, step.directions, y, products, flops) &&
-      !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
+  bordered = k > 0 && solve_reduced_bordered(qp, step.directions, y, products, flops);
+  if (k > 0 && !bordered && !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
     Eigen::MatrixXd A;
     reduced_matrix(qp, step.directions, A);
     const DenseCholesky chol(std::move(A));
@@ -152,7 +152,9 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     const ReducedStep step = split_active_sets(qp, z, rho);
     ++result.hessian_products;  // Q λ_fixed
     double flops = 0;
-    if (!newton_target(qp, step, target, result.hessian_products, flops)) break;  // hand over to MPGP
+    bool bordered = false;
+    if (!newton_target(qp, step, target, result.hessian_products, flops, bordered)) break;  // hand over to MPGP
+    result.bordered_steps += bordered;
     ++result.iterations;
     ++result.newton_steps;
     const Eigen::VectorXd delta = target - lambda;
@@ -193,10 +195,11 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   fallback.rtol = settings.rtol;
   fallback.max_iterations = settings.max_iterations;
   fallback.progress = settings.progress;
-  const int newton = result.iterations, products = result.hessian_products;
+  const int newton = result.iterations, products = result.hessian_products, bordered_steps = result.bordered_steps;
   result = solve_mpgp(qp, lambda, fallback);
   result.iterations += newton;
   result.newton_steps = newton;
+  result.bordered_steps = bordered_steps;
   result.hessian_products += products;
   return result;
 }

@@ -24,6 +24,8 @@ TEST(Scene, DefaultsAndOverrides) {
   EXPECT_TRUE(s.cell_size_relative);
   EXPECT_DOUBLE_EQ(s.cell_size, 2.0);
   EXPECT_EQ(s.solver.qp.scaling, QpScaling::Jacobi);
+  EXPECT_EQ(s.solver.qp.newton_systems, NewtonSystems::Auto);
+  EXPECT_EQ(parse({"solver.qp_newton_systems=\"reduced\""}).solver.qp.newton_systems, NewtonSystems::Reduced);
   EXPECT_FALSE(s.frictionless());
   EXPECT_TRUE(parse({"friction.law=\"none\""}).frictionless());
   EXPECT_TRUE(parse({"friction.law=\"constant\"", "friction.value=0"}).frictionless());
@@ -44,6 +46,7 @@ TEST(Scene, RefusesWhatMakesNoSense) {
   EXPECT_NE(error_of({"friction.slip_bound=-1"}).find("slip_bound"), std::string::npos);
   EXPECT_NE(error_of({"solver.qp_scaling=\"diagonal\""}).find("qp_scaling"), std::string::npos);
   EXPECT_NE(error_of({"solver.qp_precision=\"half\""}).find("qp_precision"), std::string::npos);
+  EXPECT_NE(error_of({"solver.qp_newton_systems=\"dense\""}).find("qp_newton_systems"), std::string::npos);
   EXPECT_NE(error_of({"mesh.n=65"}).find("mesh.n"), std::string::npos);
   EXPECT_NE(error_of({"frobnicate=1"}).find("frobnicate"), std::string::npos);
 }

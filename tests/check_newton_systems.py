@@ -1,0 +1,65 @@
+#!/usr/bin/python3
+"""The QP's Newton steps through the stability check's factor of Q (solver.qp_newton_systems = "auto",
+qp/bordered_newton.hpp) against factoring each reduced system ("reduced"), end to end: the thin slab at
+h = 0.035 (2523 multipliers, nearly all cells touching; at h = 0.05 the border is too large a share for
+the route to pay), with the default single-precision factor (refined in double) and with
+solver.qp_precision = "double" (a factor in double), under a slip-dependent law. Both routes must give
+the same contact displacements to the QP's accuracy (its tolerance is 1e-6 of ‖h‖: 1e-5 of max |u|
+allows for the two routes' different iteration paths, ten times below the fixed point's 1e-4) and the same number of
+fixed-point steps, and the default must have taken the bordered route (summary.json's
+qp_newton_steps_bordered > 0) while "reduced" never does.
+
+usage: check_newton_systems.py CONTACT3D SOURCE_DIR WORK_DIR
+"""
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+
+def solve(binary, source, out, sets):
+    args = [binary, "solve", str(Path(source) / "pipeline" / "scenes" / "slab.toml"), "--out", str(out), "--quiet"]
+    for s in ["mesh.parameters.h=0.035", 'contact.cell_size="2h"', "output.steps=final", 'friction.law="ramp"',
+              "friction.high=0.3", "friction.low=0.2", "friction.t0=2e-7", "friction.param=2e6", *sets]:
+        args += ["--set", s]
+    subprocess.run(args, check=True)
+    summary = json.loads((Path(out) / "summary.json").read_text())
+    with open(Path(out) / "contact_nodes.csv") as f:
+        u = {r["node"]: [float(r[k]) for k in ("u1", "u2", "u3")] for r in csv.DictReader(f)}
+    return summary, u
+
+
+def main():
+    binary, source, work = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+    failures = []
+    for precision in ["auto", "double"]:
+        runs = {}
+        for route in ["auto", "reduced"]:
+            runs[route] = solve(binary, source, work / f"{precision}_{route}",
+                                [f'solver.qp_precision="{precision}"', f'solver.qp_newton_systems="{route}"'])
+        (sa, ua), (sr, ur) = runs["auto"], runs["reduced"]
+        scale = max(max(abs(x) for x in v) for v in ur.values())
+        diff = max(abs(a - b) for n in ur for a, b in zip(ua[n], ur[n])) / scale
+        print(f"qp_precision={precision}: steps {sa['fixed_point_iterations']} / {sr['fixed_point_iterations']}, "
+              f"Newton steps {sa['qp_newton_steps']} ({sa['qp_newton_steps_bordered']} bordered) / "
+              f"{sr['qp_newton_steps']} ({sr['qp_newton_steps_bordered']}), largest u difference {diff:.1e} of max |u|")
+        if not (sa["converged"] and sr["converged"]):
+            failures.append(f"{precision}: a run did not converge")
+        if sa["fixed_point_iterations"] != sr["fixed_point_iterations"]:
+            failures.append(f"{precision}: fixed-point steps differ")
+        if sa["qp_newton_steps_bordered"] <= 0:
+            failures.append(f"{precision}: the default took no Newton step through the factor of Q")
+        if sr["qp_newton_steps_bordered"] != 0:
+            failures.append(f"{precision}: qp_newton_systems = reduced took the bordered route")
+        if not diff < 1e-5:
+            failures.append(f"{precision}: contact displacements differ by {diff:.1e}")
+    if failures:
+        print("FAILED:\n  " + "\n  ".join(failures))
+        return 1
+    print("ok: both routes give the same answer")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
