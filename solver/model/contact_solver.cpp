@@ -524,9 +524,8 @@ std::shared_ptr<const DualOperatorFactor> check_dual_stability(const DualProblem
                            "body thinner than a cell), so λ and the contact pressure are unreliable although the "
                            "residuals are small; use a larger contact.cell_size (H)");
   report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3));
-  if (!check.factor || qp.newton_systems != NewtonSystems::Auto || qp.variant == QpVariant::Mpgp ||
-      qp.variant == QpVariant::MpgpProjectedCG)
-    return nullptr;
+  const bool takes_newton_steps = qp.variant == QpVariant::Auto || qp.variant == QpVariant::Ssn;
+  if (!check.factor || qp.newton_systems != NewtonSystems::Auto || !takes_newton_steps) return nullptr;
   const double m = op.rows(), needed = dense_dual_bytes_per_entry(qp, op.rows()) * m * m + check.factor->bytes();
   const double available = static_cast<double>(available_memory_bytes());
   if (available > 0 && needed > 0.9 * available) return nullptr;

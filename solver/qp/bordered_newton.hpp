@@ -41,7 +41,7 @@ class BorderedNewton {
   virtual double prepare_flops() const = 0;
   // Whether solve() is accurate to double's rounding (a factor in double) and needs no refinement.
   virtual bool exact() const = 0;
-  // Unit vectors whose L⁻¹ e_i is cached (for tests and the progress of long runs).
+  // Unit vectors whose L⁻¹ e_i is cached (the tests check the cache with it).
   virtual int cached_units() const = 0;
 };
 

@@ -18,7 +18,7 @@ struct BoxDiscQP {
   // Optional diagonal scaling: the problem's operator is then S Q S, S = diag(scale) (the Jacobi
   // scaling, jacobi_scaling.hpp), applied in each product instead of stored as a second dense copy
   // (m² doubles: 800 MB at 10 000 multipliers). Empty: Q itself. Read Q through apply(),
-  // entry() and diagonal(), never directly.
+  // entry_factor() and diagonal(), never directly.
   Eigen::VectorXd scale;
   // Optional single-precision copy of Q (its lower triangle is read): products through it stream
   // half the bytes (BLAS ssymv, 1.8-2.7x faster than dsymv at 4800-14000 multipliers). MPGP uses it

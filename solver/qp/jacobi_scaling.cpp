@@ -14,21 +14,21 @@ double inverse_sqrt(double d) { return d > 0 ? 1.0 / std::sqrt(d) : 1.0; }
 JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp, bool estimate) : qp_(qp) {
   const Eigen::MatrixXd& Q = *qp.Q;
   const int r = qp.r;
-  s_.resize(qp.size());
-  for (int i = 0; i < r; ++i) s_[i] = inverse_sqrt(Q(i, i));
+  Eigen::VectorXd& s = qp_.scale;
+  s.resize(qp.size());
+  for (int i = 0; i < r; ++i) s[i] = inverse_sqrt(Q(i, i));
   if (qp.with_friction)
     for (int i = 0; i < r; ++i) {
       const int a = qp.layout().t1(i), b = qp.layout().t2(i);
-      s_[a] = s_[b] = inverse_sqrt(std::max(Q(a, a), Q(b, b)));
+      s[a] = s[b] = inverse_sqrt(std::max(Q(a, a), Q(b, b)));
     }
-  qp_.scale = s_;
-  qp_.h = s_.cwiseProduct(qp.h);
+  qp_.h = s.cwiseProduct(qp.h);
   qp_.q_norm =
       estimate ? 1.05 * estimate_norm(qp_.size(), [this](const Eigen::VectorXd& v) { return qp_.apply(v); }) : 0.0;
 }
 
 const BoxDiscQP& JacobiScaledQP::scaled(const Eigen::VectorXd& radius) {
-  if (qp_.with_friction) qp_.radius = radius.cwiseQuotient(s_.segment(qp_.r, qp_.r));
+  if (qp_.with_friction) qp_.radius = radius.cwiseQuotient(qp_.scale.segment(qp_.r, qp_.r));
   return qp_;
 }
 

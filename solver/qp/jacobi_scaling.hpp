@@ -20,13 +20,12 @@ class JacobiScaledQP {
   void set_norm(double q_norm) { qp_.q_norm = q_norm; }
   // The scaled problem for the current radii of the original one.
   const BoxDiscQP& scaled(const Eigen::VectorXd& radius);
-  Eigen::VectorXd to_scaled(const Eigen::VectorXd& lambda) const { return lambda.cwiseQuotient(s_); }
-  Eigen::VectorXd from_scaled(const Eigen::VectorXd& mu) const { return mu.cwiseProduct(s_); }
-  const Eigen::VectorXd& scale() const { return s_; }  // S
+  Eigen::VectorXd to_scaled(const Eigen::VectorXd& lambda) const { return lambda.cwiseQuotient(scale()); }
+  Eigen::VectorXd from_scaled(const Eigen::VectorXd& mu) const { return mu.cwiseProduct(scale()); }
+  const Eigen::VectorXd& scale() const { return qp_.scale; }  // S
 
  private:
-  Eigen::VectorXd s_;
-  BoxDiscQP qp_;  // the original Q with scale = s_
+  BoxDiscQP qp_;  // the original Q with scale = S
 };
 
 }  // namespace contact3d

@@ -17,6 +17,9 @@ double projected_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambd
   return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm());
 }
 
+// `flops` in products by the m x m Q (2m² flops each).
+double flops_in_products(double flops, int m) { return m > 0 ? flops / (2.0 * m * static_cast<double>(m)) : 0.0; }
+
 // Iterative refinement in double (each refinement one product by Q) of `approximate`, a solver of
 // the reduced system in single precision or through the bordered factor, until the residual is
 // kRefinedResidual of the right-hand side. False when it does not get there: the caller then takes
@@ -42,9 +45,8 @@ bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, cons
 }
 
 // The reduced system through the factor of the whole Q (bordered_newton.hpp), where that is cheaper
-// than factoring it (refined in double when the factor is single); `flops` gets that route's cost.
-bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products,
-                            double& flops) {
+// than factoring it (refined in double when the factor is single).
+bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products) {
   if (!qp.bordered || !qp.bordered->prepare(d)) return false;
   if (qp.bordered->exact()) {  // as accurate as a factorization of the reduced matrix in double
     const Eigen::VectorXd x = qp.bordered->solve(y);
@@ -54,7 +56,6 @@ bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d
                  qp, d, [&](const Eigen::VectorXd& v) { return qp.bordered->solve(v); }, y, products)) {
     return false;
   }
-  flops = qp.bordered->prepare_flops();
   return true;
 }
 
@@ -72,13 +73,14 @@ bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& 
 }
 
 // Solves the reduced system for λ⁺; false if its Cholesky factorization fails. `products` counts the
-// products by Q of a refinement, `flops` gets the step's factorization cost.
+// products by Q of a refinement; `cost` gets the step's factorization cost in products (newton_step_cost,
+// or the bordered route's flops), `bordered` whether it took that route.
 bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new, int& products,
-                   double& flops, bool& bordered) {
+                   double& cost, bool& bordered) {
   const int k = static_cast<int>(step.directions.size());
-  flops = k * static_cast<double>(k) * k / 3.0;  // factoring the reduced matrix, unless the bordered route
   Eigen::VectorXd y = restrict_to(step.directions, qp.h - qp.apply(step.lambda_fixed));
-  bordered = k > 0 && solve_reduced_bordered(qp, step.directions, y, products, flops);
+  bordered = k > 0 && solve_reduced_bordered(qp, step.directions, y, products);
+  cost = bordered ? flops_in_products(qp.bordered->prepare_flops(), qp.size()) : newton_step_cost(k, qp.size());
   if (k > 0 && !bordered && !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
     Eigen::MatrixXd A;
     reduced_matrix(qp, step.directions, A);
@@ -99,8 +101,6 @@ bool SlowNewtonSteps::record(double step_length, double F_before, double F_after
   took_full_step_ = took_full_step_ || full;
   return in_a_row_ >= 2;
 }
-
-double flops_in_products(double flops, int m) { return m > 0 ? flops / (2.0 * m * static_cast<double>(m)) : 0.0; }
 
 double newton_step_cost(int free_directions, int m) {
   const double k = free_directions;
@@ -151,9 +151,9 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
     const double F_before = F_norm;
     const ReducedStep step = split_active_sets(qp, z, rho);
     ++result.hessian_products;  // Q λ_fixed
-    double flops = 0;
+    double cost = 0;
     bool bordered = false;
-    if (!newton_target(qp, step, target, result.hessian_products, flops, bordered)) break;  // hand over to MPGP
+    if (!newton_target(qp, step, target, result.hessian_products, cost, bordered)) break;  // hand over to MPGP
     result.bordered_steps += bordered;
     ++result.iterations;
     ++result.newton_steps;
@@ -178,7 +178,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       }
     }
     if (!accepted) break;
-    const bool slow = slow_steps.record(t, F_before, F_norm, flops_in_products(flops, qp.size()));
+    const bool slow = slow_steps.record(t, F_before, F_norm, cost);
     if (settings.stop_when_linear && slow) {
       project(qp, lambda);  // a damped step may leave λ just off a circle
       result.status = QpStatus::IterationLimit;

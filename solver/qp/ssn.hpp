@@ -60,9 +60,6 @@ class SlowNewtonSteps {
 // The flops of a Newton step's factorization (k³/3 for k free directions) in products by the
 // m x m Q (2m² each): an upper estimate of its time (dpotrf runs nearer peak than a product).
 double newton_step_cost(int free_directions, int m);
-// `flops` in products by the m x m Q (2m² flops each): the cost of a step that took the bordered
-// route (bordered_newton.hpp).
-double flops_in_products(double flops, int m);
 
 // Warm start from `lambda`; on return it holds the (feasible) solution. iterations counts
 // Newton steps (+ MPGP iterations of a fallback); hessian_products counts products Q·v.
