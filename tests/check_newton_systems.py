@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """The QP's Newton steps through the stability check's factor of Q (solver.qp_newton_systems = "auto",
 qp/bordered_newton.hpp) against factoring each reduced system ("reduced"), end to end: the thin slab at
-h = 0.035 (2523 multipliers, nearly all cells touching; at h = 0.05 the border is too large a share for
-the route to pay), with the default single-precision factor (refined in double) and with
+h = 0.03 (3468 multipliers, nearly all cells touching; at h = 0.035 and 0.05 the border is too large a
+share for the route to pay once MPGP hands over to Newton steps after windows of 25 iterations), with the default single-precision factor (refined in double) and with
 solver.qp_precision = "double" (a factor in double), under a slip-dependent law. Both routes must give
 the same contact displacements to the QP's accuracy (its tolerance is 1e-6 of ‖h‖: 1e-5 of max |u|
 allows for the two routes' different iteration paths, ten times below the fixed point's 1e-4) and the same number of
@@ -20,7 +20,7 @@ from pathlib import Path
 
 def solve(binary, source, out, sets):
     args = [binary, "solve", str(Path(source) / "pipeline" / "scenes" / "slab.toml"), "--out", str(out), "--quiet"]
-    for s in ["mesh.parameters.h=0.035", 'contact.cell_size="2h"', "output.steps=final", 'friction.law="ramp"',
+    for s in ["mesh.parameters.h=0.03", 'contact.cell_size="2h"', "output.steps=final", 'friction.law="ramp"',
               "friction.high=0.3", "friction.low=0.2", "friction.t0=2e-7", "friction.param=2e6", *sets]:
         args += ["--set", s]
     subprocess.run(args, check=True)

@@ -37,7 +37,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
   }
   const int m = qp.size();
   const double h_norm = qp.h.norm();
-  const int window = settings.window > 0 ? settings.window : std::max(50, m / 128);
+  const int window = settings.window > 0 ? settings.window : std::max(25, m / 256);
   double pg_before = relative_projected_gradient(qp, lambda, h_norm);
   ++total.hessian_products;
   int newton_rounds = 0;

@@ -4,10 +4,14 @@
 // contact, half lifting off). A Newton step costs one dense Cholesky factorization of the free
 // size (about m/14 products at m = 4800) and moves whole regions between the active sets at once,
 // but settles the last degenerate cells (λ and the gap both ~0) one ring per step. So:
-//   1. MPGP in windows of max(50, m/128) iterations while each window cuts ‖gᴾ‖ at least tenfold
-//      (m/16 until 2026-11-25: windows that long let MPGP crawl through hundreds of expansions before
-//      a Newton step; the shorter ones cut the slab's dual solve by 12-50% at 2523-10092 multipliers
-//      and the brick's products at n = 24 and 32, results/bench/slab.md);
+//   1. MPGP in windows of max(25, m/256) iterations while each window cuts ‖gᴾ‖ at least tenfold
+//      (m/16 until 2026-11-25, max(50, m/128) until 2026-11-27: long windows let MPGP crawl through
+//      expansions that a Newton step makes at once. Once Newton steps went through the factor of Q
+//      (bordered_newton.hpp) they were cheap enough for shorter windows: the paper's brick 707 / 748 /
+//      807 -> 410 / 425 / 545 products at n = 16 / 24 / 32 in the same time, the slab's dual solve at
+//      10 092 multipliers 11.5 -> 7.9 s (constant law) and 31 -> 23 s (ramp law). Shorter still (25
+//      at 10 092) starts Newton steps while many cells are still changing set, whose updates of the
+//      factor's border then cost more than the MPGP iterations saved: 24-28 s there, ramp law);
 //   2. otherwise Newton steps (ssn.hpp) until they converge or stop paying (SlowNewtonSteps: two
 //      steps in a row that do not halve ‖F‖, full ones, or after a full one damped ones that cost
 //      more than a window; until 2026-11-26 only full steps counted, and on the slab at 10 092
@@ -28,7 +32,7 @@ struct HybridSettings {
   double rtol = 1e-6;            // same criterion as MpgpSettings::rtol
   int max_iterations = 100000;   // MPGP iterations + Newton steps
   int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before MPGP alone
-  int window = 0;                // MPGP iterations per window (0: max(50, m/128))
+  int window = 0;                // MPGP iterations per window (0: max(25, m/256))
   Progress* progress = nullptr;  // heartbeat (none: silent)
 };
 
