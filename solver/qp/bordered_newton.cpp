@@ -73,6 +73,7 @@ class BorderedNewtonWith final : public BorderedNewton {
   }
 
   bool prepare(const std::vector<Direction>& d) override {
+    ++preparations_;
     if (!collect_borders(d)) return false;
     const std::vector<int> units = units_of_borders();
     int fresh = 0;
@@ -125,6 +126,7 @@ class BorderedNewtonWith final : public BorderedNewton {
 
   double prepare_flops() const override { return prepare_flops_; }
   int cached_units() const override { return cached(); }
+  long preparations() const override { return preparations_; }
   bool exact() const override { return std::is_same_v<T, double>; }
 
  private:
@@ -221,6 +223,7 @@ class BorderedNewtonWith final : public BorderedNewton {
   std::vector<Direction> directions_;
   std::optional<DenseCholesky> border_factor_;
   double prepare_flops_ = 0;
+  long preparations_ = 0;
 };
 
 }  // namespace

@@ -43,6 +43,9 @@ class BorderedNewton {
   virtual bool exact() const = 0;
   // Unit vectors whose L⁻¹ e_i is cached (the tests check the cache with it).
   virtual int cached_units() const = 0;
+  // Calls of prepare() so far, successful or not: a holder of a prepared system (the QP's Newton
+  // step, RadiusSensitivity) whose count has moved on must prepare it again before solve().
+  virtual long preparations() const = 0;
 };
 
 // For the QP on S Q S (S = diag(scale): the Jacobi scaling, jacobi_scaling.hpp; ones for the plain

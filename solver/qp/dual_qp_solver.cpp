@@ -35,14 +35,25 @@ DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, i
                                      jacobi_ ? jacobi_->scale() : Eigen::VectorXd(Eigen::VectorXd::Ones(qp_.size())));
 }
 
-QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
-  if (qp_.with_friction) qp_.radius = radius;
+BoxDiscQP DualQpSolver::solved_problem() {
   BoxDiscQP problem = jacobi_ ? jacobi_->scaled(qp_.radius) : qp_;
   if (q_single_.size() > 0) {
     problem.Q_single = &q_single_;
     problem.single_scale = single_scale_;
   }
   problem.bordered = bordered_.get();
+  return problem;
+}
+
+RadiusSensitivity DualQpSolver::radius_sensitivity(const Eigen::VectorXd& lambda) {
+  const bool single = uses_single_products(settings_.precision, qp_.size());
+  if (!jacobi_) return {solved_problem(), lambda, single};
+  return {solved_problem(), jacobi_->to_scaled(lambda), single, jacobi_->scale()};
+}
+
+QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
+  if (qp_.with_friction) qp_.radius = radius;
+  const BoxDiscQP problem = solved_problem();
   Eigen::VectorXd x = jacobi_ ? jacobi_->to_scaled(lambda) : lambda;
   QpResult result;
   if (progress_) progress_->restart();

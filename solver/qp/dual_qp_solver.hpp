@@ -63,15 +63,18 @@ class DualQpSolver {
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
   // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
-  // dλ/dc at `lambda`, the solution of the last solve(), in the original variables (valid until the
-  // next solve(): it reads the radii of this one).
-  RadiusSensitivity radius_sensitivity(const Eigen::VectorXd& lambda) const {
-    return {qp_, lambda, uses_single_products(settings_.precision, qp_.size())};
-  }
+  // dλ/dc at `lambda`, the solution of the last solve(), in the original variables, computed on the
+  // problem that solve() solved (Jacobi-scaled or not; through the factor of Q where the Newton steps
+  // go through it). It holds the radii of this solve and must not outlive the solver.
+  RadiusSensitivity radius_sensitivity(const Eigen::VectorXd& lambda);
   // Heartbeat lines of long solves go to `progress` (must outlive the solver; null: none).
   void report_progress_to(Progress* progress) { progress_ = progress; }
 
  private:
+  // The problem the solvers work on for the current radii: Jacobi-scaled or not, with the single
+  // copy of Q and the bordered Newton solver attached.
+  BoxDiscQP solved_problem();
+
   BoxDiscQP qp_;
   std::optional<JacobiScaledQP> jacobi_;
   Eigen::MatrixXf q_single_;  // lower triangle of the solved (scaled) Q / ‖Q‖ (empty: double products)

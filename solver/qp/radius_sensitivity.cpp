@@ -4,18 +4,21 @@
 #include <cmath>
 #include <utility>
 
+#include "qp/bordered_newton.hpp"
+
 namespace contact3d {
 
-RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, bool single_precision)
-    : qp_(qp), nu_(Eigen::VectorXd::Zero(qp.size())) {
+RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& solution, bool single_precision,
+                                     const Eigen::VectorXd& scale)
+    : qp_(qp), scale_(scale), single_precision_(single_precision), nu_(Eigen::VectorXd::Zero(qp.size())) {
   // The active sets of z = λ − ρ g, with the semismooth Newton solver's ρ.
-  const double rho = projection_scale(qp);
-  const Eigen::VectorXd z = lambda - rho * (qp.apply(lambda) - qp.h);
-  step_ = split_active_sets(qp, z, rho);
-  if (qp.with_friction)
-    for (int i = 0; i < qp.r; ++i) {
-      const int a = qp.layout().t1(i), b = qp.layout().t2(i);
-      const double c = qp.radius[i];
+  const double rho = projection_scale(qp_);
+  const Eigen::VectorXd z = solution - rho * (qp_.apply(solution) - qp_.h);
+  step_ = split_active_sets(qp_, z, rho);
+  if (qp_.with_friction)
+    for (int i = 0; i < qp_.r; ++i) {
+      const int a = qp_.layout().t1(i), b = qp_.layout().t2(i);
+      const double c = qp_.radius[i];
       if (c > 0 && (step_.lambda_fixed[a] != 0 || step_.lambda_fixed[b] != 0)) {
         nu_[a] = step_.lambda_fixed[a] / c;
         nu_[b] = step_.lambda_fixed[b] / c;
@@ -25,25 +28,52 @@ RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd&
     ok_ = true;
     return;
   }
-  if (single_precision) {
-    Eigen::MatrixXf A;
-    reduced_matrix(qp, step_.directions, A);
-    single_factor_.emplace(std::move(A));
-    ok_ = single_factor_->ok();
-  } else {
-    Eigen::MatrixXd A;
-    reduced_matrix(qp, step_.directions, A);
-    factor_.emplace(std::move(A));
-    ok_ = factor_->ok();
+  if (qp_.bordered && qp_.bordered->prepare(step_.directions)) {
+    bordered_preparation_ = qp_.bordered->preparations();
+    ok_ = true;
+    return;
   }
+  ok_ = factor_reduced_matrix();
+}
+
+bool RadiusSensitivity::factor_reduced_matrix() const {
+  if (single_precision_) {
+    Eigen::MatrixXf A;
+    reduced_matrix(qp_, step_.directions, A);
+    single_factor_.emplace(std::move(A));
+    return single_factor_->ok();
+  }
+  Eigen::MatrixXd A;
+  reduced_matrix(qp_, step_.directions, A);
+  factor_.emplace(std::move(A));
+  return factor_->ok();
+}
+
+// Whether our system is still the one the bordered solver holds; a QP solve in between (the
+// derivative is asked for after the next evaluation) re-prepares it, and a failure there falls back
+// to factoring the reduced matrix.
+bool RadiusSensitivity::bordered_ready() const {
+  if (bordered_preparation_ < 0) return false;
+  if (qp_.bordered->preparations() == bordered_preparation_) return true;
+  if (qp_.bordered->prepare(step_.directions)) {
+    bordered_preparation_ = qp_.bordered->preparations();
+    return true;
+  }
+  bordered_preparation_ = -1;
+  ok_ = factor_reduced_matrix();
+  return false;
 }
 
 // One solve and one step of refinement in double (one product by Q).
-Eigen::VectorXd RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b) const {
-  auto solve = [&](const Eigen::VectorXd& rhs) { return factor_ ? factor_->solve(rhs) : single_factor_->solve(rhs); };
-  Eigen::VectorXd y = solve(b);
+bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y) const {
+  const bool bordered = bordered_ready();
+  if (!ok_) return false;
+  auto solve = [&](const Eigen::VectorXd& rhs) {
+    return bordered ? qp_.bordered->solve(rhs) : factor_ ? factor_->solve(rhs) : single_factor_->solve(rhs);
+  };
+  y = solve(b);
   y += solve(b - reduced_product(qp_, step_.directions, y));
-  return y;
+  return true;
 }
 
 Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) const {
@@ -51,12 +81,17 @@ Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) const {
   if (!ok_ || !qp_.with_friction) return dlambda;
   for (int i = 0; i < qp_.r; ++i) {
     const int a = qp_.layout().t1(i), b = qp_.layout().t2(i);
-    dlambda[a] = dc[i] * nu_[a];
-    dlambda[b] = dc[i] * nu_[b];
+    const double dc_i = scale_.size() ? dc[i] / scale_[a] : dc[i];  // the scaled radius is c / s_t
+    dlambda[a] = dc_i * nu_[a];
+    dlambda[b] = dc_i * nu_[b];
   }
-  if (step_.directions.empty()) return dlambda;
-  const Eigen::VectorXd dy = solve_reduced(-restrict_to(step_.directions, qp_.apply(dlambda)));
-  return dlambda + prolong(step_.directions, dy, qp_.size());
+  if (!step_.directions.empty()) {
+    Eigen::VectorXd dy;
+    if (!solve_reduced(-restrict_to(step_.directions, qp_.apply(dlambda)), dy))
+      return Eigen::VectorXd::Zero(qp_.size());
+    dlambda += prolong(step_.directions, dy, qp_.size());
+  }
+  return scale_.size() ? Eigen::VectorXd(dlambda.cwiseProduct(scale_)) : dlambda;
 }
 
 }  // namespace contact3d

@@ -4,11 +4,15 @@
 // reduced form of newton_system.hpp:
 //   dλ = dλ_fixed + D dy,   dλ_fixed = dc_i ν_i on each sliding disc,
 //   (Dᵀ Q D + diag(shift)) dy = −Dᵀ Q dλ_fixed.
-// The matrix is factored once per solution (dense Cholesky of the free size, in single precision
-// where the QP's products are: half the memory, as the QP's own Newton steps); each apply() is then
-// two products by Q (the right-hand side and one step of refinement in double) and four triangular
-// solves. The fixed point's Newton steps use it (friction/tresca_step.hpp): the derivative of
-// G(φ) = slip(λ(c(φ))).
+// The reduced system is solved once per solution's active sets: through the factor of the whole Q
+// that the QP's Newton steps use (qp.bordered, bordered_newton.hpp) where that is cheaper, else by a
+// dense Cholesky factorization of the free size (in single precision where the QP's products are:
+// half the memory, as the QP's own Newton steps). Each apply() is then two products by Q (the
+// right-hand side and one step of refinement in double) and the triangular solves. The fixed point's
+// Newton steps use it (friction/tresca_step.hpp): the derivative of G(φ) = slip(λ(c(φ))).
+//
+// The problem may be a Jacobi-scaled one (jacobi_scaling.hpp: λ = S μ, radii c / s_t): `scale` = S
+// then maps its answers back, so that apply() takes and returns the original variables.
 #pragma once
 
 #include <optional>
@@ -25,22 +29,35 @@ class RadiusSensitivity {
  public:
   static constexpr int kProductsPerApply = 2;  // products by Q of one apply()
 
-  // `qp` (with the radii λ solves) must outlive this object; λ a (converged) solution.
-  RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, bool single_precision);
+  // `qp` is the problem λ (or μ = S⁻¹λ) solves, copied (its Q, and its bordered solver if any, must
+  // outlive this object); `solution` a (converged) solution of it; `scale` = S when `qp` is the
+  // Jacobi-scaled problem of the original one (empty: `qp` is the original).
+  RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& solution, bool single_precision,
+                    const Eigen::VectorXd& scale = {});
   // False when the reduced matrix is not numerically positive definite (then apply() returns 0).
   bool ok() const { return ok_; }
-  // dλ for a change dc of the radii (size r).
+  // Whether the reduced system goes through the factor of the whole Q (qp.bordered).
+  bool through_factor_of_Q() const { return bordered_preparation_ >= 0; }
+  // dλ for a change dc of the radii (size r), in the original variables.
   Eigen::VectorXd apply(const Eigen::VectorXd& dc) const;
 
  private:
-  Eigen::VectorXd solve_reduced(const Eigen::VectorXd& b) const;
+  bool factor_reduced_matrix() const;
+  bool bordered_ready() const;
+  // False when no route is left (the lazily made factor failed).
+  bool solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y) const;
 
-  const BoxDiscQP& qp_;
+  BoxDiscQP qp_;
+  Eigen::VectorXd scale_;  // S (empty: none)
+  bool single_precision_;
   ReducedStep step_;
   Eigen::VectorXd nu_;  // the sliding direction ν_i of each sliding disc (at t1, t2), 0 elsewhere
-  std::optional<DenseCholesky> factor_;
-  std::optional<SingleCholesky> single_factor_;
-  bool ok_ = false;
+  // qp_.bordered->preparations() after preparing ours (−1: not that route); the factors below are
+  // made lazily should the bordered route be lost.
+  mutable long bordered_preparation_ = -1;
+  mutable std::optional<DenseCholesky> factor_;
+  mutable std::optional<SingleCholesky> single_factor_;
+  mutable bool ok_ = false;
 };
 
 }  // namespace contact3d

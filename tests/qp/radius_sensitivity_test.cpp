@@ -1,12 +1,20 @@
 // RadiusSensitivity: dλ/dc at a solution of the dual QP equals the difference quotient of the
 // solutions themselves, (λ(c + t dc) − λ(c − t dc)) / 2t, on random QPs with sticking, sliding and
-// lifted-off cells, in double and in single precision (refined); and a change of a sticking disc's
-// radius does not move λ.
+// lifted-off cells, in double and in single precision (refined); a change of a sticking disc's
+// radius does not move λ; and the same dλ/dc from the Jacobi-scaled problem through the factor of
+// the whole Q (bordered_newton.hpp), in double and in single, also after the bordered solver was
+// prepared for another system in between.
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include <Eigen/Dense>
 
+#include "linalg/dense_cholesky.hpp"
 #include "linalg/dual_operator.hpp"
+#include "linalg/symmetric_product.hpp"
+#include "qp/bordered_newton.hpp"
+#include "qp/jacobi_scaling.hpp"
 #include "qp/mpgp.hpp"
 #include "qp/radius_sensitivity.hpp"
 #include "test_support.hpp"
@@ -77,4 +85,68 @@ TEST(RadiusSensitivity, StickingDiscsDoNotMove) {
   const RadiusSensitivity sensitivity(a.qp, lambda, false);
   ASSERT_TRUE(sensitivity.ok());
   EXPECT_LE(sensitivity.apply(Eigen::VectorXd::Ones(1)).norm(), 1e-12);
+}
+
+namespace {
+
+// A QP whose solution has every cell in contact and most discs sticking: h = Q λ* for a λ* with
+// positive normals and small tangents, and radii below ‖λ*_t‖ on every `sliding_every`-th cell,
+// so that the border of the reduced system is small and the bordered route pays.
+RandomQp mostly_sticking(int r, unsigned seed, int sliding_every) {
+  RandomQp a = make_random_qp(r, true, seed);
+  std::mt19937 gen(seed + 100);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  Eigen::VectorXd target(a.qp.size());
+  for (int i = 0; i < r; ++i) {
+    const int t1 = a.qp.layout().t1(i), t2 = a.qp.layout().t2(i);
+    target[i] = 1 + uniform(gen);
+    target[t1] = 0.2 * (uniform(gen) - 0.5);
+    target[t2] = 0.2 * (uniform(gen) - 0.5);
+    const double size = std::hypot(target[t1], target[t2]);
+    a.qp.radius[i] = i % sliding_every == 0 ? 0.5 * size : 10.0;
+  }
+  a.qp.h = a.Q * target;
+  return a;
+}
+
+std::shared_ptr<DualOperatorFactor> factor_of(const Eigen::MatrixXd& Q, bool in_single, double q_norm) {
+  auto f = std::make_shared<DualOperatorFactor>();
+  if (in_single) {
+    f->in_single.emplace(lower_triangle_in_single(Q, q_norm));
+    f->scale = q_norm;
+  } else {
+    f->in_double.emplace(Q);
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST(RadiusSensitivity, ThroughTheFactorOfQOnTheJacobiScaledProblem) {
+  for (bool single : {false, true}) {
+    RandomQp a = mostly_sticking(60, 21, 7);
+    a.use_operator();
+    const Eigen::VectorXd lambda = solve_tightly(a.qp, Eigen::VectorXd());
+    const Eigen::VectorXd dc = Eigen::VectorXd::LinSpaced(a.qp.r, 1.0, -0.5);
+    const Eigen::VectorXd reference = RadiusSensitivity(a.qp, lambda, false).apply(dc);
+    ASSERT_GT(reference.norm(), 0);
+
+    JacobiScaledQP jacobi(a.qp);
+    BoxDiscQP scaled = jacobi.scaled(a.qp.radius);
+    auto bordered = make_bordered_newton(factor_of(a.Q, single, a.qp.q_norm), jacobi.scale());
+    ASSERT_TRUE(bordered);
+    scaled.bordered = bordered.get();
+    const RadiusSensitivity sensitivity(scaled, jacobi.to_scaled(lambda), single, jacobi.scale());
+    ASSERT_TRUE(sensitivity.ok());
+    EXPECT_TRUE(sensitivity.through_factor_of_Q());
+    const double tol = (single ? 1e-6 : 1e-9) * reference.norm();
+    EXPECT_LE((sensitivity.apply(dc) - reference).norm(), tol) << (single ? "single" : "double");
+
+    // The QP's next Newton step prepares the bordered solver for its own system: the sensitivity
+    // must notice and prepare its own again.
+    std::vector<Direction> other;
+    for (int i = 0; i < scaled.size(); ++i) other.push_back({i, -1, 1.0, 0.0, 0.0});
+    ASSERT_TRUE(bordered->prepare(other));
+    EXPECT_LE((sensitivity.apply(dc) - reference).norm(), tol) << (single ? "single" : "double") << ", re-prepared";
+  }
 }
