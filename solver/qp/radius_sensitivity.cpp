@@ -76,6 +76,7 @@ bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd&
   return true;
 }
 
+// dλ in the problem's variables (dμ of the scaled problem, its radii c / s_t), then mapped back.
 Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) const {
   Eigen::VectorXd dlambda = Eigen::VectorXd::Zero(qp_.size());
   if (!ok_ || !qp_.with_friction) return dlambda;
