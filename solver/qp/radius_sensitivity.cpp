@@ -36,7 +36,7 @@ RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd&
   ok_ = factor_reduced_matrix();
 }
 
-bool RadiusSensitivity::factor_reduced_matrix() const {
+bool RadiusSensitivity::factor_reduced_matrix() {
   if (single_precision_) {
     Eigen::MatrixXf A;
     reduced_matrix(qp_, step_.directions, A);
@@ -52,7 +52,7 @@ bool RadiusSensitivity::factor_reduced_matrix() const {
 // Whether our system is still the one the bordered solver holds; a QP solve in between (the
 // derivative is asked for after the next evaluation) re-prepares it, and a failure there falls back
 // to factoring the reduced matrix.
-bool RadiusSensitivity::bordered_ready() const {
+bool RadiusSensitivity::bordered_ready() {
   if (bordered_preparation_ < 0) return false;
   if (qp_.bordered->preparations() == bordered_preparation_) return true;
   if (qp_.bordered->prepare(step_.directions)) {
@@ -65,7 +65,7 @@ bool RadiusSensitivity::bordered_ready() const {
 }
 
 // One solve and one step of refinement in double (one product by Q).
-bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y) const {
+bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y) {
   const bool bordered = bordered_ready();
   if (!ok_) return false;
   auto solve = [&](const Eigen::VectorXd& rhs) {
@@ -77,7 +77,7 @@ bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd&
 }
 
 // dλ in the problem's variables (dμ of the scaled problem, its radii c / s_t), then mapped back.
-Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) const {
+Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) {
   Eigen::VectorXd dlambda = Eigen::VectorXd::Zero(qp_.size());
   if (!ok_ || !qp_.with_friction) return dlambda;
   for (int i = 0; i < qp_.r; ++i) {

@@ -38,14 +38,16 @@ class RadiusSensitivity {
   bool ok() const { return ok_; }
   // Whether the reduced system goes through the factor of the whole Q (qp.bordered).
   bool through_factor_of_Q() const { return bordered_preparation_ >= 0; }
-  // dλ for a change dc of the radii (size r), in the original variables.
-  Eigen::VectorXd apply(const Eigen::VectorXd& dc) const;
+  // dλ for a change dc of the radii (size r), in the original variables. Not const: should the
+  // bordered solver have been prepared for another system since, it prepares ours again (or, failing
+  // that, factors the reduced matrix).
+  Eigen::VectorXd apply(const Eigen::VectorXd& dc);
 
  private:
-  bool factor_reduced_matrix() const;
-  bool bordered_ready() const;
+  bool factor_reduced_matrix();
+  bool bordered_ready();
   // False when no route is left (the lazily made factor failed).
-  bool solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y) const;
+  bool solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y);
 
   BoxDiscQP qp_;
   Eigen::VectorXd scale_;  // S (empty: none)
@@ -54,10 +56,10 @@ class RadiusSensitivity {
   Eigen::VectorXd nu_;  // the sliding direction ν_i of each sliding disc (at t1, t2), 0 elsewhere
   // qp_.bordered->preparations() after preparing ours (−1: not that route); the factors below are
   // made lazily should the bordered route be lost.
-  mutable long bordered_preparation_ = -1;
-  mutable std::optional<DenseCholesky> factor_;
-  mutable std::optional<SingleCholesky> single_factor_;
-  mutable bool ok_ = false;
+  long bordered_preparation_ = -1;
+  std::optional<DenseCholesky> factor_;
+  std::optional<SingleCholesky> single_factor_;
+  bool ok_ = false;
 };
 
 }  // namespace contact3d

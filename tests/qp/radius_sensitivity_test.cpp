@@ -50,7 +50,7 @@ Comparison compare(unsigned seed, bool single_precision) {
     out.sliding +=
         std::abs(std::hypot(lambda[a.qp.layout().t1(i)], lambda[a.qp.layout().t2(i)]) - a.qp.radius[i]) < 1e-9;
   const Eigen::VectorXd dc = Eigen::VectorXd::LinSpaced(a.qp.r, 1.0, -0.5);
-  const RadiusSensitivity sensitivity(a.qp, lambda, single_precision);
+  RadiusSensitivity sensitivity(a.qp, lambda, single_precision);
   EXPECT_TRUE(sensitivity.ok());
   const Eigen::VectorXd derivative = sensitivity.apply(dc);
   const double t = 1e-6;
@@ -82,7 +82,7 @@ TEST(RadiusSensitivity, StickingDiscsDoNotMove) {
   a.use_operator();
   a.qp.radius[0] = 1e6;
   const Eigen::VectorXd lambda = solve_tightly(a.qp, Eigen::VectorXd());
-  const RadiusSensitivity sensitivity(a.qp, lambda, false);
+  RadiusSensitivity sensitivity(a.qp, lambda, false);
   ASSERT_TRUE(sensitivity.ok());
   EXPECT_LE(sensitivity.apply(Eigen::VectorXd::Ones(1)).norm(), 1e-12);
 }
@@ -136,7 +136,7 @@ TEST(RadiusSensitivity, ThroughTheFactorOfQOnTheJacobiScaledProblem) {
     auto bordered = make_bordered_newton(factor_of(a.Q, single, a.qp.q_norm), jacobi.scale());
     ASSERT_TRUE(bordered);
     scaled.bordered = bordered.get();
-    const RadiusSensitivity sensitivity(scaled, jacobi.to_scaled(lambda), single, jacobi.scale());
+    RadiusSensitivity sensitivity(scaled, jacobi.to_scaled(lambda), single, jacobi.scale());
     ASSERT_TRUE(sensitivity.ok());
     EXPECT_TRUE(sensitivity.through_factor_of_Q());
     const double tol = (single ? 1e-6 : 1e-9) * reference.norm();
