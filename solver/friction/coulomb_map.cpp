@@ -35,7 +35,8 @@ SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rt
   else
     next << eval.slip / phi_scale_, pressure / g_scale_;
   eval.slip = std::move(next);
-  // The derivative of the scaled map, from the second solve on (the first one's slip is not fed back).
+  // The derivative and the prediction of the scaled map, from the second solve on (the first one's
+  // slip is not fed back).
   if (eval.ok && !first) {
     eval.derivative = [this, s_phi, s_g](const Eigen::VectorXd& v) {
       const TrescaStep::Derivative d = tresca_.derivative(s_phi * v.head(n_nodes_), s_g * v.tail(n_cells_));
@@ -44,6 +45,13 @@ SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rt
       return out;
     };
     eval.products_per_derivative = TrescaStep::kDerivativeProducts;
+    eval.predict = [this, s_phi, s_g](const Eigen::VectorXd& x) {
+      const TrescaStep::Derivative p = tresca_.predict(s_phi * x.head(n_nodes_), s_g * x.tail(n_cells_));
+      if (p.slip.size() == 0) return Eigen::VectorXd();
+      Eigen::VectorXd out(size());
+      out << p.slip / phi_scale_, p.normal_pressure / g_scale_;
+      return out;
+    };
   }
   return eval;
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <deque>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -209,6 +210,44 @@ class GuardedUpdate {
   int failures_ = 0, raises_ = 0;
 };
 
+// Predicted steps are judged over a few steps, not one by one: where nodes cross a jump of the law,
+// err may rise for a step or two while the crossing settles (the slab with a jump law: err 0.16,
+// then 0.31, 0.26, 0.078, 4.8e-3, 5e-6 by predicted steps; rejecting the rise as for a Newton step
+// cost it 9 steps more). They go on while one in kPatience of them cuts the run's best err by 30%;
+// a prediction that cycles (the slab with a steep law: err 0.021, 0.028, 0.021, 0.028, ...) fails,
+// and so does one whose own iterations do not converge. After a failure the next step is the
+// relaxation's; after two the run goes on without predictions.
+class PredictionGuard {
+ public:
+  // After each step, before take().
+  void observe(const FixedPointStep& step) {
+    if (step.update == FixedPointUpdate::Predicted && failures_ < kMaxFailures) {
+      if (step.err < 0.7 * best_)
+        misses_ = 0;
+      else if (++misses_ >= kPatience)
+        fail();
+    }
+    best_ = std::min(best_, step.err);
+  }
+  // Whether the next step may be a predicted one.
+  bool take() {
+    const bool paused = paused_;
+    paused_ = false;
+    return failures_ < kMaxFailures && !paused;
+  }
+  void fail() {  // also for a prediction whose iterations did not converge
+    ++failures_;
+    misses_ = 0;
+    paused_ = true;
+  }
+
+ private:
+  static constexpr int kPatience = 3, kMaxFailures = 2;
+  double best_ = INFINITY;
+  int misses_ = 0, failures_ = 0;
+  bool paused_ = false;
+};
+
 // Tail steps (Newton or mixed, together) that may raise err before the run relaxes for good. Where
 // both kinds raise err, the map is not near a linearization its iterates could fit — on a law with a
 // jump, nodes cross the jump back and forth — and every further try costs a rejected step and a
@@ -220,6 +259,33 @@ constexpr int kMaxTailRaises = 2;
 // converges gradually solves its last step to qp_rtol_per_err · err(k−1) with err(k−1) <= 100 tol (the
 // paper's brick: 5e-10 against 1e-10); one that jumps to convergence from a larger err repeats it.
 constexpr double kFinalStepSlack = 100;
+
+// A predicted step: the fixed point of G's prediction P (SlipEvaluation::predict: the last solve's
+// answer moved along its sensitivity to the radii, the law itself exact), by successive
+// approximations y ← P(y) from y = G(x) until a change is at most `target`; none when they do not get
+// there within kMaxPredictions (P does not contract: a law too steep for them, or an active set
+// that P cannot follow). `predictions` counts the P evaluations; `rate` is the ratio of the last
+// two changes, P's contraction where its iterations end (NaN after one), an estimate of G's there. Where a slip front
+// spreads node by node, or nodes cross a jump of the law and push their neighbours across, P's iterations carry the
+// cascade that G's steps would take one solve each for: the slab with a jump law (Coulomb, h = 0.06)
+// crept 20 relaxed steps with err between 5e-4 and 1e-2 and took 39; its predicted steps take 7.
+constexpr int kMaxPredictions = 60;
+std::optional<Eigen::VectorXd> predicted_fixed_point(const SlipPrediction& predict, Eigen::VectorXd y, double target,
+                                                     const std::vector<int>& blocks, int& predictions, double& rate) {
+  rate = std::numeric_limits<double>::quiet_NaN();
+  double last_change = std::numeric_limits<double>::quiet_NaN();
+  for (predictions = 0; predictions < kMaxPredictions;) {
+    Eigen::VectorXd next = predict(y);
+    ++predictions;
+    if (next.size() != y.size() || !next.allFinite()) return std::nullopt;
+    const double change = relative_change(next, y, blocks);
+    y = std::move(next);
+    rate = change / last_change;
+    last_change = change;
+    if (change <= target) return y;
+  }
+  return std::nullopt;
+}
 
 // A Newton step on φ − G(φ) = 0: (I − G'(φ)) δ = G(φ) − φ solved by GMRES (from δ = 0, to 1e-2 of
 // the residual or 30 Krylov vectors: an inexact Newton step is enough on a map that is only
@@ -353,17 +419,21 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
   // halve err: a step from 0.061 to 0.033 then counted as failed and the next was a plain one, and the
   // robustness tables (336 cases) took 1233 -> 1229 (Tresca) and 1251 -> 1246 (Coulomb) steps with 0.7.
   GuardedUpdate newton(FixedPointUpdate::Newton, 0.7), tail_mixing(FixedPointUpdate::Mixed, 1.0);
+  PredictionGuard prediction;
   double newton_trust = INFINITY, last_newton_ratio = 0;  // ‖δ‖ / ‖G(x) − x‖ allowed, and of the last step
   Eigen::VectorXd previous_x, previous_gx;                // the step before the current one: x, G(x)
-  // Newton and mixed steps contract far faster than the map itself, so their step lengths say
-  // nothing of its Lipschitz constant: the a posteriori bound takes the larger of the steps' q, the q
-  // observed when the tail began (relaxed or plain steps) and ‖G′‖ of the last Newton step.
-  double tail_start_q = 0, newton_map_norm = 0;
+  // Newton, mixed and predicted steps contract far faster than the map itself, so their step lengths
+  // say nothing of its Lipschitz constant: the a posteriori bound takes the larger of the steps' q, the
+  // q observed before the first of them (relaxed or plain steps) and ‖G′‖ of the last Newton step.
+  // Predicted steps add the rate of the last prediction's own iterations (the split ring with a jump
+  // law: they end at err 7.5e-5, 1.0e-3 from the fixed point, where the steps' lengths alone gave
+  // q = 0.12 and a bound of 1e-5).
+  double tail_start_q = 0, newton_map_norm = 0, prediction_rate = 0;
   std::vector<double> step_lengths;
   std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
   bool travelling = false;                // still_travelling(residuals) after the latest step
-  auto note_tail_start = [&] {            // before the tail's first Newton or mixed step
-    if (result.newton_steps + result.mixed_steps == 0) {
+  auto note_tail_start = [&] {            // before the first Newton, mixed or predicted step
+    if (result.newton_steps + result.mixed_steps + result.predicted_steps == 0) {
       const double q = contraction_factor(step_lengths);
       tail_start_q = std::isnan(q) ? 0.0 : q;
     }
@@ -399,7 +469,29 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     const bool in_tail = result.history.back().err < settings.tail_err && !travelling;
     newton.judge(result.history);
     tail_mixing.judge(result.history);
+    prediction.observe(result.history.back());
     const bool tail_allowed = newton.raises() + tail_mixing.raises() < kMaxTailRaises;
+    // A predicted step first, wherever the run relaxes (not only in the tail: a front's cascade is
+    // what it carries), unless a Newton or mixed step was just rejected.
+    if (accelerated && settings.predicted_steps && eval.predict && !newton.rejected() && !tail_mixing.rejected() &&
+        prediction.take()) {
+      int predictions = 0;
+      const double target = std::max(0.1 * settings.tol, 1e-2 * result.history.back().err);
+      double rate = 0;
+      std::optional<Eigen::VectorXd> y =
+          predicted_fixed_point(eval.predict, gx, target, settings.blocks, predictions, rate);
+      derivative_products += predictions * eval.products_per_derivative;
+      if (y) {
+        note_tail_start();
+        prediction_rate = std::isnan(rate) ? 0.0 : rate;
+        relaxation.plain(xk, gx);  // the relaxation's secant starts afresh should the predictions stop
+        mixer.reset();
+        ++result.predicted_steps;
+        made_by = FixedPointUpdate::Predicted;
+        return y->cwiseMax(0.0);
+      }
+      prediction.fail();
+    }
     const bool use_newton = accelerated && settings.newton && newton.use(in_tail && eval.derivative, tail_allowed);
     const bool use_mixing = accelerated && !use_newton && tail_mixing.use(in_tail, tail_allowed);
     // A Newton or mixed step that raised err is rejected: the update that follows starts again from
@@ -455,7 +547,7 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     result.status = status;
     result.contraction_factor = contraction_factor(step_lengths);
     // Both are 0 without a tail; a q not observed yet (NaN, fewer than three steps) stays NaN.
-    result.contraction_factor = std::max({result.contraction_factor, tail_start_q, newton_map_norm});
+    result.contraction_factor = std::max({result.contraction_factor, tail_start_q, newton_map_norm, prediction_rate});
     const double q = result.contraction_factor, err = result.history.back().err;
     result.distance_bound = status == FixedPointStatus::Converged && result.history.size() == 1 ? err
                             : q < 1                                                             ? q / (1 - q) * err

@@ -40,9 +40,11 @@ enum class FixedPointStatus { Converged, IterationLimit, Stagnation, InnerSolver
 // from the start. Aitken: Aitken's dynamic relaxation φᵏ = φᵏ⁻¹ + ωₖ(G(φᵏ⁻¹) − φᵏ⁻¹), ωₖ the
 // secant step along the residual, from the start. Accelerated (the default): the paper's plain
 // iteration while each step is under half the one before (so scenes it handles keep its steps
-// exactly: the brick's 6), Aitken's relaxation from the first step that is not, and in the tail
-// (err < tail_err) Newton steps on φ − G(φ) = 0 where G gives its derivative, Anderson mixing
-// where it does not — each safeguarded: two steps of it that raise err, and the relaxation goes on.
+// exactly: the brick's 6), then, from the first step that is not, predicted steps (the fixed point
+// of G's prediction, where G gives one and its successive approximations converge), else Aitken's
+// relaxation, and in the tail (err < tail_err) Newton steps on φ − G(φ) = 0 where G gives its
+// derivative, Anderson mixing where it does not — each safeguarded: after two failures of a kind
+// the run goes on without it.
 enum class FixedPointVariant { Plain, Anderson, Accelerated, Aitken };
 inline constexpr NameTable<FixedPointVariant, 4> kFixedPointVariantNames{
     {{FixedPointVariant::Plain, "plain"},
@@ -61,6 +63,11 @@ struct FixedPointSettings {
   // Anderson mixing (depth anderson_depth), replace the relaxation. 0: no tail, relaxation to the end.
   double tail_err = 0.1;
   bool newton = true;
+  // Accelerated, once it relaxes: where G gives a prediction (SlipEvaluation::predict), the next input
+  // is the fixed point of that prediction — G's answer moved along its sensitivity to the radii, with
+  // the law exact — found by successive approximations on the prediction alone (no QP solve), when
+  // they converge; safeguarded like the tail's steps. off: the relaxation and tail as before.
+  bool predicted_steps = true;
   int stagnation_window = 8;  // stop when err has not reached a new minimum for this many steps
   // Inexact early steps: QP tolerance max(qp_rtol, min(1e-3, 1e-2·err(k−1))); a step that meets
   // `tol` with a looser QP tolerance is repeated exactly before declaring convergence.
@@ -83,6 +90,10 @@ struct FixedPointSettings {
 // v ↦ G'(φ) v, the derivative of G at the φ just evaluated (valid until the next evaluation).
 using SlipDerivative = std::function<Eigen::VectorXd(const Eigen::VectorXd& v)>;
 
+// φ ↦ G(φ) predicted from the φ just evaluated without another solve (valid until the next
+// evaluation); an empty vector when it cannot predict.
+using SlipPrediction = std::function<Eigen::VectorXd(const Eigen::VectorXd& phi)>;
+
 // One evaluation of G: what the Tresca solve reports back.
 struct SlipEvaluation {
   Eigen::VectorXd slip;  // G(φ) at the contact nodes
@@ -90,20 +101,23 @@ struct SlipEvaluation {
   int qp_iterations = 0;
   int hessian_products = 0;
   SlipDerivative derivative;        // empty: G gives no derivative (the frictionless first Coulomb solve, tests)
-  int products_per_derivative = 0;  // K⁻¹ applications (paper's count) of one derivative product
+  SlipPrediction predict;           // empty: G gives no prediction
+  int products_per_derivative = 0;  // K⁻¹ applications (paper's count) of one derivative product or prediction
 };
 
 // How a step's input φᵏ⁻¹ was made from the steps before it (history.csv's `update` column):
-// start (φ⁰ = 0), plain (G of the last input), relaxed (Aitken), newton, mixed (Anderson), restart
-// (a plain or relaxed step from the input before a rejected Newton or mixed step), repeat (the same
+// start (φ⁰ = 0), plain (G of the last input), relaxed (Aitken), newton, mixed (Anderson), predicted
+// (the fixed point of G's prediction), restart (a plain or relaxed step from the input before a
+// rejected Newton or mixed step), repeat (the same
 // φ again with the exact QP tolerance, after an inexact step met tol, or with final_step_qp_rtol, after
 // a step met tol with its QP more than 100× looser than that).
-enum class FixedPointUpdate { Start, Plain, Relaxed, Newton, Mixed, Restart, Repeat };
-inline constexpr NameTable<FixedPointUpdate, 7> kFixedPointUpdateNames{{{FixedPointUpdate::Start, "start"},
+enum class FixedPointUpdate { Start, Plain, Relaxed, Newton, Mixed, Predicted, Restart, Repeat };
+inline constexpr NameTable<FixedPointUpdate, 8> kFixedPointUpdateNames{{{FixedPointUpdate::Start, "start"},
                                                                         {FixedPointUpdate::Plain, "plain"},
                                                                         {FixedPointUpdate::Relaxed, "relaxed"},
                                                                         {FixedPointUpdate::Newton, "newton"},
                                                                         {FixedPointUpdate::Mixed, "mixed"},
+                                                                        {FixedPointUpdate::Predicted, "predicted"},
                                                                         {FixedPointUpdate::Restart, "restart"},
                                                                         {FixedPointUpdate::Repeat, "repeat"}}};
 
@@ -129,6 +143,7 @@ struct FixedPointResult {
   int plain_fallback_step = 0;       // the step after which an accelerated variant fell back to plain steps (0: never)
   int mixed_steps = 0;               // iterates the accelerated variant took from its tail mixing
   int newton_steps = 0;              // iterates the accelerated variant took from Newton steps
+  int predicted_steps = 0;           // iterates it took from the fixed point of G's prediction
   std::string hint;                  // what to try when the status is not "converged"
   int iterations() const { return static_cast<int>(history.size()); }
 };

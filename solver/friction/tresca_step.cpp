@@ -21,6 +21,7 @@ SlipEvaluation TrescaStep::operator()(const Eigen::VectorXd& phi, double qp_rtol
       return derivative(v, Eigen::VectorXd::Zero(slip_bound_.size())).slip;
     };
     eval.products_per_derivative = kDerivativeProducts;
+    eval.predict = [this](const Eigen::VectorXd& phi) { return predict(phi, slip_bound_).slip; };
   }
   return eval;
 }
@@ -44,15 +45,29 @@ TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, cons
   products_ += kDerivativeProducts;  // in the run's n_mult, as the fixed point's history counts them
   const Eigen::VectorXd dc =
       (radii_((slip_input_ + t * v_phi).cwiseMax(0.0), (slip_bound_input_ + t * v_g).cwiseMax(0.0)) - radius_) / t;
-  if (!sensitivity_) sensitivity_.emplace(qp_.radius_sensitivity(lambda_));
-  if (!sensitivity_->ok()) return out;
-  const Eigen::VectorXd dlambda = sensitivity_->apply(dc);
+  RadiusSensitivity* S = sensitivity();
+  if (!S) return out;
+  const Eigen::VectorXd dlambda = S->apply(dc);
   out.normal_pressure = dlambda.head(slip_bound_.size());
   // λ ↦ w is affine: its change along dλ, from one application of K⁻¹ on Γc.
   const Eigen::VectorXd dw = face_dofs_.scatter(dual_.face_displacement(lambda_ + dlambda)) - last_face_;
   const double s = difference_step(last_face_, dw);
   if (s > 0) out.slip = (face_dofs_.slip(face_, last_face_ + s * dw) - last_slip_) / s;
   return out;
+}
+
+RadiusSensitivity* TrescaStep::sensitivity() {
+  if (!sensitivity_) sensitivity_.emplace(qp_.radius_sensitivity(lambda_));
+  return sensitivity_->ok() ? &*sensitivity_ : nullptr;
+}
+
+TrescaStep::Derivative TrescaStep::predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g) {
+  products_ += kDerivativeProducts;
+  RadiusSensitivity* S = sensitivity();
+  if (!S) return {};
+  const Eigen::VectorXd lambda = lambda_ + S->apply(radii_(phi.cwiseMax(0.0), g.cwiseMax(0.0)) - radius_);
+  return {face_dofs_.slip(face_, face_dofs_.scatter(dual_.face_displacement(lambda))),
+          lambda.head(slip_bound_.size()).cwiseMax(0.0)};
 }
 
 SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol) {

@@ -45,6 +45,12 @@ class TrescaStep {
     Eigen::VectorXd slip, normal_pressure;
   };
   Derivative derivative(const Eigen::VectorXd& v_phi, const Eigen::VectorXd& v_g);
+  // The last solve's answer predicted at another input (φ, g): λ moved by its sensitivity to the
+  // radii, λ + S·(c(φ, g) − c), with the friction law evaluated exactly in c(φ, g) (a jump stays a
+  // jump), then the slip of the displacement on Γc that λ gives and max(λ_n, 0). Exact where the QP's
+  // active sets do not change; a fixed point of it is what the fixed point's predicted steps seek.
+  // Costs kDerivativeProducts, like one derivative; empty vectors when the sensitivity failed.
+  Derivative predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g);
   static constexpr int kDerivativeProducts = RadiusSensitivity::kProductsPerApply + 1;
 
   const Eigen::VectorXd& lambda() const { return lambda_; }
@@ -78,7 +84,8 @@ class TrescaStep {
   int products_ = 0, qp_iterations_ = 0, newton_steps_ = 0, bordered_steps_ = 0, single_products_ = 0;
   Eigen::VectorXd last_face_, last_slip_;  // u on Γc after the last solve, and its slip G(φ)
   std::vector<Solve> history_;
-  std::optional<RadiusSensitivity> sensitivity_;  // of the last solve, made by the first derivative()
+  std::optional<RadiusSensitivity> sensitivity_;  // of the last solve, made by the first derivative() or predict()
+  RadiusSensitivity* sensitivity();               // sensitivity_, made if need be; null when it failed
 };
 
 }  // namespace contact3d

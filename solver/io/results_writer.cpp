@@ -145,6 +145,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       j.value("plain_fallback_step", fp.plain_fallback_step);  // 0: the variant never fell back to plain steps
       j.value("mixed_steps", fp.mixed_steps);                  // iterates from the accelerated variant's tail mixing
       j.value("newton_steps", fp.newton_steps);                // iterates from its Newton steps on the slip
+      j.value("predicted_steps", fp.predicted_steps);          // iterates from the fixed point of G's prediction
       j.value("final_qp_rtol", fp.history.back().qp_rtol);
       j.value("hint", fp.hint);
       j.end_object();

@@ -14,6 +14,7 @@ inline void write_solver_settings(JsonWriter& j, const SolverSettings& s) {
   j.value("qp_rtol", s.qp_rtol).value("qp_max_iterations", s.qp.max_iterations);
   j.value("fixed_point", name_of(s.fixed_point, kFixedPointVariantNames)).value("anderson_depth", s.anderson_depth);
   j.value("fixed_point_tail_err", s.fixed_point_tail_err).value("fixed_point_newton", s.fixed_point_newton);
+  j.value("fixed_point_prediction", s.fixed_point_prediction);
   j.value("qp_rtol_per_err", s.qp_rtol_per_err);
   j.value("fixed_point_tol", s.fixed_point_tol).value("fixed_point_max_iter", s.fixed_point_max_iter);
   j.value("inexact_fixed_point", s.inexact_fixed_point).value("schur", name_of(s.dual_method, kDualMethodNames));

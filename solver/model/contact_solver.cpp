@@ -228,6 +228,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
   fp.anderson_depth = scene.solver.anderson_depth;
   fp.tail_err = scene.solver.fixed_point_tail_err;
   fp.newton = scene.solver.fixed_point_newton;
+  fp.predicted_steps = scene.solver.fixed_point_prediction;
   fp.qp_rtol_per_err = scene.solver.qp_rtol_per_err;
   fp.inexact = scene.solver.inexact_fixed_point;
   if (scene.needs_fixed_point()) {

@@ -374,11 +374,11 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   }
 
   if (const toml::table* sv = table_at(root, "solver")) {
-    check_keys(
-        *sv, "solver",
-        {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling", "qp_precision",
-         "fixed_point", "anderson_depth", "fixed_point_tail_err", "fixed_point_newton", "qp_rtol_per_err", "schur",
-         "inexact_fixed_point", "reference_factorization", "out_of_core_dir", "qp_newton_systems"});
+    check_keys(*sv, "solver",
+               {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
+                "qp_precision", "fixed_point", "anderson_depth", "fixed_point_tail_err", "fixed_point_newton",
+                "fixed_point_prediction", "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization",
+                "out_of_core_dir", "qp_newton_systems"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
     o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
@@ -402,6 +402,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     get_enum(*sv, "solver", "fixed_point", kFixedPointVariantNames, o.fixed_point);
     for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},
                                       {"fixed_point_newton", &o.fixed_point_newton},
+                                      {"fixed_point_prediction", &o.fixed_point_prediction},
                                       {"reference_factorization", &o.reference_factorization}}) {
       if (!sv->contains(key)) continue;
       const auto v = (*sv)[key].value<bool>();

@@ -63,6 +63,9 @@ struct SolverSettings {
   // slip (fixed_point_newton) or Anderson mixing replace the relaxation (FixedPointSettings).
   double fixed_point_tail_err = FixedPointSettings{}.tail_err;
   bool fixed_point_newton = FixedPointSettings{}.newton;
+  // "accelerated": once it relaxes, predicted steps (the fixed point of G's prediction from the QP's
+  // sensitivity to the radii, the law exact) where they converge (FixedPointSettings::predicted_steps).
+  bool fixed_point_prediction = FixedPointSettings{}.predicted_steps;
   // Fixed-point step k solves its QP to min(qp_rtol, qp_rtol_per_err · err(k−1)); 0: at qp_rtol.
   double qp_rtol_per_err = FixedPointSettings{}.qp_rtol_per_err;
   DualMethod dual_method = DualMethod::Auto;  // key `schur`: how Q = 𝔹K⁻¹𝔹ᵀ is formed (DualMethod)

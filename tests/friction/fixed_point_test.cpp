@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -489,6 +490,105 @@ TEST(FixedPoint, TwoTailStepsThatRaiseErrEndTheTailForNewtonAndMixingAlike) {
   for (auto it = r.history.rbegin(); it != last_restart; ++it)
     EXPECT_TRUE(it->update == FixedPointUpdate::Relaxed || it->update == FixedPointUpdate::Plain);
   for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(r.phi[i], i + 1.0, 5e-3 * (i + 1));
+}
+
+// A slip front on a chain of n nodes with a law that jumps: F = 0.3 below a slip of 1, 0.15 above.
+// G(φ)_i = b_i + Σ_j A_ij (0.3 − F(φ_j)), A tridiagonal (4/3 on the diagonal, 2/3 beside it): a node
+// that crosses the jump pushes its neighbours' slip up by 0.1, enough to take the next node across
+// while b_i = 1.05 − 0.01 i ≥ 0.9 — node by node to node 15, a node or two per plain step. G is affine in
+// the coefficients, so the prediction G(x) + A(c(y) − c(x)) is exact (the Tresca step's prediction is
+// where the QP's active sets stay), and `wrong_prediction` replaces it by another rule.
+SlipMap jump_front(
+    int n,
+    std::function<Eigen::VectorXd(const Eigen::VectorXd& gx, const Eigen::VectorXd& y)> wrong_prediction = nullptr) {
+  auto coefficient_drop = [](const Eigen::VectorXd& phi) {
+    return Eigen::VectorXd(phi.unaryExpr([](double t) { return t < 1.0 ? 0.0 : 0.15; }));
+  };
+  auto response = [n](const Eigen::VectorXd& drop) {
+    Eigen::VectorXd out = 4.0 / 3.0 * drop;
+    out.head(n - 1) += 2.0 / 3.0 * drop.tail(n - 1);
+    out.tail(n - 1) += 2.0 / 3.0 * drop.head(n - 1);
+    return out;
+  };
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, 1.05, 1.05 - 0.01 * (n - 1));
+  return [=](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = b + response(coefficient_drop(phi));
+    e.qp_iterations = 10;
+    e.hessian_products = 20;
+    const Eigen::VectorXd gx = e.slip;
+    if (wrong_prediction)
+      e.predict = [=](const Eigen::VectorXd& y) { return wrong_prediction(gx, y); };
+    else
+      e.predict = [=](const Eigen::VectorXd& y) {
+        return Eigen::VectorXd(gx + response(coefficient_drop(y) - coefficient_drop(phi)));
+      };
+    e.products_per_derivative = 3;
+    return e;
+  };
+}
+
+TEST(FixedPoint, PredictedStepsTakeASlipFrontAcrossAJumpInTheirOwnIterations) {
+  const int n = 30;
+  const FixedPointResult plain = solve_fixed_point(jump_front(n), n, settings(FixedPointVariant::Plain), 1e-6);
+  const FixedPointResult predicted =
+      solve_fixed_point(jump_front(n), n, settings(FixedPointVariant::Accelerated), 1e-6);
+  FixedPointSettings off = settings(FixedPointVariant::Accelerated);
+  off.predicted_steps = false;
+  const FixedPointResult without = solve_fixed_point(jump_front(n), n, off, 1e-6);
+  ASSERT_EQ(plain.status, FixedPointStatus::Converged);
+  ASSERT_EQ(predicted.status, FixedPointStatus::Converged);
+  ASSERT_EQ(without.status, FixedPointStatus::Converged);
+  // The plain iteration moves the front a node or two per step: 16 nodes cross in 12 steps.
+  EXPECT_GE(plain.iterations(), 12);
+  EXPECT_EQ(plain.predicted_steps, 0);
+  EXPECT_EQ(without.predicted_steps, 0);
+  // The accelerated run relaxes from its fourth step on (the third still halved the step), and its
+  // first predicted step lands on the fixed point (err 0, then the final step's repeat).
+  EXPECT_EQ(predicted.predicted_steps, 1);
+  EXPECT_EQ(steps_made_by(predicted, FixedPointUpdate::Predicted), 1);
+  EXPECT_LE(predicted.iterations(), 6);
+  EXPECT_LT(predicted.iterations(), without.iterations());
+  // The same fixed point as the paper's iteration (with a jump there are others: node 16 across
+  // would hold itself there too).
+  EXPECT_LT((predicted.phi - plain.phi).lpNorm<Eigen::Infinity>(), 1e-12);
+  for (int i = 0; i < n; ++i) EXPECT_EQ(plain.phi[i] >= 1.0, i <= 15) << i;
+  // n_mult counts the predictions (3 products each) beside the evaluations' 20.
+  EXPECT_GT(predicted.history.back().n_mult, 20 * predicted.iterations());
+}
+
+TEST(FixedPoint, APredictionThatDoesNotConvergeOrCyclesHandsBackToTheRelaxation) {
+  const int n = 30;
+  // Iterations that never settle (each prediction swaps two points): every try fails, two tries and
+  // the run goes on without predictions — and still converges, by its relaxation.
+  const FixedPointResult restless =
+      solve_fixed_point(jump_front(n,
+                                   [](const Eigen::VectorXd& gx, const Eigen::VectorXd& y) {
+                                     return Eigen::VectorXd(2 * gx + Eigen::VectorXd::Ones(gx.size()) - y);
+                                   }),
+                        n, settings(FixedPointVariant::Accelerated), 1e-6);
+  EXPECT_EQ(restless.status, FixedPointStatus::Converged);
+  EXPECT_EQ(restless.predicted_steps, 0);
+  // Its n_mult: 20 per evaluation, and the two tries' 60 predictions of 3 products each.
+  EXPECT_EQ(restless.history.back().n_mult, 20 * restless.iterations() + 2 * 60 * 3);
+  // A prediction that converges to a wrong point (G(x) shifted by 0.5: err rises): three predicted
+  // steps without a new best err are a failure, and the relaxation makes the next step. (Shifted that
+  // far, every node is across the jump: the run ends at the fixed point with all of them across.)
+  const FixedPointResult misled =
+      solve_fixed_point(jump_front(n,
+                                   [](const Eigen::VectorXd& gx, const Eigen::VectorXd&) {
+                                     return Eigen::VectorXd(gx + 0.5 * Eigen::VectorXd::Ones(gx.size()));
+                                   }),
+                        n, settings(FixedPointVariant::Accelerated), 1e-6);
+  EXPECT_EQ(misled.status, FixedPointStatus::Converged);
+  ASSERT_EQ(misled.predicted_steps, 3);
+  const auto first_predicted = std::find_if(misled.history.begin(), misled.history.end(), [](const FixedPointStep& s) {
+    return s.update == FixedPointUpdate::Predicted;
+  });
+  ASSERT_LT(first_predicted + 3, misled.history.end());
+  EXPECT_EQ(first_predicted[1].update, FixedPointUpdate::Predicted);
+  EXPECT_EQ(first_predicted[2].update, FixedPointUpdate::Predicted);
+  EXPECT_EQ(first_predicted[3].update, FixedPointUpdate::Relaxed);
 }
 
 TEST(FixedPoint, InnerFailureIsNamed) {

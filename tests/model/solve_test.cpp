@@ -193,6 +193,7 @@ TEST(SolvePaperBrick, NewtonStepsInTheTailGiveThePlainAnswerInFewerSteps) {
     plain_overrides.insert(plain_overrides.end(), model.begin(), model.end());
     newton_overrides.insert(newton_overrides.end(), model.begin(), model.end());
     plain_overrides.push_back("solver.fixed_point=\"plain\"");
+    newton_overrides.push_back("solver.fixed_point_prediction=false");  // predicted steps come first otherwise
     const SolveResult plain = solve_text(plain_overrides);
     const SolveResult newton = solve_text(newton_overrides);
     ASSERT_TRUE(plain.converged) << model.size();
@@ -211,6 +212,38 @@ TEST(SolvePaperBrick, NewtonStepsInTheTailGiveThePlainAnswerInFewerSteps) {
     for (int k = newton.fixed_point.iterations() - newton.fixed_point.newton_steps; k < newton.fixed_point.iterations();
          ++k)
       EXPECT_LT(h[k].err, 0.05 * h[k - 1].err) << model.size() << " step " << k + 1;
+  }
+}
+
+TEST(SolvePaperBrick, PredictedStepsGiveThePlainAnswerInFewerSteps) {
+  // A law with a jump (0.3 → 0.15 at 40% of the brick's slip scale): nodes cross it and push their
+  // neighbours across, step after step of the plain iteration. The predicted steps — the fixed point
+  // of the last solve's answer moved along its sensitivity to the radii, with the law exact — take the
+  // crossing in their own iterations, with Tresca's bound and with Coulomb's, and reach the plain
+  // iteration's fixed point.
+  const std::vector<std::string> jump{"friction.law=\"table\"",
+                                      "friction.points=[[0.0, 0.3], [1.1e-4, 0.3], [1.1e-4, 0.15], [6e-4, 0.15]]"};
+  for (const std::vector<std::string>& model :
+       {std::vector<std::string>{}, std::vector<std::string>{"friction.model=\"coulomb\"", "friction.slip_bound=0"}}) {
+    std::vector<std::string> plain_overrides = jump, predicted_overrides = jump, without_overrides = jump;
+    for (auto* o : {&plain_overrides, &predicted_overrides, &without_overrides})
+      o->insert(o->end(), model.begin(), model.end());
+    plain_overrides.push_back("solver.fixed_point=\"plain\"");
+    without_overrides.push_back("solver.fixed_point_prediction=false");
+    const SolveResult plain = solve_text(plain_overrides);
+    const SolveResult predicted = solve_text(predicted_overrides);
+    const SolveResult without = solve_text(without_overrides);
+    ASSERT_TRUE(plain.converged) << model.size();
+    ASSERT_TRUE(predicted.converged) << model.size();
+    ASSERT_TRUE(without.converged) << model.size();
+    EXPECT_GE(predicted.fixed_point.predicted_steps, 1) << model.size();
+    EXPECT_EQ(without.fixed_point.predicted_steps, 0) << model.size();
+    EXPECT_EQ(plain.fixed_point.predicted_steps, 0) << model.size();
+    EXPECT_LT(predicted.fixed_point.iterations(), plain.fixed_point.iterations()) << model.size();
+    EXPECT_LT(predicted.fixed_point.iterations(), without.fixed_point.iterations()) << model.size();
+    EXPECT_LT((plain.u - predicted.u).norm(), 1e-3 * plain.u.norm()) << model.size();
+    // Its predictions' products are in the run's n_mult, as the history counts them.
+    EXPECT_EQ(predicted.n_mult, predicted.fixed_point.history.back().n_mult + 1) << model.size();
   }
 }
 
