@@ -128,6 +128,7 @@ def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
                        q=fp.get("contraction_factor"), bound=fp.get("distance_bound"),
                        tight=fp.get("qp_tolerance_tightenings", 0),
                        newton=fp.get("newton_steps"), mixed=fp.get("mixed_steps"),
+                       predicted=fp.get("predicted_steps"),
                        cells=cells_used(summ))
         else:
             row.update(status=f"exit {proc.returncode}: {proc.stderr.strip().splitlines()[-1] if proc.stderr else ''}")
@@ -150,8 +151,9 @@ def write(path, rows, argv, model="tresca"):
          "at 0.4 s; weakening 0.4→0.15 over [0, s]; strong (high friction) 1.0→0.3 over [0, s/4]. steps = fixed-point",
          "steps (5.7); n_mult = QP products + solves in",
          "the paper's sense; q = observed contraction factor; bound = a posteriori distance to the fixed point",
-         "(relative); tight = times the QP tolerance was tightened against inner noise; newton / mixed = iterates",
-         "from Newton steps on the slip / Anderson mixing in the tail (solver.fixed_point = accelerated); cells =",
+         "(relative); tight = times the QP tolerance was tightened against inner noise; predicted / newton / mixed =",
+         "iterates from predicted steps (the fixed point of G's prediction from the QP's sensitivity to the radii,",
+         "the law exact) / Newton steps on the slip / Anderson mixing in the tail (solver.fixed_point = accelerated); cells =",
          "the multiplier cells of the answer: 2h, or 1.5h where contact.cell_size = \"auto\" (the default) solved",
          "the case again because 2h left the contact zone unresolved (steps, n_mult: the answer's solve; time: both).\n",
          f"**{len(ok)} of {len(rows)} cases converge in at most 12 steps with KKT ≤ 1e-6.** "
@@ -161,16 +163,16 @@ def write(path, rows, argv, model="tresca"):
              "how far the last step's radii are from Coulomb's F̄ λ_n of its own answer (a fixed-point residual, at the",
              "level of solver.fixed_point_tol).\n"] if model == "coulomb" else []),
          "| body | mesh | n_p | n_dual | law | s (m) | cells | steps | n_mult | time (s) | KKT max | status | q | bound "
-         "| tight | newton | mixed |"
+         "| tight | predicted | newton | mixed |"
          + (" F λ_n |" if model == "coulomb" else ""),
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if model == "coulomb" else "")]
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if model == "coulomb" else "")]
     for r in rows:
         L.append(f"| {r['body']} | {r['h']} | {fmt(r.get('n_p'), 'd')} | {fmt(r.get('n_d'), 'd')} | {r['law']} | "
                  f"{fmt(r.get('slip'), '.2e')} | {r.get('cells', '–')} | {fmt(r.get('steps'), 'd')} | "
                  f"{fmt(r.get('n_mult'), 'd')} | "
                  f"{fmt(r.get('wall'), '.2f')} | {fmt(r.get('kkt'), '.1e')} | {r.get('status')} | "
                  f"{fmt(r.get('q'), '.2f')} | {fmt(r.get('bound'), '.1e')} | {fmt(r.get('tight'), 'd')} | "
-                 f"{fmt(r.get('newton'), 'd')} | {fmt(r.get('mixed'), 'd')} |"
+                 f"{fmt(r.get('predicted'), 'd')} | {fmt(r.get('newton'), 'd')} | {fmt(r.get('mixed'), 'd')} |"
                  + (f" {fmt(r.get('coulomb_relation'), '.1e')} |" if model == "coulomb" else ""))
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(L) + "\n")
