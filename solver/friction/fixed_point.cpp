@@ -262,27 +262,37 @@ constexpr double kFinalStepSlack = 100;
 
 // A predicted step: the fixed point of G's prediction P (SlipEvaluation::predict: the last solve's
 // answer moved along its sensitivity to the radii, the law itself exact), by successive
-// approximations y ← P(y) from y = G(x) until a change is at most `target`; none when they do not get
-// there within kMaxPredictions (P does not contract: a law too steep for them, or an active set
-// that P cannot follow). `predictions` counts the P evaluations; `rate` is the ratio of the last
-// two changes, P's contraction where its iterations end (NaN after one), an estimate of G's there. Where a slip front
-// spreads node by node, or nodes cross a jump of the law and push their neighbours across, P's iterations carry the
-// cascade that G's steps would take one solve each for: the slab with a jump law (Coulomb, h = 0.06)
-// crept 20 relaxed steps with err between 5e-4 and 1e-2 and took 39; its predicted steps take 7.
+// approximations y ← y + θ(P(y) − y) from y = G(x) until a change ‖P(y) − y‖ is at most `target`
+// (then P(y) is the answer); none when they do not get there within kMaxPredictions (P does not
+// contract: a law too steep, or an active set that P cannot follow). θ starts at 1 and halves (down
+// to 1/8) each time two consecutive changes point against each other (cosine below −1/2): Coulomb's
+// coupling of slip and pressure can make P's plain iterations a two-cycle (the slab, h = 0.08, jump
+// law: changes 5.5e-2, 5.7e-2, 5.5e-2, ... for 60 iterations), which the averaging damps. A spreading
+// cascade's changes point the same way and keep θ = 1. `predictions` counts the P evaluations;
+// `rate` is the ratio of the last two changes, the iterations' contraction where they end (NaN after
+// one), an estimate of G's there. Where a slip front spreads node by node, or nodes cross a jump of
+// the law and push their neighbours across, P's iterations carry the cascade that G's steps would take
+// one solve each for: the slab with a jump law (Coulomb, h = 0.06) crept 20 relaxed steps with err
+// between 5e-4 and 1e-2 and took 39; its predicted steps take 7.
 constexpr int kMaxPredictions = 60;
 std::optional<Eigen::VectorXd> predicted_fixed_point(const SlipPrediction& predict, Eigen::VectorXd y, double target,
                                                      const std::vector<int>& blocks, int& predictions, double& rate) {
   rate = std::numeric_limits<double>::quiet_NaN();
-  double last_change = std::numeric_limits<double>::quiet_NaN();
+  double last_change = std::numeric_limits<double>::quiet_NaN(), theta = 1;
+  Eigen::VectorXd last_step;
   for (predictions = 0; predictions < kMaxPredictions;) {
     Eigen::VectorXd next = predict(y);
     ++predictions;
     if (next.size() != y.size() || !next.allFinite()) return std::nullopt;
     const double change = relative_change(next, y, blocks);
-    y = std::move(next);
     rate = change / last_change;
     last_change = change;
-    if (change <= target) return y;
+    if (change <= target) return next;
+    Eigen::VectorXd step = next - y;
+    if (last_step.size() && step.dot(last_step) < -0.5 * step.norm() * last_step.norm())
+      theta = std::max(0.125, 0.5 * theta);
+    y += theta * step;
+    last_step = std::move(step);
   }
   return std::nullopt;
 }

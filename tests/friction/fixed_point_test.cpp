@@ -559,14 +559,12 @@ TEST(FixedPoint, PredictedStepsTakeASlipFrontAcrossAJumpInTheirOwnIterations) {
 
 TEST(FixedPoint, APredictionThatDoesNotConvergeOrCyclesHandsBackToTheRelaxation) {
   const int n = 30;
-  // Iterations that never settle (each prediction swaps two points): every try fails, two tries and
-  // the run goes on without predictions — and still converges, by its relaxation.
-  const FixedPointResult restless =
-      solve_fixed_point(jump_front(n,
-                                   [](const Eigen::VectorXd& gx, const Eigen::VectorXd& y) {
-                                     return Eigen::VectorXd(2 * gx + Eigen::VectorXd::Ones(gx.size()) - y);
-                                   }),
-                        n, settings(FixedPointVariant::Accelerated), 1e-6);
+  // Iterations that never settle (each prediction moves every slip up by 1): every try fails, two
+  // tries and the run goes on without predictions — and still converges, by its relaxation.
+  const FixedPointResult restless = solve_fixed_point(
+      jump_front(n, [](const Eigen::VectorXd&,
+                       const Eigen::VectorXd& y) { return Eigen::VectorXd(y + Eigen::VectorXd::Ones(y.size())); }),
+      n, settings(FixedPointVariant::Accelerated), 1e-6);
   EXPECT_EQ(restless.status, FixedPointStatus::Converged);
   EXPECT_EQ(restless.predicted_steps, 0);
   // Its n_mult: 20 per evaluation, and the two tries' 60 predictions of 3 products each.
@@ -589,6 +587,27 @@ TEST(FixedPoint, APredictionThatDoesNotConvergeOrCyclesHandsBackToTheRelaxation)
   EXPECT_EQ(first_predicted[1].update, FixedPointUpdate::Predicted);
   EXPECT_EQ(first_predicted[2].update, FixedPointUpdate::Predicted);
   EXPECT_EQ(first_predicted[3].update, FixedPointUpdate::Relaxed);
+}
+
+TEST(FixedPoint, PredictionsThatAlternateAreAveragedToTheirFixedPoint) {
+  // The exact prediction E reflected, P(y) = 2E(y) − y: the same fixed point, but plain iterations
+  // on P swap between two points for ever (as Coulomb's slip and pressure can make them). Averaged
+  // (θ = 1/2 after the first reversal) they reach it, and the run a fixed point of G (with the jump,
+  // not the plain iteration's: the averaged iterates take node 16 across, which holds itself there).
+  const int n = 30;
+  const SlipMap exact = jump_front(n);
+  SlipMap reflected = [exact](const Eigen::VectorXd& phi, double rtol) {
+    SlipEvaluation e = exact(phi, rtol);
+    e.predict = [E = e.predict](const Eigen::VectorXd& y) { return Eigen::VectorXd(2 * E(y) - y); };
+    return e;
+  };
+  const FixedPointResult plain = solve_fixed_point(exact, n, settings(FixedPointVariant::Plain), 1e-6);
+  const FixedPointResult r = solve_fixed_point(reflected, n, settings(FixedPointVariant::Accelerated), 1e-6);
+  ASSERT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_GE(r.predicted_steps, 1);
+  EXPECT_LE(r.iterations(), 7);
+  EXPECT_LT((exact(r.phi, 1e-6).slip - r.phi).lpNorm<Eigen::Infinity>(), 1e-12);
+  EXPECT_LT(r.iterations(), plain.iterations());
 }
 
 TEST(FixedPoint, InnerFailureIsNamed) {
