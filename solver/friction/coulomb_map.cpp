@@ -46,7 +46,7 @@ SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rt
     };
     eval.products_per_derivative = TrescaStep::kDerivativeProducts;
     eval.predict = [this, s_phi, s_g](const Eigen::VectorXd& x) {
-      const TrescaStep::Derivative p = tresca_.predict(s_phi * x.head(n_nodes_), s_g * x.tail(n_cells_));
+      const TrescaStep::Prediction p = tresca_.predict(s_phi * x.head(n_nodes_), s_g * x.tail(n_cells_));
       if (p.slip.size() == 0) return Eigen::VectorXd();
       Eigen::VectorXd out(size());
       out << p.slip / phi_scale_, p.normal_pressure / g_scale_;

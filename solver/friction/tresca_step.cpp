@@ -61,7 +61,7 @@ RadiusSensitivity* TrescaStep::sensitivity() {
   return sensitivity_->ok() ? &*sensitivity_ : nullptr;
 }
 
-TrescaStep::Derivative TrescaStep::predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g) {
+TrescaStep::Prediction TrescaStep::predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g) {
   products_ += kDerivativeProducts;
   RadiusSensitivity* S = sensitivity();
   if (!S) return {};

@@ -50,7 +50,8 @@ class TrescaStep {
   // jump), then the slip of the displacement on Γc that λ gives and max(λ_n, 0). Exact where the QP's
   // active sets do not change; a fixed point of it is what the fixed point's predicted steps seek.
   // Costs kDerivativeProducts, like one derivative; empty vectors when the sensitivity failed.
-  Derivative predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g);
+  using Prediction = Derivative;  // the same two fields, at a point instead of along a direction
+  Prediction predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g);
   static constexpr int kDerivativeProducts = RadiusSensitivity::kProductsPerApply + 1;
 
   const Eigen::VectorXd& lambda() const { return lambda_; }
