@@ -11,7 +11,8 @@ prism, gmsh; also on 3 ranks, so the mesh is cut into three parts), and the quar
 spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap), and the brick
 with Coulomb's bound. One rank bound to one core must get summary.json's note on unbinding. The
 brick n = 12 with its factor out of core (solver.out_of_core_dir) must give the in-memory answer
-with less memory per rank and leave no file behind. A negative check compares the serial
+with less memory per rank and leave no file behind. The executable must not link PETSc (a module
+loaded by the PETSc route only), and that route without its module is an error (exit 2). A negative check compares the serial
 solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
 
 usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR
@@ -158,6 +159,20 @@ def main():
         refused = subprocess.run(argv, capture_output=True, text=True, timeout=300)
         if refused.returncode != 2 or "out_of_core_dir" not in refused.stderr:
             fails.append(f"out of core without a contact group: exit {refused.returncode}, {refused.stderr.strip()[:200]}")
+        # PETSc is a module loaded only by the PETSc route (solver/distributed/petsc_route.hpp): the
+        # executable does not link it, and without the module beside it that route is an input error
+        # naming the module (exit 2), on every rank alike.
+        linked = subprocess.run(["ldd", args.mpi], capture_output=True, text=True).stdout
+        if "libpetsc" in linked:
+            fails.append("contact3d-mpi links PETSc itself: " + [l for l in linked.splitlines() if "libpetsc" in l][0])
+        alone = os.path.join(tmp, "alone")
+        os.mkdir(alone)
+        shutil.copy2(os.path.realpath(args.mpi), os.path.join(alone, "contact3d-mpi"))
+        argv = [args.mpiexec, "-np", "2", os.path.join(alone, "contact3d-mpi"), "solve", path, "--quiet", "--out",
+                os.path.join(tmp, "no_module")] + [a for s in sets + ["solver.schur=mumps_petsc"] for a in ("--set", s)]
+        refused = subprocess.run(argv, capture_output=True, text=True, timeout=300)
+        if refused.returncode != 2 or "libcontact3d_petsc.so" not in refused.stderr:
+            fails.append(f"PETSc route without its module: exit {refused.returncode}, {refused.stderr.strip()[:200]}")
         # Negative check: a 1e-6 change of the input must be seen by the same comparison.
         label, scene, sets, _ = CASES[0]
         path = os.path.join(args.source, "pipeline", "scenes", scene)

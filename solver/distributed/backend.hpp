@@ -10,9 +10,10 @@
 // CHOLMOD path uses as its pivot order (ICNTL(7) = 1; from the node graph, as K is nowhere whole):
 // PETSc's interface cannot pass an ordering to a Cholesky with a Schur complement, and MUMPS's own
 // AMD fills 1.3-1.5× more. The PETSc route (MatFactorSetSchurIS on an MPISBAIJ matrix, K assembled
-// on rank 0 and scattered, then freed there) stays selectable; its matrix carries the six rigid-body
-// modes as its near-null space (MatSetNearNullSpace, checked on the ranks against rank 0's K·R), what
-// PETSc's algebraic multigrid needs for elasticity. The direct route has no PETSc matrix to carry them.
+// on rank 0 and scattered, then freed there; petsc_route.hpp, a module loaded only for that route)
+// stays selectable; its matrix carries the six rigid-body modes as its near-null space
+// (MatSetNearNullSpace, checked on the ranks against rank 0's K·R), what PETSc's algebraic multigrid
+// needs for elasticity. The direct route has no PETSc matrix to carry them.
 //
 // In the serial build the same interface exists: available() is false, Session does nothing and
 // make_mumps_dual_problem throws an InputError saying how to get the backend.
@@ -29,8 +30,9 @@ namespace contact3d::distributed {
 
 bool available();
 
-// For main(): starts MPI and PETSc (PetscInitialize) and ends them; on ranks other than 0, main
-// calls serve(), which returns when rank 0's Session ends.
+// For main(): starts MPI (MPI_Init) and ends it, with PETSc if the PETSc route started it
+// (petsc_route.hpp); on ranks other than 0, main calls serve(), which returns when rank 0's
+// Session ends.
 class Session {
  public:
   Session(int& argc, char**& argv);

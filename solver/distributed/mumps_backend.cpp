@@ -1,17 +1,18 @@
 // The MUMPS implementation of backend.hpp (built into contact3d-mpi when PETSc, MPI and MUMPS are
 // installed): MUMPS called directly with our pivot order (DirectMumps), or through PETSc's
-// interface (Mat/MatFactor objects) — see backend.hpp for why both.
+// interface in the PETSc module (petsc_route.hpp, opened on demand) — see backend.hpp for why both.
 //
 // Protocol: rank 0 broadcasts a Command; every rank then runs the same collective code. The data a
 // command needs is prepared on rank 0 before the command is sent, so an exception on rank 0 can
 // never leave the other ranks inside a half-done collective; where a rank's own work can fail in
 // the middle (assembling its share of K), every rank agrees on the outcome (on_every_rank) before
 // the next collective.
+#include <dlfcn.h>
 #include <dmumps_c.h>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
-#include <petscmat.h>
+#include <mpi.h>
 #include <sched.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -30,6 +31,7 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "distributed/backend.hpp"
+#include "distributed/petsc_route.hpp"
 #include "fem/assembly.hpp"
 #include "fem/mesh_part.hpp"
 #include "linalg/sparse_cholesky.hpp"
@@ -52,43 +54,31 @@ enum Command : int {
 void broadcast(Command c) {
   int code = c;
   MPI_Request request;
-  MPI_Ibcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD, &request);
+  MPI_Ibcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
   MPI_Wait(&request, MPI_STATUS_IGNORE);
 }
 
 int receive_command() {
   int code = kStop, done = 0;
   MPI_Request request;
-  MPI_Ibcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD, &request);
+  MPI_Ibcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
   for (MPI_Test(&request, &done, MPI_STATUS_IGNORE); !done; MPI_Test(&request, &done, MPI_STATUS_IGNORE))
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   return code;
 }
 
-void check(PetscErrorCode ierr, const char* what) {
-  if (ierr != 0)
-    throw std::runtime_error(std::string("PETSc/MUMPS failed in ") + what + " (error " + std::to_string(ierr) + ")");
-}
-
 int comm_rank() {
   int r = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &r);
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
   return r;
 }
 int comm_size() {
   int s = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &s);
+  MPI_Comm_size(MPI_COMM_WORLD, &s);
   return s;
 }
 
-// The PETSc route: the upper triangle of [K 𝔹ᵀ; 𝔹 0] in CSR (global indices), built on rank 0. The multipliers'
-// diagonal is stored as an explicit zero (MUMPS's symmetric indefinite path expects the diagonal).
-struct UpperCsr {
-  std::int64_t n = 0, m = 0;
-  std::vector<PetscInt> row_start{0}, cols;
-  std::vector<PetscScalar> vals;
-};
-
+// The PETSc route's matrix (petsc_route.hpp), built on rank 0 from its K and 𝔹.
 UpperCsr augmented_upper(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B) {
   UpperCsr a;
   a.n = K.rows();
@@ -98,19 +88,19 @@ UpperCsr augmented_upper(const Eigen::SparseMatrix<double>& K, const Eigen::Spar
   for (Eigen::Index i = 0; i < a.n; ++i) {
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Kr, i); it; ++it)
       if (it.col() >= i) {
-        a.cols.push_back(static_cast<PetscInt>(it.col()));
+        a.cols.push_back(static_cast<int>(it.col()));
         a.vals.push_back(it.value());
       }
     for (Eigen::SparseMatrix<double>::InnerIterator it(Bc, i); it; ++it) {
-      a.cols.push_back(static_cast<PetscInt>(a.n + it.row()));
+      a.cols.push_back(static_cast<int>(a.n + it.row()));
       a.vals.push_back(it.value());
     }
-    a.row_start.push_back(static_cast<PetscInt>(a.cols.size()));
+    a.row_start.push_back(static_cast<int>(a.cols.size()));
   }
   for (Eigen::Index r = 0; r < a.m; ++r) {
-    a.cols.push_back(static_cast<PetscInt>(a.n + r));
+    a.cols.push_back(static_cast<int>(a.n + r));
     a.vals.push_back(0.0);
-    a.row_start.push_back(static_cast<PetscInt>(a.cols.size()));
+    a.row_start.push_back(static_cast<int>(a.cols.size()));
   }
   return a;
 }
@@ -129,7 +119,7 @@ struct DirectMumps {
   std::vector<double> values;
 
   DirectMumps() {
-    id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(PETSC_COMM_WORLD));
+    id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(MPI_COMM_WORLD));
     id.par = 1;  // rank 0 works too
     // SYM = 1 (no pivoting): what is factored is K, positive definite once the constraints hold
     // the rigid motions (checked before factorizing); the multipliers' zero block is the Schur set
@@ -184,35 +174,11 @@ void factorize_with_growing_workspace(DirectMumps& d, const std::string& out_of_
                              ", INFOG(2) = " + std::to_string(d.id.infog[1]) + ")");
 }
 
-// A near-null space attached to the PETSc route's matrix: how many vectors it holds, and ‖K·v‖_F over
-// them as the ranks' rows of K give it.
-struct AttachedSpace {
-  int vectors = 0;
-  double residual = 0;
-};
-
 // One factorization, on every rank between a factorizing command (kAssembleAndFactor, kFactorThroughPetsc) and
-// kRelease.
-struct Factorization {
-  std::unique_ptr<DirectMumps> direct;  // set: the direct route; otherwise PETSc's objects below
-  Mat A = nullptr, F = nullptr;
-  Vec b = nullptr, x = nullptr, x_root = nullptr;  // x_root: the whole vector on rank 0 (empty elsewhere)
-  VecScatter to_root = nullptr;
-  IS schur = nullptr;
-  PetscInt n = 0, m = 0;
-  double factor_entries = 0, flops = 0;
-  AttachedSpace near_null_space;  // attached to A (the PETSc route)
-  Eigen::MatrixXd Q;              // rank 0: −(Schur complement)
-
-  ~Factorization() {
-    VecScatterDestroy(&to_root);
-    VecDestroy(&x_root);
-    VecDestroy(&x);
-    VecDestroy(&b);
-    MatDestroy(&F);
-    MatDestroy(&A);
-    ISDestroy(&schur);
-  }
+// kRelease: MUMPS called directly, or PETSc's objects in the PETSc module.
+struct Factorization : FactorSummary {
+  std::unique_ptr<DirectMumps> direct;
+  std::unique_ptr<PetscFactor> petsc;
 };
 
 // This rank's entries of one triangle of [K 𝔹ᵀ; 𝔹 0] for MUMPS (1-based; each off-diagonal pair once).
@@ -230,8 +196,6 @@ struct Triplets {
 // The entries move into MUMPS's arrays (no second copy of this rank's share).
 void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets share,
                    const std::string& out_of_core_dir) {
-  static_assert(std::is_same_v<PetscInt, MUMPS_INT> && std::is_same_v<PetscScalar, double>,
-                "PETSc's 32-bit real indices and scalars are MUMPS's");
   const bool root = comm_rank() == 0;
   const std::int64_t N = fz.n + fz.m;
   fz.direct = std::make_unique<DirectMumps>();
@@ -289,166 +253,34 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
   }
 }
 
-// Rank 0's modes (rows = K's dofs; absent or empty: none) as A's near-null space: each rank gets the
-// rows it owns ([first[r], first[r + 1]), zero on the multipliers' rows). Returns the number of
-// vectors A then carries, read back from A, and ‖K·modes‖_F as A's rows of K give it (rank 0
-// checks it against its own K: the layout test of the scatter). Collective.
-AttachedSpace attach_near_null_space(Mat A, const Eigen::MatrixXd* modes, PetscInt n, const std::vector<int>& first,
-                                     const std::vector<int>& locals) {
-  const int rank = comm_rank(), size = comm_size();
-  int k = modes ? static_cast<int>(modes->cols()) : 0;
-  MPI_Bcast(&k, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-  if (k == 0) return {};
-  std::vector<PetscScalar> packed;  // rank 0: every row, k values each, zero past K's dofs
-  std::vector<int> counts(size), offsets(size);
-  for (int r = 0; r < size; ++r) {
-    counts[r] = k * locals[r];
-    offsets[r] = k * first[r];
-  }
-  if (rank == 0) {
-    packed.assign(static_cast<std::size_t>(k) * first[size], 0.0);
-    for (PetscInt i = 0; i < n; ++i)
-      for (int c = 0; c < k; ++c) packed[static_cast<std::size_t>(k) * i + c] = (*modes)(i, c);
-  }
-  std::vector<PetscScalar> mine(static_cast<std::size_t>(counts[rank]));
-  MPI_Scatterv(packed.data(), counts.data(), offsets.data(), MPIU_SCALAR, mine.data(), counts[rank], MPIU_SCALAR, 0,
-               PETSC_COMM_WORLD);
-  std::vector<Vec> vectors(static_cast<std::size_t>(k), nullptr);
-  for (int c = 0; c < k; ++c) {
-    check(MatCreateVecs(A, &vectors[c], nullptr), "MatCreateVecs");
-    PetscScalar* a = nullptr;
-    check(VecGetArray(vectors[c], &a), "VecGetArray");
-    for (int i = 0; i < locals[rank]; ++i) a[i] = mine[static_cast<std::size_t>(k) * i + c];
-    check(VecRestoreArray(vectors[c], &a), "VecRestoreArray");
-  }
-  MatNullSpace space = nullptr;
-  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, k, vectors.data(), &space), "MatNullSpaceCreate");
-  check(MatSetNearNullSpace(A, space), "MatSetNearNullSpace");
-  MatNullSpaceDestroy(&space);
-  for (Vec& v : vectors) VecDestroy(&v);
-  AttachedSpace out;
-  MatNullSpace attached = nullptr;
-  check(MatGetNearNullSpace(A, &attached), "MatGetNearNullSpace");
-  PetscBool has_constant = PETSC_FALSE;
-  PetscInt count = 0;
-  const Vec* held = nullptr;
-  if (attached) check(MatNullSpaceGetVecs(attached, &has_constant, &count, &held), "MatNullSpaceGetVecs");
-  out.vectors = static_cast<int>(count);
-  double squares = 0;  // this rank's rows of K·v (the rows below n), over the attached vectors
-  Vec product = nullptr;
-  check(MatCreateVecs(A, nullptr, &product), "MatCreateVecs");
-  for (PetscInt c = 0; c < count; ++c) {
-    check(MatMult(A, held[c], product), "MatMult");
-    const PetscScalar* y = nullptr;
-    check(VecGetArrayRead(product, &y), "VecGetArrayRead");
-    for (int i = 0; i < locals[rank] && first[rank] + i < n; ++i) squares += y[i] * y[i];
-    check(VecRestoreArrayRead(product, &y), "VecRestoreArrayRead");
-  }
-  VecDestroy(&product);
-  MPI_Allreduce(MPI_IN_PLACE, &squares, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
-  out.residual = std::sqrt(squares);
-  return out;
-}
-
-// kFactorThroughPetsc, collective. On rank 0 `csr` holds the whole matrix and `modes` K's
-// near-null space (may be null); elsewhere both are empty.
-std::unique_ptr<Factorization> factor_through_petsc(UpperCsr csr, const Eigen::MatrixXd* modes) {
-  const int rank = comm_rank(), size = comm_size();
-  auto fz = std::make_unique<Factorization>();
-  std::int64_t dims[2] = {csr.n, csr.m};
-  MPI_Bcast(dims, 2, MPI_INT64_T, 0, PETSC_COMM_WORLD);
-  fz->n = static_cast<PetscInt>(dims[0]);
-  fz->m = static_cast<PetscInt>(dims[1]);
-  PetscInt N = fz->n + fz->m, local = PETSC_DECIDE;
-  check(PetscSplitOwnership(PETSC_COMM_WORLD, &local, &N), "PetscSplitOwnership");
-  // Rank r owns rows [first[r], first[r + 1]): send each its rows.
-  std::vector<int> locals(size), first(size + 1, 0);
-  int my_local = static_cast<int>(local);
-  MPI_Allgather(&my_local, 1, MPI_INT, locals.data(), 1, MPI_INT, PETSC_COMM_WORLD);
-  for (int r = 0; r < size; ++r) first[r + 1] = first[r] + locals[r];
-  std::vector<int> nnz_count(size, 0), nnz_offset(size, 0), len_offset(size, 0);
-  std::vector<PetscInt> row_len;
-  if (rank == 0) {
-    row_len.resize(N);
-    for (PetscInt i = 0; i < N; ++i) row_len[i] = csr.row_start[i + 1] - csr.row_start[i];
-    for (int r = 0; r < size; ++r) {
-      nnz_offset[r] = static_cast<int>(csr.row_start[first[r]]);
-      nnz_count[r] = static_cast<int>(csr.row_start[first[r + 1]] - csr.row_start[first[r]]);
-      len_offset[r] = first[r];
-    }
-  }
-  int my_nnz = 0;
-  MPI_Scatter(nnz_count.data(), 1, MPI_INT, &my_nnz, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-  std::vector<PetscInt> my_len(local), my_cols(my_nnz);
-  std::vector<PetscScalar> my_vals(my_nnz);
-  MPI_Scatterv(row_len.data(), locals.data(), len_offset.data(), MPIU_INT, my_len.data(), my_local, MPIU_INT, 0,
-               PETSC_COMM_WORLD);
-  MPI_Scatterv(csr.cols.data(), nnz_count.data(), nnz_offset.data(), MPIU_INT, my_cols.data(), my_nnz, MPIU_INT, 0,
-               PETSC_COMM_WORLD);
-  MPI_Scatterv(csr.vals.data(), nnz_count.data(), nnz_offset.data(), MPIU_SCALAR, my_vals.data(), my_nnz, MPIU_SCALAR,
-               0, PETSC_COMM_WORLD);
-  std::vector<PetscInt>().swap(csr.cols);  // rank 0: the whole matrix is sent; keep only this rank's rows
-  std::vector<PetscScalar>().swap(csr.vals);
-  std::vector<PetscInt> my_start(local + 1, 0);
-  for (PetscInt i = 0; i < local; ++i) my_start[i + 1] = my_start[i] + my_len[i];
-  check(MatCreateMPISBAIJWithArrays(PETSC_COMM_WORLD, 1, local, local, N, N, my_start.data(), my_cols.data(),
-                                    my_vals.data(), &fz->A),
-        "MatCreateMPISBAIJWithArrays");
-  fz->near_null_space = attach_near_null_space(fz->A, modes, fz->n, first, locals);
-  check(MatGetFactor(fz->A, MATSOLVERMUMPS, MAT_FACTOR_CHOLESKY, &fz->F), "MatGetFactor (MUMPS Cholesky)");
-  // The multipliers are the Schur set; MUMPS centralizes the Schur complement on rank 0, so the
-  // other ranks pass an empty set.
-  check(ISCreateStride(PETSC_COMM_SELF, rank == 0 ? fz->m : 0, fz->n, 1, &fz->schur), "ISCreateStride");
-  check(MatFactorSetSchurIS(fz->F, fz->schur), "MatFactorSetSchurIS");
-  MatFactorInfo info;
-  check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
-  check(MatCholeskyFactorSymbolic(fz->F, fz->A, nullptr, &info), "the MUMPS analysis");
-  check(MatCholeskyFactorNumeric(fz->F, fz->A, &info), "the MUMPS factorization");
-  Mat S = nullptr;
-  check(MatFactorCreateSchurComplement(fz->F, &S, nullptr), "MatFactorCreateSchurComplement");
-  if (rank == 0) {
-    const PetscScalar* s = nullptr;
-    check(MatDenseGetArrayRead(S, &s), "MatDenseGetArrayRead");
-    fz->Q = -Eigen::Map<const Eigen::MatrixXd>(s, fz->m, fz->m);  // S = −𝔹K⁻¹𝔹ᵀ (column-major, full)
-    check(MatDenseRestoreArrayRead(S, &s), "MatDenseRestoreArrayRead");
-  }
-  MatDestroy(&S);
-  check(MatMumpsSetIcntl(fz->F, 26, 0), "MatMumpsSetIcntl(26)");  // solves: the interior problem K⁻¹
-  PetscInt entries = 0;
-  check(MatMumpsGetInfog(fz->F, 29, &entries), "MatMumpsGetInfog(29)");
-  fz->factor_entries = mumps_count(entries);
-  PetscReal flops = 0;
-  check(MatMumpsGetRinfog(fz->F, 3, &flops), "MatMumpsGetRinfog(3)");
-  fz->flops = flops;
-  check(MatCreateVecs(fz->A, &fz->x, &fz->b), "MatCreateVecs");
-  check(VecScatterCreateToZero(fz->x, &fz->to_root, &fz->x_root), "VecScatterCreateToZero");
-  return fz;
-}
-
 // Point to point in pieces of at most 2^30 entries (MPI's counts are ints).
 constexpr std::size_t kPiece = std::size_t(1) << 30;
 template <class T>
 void send_vector(const std::vector<T>& v, MPI_Datatype type, int to) {
   for (std::size_t first = 0; first < v.size(); first += kPiece)
-    MPI_Send(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, to, 0, PETSC_COMM_WORLD);
+    MPI_Send(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, to, 0, MPI_COMM_WORLD);
 }
 template <class T>
 void receive_vector(std::vector<T>& v, MPI_Datatype type) {
   for (std::size_t first = 0; first < v.size(); first += kPiece)
-    MPI_Recv(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, 0, 0, PETSC_COMM_WORLD,
+    MPI_Recv(v.data() + first, static_cast<int>(std::min(kPiece, v.size() - first)), type, 0, 0, MPI_COMM_WORLD,
              MPI_STATUS_IGNORE);
 }
 
 // Runs `work` on every rank and agrees on the outcome before the next collective, so that a rank
 // that fails (out of memory while assembling) never leaves the others waiting inside MUMPS: every
-// rank throws — the failing one its own exception, the others bad_alloc if that was the failure.
+// rank throws — the failing one its own exception, the others bad_alloc if that was the failure,
+// an InputError if that was, and otherwise a runtime_error saying that another rank failed `doing`.
 template <class Work>
-void on_every_rank(Work work) {
-  int failure = 0;  // 2: out of memory, 1: another error
+void on_every_rank(Work work, const char* doing) {
+  int failure = 0;  // 3: out of memory, 2: an input error, 1: another error
   std::exception_ptr mine;
   try {
     work();
   } catch (const std::bad_alloc&) {
+    failure = 3;
+    mine = std::current_exception();
+  } catch (const InputError&) {
     failure = 2;
     mine = std::current_exception();
   } catch (...) {
@@ -456,10 +288,12 @@ void on_every_rank(Work work) {
     mine = std::current_exception();
   }
   int worst = 0;
-  MPI_Allreduce(&failure, &worst, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  MPI_Allreduce(&failure, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   if (mine) std::rethrow_exception(mine);
-  if (worst == 2) throw std::bad_alloc();
-  if (worst == 1) throw std::runtime_error("another rank failed while assembling its share of K");
+  if (worst == 3) throw std::bad_alloc();
+  if (worst == 2)
+    throw InputError(std::string("another rank failed ") + doing + " (its error is printed by that rank)");
+  if (worst == 1) throw std::runtime_error(std::string("another rank failed ") + doing);
 }
 
 // A MeshPart as flat arrays for MPI (about 56 bytes per tet): header {nodes, tets, first_node,
@@ -517,10 +351,10 @@ struct PartMessage {
 void send_part(const PartMessage* message, int to) {
   std::int64_t status_and_header[5] = {message ? 0 : 1, 0, 0, 0, 0};
   if (message) std::copy(message->header, message->header + 4, status_and_header + 1);
-  MPI_Send(status_and_header, 5, MPI_INT64_T, to, 0, PETSC_COMM_WORLD);
+  MPI_Send(status_and_header, 5, MPI_INT64_T, to, 0, MPI_COMM_WORLD);
   if (!message) return;
   int allocated = 0;
-  MPI_Recv(&allocated, 1, MPI_INT, to, 0, PETSC_COMM_WORLD, MPI_STATUS_IGNORE);
+  MPI_Recv(&allocated, 1, MPI_INT, to, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   if (!allocated) return;
   send_vector(message->xyz, MPI_DOUBLE, to);
   send_vector(message->free_index, MPI_INT, to);
@@ -531,7 +365,7 @@ void send_part(const PartMessage* message, int to) {
 // The other side of send_part; throws (after answering rank 0) when there is no part.
 MeshPart receive_part(int n_free) {
   std::int64_t status_and_header[5];
-  MPI_Recv(status_and_header, 5, MPI_INT64_T, 0, 0, PETSC_COMM_WORLD, MPI_STATUS_IGNORE);
+  MPI_Recv(status_and_header, 5, MPI_INT64_T, 0, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   if (status_and_header[0] != 0) throw std::runtime_error("rank 0 failed while cutting the mesh into parts");
   PartMessage message;
   std::copy(status_and_header + 1, status_and_header + 5, message.header);
@@ -539,7 +373,7 @@ MeshPart receive_part(int n_free) {
   try {
     message.allocate();
   } catch (const std::bad_alloc&) { allocated = 0; }
-  MPI_Send(&allocated, 1, MPI_INT, 0, 0, PETSC_COMM_WORLD);
+  MPI_Send(&allocated, 1, MPI_INT, 0, 0, MPI_COMM_WORLD);
   if (!allocated) throw std::bad_alloc();
   receive_vector(message.xyz, MPI_DOUBLE);
   receive_vector(message.free_index, MPI_INT);
@@ -593,28 +427,76 @@ std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source
   auto fz = std::make_unique<Factorization>();
   std::int64_t dims[3] = {source ? source->dofs.n_free : 0, B ? B->rows() : 0,
                           static_cast<std::int64_t>(out_of_core_dir.size())};
-  MPI_Bcast(dims, 3, MPI_INT64_T, 0, PETSC_COMM_WORLD);
+  MPI_Bcast(dims, 3, MPI_INT64_T, 0, MPI_COMM_WORLD);
   out_of_core_dir.resize(static_cast<std::size_t>(dims[2]));
-  MPI_Bcast(out_of_core_dir.data(), static_cast<int>(dims[2]), MPI_CHAR, 0, PETSC_COMM_WORLD);
-  fz->n = static_cast<PetscInt>(dims[0]);
-  fz->m = static_cast<PetscInt>(dims[1]);
+  MPI_Bcast(out_of_core_dir.data(), static_cast<int>(dims[2]), MPI_CHAR, 0, MPI_COMM_WORLD);
+  fz->n = dims[0];
+  fz->m = dims[1];
   Triplets share;
-  on_every_rank([&] {
-    if (source) {
-      share = send_parts_and_assemble(*source);
-      for (int j = 0; j < B->outerSize(); ++j)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(*B, j); it; ++it) share.add(fz->n + it.row(), j, it.value());
-      for (std::int64_t r = 0; r < fz->m; ++r) share.add(fz->n + r, fz->n + r, 0.0);
-    } else {
-      MeshPart part = receive_part(static_cast<int>(fz->n));
-      share =
-          lower_columns(part.mesh, part.dofs, TetMaterials(std::move(part.materials)), part.first_node, part.last_node);
-    }
-  });
+  on_every_rank(
+      [&] {
+        if (source) {
+          share = send_parts_and_assemble(*source);
+          for (int j = 0; j < B->outerSize(); ++j)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(*B, j); it; ++it)
+              share.add(fz->n + it.row(), j, it.value());
+          for (std::int64_t r = 0; r < fz->m; ++r) share.add(fz->n + r, fz->n + r, 0.0);
+        } else {
+          MeshPart part = receive_part(static_cast<int>(fz->n));
+          share = lower_columns(part.mesh, part.dofs, TetMaterials(std::move(part.materials)), part.first_node,
+                                part.last_node);
+        }
+      },
+      "while assembling its share of K");
 #ifdef __GLIBC__
   malloc_trim(0);  // the assembly's many small lists, freed, would stay resident beside MUMPS's factor
 #endif
   factor_direct(*fz, order, std::move(share), out_of_core_dir);
+  return fz;
+}
+
+// The PETSc module (petsc_route.hpp): opened by the first kFactorThroughPetsc on every rank, PETSc
+// started then and ended by ~Session. Process state, as PETSc's own is (one PetscInitialize per
+// process); the module stays loaded to the end of the process.
+struct PetscModule {
+  PetscRoute* (*start)() = nullptr;
+  std::unique_ptr<PetscRoute> route;
+};
+PetscModule& petsc_module() {
+  static PetscModule module;
+  return module;
+}
+
+// libcontact3d_petsc.so in the executable's own directory (symbolic links resolved).
+std::string petsc_module_path() {
+  std::string exe(4096, '\0');
+  const ssize_t length = readlink("/proc/self/exe", exe.data(), exe.size() - 1);
+  exe.resize(length > 0 ? static_cast<std::size_t>(length) : 0);
+  const std::size_t slash = exe.rfind('/');
+  return (slash == std::string::npos ? std::string(".") : exe.substr(0, slash)) + "/libcontact3d_petsc.so";
+}
+
+void open_petsc_module() {
+  PetscModule& module = petsc_module();
+  if (module.start) return;
+  const std::string path = petsc_module_path();
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle)
+    throw InputError("solver.schur = \"mumps_petsc\" needs the PETSc module " + path +
+                     " (built with contact3d-mpi by `make build-mpi`): " + dlerror());
+  module.start = reinterpret_cast<PetscRoute* (*)()>(dlsym(handle, "contact3d_start_petsc_route"));
+  if (!module.start) throw InputError(path + " is not contact3d's PETSc module (no contact3d_start_petsc_route)");
+}
+
+// kFactorThroughPetsc, collective. On rank 0 `csr` holds the whole matrix and `modes` K's
+// near-null space (may be null); elsewhere both are empty. Every rank opens the module before any
+// starts PETSc, whose start is collective.
+std::unique_ptr<Factorization> factor_through_petsc(UpperCsr csr, const Eigen::MatrixXd* modes) {
+  on_every_rank(open_petsc_module, "to open the PETSc module");
+  PetscModule& module = petsc_module();
+  if (!module.route) module.route.reset(module.start());
+  auto fz = std::make_unique<Factorization>();
+  fz->petsc = module.route->factor(std::move(csr), modes, *fz);
   return fz;
 }
 
@@ -637,23 +519,7 @@ void solve_direct(Factorization& fz, const Eigen::VectorXd* rhs, Eigen::VectorXd
 // kSolve, collective: x = K⁻¹ rhs on the primal rows (rank 0 gives rhs over all N rows).
 void solve(Factorization& fz, const Eigen::VectorXd* rhs, Eigen::VectorXd* out) {
   if (fz.direct) return solve_direct(fz, rhs, out);
-  if (rhs) {
-    PetscScalar* a = nullptr;
-    VecGetArray(fz.x_root, &a);
-    for (Eigen::Index i = 0; i < rhs->size(); ++i) a[i] = (*rhs)[i];
-    VecRestoreArray(fz.x_root, &a);
-  }
-  check(VecScatterBegin(fz.to_root, fz.x_root, fz.b, INSERT_VALUES, SCATTER_REVERSE), "VecScatterBegin");
-  check(VecScatterEnd(fz.to_root, fz.x_root, fz.b, INSERT_VALUES, SCATTER_REVERSE), "VecScatterEnd");
-  check(MatSolve(fz.F, fz.b, fz.x), "MatSolve (MUMPS)");
-  check(VecScatterBegin(fz.to_root, fz.x, fz.x_root, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
-  check(VecScatterEnd(fz.to_root, fz.x, fz.x_root, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
-  if (out) {
-    const PetscScalar* a = nullptr;
-    VecGetArrayRead(fz.x_root, &a);
-    *out = Eigen::Map<const Eigen::VectorXd>(a, fz.n);
-    VecRestoreArrayRead(fz.x_root, &a);
-  }
+  fz.petsc->solve(rhs, out);
 }
 
 double peak_rss_mib() {
@@ -665,7 +531,7 @@ double peak_rss_mib() {
 std::vector<double> gather_memory() {
   double mine = peak_rss_mib();
   std::vector<double> all(comm_size());
-  MPI_Gather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+  MPI_Gather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   return all;
 }
 
@@ -747,7 +613,7 @@ class MumpsDualProblem final : public DualProblem {
 bool available() { return true; }
 
 Session::Session(int& argc, char**& argv) {
-  if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) throw std::runtime_error("PetscInitialize failed");
+  if (MPI_Init(&argc, &argv) != MPI_SUCCESS) throw std::runtime_error("MPI_Init failed");
   started_ = true;
   rank_ = comm_rank();
   size_ = comm_size();
@@ -756,7 +622,8 @@ Session::Session(int& argc, char**& argv) {
 Session::~Session() {
   if (!started_) return;
   if (rank_ == 0) broadcast(kStop);
-  PetscFinalize();
+  petsc_module().route.reset();  // PETSc ends before MPI, on every rank that started it
+  MPI_Finalize();
 }
 
 void Session::serve() {
