@@ -33,7 +33,7 @@ build-mpi: deps deps-mpi
 
 # np = 1 and 2 against the serial CHOLMOD path ($(REPORTS)/distributed.md).
 bench-mpi: build-mpi build
-	$(PY) pipeline/bench_mpi.py --serial $(BIN) --mpi build-mpi/contact3d --out $(REPORTS)/distributed.md
+	$(PY) pipeline/bench_mpi.py --serial $(BIN) --mpi build-mpi/contact3d --n 16 24 32 40 --out $(REPORTS)/distributed.md
 
 # Geometry -> mesh -> solve -> results/<scene>/ (figures when matplotlib is there).
 pipeline: build
