@@ -3,7 +3,7 @@
 // PETSc's interface (MatFactorSetSchurIS). It is a module of its own, libcontact3d_petsc.so next to
 // contact3d-mpi, loaded on every rank only when a scene asks for this route: linking PETSc into the
 // executable made every rank map its hundred-odd libraries (hypre, SuperLU_DIST, HDF5, …) at start,
-// 21 MiB of resident memory per process that the default route (MUMPS called directly) never uses.
+// 20 MiB of resident memory per process that the default route (MUMPS called directly) never uses.
 //
 // The module starts PETSc on the MPI that contact3d-mpi started (PetscInitialize after MPI_Init) and
 // ends it when its PetscRoute is destroyed, before MPI_Finalize. Every method is collective: rank 0
