@@ -26,7 +26,6 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
-#include <type_traits>
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
