@@ -12,7 +12,8 @@ spherical cap (two materials, rollers, a prescribed displacement, a pressure, a 
 with Coulomb's bound. One rank bound to one core must get summary.json's note on unbinding. The
 brick n = 12 with its factor out of core (solver.out_of_core_dir) must give the in-memory answer
 with less memory per rank and leave no file behind. The executable must not link PETSc (a module
-loaded by the PETSc route only), and that route without its module is an error (exit 2). A negative check compares the serial
+loaded by the PETSc route only), and that route without its module is an error (exit 2) naming the
+module, also when only another rank than rank 0 lacks it. A negative check compares the serial
 solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
 
 usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR
@@ -173,6 +174,16 @@ def main():
         refused = subprocess.run(argv, capture_output=True, text=True, timeout=300)
         if refused.returncode != 2 or "libcontact3d_petsc.so" not in refused.stderr:
             fails.append(f"PETSc route without its module: exit {refused.returncode}, {refused.stderr.strip()[:200]}")
+        # Only rank 1 without the module (rank 0, which prints the errors, has it): rank 0 must still
+        # say which rank failed and why.
+        tail = ["--quiet", "--out", os.path.join(tmp, "no_module_rank1")] + [
+            a for s in sets + ["solver.schur=mumps_petsc"] for a in ("--set", s)]
+        argv = [args.mpiexec, "-np", "1", args.mpi, "solve", path, *tail, ":", "-np", "1",
+                os.path.join(alone, "contact3d-mpi"), "solve", path, *tail]
+        refused = subprocess.run(argv, capture_output=True, text=True, timeout=300)
+        if refused.returncode != 2 or "rank 1 failed to open the PETSc module" not in refused.stderr or \
+                "libcontact3d_petsc.so" not in refused.stderr:
+            fails.append(f"PETSc module missing on rank 1 only: exit {refused.returncode}, {refused.stderr.strip()[:300]}")
         # Negative check: a 1e-6 change of the input must be seen by the same comparison.
         label, scene, sets, _ = CASES[0]
         path = os.path.join(args.source, "pipeline", "scenes", scene)

@@ -267,32 +267,49 @@ void receive_vector(std::vector<T>& v, MPI_Datatype type) {
 }
 
 // Runs `work` on every rank and agrees on the outcome before the next collective, so that a rank
-// that fails (out of memory while assembling) never leaves the others waiting inside MUMPS: every
-// rank throws — the failing one its own exception, the others bad_alloc if that was the failure,
-// an InputError if that was, and otherwise a runtime_error saying that another rank failed `doing`.
+// that fails (out of memory while assembling, a module it cannot open) never leaves the others
+// waiting inside MUMPS or PETSc: every rank throws — the failing one its own exception, the others
+// the same kind (bad_alloc, InputError, or runtime_error) with the first failing rank's message,
+// since only rank 0 prints errors.
 template <class Work>
 void on_every_rank(Work work, const char* doing) {
   int failure = 0;  // 3: out of memory, 2: an input error, 1: another error
   std::exception_ptr mine;
+  std::string message;
   try {
     work();
   } catch (const std::bad_alloc&) {
     failure = 3;
     mine = std::current_exception();
-  } catch (const InputError&) {
+    message = "out of memory";
+  } catch (const InputError& e) {
     failure = 2;
     mine = std::current_exception();
+    message = e.what();
+  } catch (const std::exception& e) {
+    failure = 1;
+    mine = std::current_exception();
+    message = e.what();
   } catch (...) {
     failure = 1;
     mine = std::current_exception();
   }
   int worst = 0;
   MPI_Allreduce(&failure, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (worst == 0) return;
+  const int rank = comm_rank();
+  int first = 0;  // the lowest failing rank tells the others what went wrong
+  const int mine_or_none = failure ? rank : comm_size();
+  MPI_Allreduce(&mine_or_none, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  int length = static_cast<int>(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+  message.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(message.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
   if (mine) std::rethrow_exception(mine);
   if (worst == 3) throw std::bad_alloc();
-  if (worst == 2)
-    throw InputError(std::string("another rank failed ") + doing + " (its error is printed by that rank)");
-  if (worst == 1) throw std::runtime_error(std::string("another rank failed ") + doing);
+  const std::string what = "rank " + std::to_string(first) + " failed " + doing + ": " + message;
+  if (worst == 2) throw InputError(what);
+  throw std::runtime_error(what);
 }
 
 // A MeshPart as flat arrays for MPI (about 56 bytes per tet): header {nodes, tets, first_node,
