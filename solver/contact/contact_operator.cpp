@@ -1,5 +1,7 @@
 #include "contact/contact_operator.hpp"
 
+#include <Eigen/SparseCholesky>
+
 namespace contact3d {
 
 ContactOperator make_contact_operator(const ContactFace& face, const Partition& partition, const DofMap& dofs,
@@ -30,6 +32,28 @@ ContactOperator make_contact_operator(const ContactFace& face, const Partition& 
   op.B.setFromTriplets(entries.begin(), entries.end());
   op.B.makeCompressed();
   return op;
+}
+
+std::vector<int> dependent_rows(const Eigen::SparseMatrix<double>& B) {
+  std::vector<int> rows;
+  if (B.rows() == 0) return rows;
+  // Rows scaled to unit length, so that a small cell's short row is not taken for a dependent one;
+  // a shift of 1e-14 keeps every pivot positive (an exactly zero one would stop the factorization)
+  // and far below the 1e-11 that marks a dependent row.
+  Eigen::VectorXd inverse_length(B.rows());
+  for (Eigen::Index i = 0; i < B.rows(); ++i) {
+    const double length = B.row(i).norm();
+    inverse_length[i] = length > 0 ? 1 / length : 0.0;  // an empty row: a zero pivot, dependent
+  }
+  const Eigen::SparseMatrix<double> unit_rows = inverse_length.asDiagonal() * B;
+  Eigen::SparseMatrix<double> gram = unit_rows * unit_rows.transpose();
+  for (Eigen::Index i = 0; i < gram.rows(); ++i) gram.coeffRef(i, i) += 1e-14;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(gram);
+  const Eigen::VectorXd d = ldlt.vectorD();
+  const auto& row_of_pivot = ldlt.permutationPinv().indices();  // pivot k is row Pinv[k] of the Gram matrix
+  for (Eigen::Index k = 0; k < d.size(); ++k)
+    if (ldlt.info() != Eigen::Success || !(d[k] > 1e-11)) rows.push_back(row_of_pivot[k]);
+  return rows;
 }
 
 }  // namespace contact3d

@@ -5,6 +5,8 @@
 // A frictionless scene has the normal block only.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/SparseCore>
 
 #include "base/multiplier_layout.hpp"
@@ -28,5 +30,11 @@ struct ContactOperator {
 
 ContactOperator make_contact_operator(const ContactFace& face, const Partition& partition, const DofMap& dofs,
                                       bool with_friction);
+
+// The stability condition (5.1) asks 𝔹 for full row rank (then Q = 𝔹K⁻¹𝔹ᵀ is positive definite for
+// any K): the rows of `B` whose pivot in a sparse LDLᵀ of the Gram matrix of its rows scaled to unit
+// length (sparse: only cells sharing nodes couple) falls below 1e-11, i.e. rows dependent on the
+// others; empty when 𝔹 has full row rank. Without forming Q (the matrix-free dual).
+std::vector<int> dependent_rows(const Eigen::SparseMatrix<double>& B);
 
 }  // namespace contact3d

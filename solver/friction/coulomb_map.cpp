@@ -37,7 +37,7 @@ SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rt
   eval.slip = std::move(next);
   // The derivative and the prediction of the scaled map, from the second solve on (the first one's
   // slip is not fed back).
-  if (eval.ok && !first) {
+  if (eval.ok && !first && tresca_.differentiable()) {
     eval.derivative = [this, s_phi, s_g](const Eigen::VectorXd& v) {
       const TrescaStep::Derivative d = tresca_.derivative(s_phi * v.head(n_nodes_), s_g * v.tail(n_cells_));
       Eigen::VectorXd out(size());

@@ -16,7 +16,7 @@ TrescaStep::TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs
 
 SlipEvaluation TrescaStep::operator()(const Eigen::VectorXd& phi, double qp_rtol) {
   SlipEvaluation eval = solve(phi, slip_bound_, qp_rtol);
-  if (eval.ok) {
+  if (eval.ok && differentiable()) {
     eval.derivative = [this](const Eigen::VectorXd& v) {
       return derivative(v, Eigen::VectorXd::Zero(slip_bound_.size())).slip;
     };

@@ -53,6 +53,9 @@ class TrescaStep {
   using Prediction = Derivative;  // the same two fields, at a point instead of along a direction
   Prediction predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g);
   static constexpr int kDerivativeProducts = RadiusSensitivity::kProductsPerApply + 1;
+  // Whether derivative() and predict() can work: not with a matrix-free Q (the fixed point then
+  // goes without Newton and predicted steps).
+  bool differentiable() const { return qp_.gives_sensitivity(); }
 
   const Eigen::VectorXd& lambda() const { return lambda_; }
   const Eigen::VectorXd& radius() const { return radius_; }

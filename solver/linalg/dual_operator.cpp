@@ -1,12 +1,27 @@
 #include "linalg/dual_operator.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <random>
 #include <stdexcept>
+
+#include <Eigen/Eigenvalues>
 
 #include "linalg/blas.hpp"
 #include "linalg/symmetric_product.hpp"
 
 namespace contact3d {
+
+namespace {
+
+// Columns per dense block of right-hand sides: at most `requested`, fewer on big meshes so that a
+// block stays near 64 MiB (at least 8).
+int block_columns_for(Eigen::Index rows, int requested) {
+  const long long n = std::max<long long>(1, rows);
+  return static_cast<int>(std::clamp<long long>((64LL << 20) / (8 * n), 8, std::max(8, requested)));
+}
+
+}  // namespace
 
 DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B, const Eigen::VectorXd& f,
                                 int block_columns) {
@@ -17,9 +32,7 @@ DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatr
   op.solves = 1;
   op.Q.resize(m, m);
   const Eigen::SparseMatrix<double> Bt = B.transpose();
-  // Keep each dense block of right-hand sides near 64 MiB whatever the mesh size.
-  const long long rows = std::max<long long>(1, B.cols());
-  block_columns = static_cast<int>(std::clamp<long long>((64LL << 20) / (8 * rows), 8, std::max(8, block_columns)));
+  block_columns = block_columns_for(B.cols(), block_columns);
   for (int j0 = 0; j0 < m; j0 += block_columns) {
     const int cols = std::min(block_columns, m - j0);
     const Eigen::MatrixXd rhs = Eigen::MatrixXd(Bt.middleCols(j0, cols));
@@ -29,6 +42,19 @@ DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatr
   }
   op.Q = 0.5 * (op.Q + op.Q.transpose()).eval();
   return op;
+}
+
+Eigen::VectorXd dual_operator_diagonal(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                       int block_columns) {
+  const int m = static_cast<int>(B.rows());
+  Eigen::VectorXd diagonal(m);
+  const Eigen::SparseMatrix<double> Bt = B.transpose();
+  block_columns = block_columns_for(B.cols(), block_columns);
+  for (int j0 = 0; j0 < m; j0 += block_columns) {
+    const int cols = std::min(block_columns, m - j0);
+    diagonal.segment(j0, cols) = K.forward_solve(Eigen::MatrixXd(Bt.middleCols(j0, cols))).colwise().squaredNorm();
+  }
+  return diagonal;
 }
 
 std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B) {
@@ -125,6 +151,40 @@ double power_iteration(Eigen::Index size, const Product& product, int iterations
 double estimate_norm(Eigen::Index size, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
                      int iterations) {
   return power_iteration(size, product, iterations);
+}
+
+SpectrumEstimate lanczos_extremes(Eigen::Index size,
+                                  const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product, int steps) {
+  SpectrumEstimate out;
+  if (size == 0 || steps <= 0) return out;
+  steps = static_cast<int>(std::min<Eigen::Index>(steps, size));
+  std::mt19937_64 random(2009);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::MatrixXd V(size, steps);  // the Lanczos basis
+  V.col(0) = Eigen::VectorXd::NullaryExpr(size, [&] { return uniform(random); }).normalized();
+  Eigen::VectorXd alpha(steps), beta = Eigen::VectorXd::Zero(steps);
+  int k = 0;
+  for (; k < steps; ++k) {
+    Eigen::VectorXd w = product(V.col(k));
+    ++out.products;
+    alpha[k] = V.col(k).dot(w);
+    for (int pass = 0; pass < 2; ++pass)  // full reorthogonalisation, twice is enough
+      w -= V.leftCols(k + 1) * (V.leftCols(k + 1).transpose() * w);
+    if (k + 1 == steps) break;
+    beta[k] = w.norm();
+    if (!(beta[k] > 1e-14 * std::abs(alpha[k]))) break;  // an invariant subspace: the Ritz values are exact
+    V.col(k + 1) = w / beta[k];
+  }
+  const int n = std::min(k + 1, steps);
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    T(i, i) = alpha[i];
+    if (i + 1 < n) T(i, i + 1) = T(i + 1, i) = beta[i];
+  }
+  const Eigen::VectorXd ritz = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(T, Eigen::EigenvaluesOnly).eigenvalues();
+  out.smallest = ritz.minCoeff();
+  out.largest = ritz.maxCoeff();
+  return out;
 }
 
 double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {

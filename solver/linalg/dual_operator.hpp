@@ -39,6 +39,11 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
 DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
                                           const Eigen::VectorXd& f, const Eigen::VectorXd* u_free = nullptr);
 
+// Q's diagonal without Q: 𝔹ᵢK⁻¹𝔹ᵢᵀ = ‖L⁻¹P𝔹ᵢᵀ‖² by forward solves with blocks of 𝔹's rows (the
+// factor of K alone, not augmented): half the flops of make_dual_operator, m numbers kept.
+Eigen::VectorXd dual_operator_diagonal(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                       int block_columns = 256);
+
 // The dofs (columns) on which 𝔹 has a nonzero, ascending.
 std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);
 
@@ -52,5 +57,17 @@ double estimate_norm(const Eigen::MatrixXf& Q_single, double scale, int iteratio
 // The same for an operator given by its product v ↦ A v (of vectors of `size`).
 double estimate_norm(Eigen::Index size, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
                      int iterations = 50);
+
+// The extreme eigenvalues of a symmetric positive semidefinite operator given by its product, from
+// `steps` Lanczos steps (fully reorthogonalised, from a fixed pseudo-random start): Ritz values lie
+// inside the spectrum, so `largest` is from below (as a power iteration's, and closer for the same
+// products) and `smallest` from above — their ratio estimates the condition number from below.
+struct SpectrumEstimate {
+  double largest = 0, smallest = 0;
+  int products = 0;
+};
+SpectrumEstimate lanczos_extremes(Eigen::Index size,
+                                  const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
+                                  int steps = 40);
 
 }  // namespace contact3d

@@ -68,10 +68,54 @@ class CholmodDualProblem final : public DualProblem {
   Eigen::VectorXd u_free_;  // K⁻¹f
 };
 
+// Q never formed (DualMethod::MatrixFree): the factor of K alone; each product 𝔹K⁻¹𝔹ᵀv and each
+// displacement by one full solve, Q's diagonal (for the Jacobi scaling) by forward solves.
+class MatrixFreeDualProblem final : public DualProblem {
+ public:
+  MatrixFreeDualProblem(const DualProblemInput& in, StageClock& clock) : B_(in.B), face_dofs_(in.face_dofs) {
+    method = "matrix_free";
+    factor_ = std::make_unique<SparseCholesky>(in.K, FillOrdering::QuotientNestedDissection, in.on_analysis);
+    factor_nonzeros = factor_->factor_nonzeros();
+    clock.lap("factorization");
+    u_free_ = factor_->solve(in.f);
+    h_ = B_ * u_free_;
+    if (in.offset.size() == h_.size()) h_ += in.offset;
+    diagonal_ = dual_operator_diagonal(*factor_, B_);
+    clock.lap("dual");
+  }
+
+  Eigen::VectorXd apply_Q(const Eigen::VectorXd& v) const override {
+    return B_ * solve(Eigen::VectorXd(B_.transpose() * v));
+  }
+  Eigen::VectorXd Q_diagonal() const override { return diagonal_; }
+
+  Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const override {
+    return gather(displacement(lambda), face_dofs_);
+  }
+  Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const override {
+    return u_free_ - solve(Eigen::VectorXd(B_.transpose() * lambda));
+  }
+  void release_factor() override { factor_.reset(); }
+
+ private:
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+    if (!factor_) throw std::logic_error("DualProblem: the factor was released");
+    return factor_->solve(b);
+  }
+
+  const Eigen::SparseMatrix<double>& B_;
+  std::vector<int> face_dofs_;
+  std::unique_ptr<SparseCholesky> factor_;
+  Eigen::VectorXd u_free_;    // K⁻¹f
+  Eigen::VectorXd diagonal_;  // Q's
+};
+
 }  // namespace
 
 std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input,
                                                        StageClock& clock) {
+  if (method == DualMethod::MatrixFree && input.B.rows() > 0)
+    return std::make_unique<MatrixFreeDualProblem>(input, clock);
   return std::make_unique<CholmodDualProblem>(method, input, clock);
 }
 

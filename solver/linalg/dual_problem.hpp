@@ -15,6 +15,7 @@
 
 #include "base/stage_clock.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "linalg/symmetric_product.hpp"
 
 namespace contact3d {
 
@@ -40,7 +41,10 @@ struct StiffnessSource {
 //                 of [K 𝔹ᵀ; 𝔹 0] on the multipliers, under MPI, MUMPS called directly with our
 //                 nested dissection as its pivot order. Auto takes it in the MPI build.
 //   MumpsPetsc  — the same through PETSc's MUMPS interface, which orders by MUMPS's own AMD.
-enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps, MumpsPetsc };
+//   MatrixFree  — Q never formed: the factor of K alone, each product 𝔹K⁻¹𝔹ᵀv by one solve and
+//                 Q's diagonal by forward solves (dual_operator_diagonal). For contact faces whose
+//                 dense Q does not fit in memory (Auto takes it there in the serial build); MPGP only.
+enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps, MumpsPetsc, MatrixFree };
 
 // What a backend needs: K and f over the free dofs, 𝔹 (multipliers × free dofs), the free dofs
 // at which face_displacement() reports w (the contact face, in the caller's order), and the
@@ -74,9 +78,14 @@ class DualProblem {
  public:
   virtual ~DualProblem() = default;
 
-  const Eigen::MatrixXd& Q() const { return Q_; }  // dense, symmetric (both triangles filled)
+  const Eigen::MatrixXd& Q() const { return Q_; }  // dense, symmetric (both triangles filled); empty when matrix-free
   const Eigen::VectorXd& h() const { return h_; }
   int size() const { return static_cast<int>(h_.size()); }
+  // Whether Q() holds Q (every method but MatrixFree); apply_Q and Q_diagonal work either way.
+  bool forms_Q() const { return Q_.rows() == h_.size(); }
+  // Q v (a K⁻¹ solve when matrix-free).
+  virtual Eigen::VectorXd apply_Q(const Eigen::VectorXd& v) const { return symmetric_product(Q_, v); }
+  virtual Eigen::VectorXd Q_diagonal() const { return Q_.diagonal(); }
 
   // w = K⁻¹(f − 𝔹ᵀλ) at the face dofs, in the order of DualProblemInput::face_dofs.
   virtual Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const = 0;
@@ -96,7 +105,8 @@ class DualProblem {
   Eigen::VectorXd h_;
 };
 
-// The CHOLMOD backend. Laps `clock` at "factorization" and at "dual" (forming Q and h).
+// The CHOLMOD backend (every method but Mumps, MumpsPetsc). Laps `clock` at "factorization" and at
+// "dual" (forming Q and h; matrix-free: h and Q's diagonal).
 std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input,
                                                        StageClock& clock);
 

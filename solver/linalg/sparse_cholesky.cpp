@@ -549,47 +549,41 @@ Eigen::MatrixXd SparseCholesky::trailing_gram() const {
   return G;
 }
 
+// One of CHOLMOD's systems (CHOLMOD_A, _L, _Lt, _P, _Pt) applied to the columns of `in`.
+Eigen::MatrixXd SparseCholesky::apply_system(int system, const Eigen::MatrixXd& in) const {
+  cholmod_dense rhs{};
+  rhs.nrow = in.rows();
+  rhs.ncol = in.cols();
+  rhs.nzmax = in.size();
+  rhs.d = in.rows();
+  rhs.x = const_cast<double*>(in.data());
+  rhs.xtype = CHOLMOD_REAL;
+  rhs.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* x = cholmod_l_solve(system, impl_->factor, &rhs, &impl_->common);
+  if (!x) throw std::runtime_error("CHOLMOD solve failed (out of memory?)");
+  Eigen::MatrixXd out = Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(x->x), in.rows(), in.cols());
+  cholmod_l_free_dense(&x, &impl_->common);
+  return out;
+}
+
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
-  cholmod_common* c = &impl_->common;
   if (augmented()) {
     // K⁻¹ through the leading block: with L = [L11 0; L21 L22] (permuted), forward solve,
     // drop the trailing part, back solve: Lᵀ[x1; 0] = [z1; 0] gives x1 = L11⁻ᵀ z1.
     const int n = n_, na = n_aug_, first = n_aug_ - n_trailing_;
     Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(na, B.cols());
     padded.topRows(n) = B;
-    auto apply = [&](int sys, const Eigen::MatrixXd& in) {
-      cholmod_dense rhs{};
-      rhs.nrow = in.rows();
-      rhs.ncol = in.cols();
-      rhs.nzmax = in.size();
-      rhs.d = in.rows();
-      rhs.x = const_cast<double*>(in.data());
-      rhs.xtype = CHOLMOD_REAL;
-      rhs.dtype = CHOLMOD_DOUBLE;
-      cholmod_dense* x = cholmod_l_solve(sys, impl_->factor, &rhs, c);
-      if (!x) throw std::runtime_error("CHOLMOD solve failed (out of memory?)");
-      Eigen::MatrixXd out = Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(x->x), in.rows(), in.cols());
-      cholmod_l_free_dense(&x, c);
-      return out;
-    };
-    Eigen::MatrixXd z = apply(CHOLMOD_L, apply(CHOLMOD_P, padded));
+    Eigen::MatrixXd z = apply_system(CHOLMOD_L, apply_system(CHOLMOD_P, padded));
     z.bottomRows(na - first).setZero();
-    const Eigen::MatrixXd out = apply(CHOLMOD_Pt, apply(CHOLMOD_Lt, z));
+    const Eigen::MatrixXd out = apply_system(CHOLMOD_Pt, apply_system(CHOLMOD_Lt, z));
     return out.topRows(n);
   }
-  cholmod_dense rhs{};
-  rhs.nrow = B.rows();
-  rhs.ncol = B.cols();
-  rhs.nzmax = B.size();
-  rhs.d = B.rows();
-  rhs.x = const_cast<double*>(B.data());
-  rhs.xtype = CHOLMOD_REAL;
-  rhs.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, impl_->factor, &rhs, c);
-  if (!x) throw std::runtime_error("CHOLMOD solve failed (out of memory?)");
-  Eigen::MatrixXd out = Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(x->x), B.rows(), B.cols());
-  cholmod_l_free_dense(&x, c);
-  return out;
+  return apply_system(CHOLMOD_A, B);
+}
+
+Eigen::MatrixXd SparseCholesky::forward_solve(const Eigen::MatrixXd& B) const {
+  if (augmented()) throw std::logic_error("SparseCholesky::forward_solve: not for the augmented factor");
+  return apply_system(CHOLMOD_L, apply_system(CHOLMOD_P, B));
 }
 
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const { return solve(Eigen::MatrixXd(b)).col(0); }

@@ -60,6 +60,9 @@ class SparseCholesky {
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   // Several right-hand sides at once (dense, BLAS-3 in CHOLMOD).
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+  // Half a solve, L⁻¹P B (not for the augmented factor): the squared norm of column j is
+  // B_jᵀ K⁻¹ B_j, since K⁻¹ = Pᵀ L⁻ᵀ L⁻¹ P.
+  Eigen::MatrixXd forward_solve(const Eigen::MatrixXd& B) const;
 
   // Dense lower-triangular L_tt (only for the `trailing` constructor). `order[k]` is the dof
   // (row of K) of row/column k of L_tt.
@@ -102,6 +105,7 @@ class SparseCholesky {
   int n_aug_ = 0;          // size of the factored matrix (n_ + rows of 𝔹 for the augmented factor)
   Eigen::MatrixXd schur_;  // 𝔹K⁻¹𝔹ᵀ captured from the factorization (trailing order), until taken
   void record_times();
+  Eigen::MatrixXd apply_system(int system, const Eigen::MatrixXd& in) const;
   bool take_schur_block(const class SchurCapture& capture);
   // Whether CHOLMOD's dpotrf_ calls reach the interposer (schur_capture.hpp) in this process: a
   // 3 × 3 augmented matrix factored with a capture armed.

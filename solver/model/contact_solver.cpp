@@ -28,6 +28,7 @@
 #include "linalg/sparse_cholesky.hpp"
 #include "linalg/symmetric_product.hpp"
 #include "mesh/mesh_checks.hpp"
+#include "model/dual_route.hpp"
 #include "model/plane_frame.hpp"
 #include "model/solution_fields.hpp"
 #include "qp/dual_qp_solver.hpp"
@@ -107,15 +108,38 @@ double dense_dual_bytes_per_entry(const QpSettings& qp, int rows) {
   return 2 * 8.0 + (uses_single_products(qp.precision, rows) ? 4.0 : 0.0);
 }
 
-// Q is dense (m²): refuse what this machine cannot hold rather than dying in the allocator.
-void require_memory_for_dense_dual(const ContactOperator& op, const QpSettings& qp) {
-  const double bytes = dense_dual_bytes_per_entry(qp, op.rows()) * op.rows() * static_cast<double>(op.rows());
+bool is_mumps(DualMethod method) { return method == DualMethod::Mumps || method == DualMethod::MumpsPetsc; }
+
+// Q is dense (m²): where it and its working copies would not fit, "auto" goes matrix-free
+// (dual_route.hpp) and a dense route the scene named is refused rather than dying in the allocator.
+DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactOperator& op, Progress& report,
+                           SolveResult& res) {
+  const double bytes =
+      dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) * op.rows() * static_cast<double>(op.rows());
   const double available = static_cast<double>(available_memory_bytes());
-  if (available > 0 && bytes > 0.9 * available)
-    throw InputError("the contact partition has " + std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
-                     " multipliers): the dense dual operator and its working copies would need " +
-                     number(bytes / (1ull << 30)) + " GiB, and this machine has " + number(available / (1ull << 30)) +
-                     " GiB available; use a larger contact.cell_size (H)");
+  const bool fits = !(available > 0 && bytes > 0.9 * available);
+  const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, method, fits);
+  const std::string sizes = std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
+                            " multipliers): the dense dual operator and its working copies would need " +
+                            number(bytes / (1ull << 30)) + " GiB, and this machine has " +
+                            number(available / (1ull << 30)) + " GiB available";
+  if (!chosen)
+    throw InputError("the contact partition has " + sizes + "; use a larger contact.cell_size (H)" +
+                     (is_mumps(method) ? std::string()
+                                       : std::string(", or solver.schur = \"matrix_free\" (Q never formed: one "
+                                                     "K⁻¹ solve per product)")));
+  if (*chosen != DualMethod::MatrixFree) return *chosen;
+  if (scene.solver.qp.variant == QpVariant::Ssn)
+    throw InputError(
+        "solver.qp = \"ssn\": its Newton steps need the entries of Q, which the matrix-free dual "
+        "(solver.schur = \"matrix_free\") never forms; use solver.qp = \"auto\" or \"mpgp\"");
+  if (*chosen != method) {
+    res.notes.push_back("the contact partition has " + sizes +
+                        ": Q is not formed (solver.schur = \"matrix_free\"); each of its products is one K⁻¹ "
+                        "solve, the QP is MPGP, and the fixed point takes no Newton or predicted steps");
+    report.stage("  dense Q does not fit: matrix-free dual (one K⁻¹ solve per product)");
+  }
+  return *chosen;
 }
 
 // The yardsticks of total / factorization (benchmarks), in this process: one factorization of K
@@ -135,6 +159,20 @@ void time_reference_factorizations(const Eigen::SparseMatrix<double>& K, StageCl
 // Above this estimate of cond(Q) the multipliers lose most of their digits to rounding and to the
 // QP's stopping tolerance; the paper's brick has 1.5e4, the bodies of results/bodies at most ~1e6.
 constexpr double kIllConditionedDual = 1e10;
+
+// (5.1) fails: `count` rows of 𝔹 are linearly dependent; the cells of the first few of `rows`.
+[[noreturn]] void throw_dependent_rows(const std::vector<int>& rows, int count, const Partition& part, int r) {
+  std::string cells;
+  for (std::size_t k = 0; k < rows.size() && k < 8; ++k) {
+    const int cell = rows[k] % r;
+    const auto& c = part.cells[cell];
+    cells += "\n  cell " + std::to_string(cell) + " [" + number(c.lo.x()) + ", " + number(c.hi.x()) + "] x [" +
+             number(c.lo.y()) + ", " + number(c.hi.y()) + "], area " + number(c.area);
+  }
+  throw InputError("the multiplier partition violates the stability condition (5.1): " + std::to_string(count) +
+                   " rows of the contact operator are linearly dependent, e.g." + cells +
+                   "\nuse a larger contact.cell_size (H), e.g. twice the current one");
+}
 
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
 // estimate of cond(Q) (power iterations on Q, subspace iteration on Q⁻¹) and the Cholesky factor it
@@ -179,20 +217,30 @@ StabilityCheck check_stability(const Eigen::MatrixXd& Q, double lambda_max, cons
   for (int k = 0; k < d.size(); ++k)
     if (!(d[k] > 1e-11 * dmax)) bad.push_back(k);
   if (bad.empty()) return {dmax / d.minCoeff(), nullptr};
-  // Map pivots back through the LDLT permutation to rows of 𝔹, then to cells.
+  // Map pivots back through the LDLT permutation to rows of 𝔹.
   const auto& perm = ldlt.transpositionsP();
   Eigen::VectorXi order = Eigen::VectorXi::LinSpaced(d.size(), 0, static_cast<int>(d.size()) - 1);
   order = perm * order;  // pivot k of the LDLᵀ sits at row (P·idx)[k] of Q
-  std::string cells;
-  for (std::size_t k = 0; k < bad.size() && k < 8; ++k) {
-    const int row = order[bad[k]], cell = row % r;
-    const auto& c = part.cells[cell];
-    cells += "\n  cell " + std::to_string(cell) + " [" + number(c.lo.x()) + ", " + number(c.hi.x()) + "] x [" +
-             number(c.lo.y()) + ", " + number(c.hi.y()) + "], area " + number(c.area);
-  }
-  throw InputError("the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) +
-                   " rows of the contact operator are linearly dependent, e.g." + cells +
-                   "\nuse a larger contact.cell_size (H), e.g. twice the current one");
+  std::vector<int> rows;
+  for (const int k : bad) rows.push_back(order[k]);
+  throw_dependent_rows(rows, static_cast<int>(bad.size()), part, r);
+}
+
+// Lanczos steps of the matrix-free route's stability check (one K⁻¹ solve each).
+constexpr int kLanczosSteps = 40;
+
+// Stability (5.1) without Q (the matrix-free route): Q = 𝔹K⁻¹𝔹ᵀ is positive definite iff 𝔹 has
+// full row rank (contact_operator.hpp's dependent_rows names the rows that spoil it). cond(Q) and
+// ‖Q‖ by Lanczos steps on Q (one K⁻¹ solve each): the Ritz values lie inside the spectrum, so the
+// condition number is estimated from below.
+double check_stability_without_Q(const DualProblem& dual, const ContactOperator& op, const Partition& part,
+                                 double& q_norm) {
+  if (const std::vector<int> bad = dependent_rows(op.B); !bad.empty())
+    throw_dependent_rows(bad, static_cast<int>(bad.size()), part, op.r);
+  const SpectrumEstimate spectrum = lanczos_extremes(
+      dual.size(), [&dual](const Eigen::VectorXd& v) { return dual.apply_Q(v); }, kLanczosSteps);
+  q_norm = spectrum.largest;
+  return spectrum.smallest > 0 ? spectrum.largest / spectrum.smallest : std::numeric_limits<double>::infinity();
 }
 
 // F̄_i(φ) = ∫_{R_i} F(φ_h) dS / meas(R_i) per cell, for φ at the contact nodes.
@@ -409,8 +457,6 @@ AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullp
   };
 }
 
-bool is_mumps(DualMethod method) { return method == DualMethod::Mumps || method == DualMethod::MumpsPetsc; }
-
 // Auto: MUMPS in the distributed build, the augmented CHOLMOD factor otherwise.
 DualMethod resolved_dual_method(DualMethod method) {
   if (method != DualMethod::Auto) return method;
@@ -508,6 +554,20 @@ std::string describe_dual_solve(const Scene& scene) {
 std::shared_ptr<const DualOperatorFactor> check_dual_stability(const DualProblem& dual, double& q_norm,
                                                                const ContactOperator& op, const QpSettings& qp,
                                                                Progress& report, SolveResult& res) {
+  const auto warn_if_ill_conditioned = [&res] {
+    if (res.stability_condition > kIllConditionedDual)
+      res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
+                             "): some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or "
+                             "a body thinner than a cell), so λ and the contact pressure are unreliable although the "
+                             "residuals are small; use a larger contact.cell_size (H)");
+  };
+  if (!dual.forms_Q()) {
+    res.stability_condition = check_stability_without_Q(dual, op, res.partition, q_norm);
+    warn_if_ill_conditioned();
+    report.stage("stability (5.1): 𝔹 has full row rank; cond(Q) ≳ " + number(res.stability_condition, 3) +
+                 " (Lanczos, " + std::to_string(kLanczosSteps) + " K⁻¹ solves)");
+    return nullptr;
+  }
   Eigen::MatrixXf single_copy;
   double single_scale = 1;
   if (uses_single_products(qp.precision, dual.size())) {
@@ -519,11 +579,7 @@ std::shared_ptr<const DualOperatorFactor> check_dual_stability(const DualProblem
   }
   StabilityCheck check = check_stability(dual.Q(), q_norm, res.partition, op.r, std::move(single_copy), single_scale);
   res.stability_condition = check.condition;
-  if (res.stability_condition > kIllConditionedDual)
-    res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
-                           "): some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or a "
-                           "body thinner than a cell), so λ and the contact pressure are unreliable although the "
-                           "residuals are small; use a larger contact.cell_size (H)");
+  warn_if_ill_conditioned();
   report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3));
   const bool takes_newton_steps = qp.variant == QpVariant::Auto || qp.variant == QpVariant::Ssn;
   if (!check.factor || qp.newton_systems != NewtonSystems::Auto || !takes_newton_steps) return nullptr;
@@ -539,7 +595,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   SolveResult res;
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
-  const DualMethod method = resolved_dual_method(scene.solver.dual_method);
+  DualMethod method = resolved_dual_method(scene.solver.dual_method);
   require_backend_for_out_of_core(scene, method);
   const bool K_on_ranks = method == DualMethod::Mumps && !scene.contact.empty();
   Discretisation disc = discretise(scene, mesh, res, !K_on_ranks);
@@ -553,10 +609,12 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   const ContactOperator op = contact_stage(scene, mesh, res);
   clock.lap("contact");
   describe_contact(report, res, op);
-  require_memory_for_dense_dual(op, scene.solver.qp);
+  method = fit_dual_method(scene, method, op, report, res);
+  const bool matrix_free = method == DualMethod::MatrixFree;
 
-  stage.enter("factorization",
-              "the sparse factor of K with the multipliers (" + count(res.n_primal + op.rows()) + " rows)");
+  stage.enter("factorization", matrix_free ? "the sparse factor of K (" + count(res.n_primal) + " rows)"
+                                           : "the sparse factor of K with the multipliers (" +
+                                                 count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
   report.stage("factorization (" +
                std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
@@ -568,20 +626,31 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                          disc.release_K(), K_on_ranks ? &source : nullptr};
   if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
   std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, scene.solver, clock);
-  report.stage("  done in " + number(stage_seconds(res, "factorization") + stage_seconds(res, "dual"), 3) +
-               " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " + count(op.rows()) + " dense (" +
-               number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
+  const double done_s = stage_seconds(res, "factorization") + stage_seconds(res, "dual");
+  if (matrix_free)
+    report.stage("  done in " + number(done_s, 3) + " s (factor, h and Q's diagonal); Q: " + count(op.rows()) + " x " +
+                 count(op.rows()) + ", not formed");
+  else
+    report.stage("  done in " + number(done_s, 3) + " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " +
+                 count(op.rows()) + " dense (" + number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
 
-  stage.enter("stability check", "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
+  stage.enter("stability check", matrix_free ? "the factor of 𝔹𝔹ᵀ and Lanczos steps on Q (one K⁻¹ solve each)"
+                                             : "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
   double q_norm = 0;  // once: for cond(Q) and for MPGP's step ᾱ
   std::shared_ptr<const DualOperatorFactor> q_factor =
       check_dual_stability(*dual, q_norm, op, scene.solver.qp, report, res);
   clock.lap("stability");
 
-  stage.enter("dual solve",
-              "the QP's working copies of Q (" +
-                  gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) * op.rows() * op.rows()) + ")");
-  DualQpSolver qp(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp, std::move(q_factor));
+  stage.enter("dual solve", matrix_free ? std::string("the QP's vectors and one K⁻¹ solve per product")
+                                        : "the QP's working copies of Q (" +
+                                              gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) *
+                                                  op.rows() * op.rows()) +
+                                              ")");
+  DualQpSolver qp =
+      matrix_free
+          ? DualQpSolver([&dual](const Eigen::VectorXd& v) { return dual->apply_Q(v); }, dual->Q_diagonal(), dual->h(),
+                         op.r, op.with_friction, q_norm, scene.solver.qp)
+          : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp, std::move(q_factor));
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));
@@ -597,7 +666,9 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   record_steps(scene, *dual, tresca, res);
   clock.lap("step_fields");
   res.schur_method = dual->method;
-  res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);
+  res.qp_method = matrix_free && scene.solver.qp.variant == QpVariant::Auto
+                      ? std::string(name_of(QpVariant::Mpgp, kQpVariantNames))  // "auto" is MPGP without Q's entries
+                      : std::string(name_of(scene.solver.qp.variant, kQpVariantNames));
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
   res.backend = dual->backend;

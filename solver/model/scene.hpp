@@ -35,12 +35,13 @@ struct MeshSource {
   bool trusted = false;
 };
 
-inline constexpr NameTable<DualMethod, 6> kDualMethodNames{{{DualMethod::Auto, "auto"},
+inline constexpr NameTable<DualMethod, 7> kDualMethodNames{{{DualMethod::Auto, "auto"},
                                                             {DualMethod::BlockSolve, "blocksolve"},
                                                             {DualMethod::ContactLast, "contactlast"},
                                                             {DualMethod::Augmented, "augmented"},
                                                             {DualMethod::Mumps, "mumps"},
-                                                            {DualMethod::MumpsPetsc, "mumps_petsc"}}};
+                                                            {DualMethod::MumpsPetsc, "mumps_petsc"},
+                                                            {DualMethod::MatrixFree, "matrix_free"}}};
 
 // [solver]: every option with its default; the scene key is the field name unless noted.
 struct SolverSettings {

@@ -13,12 +13,14 @@ constexpr double kActiveRelTol = 1e-12;
 }
 
 Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
-  if (scale.size() == 0) return symmetric_product(*Q, v);
-  return scale.cwiseProduct(symmetric_product(*Q, scale.cwiseProduct(v)));
+  const auto Q_times = [this](const Eigen::VectorXd& x) { return Q ? symmetric_product(*Q, x) : product(x); };
+  if (scale.size() == 0) return Q_times(v);
+  return scale.cwiseProduct(Q_times(scale.cwiseProduct(v)));
 }
 
 Eigen::VectorXd BoxDiscQP::diagonal() const {
-  return scale.size() ? Eigen::VectorXd(Q->diagonal().cwiseProduct(scale.cwiseAbs2())) : Eigen::VectorXd(Q->diagonal());
+  const Eigen::VectorXd d = Q ? Eigen::VectorXd(Q->diagonal()) : q_diagonal;
+  return scale.size() ? Eigen::VectorXd(d.cwiseProduct(scale.cwiseAbs2())) : d;
 }
 
 Eigen::VectorXd BoxDiscQP::apply_single(const Eigen::VectorXd& v) const {

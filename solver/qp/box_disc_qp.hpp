@@ -5,6 +5,8 @@
 // chopped gradients, longest feasible step); solvers know nothing else about contact.
 #pragma once
 
+#include <functional>
+
 #include <Eigen/Core>
 
 #include "base/multiplier_layout.hpp"
@@ -15,6 +17,10 @@ class BorderedNewton;
 
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
+  // Matrix-free (Q null): Q v by `product` (one solve with the factor of K, linalg/dual_problem.hpp)
+  // and Q's diagonal given. Only MPGP works on such a problem: Newton steps need Q's entries.
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product;
+  Eigen::VectorXd q_diagonal;
   // Optional diagonal scaling: the problem's operator is then S Q S, S = diag(scale) (the Jacobi
   // scaling, jacobi_scaling.hpp), applied in each product instead of stored as a second dense copy
   // (m² doubles: 800 MB at 10 000 multipliers). Empty: Q itself. Read Q through apply(),
@@ -36,6 +42,7 @@ struct BoxDiscQP {
   double q_norm = 0;       // ‖Q‖, or an estimate of it with a small safety margin (see estimate_norm)
 
   MultiplierLayout layout() const { return {r, with_friction}; }
+  bool matrix_free() const { return Q == nullptr; }
   int size() const { return layout().size(); }
   // Q v from the lower triangle only (linalg/symmetric_product.hpp), scaled when `scale` is set.
   Eigen::VectorXd apply(const Eigen::VectorXd& v) const;

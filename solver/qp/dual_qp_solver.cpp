@@ -1,5 +1,8 @@
 #include "qp/dual_qp_solver.hpp"
 
+#include <stdexcept>
+#include <utility>
+
 #include "linalg/dual_operator.hpp"
 #include "linalg/symmetric_product.hpp"
 #include "qp/hybrid_qp.hpp"
@@ -33,6 +36,24 @@ DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, i
   if (settings.newton_systems == NewtonSystems::Auto)
     bordered_ = make_bordered_newton(std::move(factor),
                                      jacobi_ ? jacobi_->scale() : Eigen::VectorXd(Eigen::VectorXd::Ones(qp_.size())));
+}
+
+DualQpSolver::DualQpSolver(std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product, Eigen::VectorXd diagonal,
+                           const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
+                           const QpSettings& settings)
+    : settings_(settings) {
+  if (settings_.variant == QpVariant::Ssn)
+    throw std::invalid_argument("semismooth Newton needs Q's entries, which a matrix-free dual has not");
+  if (settings_.variant == QpVariant::Auto) settings_.variant = QpVariant::Mpgp;
+  settings_.precision = QpPrecision::Double;
+  qp_.product = std::move(product);
+  qp_.q_diagonal = std::move(diagonal);
+  qp_.h = h;
+  qp_.r = r;
+  qp_.with_friction = with_friction;
+  qp_.radius = Eigen::VectorXd::Zero(r);
+  qp_.q_norm = 1.05 * q_norm;  // the estimate is a Rayleigh quotient, from below
+  if (settings_.scaling == QpScaling::Jacobi) jacobi_.emplace(qp_);
 }
 
 BoxDiscQP DualQpSolver::solved_problem() {

@@ -5,6 +5,7 @@
 // constraints (which change from one fixed-point step to the next) and a warm start.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -60,6 +61,10 @@ class DualQpSolver {
   // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
   DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
+  // Matrix-free: Q only through `product` (v ↦ Q v) and its `diagonal`. MPGP in double ("auto" is
+  // MPGP here; "ssn", whose Newton steps need Q's entries, is a std::invalid_argument), no sensitivity.
+  DualQpSolver(std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product, Eigen::VectorXd diagonal,
+               const Eigen::VectorXd& h, int r, bool with_friction, double q_norm, const QpSettings& settings);
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
   // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
@@ -67,6 +72,8 @@ class DualQpSolver {
   // problem that solve() solved (Jacobi-scaled or not; through the factor of Q where the Newton steps
   // go through it). It holds the radii of this solve and must not outlive the solver.
   RadiusSensitivity radius_sensitivity(const Eigen::VectorXd& lambda);
+  // Whether radius_sensitivity() can succeed (not on a matrix-free Q).
+  bool gives_sensitivity() const { return !qp_.matrix_free(); }
   // Heartbeat lines of long solves go to `progress` (must outlive the solver; null: none).
   void report_progress_to(Progress* progress) { progress_ = progress; }
 

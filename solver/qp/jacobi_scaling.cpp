@@ -12,15 +12,15 @@ double inverse_sqrt(double d) { return d > 0 ? 1.0 / std::sqrt(d) : 1.0; }
 }  // namespace
 
 JacobiScaledQP::JacobiScaledQP(const BoxDiscQP& qp, bool estimate) : qp_(qp) {
-  const Eigen::MatrixXd& Q = *qp.Q;
+  const Eigen::VectorXd d = qp.diagonal();  // of Q itself: qp is not scaled yet
   const int r = qp.r;
   Eigen::VectorXd& s = qp_.scale;
   s.resize(qp.size());
-  for (int i = 0; i < r; ++i) s[i] = inverse_sqrt(Q(i, i));
+  for (int i = 0; i < r; ++i) s[i] = inverse_sqrt(d[i]);
   if (qp.with_friction)
     for (int i = 0; i < r; ++i) {
       const int a = qp.layout().t1(i), b = qp.layout().t2(i);
-      s[a] = s[b] = inverse_sqrt(std::max(Q(a, a), Q(b, b)));
+      s[a] = s[b] = inverse_sqrt(std::max(d[a], d[b]));
     }
   qp_.h = s.cwiseProduct(qp.h);
   qp_.q_norm =

@@ -10,6 +10,7 @@
 // symmetric positive definite.
 #pragma once
 
+#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Core>
@@ -41,6 +42,7 @@ ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, dou
 template <typename Matrix>
 void reduced_matrix(const BoxDiscQP& qp, const std::vector<Direction>& d, Matrix& A) {
   using Scalar = typename Matrix::Scalar;
+  if (qp.matrix_free()) throw std::logic_error("a Newton system needs Q's entries, which a matrix-free dual has not");
   const Eigen::MatrixXd& Q = *qp.Q;
   std::vector<Direction> w = d;  // weights on Q's own entries
   for (Direction& e : w) {

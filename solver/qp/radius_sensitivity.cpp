@@ -11,6 +11,7 @@ namespace contact3d {
 RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& solution, bool single_precision,
                                      const Eigen::VectorXd& scale)
     : qp_(qp), scale_(scale), single_precision_(single_precision), nu_(Eigen::VectorXd::Zero(qp.size())) {
+  if (qp_.matrix_free()) return;  // its reduced systems need Q's entries: not ok()
   // The active sets of z = λ − ρ g, with the semismooth Newton solver's ρ.
   const double rho = projection_scale(qp_);
   const Eigen::VectorXd z = solution - rho * (qp_.apply(solution) - qp_.h);

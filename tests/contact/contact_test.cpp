@@ -131,3 +131,19 @@ TEST(FrictionLaw, RampMatchesEquation61) {
   EXPECT_DOUBLE_EQ(table(1.5), 0.15);
   EXPECT_DOUBLE_EQ(table(3), 0.2);
 }
+
+// (5.1) without Q: 𝔹's dependent rows, whatever the length of its rows.
+TEST(ContactOperator, DependentRowsAreFoundWhateverTheRowLengths) {
+  Eigen::MatrixXd B(4, 6);
+  B << 1, 2, 0, 0, 0, 0,       //
+      0, 1e-7, 1e-7, 0, 0, 0,  // a short row (a small cell) that is independent
+      0, 0, 0, 3, 1, 0,        //
+      0, 0, 0, 0, 0, 2;
+  EXPECT_TRUE(dependent_rows(B.sparseView()).empty());
+  B.row(3) = 2 * B.row(0) - 5e6 * B.row(1);  // now a combination of rows 0 and 1
+  const std::vector<int> bad = dependent_rows(B.sparseView());
+  ASSERT_EQ(bad.size(), 1u);
+  EXPECT_TRUE(bad[0] == 0 || bad[0] == 1 || bad[0] == 3) << bad[0];
+  B.row(3).setZero();  // a cell with no free dof: an empty row
+  EXPECT_EQ(dependent_rows(B.sparseView()), std::vector<int>{3});
+}

@@ -10,6 +10,8 @@
 
 #include <Eigen/Dense>
 
+#include "base/errors.hpp"
+
 #include "contact/contact_face.hpp"
 #include "contact/contact_operator.hpp"
 #include "contact/partition.hpp"
@@ -17,6 +19,7 @@
 #include "fem/dof_map.hpp"
 #include "linalg/displacement_trace.hpp"
 #include "linalg/dual_operator.hpp"
+#include "linalg/dual_problem.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "mesh/brick_generator.hpp"
 #include "model/contact_solver.hpp"
@@ -298,6 +301,76 @@ TEST(FastPaths, WholeSolvesAgreeAcrossVariants) {
   EXPECT_EQ(cl.schur_method, "contactlast");
   EXPECT_EQ(cl.fixed_point.iterations(), ref.fixed_point.iterations());
   EXPECT_LT((cl.u - ref.u).norm() / ref.u.norm(), 1e-8);
+}
+
+// The matrix-free dual (Q never formed): its products, diagonal and h are the dense Q's, and a whole
+// solve with the same QP (MPGP) takes the same fixed-point and QP iterations to the same answer.
+TEST(FastPaths, MatrixFreeDualIsTheDenseOne) {
+  const BrickData d = brick_data(4, true);
+  const SparseCholesky plain(d.K);
+  const DualOperator ref = make_dual_operator(plain, d.B, d.f);
+  EXPECT_LT((dual_operator_diagonal(plain, d.B, 16) - ref.Q.diagonal()).norm() / ref.Q.diagonal().norm(), 1e-12);
+  StageTimes times;
+  StageClock clock(times);
+  const DualProblemInput input{d.K, d.B, d.f, {}};
+  const std::unique_ptr<DualProblem> dual = make_cholmod_dual_problem(DualMethod::MatrixFree, input, clock);
+  EXPECT_FALSE(dual->forms_Q());
+  EXPECT_EQ(dual->method, "matrix_free");
+  EXPECT_LT((dual->h() - ref.h).norm() / ref.h.norm(), 1e-12);
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(ref.Q.rows(), -1.0, 2.0);
+  EXPECT_LT((dual->apply_Q(v) - ref.Q * v).norm() / (ref.Q * v).norm(), 1e-12);
+  EXPECT_LT((dual->Q_diagonal() - ref.Q.diagonal()).norm() / ref.Q.diagonal().norm(), 1e-12);
+
+  const Mesh mesh = make_paper_brick({4});
+  const SolveResult dense = solve_scene(parse_scene_text(kBrick, ".", {"solver.qp=\"mpgp\""}), mesh);
+  for (const char* qp : {"solver.qp=\"mpgp\"", "solver.qp=\"auto\""}) {
+    const SolveResult free = solve_scene(parse_scene_text(kBrick, ".", {"solver.schur=\"matrix_free\"", qp}), mesh);
+    ASSERT_TRUE(free.converged) << qp;
+    EXPECT_EQ(free.schur_method, "matrix_free");
+    EXPECT_EQ(free.qp_method, "mpgp") << qp;  // "auto" is MPGP without Q's entries
+    EXPECT_EQ(free.fixed_point.iterations(), dense.fixed_point.iterations()) << qp;
+    EXPECT_EQ(free.n_mult, dense.n_mult) << qp;
+    EXPECT_EQ(free.fixed_point.newton_steps + free.fixed_point.predicted_steps, 0) << qp;
+    EXPECT_LT((free.u - dense.u).norm() / dense.u.norm(), 1e-8) << qp;
+    // cond(Q) from 40 Lanczos steps on 36 multipliers against the dense check's (power iteration and
+    // the factor of Q): both estimates, a fraction of a per cent apart.
+    EXPECT_NEAR(free.stability_condition / dense.stability_condition, 1.0, 0.01) << qp;
+  }
+  // Coulomb's bound on the matrix-free dual: the same answer as on the dense one, to the fixed
+  // point's tolerance (1e-4; the dense run takes predicted steps, the matrix-free one cannot).
+  const std::vector<std::string> coulomb = {"friction.model=\"coulomb\"", "friction.slip_bound=0",
+                                            "solver.qp=\"mpgp\""};
+  std::vector<std::string> coulomb_free = coulomb;
+  coulomb_free.push_back("solver.schur=\"matrix_free\"");
+  const SolveResult c_dense = solve_scene(parse_scene_text(kBrick, ".", coulomb), mesh);
+  const SolveResult c_free = solve_scene(parse_scene_text(kBrick, ".", coulomb_free), mesh);
+  ASSERT_TRUE(c_free.converged);
+  EXPECT_LT((c_free.u - c_dense.u).norm() / c_dense.u.norm(), 1e-4);
+  // Newton steps need Q's entries: the semismooth Newton QP is refused on it, naming the way out.
+  try {
+    solve_scene(parse_scene_text(kBrick, ".", {"solver.schur=\"matrix_free\"", "solver.qp=\"ssn\""}), mesh);
+    ADD_FAILURE() << "ssn on the matrix-free dual was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("solver.qp = \"auto\" or \"mpgp\""), std::string::npos) << e.what();
+  }
+}
+
+TEST(FastPaths, LanczosBracketsTheSpectrumFromInside) {
+  std::mt19937 random(7);
+  std::normal_distribution<double> normal;
+  const int n = 120;
+  const Eigen::MatrixXd G = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(random); });
+  const Eigen::MatrixXd A = G * G.transpose() / n + 1e-3 * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::VectorXd exact = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues();
+  const auto product = [&A](const Eigen::VectorXd& v) { return Eigen::VectorXd(A * v); };
+  const SpectrumEstimate few = lanczos_extremes(n, product, 40);
+  EXPECT_EQ(few.products, 40);
+  EXPECT_LE(few.largest, exact.maxCoeff() * (1 + 1e-12));
+  EXPECT_GT(few.largest, 0.99 * exact.maxCoeff());
+  EXPECT_GE(few.smallest, exact.minCoeff() * (1 - 1e-12));
+  const SpectrumEstimate all = lanczos_extremes(n, product, n);  // a full Krylov space: exact
+  EXPECT_NEAR(all.largest, exact.maxCoeff(), 1e-9 * exact.maxCoeff());
+  EXPECT_NEAR(all.smallest, exact.minCoeff(), 1e-6 * exact.minCoeff());
 }
 
 TEST(FastPaths, FrictionlessIsOneQpWithoutFixedPoint) {
