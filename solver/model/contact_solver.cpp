@@ -136,8 +136,11 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
   if (*chosen != method) {
     res.notes.push_back("the contact partition has " + sizes +
                         ": Q is not formed (solver.schur = \"matrix_free\"); each of its products is one K⁻¹ "
-                        "solve, the QP is MPGP, and the fixed point takes no Newton or predicted steps");
-    report.stage("  dense Q does not fit: matrix-free dual (one K⁻¹ solve per product)");
+                        "solve, the QP is MPGP, and the fixed point takes no Newton or predicted steps — far "
+                        "slower than the dense route; a larger contact.cell_size (H) keeps the dense Q");
+    report.stage(
+        "  the dense Q does not fit: matrix-free dual, one K⁻¹ solve per QP product (slow; a larger "
+        "contact.cell_size keeps the dense Q)");
   }
   return *chosen;
 }
