@@ -72,6 +72,11 @@ if not m or not (0 < float(m.group(1)) <= 1):
     problems.append("no tet quality in (0, 1]")
 if not re.search(r"contact face: \d+ triangles, \d+ contact nodes", out):
     problems.append("no contact face summary")
+# The dual a solve would form: 3 multipliers per cell with friction, and the dense route on a face this small.
+m = re.search(r"^dual: (\d+) cells \(H = [0-9.eE+-]+ m\), (\d+) multipliers; the dense Q with its working copies "
+              r"[0-9.eE+-]+ [MG]iB, [0-9.eE+-]+ [MG]iB available: solver.schur = \"augmented\"$", out, re.M)
+if not m or int(m.group(1)) == 0 or int(m.group(2)) != 3 * int(m.group(1)):
+    problems.append("no dual plan line (cells, 3 multipliers per cell, the dense route)")
 if "63 nodes" not in out or f"{len(seen_tets)} tets" not in out:
     problems.append("node/tet counts missing or wrong")
 if not out.strip() or not out.rstrip().splitlines()[-1].startswith("ok"):

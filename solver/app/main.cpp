@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 #include "base/memory.hpp"
 #include "distributed/backend.hpp"
 #include "io/results_writer.hpp"
@@ -143,6 +144,21 @@ int run_solve(const SolveArgs& args) {
   return res.converged ? 0 : 1;
 }
 
+// The dual problem a solve would form: its size, and the route solver.schur takes for it here.
+void print_dual_plan(const DualPlan& plan) {
+  const std::string available =
+      plan.available_bytes > 0 ? bytes_text(plan.available_bytes) + " available" : "available memory unknown";
+  std::string route = "solver.schur = \"" + plan.method + "\"";
+  if (plan.method.empty())
+    route =
+        "does not fit, and the scene names a dense solver.schur: the solve would be refused (use a larger "
+        "contact.cell_size, or solver.schur = \"matrix_free\")";
+  else if (plan.method == "matrix_free")
+    route += " (Q not formed: one K⁻¹ solve per QP product, slow; a larger contact.cell_size keeps the dense Q)";
+  fmt::print("dual: {} cells (H = {:.4g} m), {} multipliers; the dense Q with its working copies {}, {}: {}\n",
+             plan.cells, plan.cell_size, plan.multipliers, bytes_text(plan.dense_bytes), available, route);
+}
+
 int run_check(const SolveArgs& args) {
   const Scene user_scene = load_scene(args.scene, args.sets);
   const fs::path work = fs::temp_directory_path() / ("contact3d_check_" + std::to_string(::getpid()));
@@ -177,7 +193,6 @@ int run_check(const SolveArgs& args) {
   check_tet_orientation(mesh);
   check_mesh_meaning(mesh, mesh_roles(scene));
   // Quality: worst ratio of inradius-like measure (volume / longest edge³), scaled to 1 for a regular tet.
-  check_tet_orientation(mesh);
   double worst = 1e300;
   for (const auto& t : mesh.tets) {
     TetCoords x{mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]};
@@ -196,6 +211,7 @@ int run_check(const SolveArgs& args) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
     fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} m², h = {:.4g} m\n", face.triangles.size(),
                face.nodes.size(), face.area, face.h);
+    print_dual_plan(plan_dual(scene, mesh));
   }
   fmt::print("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
   return 0;

@@ -24,4 +24,10 @@ inline std::string count(long long n) {
   return n < 0 ? "-" + out : out;
 }
 
+// A size in bytes, in MiB below 1 GiB and in GiB above, 3 significant digits: "5.06 MiB", "12.4 GiB".
+inline std::string bytes_text(double bytes) {
+  constexpr double kMiB = 1 << 20, kGiB = 1 << 30;
+  return bytes < kGiB ? number(bytes / kMiB, 3) + " MiB" : number(bytes / kGiB, 3) + " GiB";
+}
+
 }  // namespace contact3d

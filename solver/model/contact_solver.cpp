@@ -110,19 +110,26 @@ double dense_dual_bytes_per_entry(const QpSettings& qp, int rows) {
 
 bool is_mumps(DualMethod method) { return method == DualMethod::Mumps || method == DualMethod::MumpsPetsc; }
 
+// The dense Q of `rows` multipliers with its working copies against what this process can get.
+struct DenseDualMemory {
+  double bytes = 0, available = 0;  // available 0: unknown
+  bool fits() const { return !(available > 0 && bytes > 0.9 * available); }
+};
+DenseDualMemory dense_dual_memory(const QpSettings& qp, int rows) {
+  return {dense_dual_bytes_per_entry(qp, rows) * rows * static_cast<double>(rows),
+          static_cast<double>(available_memory_bytes())};
+}
+
 // Q is dense (m²): where it and its working copies would not fit, "auto" goes matrix-free
 // (dual_route.hpp) and a dense route the scene named is refused rather than dying in the allocator.
 DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactOperator& op, Progress& report,
                            SolveResult& res) {
-  const double bytes =
-      dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) * op.rows() * static_cast<double>(op.rows());
-  const double available = static_cast<double>(available_memory_bytes());
-  const bool fits = !(available > 0 && bytes > 0.9 * available);
-  const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, method, fits);
+  const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
+  const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, method, memory.fits());
   const std::string sizes = std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
                             " multipliers): the dense dual operator and its working copies would need " +
-                            number(bytes / (1ull << 30)) + " GiB, and this machine has " +
-                            number(available / (1ull << 30)) + " GiB available";
+                            number(memory.bytes / (1ull << 30)) + " GiB, and this machine has " +
+                            number(memory.available / (1ull << 30)) + " GiB available";
   if (!chosen)
     throw InputError("the contact partition has " + sizes + "; use a larger contact.cell_size (H)" +
                      (is_mumps(method) ? std::string()
@@ -513,6 +520,23 @@ SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Di
 }
 
 }  // namespace
+
+DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
+  SolveResult res;
+  res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
+  const ContactOperator op = contact_stage(scene, mesh, res);
+  const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
+  const DualMethod resolved = resolved_dual_method(scene.solver.dual_method);
+  const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
+  DualPlan plan;
+  plan.cells = op.r;
+  plan.multipliers = op.rows();
+  plan.cell_size = res.cell_size;
+  plan.dense_bytes = memory.bytes;
+  plan.available_bytes = memory.available;
+  plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
+  return plan;
+}
 
 std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u) {
   double l2sq = 0, inf = 0;

@@ -106,6 +106,18 @@ using ProgressCallback = std::function<void(const FixedPointStep&)>;
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step = {},
                         Progress* progress = nullptr);
 
+// What a solve would form before factorizing (`contact3d check`): the first partition's cells and
+// multipliers, the dense Q's bytes with its working copies against the memory this process can get,
+// and the dual route solver.schur resolves to (empty: a dense route named by the scene that would be
+// refused). Throws what the solve's contact stage throws (e.g. cells violating (5.1) geometrically).
+struct DualPlan {
+  int cells = 0, multipliers = 0;
+  double cell_size = 0;                         // H (m; the x extent where cells are anisotropic)
+  double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
+  std::string method;
+};
+DualPlan plan_dual(const Scene& scene, const Mesh& mesh);
+
 // Positive part of the penetration w_n − d = −u_3 − z on Γc: (L2 norm integrated exactly over the contact triangles,
 // max).
 std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u);
