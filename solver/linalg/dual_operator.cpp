@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
@@ -44,17 +45,39 @@ DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatr
   return op;
 }
 
-Eigen::VectorXd dual_operator_diagonal(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
-                                       int block_columns) {
+ForwardSolvedRows forward_solved_rows(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                      double max_nonzeros, int block_columns) {
   const int m = static_cast<int>(B.rows());
-  Eigen::VectorXd diagonal(m);
+  ForwardSolvedRows out;
+  out.diagonal.resize(m);
   const Eigen::SparseMatrix<double> Bt = B.transpose();
   block_columns = block_columns_for(B.cols(), block_columns);
+  // W in compressed columns as the blocks come, until it outgrows max_nonzeros.
+  std::vector<int> column_start{0}, rows;
+  std::vector<double> values;
+  bool keep = max_nonzeros > 0;
   for (int j0 = 0; j0 < m; j0 += block_columns) {
     const int cols = std::min(block_columns, m - j0);
-    diagonal.segment(j0, cols) = K.forward_solve(Eigen::MatrixXd(Bt.middleCols(j0, cols))).colwise().squaredNorm();
+    const Eigen::MatrixXd W = K.forward_solve(Eigen::MatrixXd(Bt.middleCols(j0, cols)));
+    out.diagonal.segment(j0, cols) = W.colwise().squaredNorm();
+    for (int c = 0; keep && c < cols; ++c) {
+      for (Eigen::Index i = 0; i < W.rows(); ++i)
+        if (W(i, c) != 0) {
+          rows.push_back(static_cast<int>(i));
+          values.push_back(W(i, c));
+        }
+      column_start.push_back(static_cast<int>(rows.size()));
+      keep = static_cast<double>(rows.size()) <= max_nonzeros;
+    }
+    if (!keep) {  // too big to pay: the products go through the factor
+      std::vector<int>().swap(rows);
+      std::vector<double>().swap(values);
+    }
   }
-  return diagonal;
+  if (keep)
+    out.W = Eigen::Map<const Eigen::SparseMatrix<double>>(K.size(), m, static_cast<Eigen::Index>(rows.size()),
+                                                          column_start.data(), rows.data(), values.data());
+  return out;
 }
 
 std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B) {

@@ -39,10 +39,17 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
 DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
                                           const Eigen::VectorXd& f, const Eigen::VectorXd* u_free = nullptr);
 
-// Q's diagonal without Q: 𝔹ᵢK⁻¹𝔹ᵢᵀ = ‖L⁻¹P𝔹ᵢᵀ‖² by forward solves with blocks of 𝔹's rows (the
-// factor of K alone, not augmented): half the flops of make_dual_operator, m numbers kept.
-Eigen::VectorXd dual_operator_diagonal(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
-                                       int block_columns = 256);
+// 𝔹's rows forward-solved, W = L⁻¹P𝔹ᵀ (the factor of K alone, not augmented), by blocks of rows:
+// Q = WᵀW, so Q's diagonal is ‖Wᵢ‖² (half the flops of make_dual_operator, no m × m array). Column i
+// of W is nonzero only on the supernodes at or above cell i's dofs, so W is sparse: it is kept while
+// it has at most `max_nonzeros` entries (a product Wᵀ(Wv) then reads fewer bytes than a solve with
+// the factor), else left empty.
+struct ForwardSolvedRows {
+  Eigen::VectorXd diagonal;       // Q's
+  Eigen::SparseMatrix<double> W;  // n × m, or empty
+};
+ForwardSolvedRows forward_solved_rows(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                      double max_nonzeros, int block_columns = 256);
 
 // The dofs (columns) on which 𝔹 has a nonzero, ascending.
 std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);

@@ -309,7 +309,15 @@ TEST(FastPaths, MatrixFreeDualIsTheDenseOne) {
   const BrickData d = brick_data(4, true);
   const SparseCholesky plain(d.K);
   const DualOperator ref = make_dual_operator(plain, d.B, d.f);
-  EXPECT_LT((dual_operator_diagonal(plain, d.B, 16) - ref.Q.diagonal()).norm() / ref.Q.diagonal().norm(), 1e-12);
+  // 𝔹's rows forward-solved: W kept (Q = WᵀW) or, over its entry cap, dropped; the diagonal either way.
+  const ForwardSolvedRows kept = forward_solved_rows(plain, d.B, 1e12, 16);
+  ASSERT_EQ(kept.W.cols(), ref.Q.rows());
+  EXPECT_LT(kept.W.nonZeros(), kept.W.size() / 2);  // sparse: a cell's column stops at its supernodes' tops
+  EXPECT_LT((Eigen::MatrixXd(kept.W.transpose() * kept.W) - ref.Q).norm() / ref.Q.norm(), 1e-12);
+  const ForwardSolvedRows dropped = forward_solved_rows(plain, d.B, 10.0, 16);
+  EXPECT_EQ(dropped.W.size(), 0);
+  for (const ForwardSolvedRows* rows : {&kept, &dropped})
+    EXPECT_LT((rows->diagonal - ref.Q.diagonal()).norm() / ref.Q.diagonal().norm(), 1e-12);
   StageTimes times;
   StageClock clock(times);
   const DualProblemInput input{d.K, d.B, d.f, {}};
