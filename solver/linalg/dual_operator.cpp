@@ -16,10 +16,10 @@ namespace contact3d {
 namespace {
 
 // Columns per dense block of right-hand sides: at most `requested`, fewer on big meshes so that a
-// block stays near 64 MiB (at least 8).
-int block_columns_for(Eigen::Index rows, int requested) {
+// block stays near `block_bytes` (at least 8 columns).
+int block_columns_for(Eigen::Index rows, int requested, long long block_bytes = 64LL << 20) {
   const long long n = std::max<long long>(1, rows);
-  return static_cast<int>(std::clamp<long long>((64LL << 20) / (8 * n), 8, std::max(8, requested)));
+  return static_cast<int>(std::clamp<long long>(block_bytes / (8 * n), 8, std::max(8, requested)));
 }
 
 }  // namespace
@@ -51,7 +51,9 @@ ForwardSolvedRows forward_solved_rows(const SparseCholesky& K, const Eigen::Spar
   ForwardSolvedRows out;
   out.diagonal.resize(m);
   const Eigen::SparseMatrix<double> Bt = B.transpose();
-  block_columns = block_columns_for(B.cols(), block_columns);
+  // Blocks of 16 MiB: a block lives in four copies on its way through the solve (the right-hand side,
+  // the permuted one, the solved one, the result), and this route is taken to save memory.
+  block_columns = block_columns_for(B.cols(), block_columns, 16LL << 20);
   // W in compressed columns as the blocks come, until it outgrows max_nonzeros.
   std::vector<int> column_start{0}, rows;
   std::vector<double> values;
