@@ -154,7 +154,9 @@ void print_dual_plan(const DualPlan& plan) {
         "does not fit, and the scene names a dense solver.schur: the solve would be refused (use a larger "
         "contact.cell_size, or solver.schur = \"matrix_free\")";
   else if (plan.method == "matrix_free")
-    route += " (Q not formed: one K⁻¹ solve per QP product, slow; a larger contact.cell_size keeps the dense Q)";
+    route +=
+        " (Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps "
+        "the dense Q)";
   fmt::print("dual: {} cells (H = {:.4g} m), {} multipliers; the dense Q with its working copies {}, {}: {}\n",
              plan.cells, plan.cell_size, plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }

@@ -51,8 +51,9 @@ std::vector<int> dependent_rows(const Eigen::SparseMatrix<double>& B) {
   const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(gram);
   const Eigen::VectorXd d = ldlt.vectorD();
   const auto& row_of_pivot = ldlt.permutationPinv().indices();  // pivot k is row Pinv[k] of the Gram matrix
+  const bool factored = ldlt.info() == Eigen::Success;          // else its pivots say nothing: every row is suspect
   for (Eigen::Index k = 0; k < d.size(); ++k)
-    if (ldlt.info() != Eigen::Success || !(d[k] > 1e-11)) rows.push_back(row_of_pivot[k]);
+    if (!factored || !(d[k] > 1e-11)) rows.push_back(row_of_pivot[k]);
   return rows;
 }
 

@@ -200,7 +200,7 @@ SpectrumEstimate lanczos_extremes(Eigen::Index size,
     if (!(beta[k] > 1e-14 * std::abs(alpha[k]))) break;  // an invariant subspace: the Ritz values are exact
     V.col(k + 1) = w / beta[k];
   }
-  const int n = std::min(k + 1, steps);
+  const int n = k + 1;  // the steps taken (the loop leaves by a break, k < steps)
   Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i) {
     T(i, i) = alpha[i];

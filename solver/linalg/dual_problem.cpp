@@ -69,8 +69,9 @@ class CholmodDualProblem final : public DualProblem {
   Eigen::VectorXd u_free_;  // K⁻¹f
 };
 
-// Q never formed (DualMethod::MatrixFree): the factor of K alone; each product 𝔹K⁻¹𝔹ᵀv and each
-// displacement by one full solve, Q's diagonal (for the Jacobi scaling) by forward solves.
+// Q never formed (DualMethod::MatrixFree): the factor of K alone; Q's diagonal (for the Jacobi
+// scaling) and W = L⁻¹P𝔹ᵀ by forward solves; each product Wᵀ(Wv) where W is kept, else 𝔹K⁻¹(𝔹ᵀv)
+// by one full solve; each displacement by one full solve.
 class MatrixFreeDualProblem final : public DualProblem {
  public:
   MatrixFreeDualProblem(const DualProblemInput& in, StageClock& clock) : B_(in.B), face_dofs_(in.face_dofs) {

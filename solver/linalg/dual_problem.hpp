@@ -41,8 +41,9 @@ struct StiffnessSource {
 //                 of [K 𝔹ᵀ; 𝔹 0] on the multipliers, under MPI, MUMPS called directly with our
 //                 nested dissection as its pivot order. Auto takes it in the MPI build.
 //   MumpsPetsc  — the same through PETSc's MUMPS interface, which orders by MUMPS's own AMD.
-//   MatrixFree  — Q never formed: the factor of K alone, each product 𝔹K⁻¹𝔹ᵀv by one solve and
-//                 Q's diagonal by forward solves (dual_operator_diagonal). For contact faces whose
+//   MatrixFree  — Q never formed: the factor of K alone; forward solves give Q's diagonal and the
+//                 rows W = L⁻¹P𝔹ᵀ (forward_solved_rows); each product is Wᵀ(Wv) where W is kept,
+//                 else 𝔹K⁻¹(𝔹ᵀv) by one solve. For contact faces whose
 //                 dense Q does not fit in memory (Auto takes it there in the serial build); MPGP only.
 enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps, MumpsPetsc, MatrixFree };
 

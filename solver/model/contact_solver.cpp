@@ -133,8 +133,8 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
   if (!chosen)
     throw InputError("the contact partition has " + sizes + "; use a larger contact.cell_size (H)" +
                      (is_mumps(method) ? std::string()
-                                       : std::string(", or solver.schur = \"matrix_free\" (Q never formed: one "
-                                                     "K⁻¹ solve per product)")));
+                                       : std::string(", or solver.schur = \"matrix_free\" (Q never formed: each "
+                                                     "product through the factor of K)")));
   if (*chosen != DualMethod::MatrixFree) return *chosen;
   if (scene.solver.qp.variant == QpVariant::Ssn)
     throw InputError(
@@ -142,11 +142,11 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
         "(solver.schur = \"matrix_free\") never forms; use solver.qp = \"auto\" or \"mpgp\"");
   if (*chosen != method) {
     res.notes.push_back("the contact partition has " + sizes +
-                        ": Q is not formed (solver.schur = \"matrix_free\"); each of its products is one K⁻¹ "
-                        "solve, the QP is MPGP, and the fixed point takes no Newton or predicted steps — far "
+                        ": Q is not formed (solver.schur = \"matrix_free\"); each of its products goes through the "
+                        "factor of K, the QP is MPGP, and the fixed point takes no Newton or predicted steps — far "
                         "slower than the dense route; a larger contact.cell_size (H) keeps the dense Q");
     report.stage(
-        "  the dense Q does not fit: matrix-free dual, one K⁻¹ solve per QP product (slow; a larger "
+        "  the dense Q does not fit: matrix-free dual, each QP product through the factor of K (slow; a larger "
         "contact.cell_size keeps the dense Q)");
   }
   return *chosen;
@@ -236,12 +236,12 @@ StabilityCheck check_stability(const Eigen::MatrixXd& Q, double lambda_max, cons
   throw_dependent_rows(rows, static_cast<int>(bad.size()), part, r);
 }
 
-// Lanczos steps of the matrix-free route's stability check (one K⁻¹ solve each).
+// Lanczos steps of the matrix-free route's stability check (one product by Q each).
 constexpr int kLanczosSteps = 40;
 
 // Stability (5.1) without Q (the matrix-free route): Q = 𝔹K⁻¹𝔹ᵀ is positive definite iff 𝔹 has
 // full row rank (contact_operator.hpp's dependent_rows names the rows that spoil it). cond(Q) and
-// ‖Q‖ by Lanczos steps on Q (one K⁻¹ solve each): the Ritz values lie inside the spectrum, so the
+// ‖Q‖ by Lanczos steps on Q (one product each): the Ritz values lie inside the spectrum, so the
 // condition number is estimated from below.
 double check_stability_without_Q(const DualProblem& dual, const ContactOperator& op, const Partition& part,
                                  double& q_norm) {
@@ -592,7 +592,7 @@ std::shared_ptr<const DualOperatorFactor> check_dual_stability(const DualProblem
     res.stability_condition = check_stability_without_Q(dual, op, res.partition, q_norm);
     warn_if_ill_conditioned();
     report.stage("stability (5.1): 𝔹 has full row rank; cond(Q) ≳ " + number(res.stability_condition, 3) +
-                 " (Lanczos, " + std::to_string(kLanczosSteps) + " K⁻¹ solves)");
+                 " (Lanczos, " + std::to_string(kLanczosSteps) + " products)");
     return nullptr;
   }
   Eigen::MatrixXf single_copy;
@@ -668,7 +668,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
       check_dual_stability(*dual, q_norm, op, scene.solver.qp, report, res);
   clock.lap("stability");
 
-  stage.enter("dual solve", matrix_free ? std::string("the QP's vectors and one K⁻¹ solve per product")
+  stage.enter("dual solve", matrix_free ? std::string("the QP's vectors, each product through the factor of K")
                                         : "the QP's working copies of Q (" +
                                               gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) *
                                                   op.rows() * op.rows()) +

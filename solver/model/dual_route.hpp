@@ -1,7 +1,7 @@
 // Which way the dual problem (5.5) is formed once the scene's size is known: the dense Q of the
 // scene's solver.schur where Q and its working copies fit in the memory this process can get, else,
-// for "auto" in the serial build, the matrix-free route (DualMethod::MatrixFree: the factor of K and
-// m numbers, one K⁻¹ solve per product). The caller measures the memory and says what it chose.
+// for "auto" in the serial build, the matrix-free route (DualMethod::MatrixFree: the factor of K, no
+// m × m array, each product through the factor). The caller measures the memory and says what it chose.
 #pragma once
 
 #include <optional>

@@ -17,7 +17,7 @@ class BorderedNewton;
 
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
-  // Matrix-free (Q null): Q v by `product` (one solve with the factor of K, linalg/dual_problem.hpp)
+  // Matrix-free (Q null): Q v by `product` (through the factor of K, linalg/dual_problem.hpp)
   // and Q's diagonal given. Only MPGP works on such a problem: Newton steps need Q's entries.
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product;
   Eigen::VectorXd q_diagonal;
