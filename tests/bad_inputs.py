@@ -583,13 +583,6 @@ def c_schur_mumps_in_serial_build(c):
              "--set", "mesh.n=2", "--set", "solver.schur=mumps"], ["solver.schur", "mumps", "make build-mpi"])
 
 
-def c_schur_matrix_free_with_ssn(c):
-    # The matrix-free dual never forms Q, whose entries semismooth Newton's systems need.
-    return (["solve", c.scene(), "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick",
-             "--set", "mesh.n=2", "--set", "solver.schur=matrix_free", "--set", "solver.qp=ssn"],
-            ["solver.qp", "ssn", "matrix_free", "mpgp"])
-
-
 def c_out_of_core_in_serial_build(c):
     # MUMPS's out-of-core mode asked of the serial binary (CHOLMOD keeps its factor in memory).
     return (["solve", c.scene(), "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick",

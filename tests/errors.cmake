@@ -19,7 +19,6 @@ set(CONTACT3D_BAD_INPUT_CASES
   displacement_no_component pressure_on_volume_group material_region_not_volume
   friction_model_unknown coulomb_with_slip_bound contact_not_a_graph
   plane_normal_zero tilted_plane_penetration memory_factor_too_big schur_mumps_in_serial_build
-  schur_matrix_free_with_ssn
   out_of_core_in_serial_build out_of_core_dir_missing
   qp_rtol_per_err_negative fixed_point_tail_err_one fixed_point_variant_unknown)
 foreach(case ${CONTACT3D_BAD_INPUT_CASES})

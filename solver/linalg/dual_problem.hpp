@@ -44,7 +44,8 @@ struct StiffnessSource {
 //   MatrixFree  — Q never formed: the factor of K alone; forward solves give Q's diagonal and the
 //                 rows W = L⁻¹P𝔹ᵀ (forward_solved_rows); each product is Wᵀ(Wv) where W is kept,
 //                 else 𝔹K⁻¹(𝔹ᵀv) by one solve. For contact faces whose
-//                 dense Q does not fit in memory (Auto takes it there in the serial build); MPGP only.
+//                 dense Q does not fit in memory (Auto takes it there in the serial build); the QP's
+//                 Newton steps go by CG there (qp/reduced_cg.hpp).
 enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps, MumpsPetsc, MatrixFree };
 
 // What a backend needs: K and f over the free dofs, 𝔹 (multipliers × free dofs), the free dofs

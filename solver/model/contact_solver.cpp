@@ -136,14 +136,11 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
                                        : std::string(", or solver.schur = \"matrix_free\" (Q never formed: each "
                                                      "product through the factor of K)")));
   if (*chosen != DualMethod::MatrixFree) return *chosen;
-  if (scene.solver.qp.variant == QpVariant::Ssn)
-    throw InputError(
-        "solver.qp = \"ssn\": its Newton steps need the entries of Q, which the matrix-free dual "
-        "(solver.schur = \"matrix_free\") never forms; use solver.qp = \"auto\" or \"mpgp\"");
   if (*chosen != method) {
     res.notes.push_back("the contact partition has " + sizes +
                         ": Q is not formed (solver.schur = \"matrix_free\"); each of its products goes through the "
-                        "factor of K, the QP is MPGP, and the fixed point takes no Newton or predicted steps — far "
+                        "factor of K, the QP's Newton steps solve their systems by CG, and the fixed point takes no "
+                        "Newton or predicted steps — far "
                         "slower than the dense route; a larger contact.cell_size (H) keeps the dense Q");
     report.stage(
         "  the dense Q does not fit: matrix-free dual, each QP product through the factor of K (slow; a larger "
@@ -693,9 +690,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   record_steps(scene, *dual, tresca, res);
   clock.lap("step_fields");
   res.schur_method = dual->method;
-  res.qp_method = matrix_free && scene.solver.qp.variant == QpVariant::Auto
-                      ? std::string(name_of(QpVariant::Mpgp, kQpVariantNames))  // "auto" is MPGP without Q's entries
-                      : std::string(name_of(scene.solver.qp.variant, kQpVariantNames));
+  res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);
   res.factor_nonzeros = dual->factor_nonzeros;
   res.step_solve_fraction = dual->step_solve_fraction;
   res.backend = dual->backend;

@@ -18,7 +18,8 @@ class BorderedNewton;
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
   // Matrix-free (Q null): Q v by `product` (through the factor of K, linalg/dual_problem.hpp)
-  // and Q's diagonal given. Only MPGP works on such a problem: Newton steps need Q's entries.
+  // and Q's diagonal given. MPGP works on it as on Q; Newton steps solve their reduced systems by CG
+  // (reduced_cg.hpp), having no entries to factor.
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product;
   Eigen::VectorXd q_diagonal;
   // Optional diagonal scaling: the problem's operator is then S Q S, S = diag(scale) (the Jacobi

@@ -1,6 +1,6 @@
 #include "qp/dual_qp_solver.hpp"
 
-#include <stdexcept>
+#include <limits>
 #include <utility>
 
 #include "linalg/dual_operator.hpp"
@@ -42,9 +42,6 @@ DualQpSolver::DualQpSolver(std::function<Eigen::VectorXd(const Eigen::VectorXd&)
                            const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                            const QpSettings& settings)
     : settings_(settings) {
-  if (settings_.variant == QpVariant::Ssn)
-    throw std::invalid_argument("semismooth Newton needs Q's entries, which a matrix-free dual has not");
-  if (settings_.variant == QpVariant::Auto) settings_.variant = QpVariant::Mpgp;
   settings_.precision = QpPrecision::Double;
   qp_.product = std::move(product);
   qp_.q_diagonal = std::move(diagonal);
@@ -83,6 +80,8 @@ QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lam
     hybrid.rtol = rtol;
     hybrid.max_iterations = settings_.max_iterations;
     hybrid.progress = progress_;
+    // Matrix-free, a Newton step's CG products cost what MPGP's do: no reason to stop taking them.
+    if (qp_.matrix_free()) hybrid.max_newton_rounds = std::numeric_limits<int>::max();
     result = solve_hybrid(problem, x, hybrid);
   } else if (settings_.variant == QpVariant::Ssn) {
     SsnSettings ssn;

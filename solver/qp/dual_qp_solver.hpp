@@ -61,8 +61,8 @@ class DualQpSolver {
   // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
   DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
-  // Matrix-free: Q only through `product` (v ↦ Q v) and its `diagonal`. MPGP in double ("auto" is
-  // MPGP here; "ssn", whose Newton steps need Q's entries, is a std::invalid_argument), no sensitivity.
+  // Matrix-free: Q only through `product` (v ↦ Q v) and its `diagonal`; products in double, Newton
+  // steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), no sensitivity.
   DualQpSolver(std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product, Eigen::VectorXd diagonal,
                const Eigen::VectorXd& h, int r, bool with_friction, double q_norm, const QpSettings& settings);
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,

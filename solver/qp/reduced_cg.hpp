@@ -1,0 +1,30 @@
+// The reduced Newton system of newton_system.hpp, (Dᵀ Q D + diag(shift)) y = b, solved by conjugate
+// gradients with one product by Q per iteration, preconditioned by the system's diagonal (its
+// Dᵀ diag(Q) D part plus the sliding discs' shifts). For a matrix-free dual
+// (linalg/dual_problem.hpp), whose Q has no entries to factor: Newton steps there are inexact, their
+// systems solved to a tolerance the caller sets from the current residual (ssn.hpp).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "qp/box_disc_qp.hpp"
+#include "qp/newton_system.hpp"
+
+namespace contact3d {
+
+struct ReducedCgResult {
+  int iterations = 0;      // = products by Q
+  bool converged = false;  // ‖b − A y‖ <= tolerance reached
+  double residual = 0;     // the last ‖b − A y‖ (recursive)
+};
+
+// From the start `y` (a Newton step's current λ on its directions: the residual is then the gradient
+// left there, as small as the iterate is good, not ‖b‖; empty: y = 0); on return y holds the last
+// iterate. Stops at ‖b − A y‖ <= `tolerance` (absolute), after `max_iterations` products (the start's
+// residual one of them), or when A shows a direction of non-positive curvature (rounding).
+ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
+                                 double tolerance, int max_iterations, Eigen::VectorXd& y);
+
+}  // namespace contact3d
