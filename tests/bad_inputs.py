@@ -604,6 +604,14 @@ def c_memory_factor_too_big(c):
             {"address_space_bytes": 700 * 2**20})
 
 
+def c_memory_blas_buffers(c):
+    # 300 MB of address space: OpenBLAS could not map its threads' work buffers (128 MiB each) and
+    # would retry forever in the factorization (the brick n = 8 hung here): refused at the start.
+    return ((["solve", c.scene(), "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick",
+              "--set", "mesh.n=8"], ["address-space limit", "ulimit -v", "OpenBLAS", "MiB", "raise the limit"]),
+            {"address_space_bytes": 300 * 2**20})
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

@@ -23,6 +23,7 @@
 #include "friction/coulomb_map.hpp"
 #include "friction/slip_bound.hpp"
 #include "friction/tresca_step.hpp"
+#include "linalg/blas_buffers.hpp"
 #include "linalg/dense_cholesky.hpp"
 #include "linalg/dual_operator.hpp"
 #include "linalg/sparse_cholesky.hpp"
@@ -785,6 +786,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   RunningStage stage;
   stage.holds = "K for " + count(3 * static_cast<long long>(mesh.nodes.size())) + " unknowns";
   try {
+    reserve_blas_buffers();  // under ulimit -v: before anything large, so that the memory checks see them
     SolveResult res = solve_stages(scene, mesh, on_step, report, stage);
     if (scene.cell_size_auto && unresolved(res))
       return refine_unresolved_contact(scene, mesh, on_step, report, std::move(res));
