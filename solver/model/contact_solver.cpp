@@ -520,6 +520,7 @@ SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Di
 }  // namespace
 
 DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
+  reserve_blas_buffers();  // as the solve does: the memory it plans with is what the solve will see
   SolveResult res;
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   const ContactOperator op = contact_stage(scene, mesh, res);
