@@ -80,3 +80,9 @@ endif()
 add_test(NAME newton_steps_through_the_factor_of_Q_give_the_same_answer
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_newton_systems.py $<TARGET_FILE:contact3d>
                  ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/newton-systems)
+# The matrix-free dual (Q never formed, Newton steps by CG) gives the dense route's answer on the capped
+# block, the hexagonal prism and the thin slab, and its Newton steps beat MPGP alone there.
+add_test(NAME matrix_free_dual_equals_dense_on_three_bodies
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_matrix_free_bodies.py $<TARGET_FILE:contact3d>
+                 ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/matrix-free-bodies)
+set_tests_properties(matrix_free_dual_equals_dense_on_three_bodies PROPERTIES TIMEOUT 300)
