@@ -1,7 +1,5 @@
 #include "qp/reduced_cg.hpp"
 
-#include <algorithm>
-
 namespace contact3d {
 namespace {
 
