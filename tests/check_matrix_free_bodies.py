@@ -10,25 +10,20 @@ fewer products than the paper's MPGP alone on the same matrix-free dual (615 aga
 
 usage: check_matrix_free_bodies.py CONTACT3D SOURCE_DIR WORK_DIR
 """
-import csv
-import json
 import subprocess
 import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "pipeline"))
+import c3d.run  # noqa: E402
 
 CASES = [("capblock", []), ("hexprism", []), ("slab", ["mesh.parameters.h=0.05", 'contact.cell_size="2h"'])]
 
 
 def solve(binary, source, scene, out, sets):
-    args = [binary, "solve", str(Path(source) / "pipeline" / "scenes" / f"{scene}.toml"), "--out", str(out),
-            "--quiet", "--set", "output.steps=final"]
-    for s in sets:
-        args += ["--set", s]
-    subprocess.run(args, check=True)
-    summary = json.loads((Path(out) / "summary.json").read_text())
-    with open(Path(out) / "contact_nodes.csv") as f:
-        u = {r["node"]: [float(r[k]) for k in ("u1", "u2", "u3")] for r in csv.DictReader(f)}
-    return summary, u
+    scene_file = Path(source) / "pipeline" / "scenes" / f"{scene}.toml"
+    subprocess.run(c3d.run.solve_command(binary, scene_file, out, ["output.steps=final", *sets]), check=True)
+    return c3d.run.summary(out), c3d.run.face_displacements(out)
 
 
 def main():

@@ -11,23 +11,20 @@ qp_newton_steps_bordered > 0) while "reduced" never does.
 
 usage: check_newton_systems.py CONTACT3D SOURCE_DIR WORK_DIR
 """
-import csv
-import json
 import subprocess
 import sys
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "pipeline"))
+import c3d.run  # noqa: E402
+
 
 def solve(binary, source, out, sets):
-    args = [binary, "solve", str(Path(source) / "pipeline" / "scenes" / "slab.toml"), "--out", str(out), "--quiet"]
-    for s in ["mesh.parameters.h=0.03", 'contact.cell_size="2h"', "output.steps=final", 'friction.law="ramp"',
-              "friction.high=0.3", "friction.low=0.2", "friction.t0=2e-7", "friction.param=2e6", *sets]:
-        args += ["--set", s]
-    subprocess.run(args, check=True)
-    summary = json.loads((Path(out) / "summary.json").read_text())
-    with open(Path(out) / "contact_nodes.csv") as f:
-        u = {r["node"]: [float(r[k]) for k in ("u1", "u2", "u3")] for r in csv.DictReader(f)}
-    return summary, u
+    scene = Path(source) / "pipeline" / "scenes" / "slab.toml"
+    common = ["mesh.parameters.h=0.03", 'contact.cell_size="2h"', "output.steps=final", 'friction.law="ramp"',
+              "friction.high=0.3", "friction.low=0.2", "friction.t0=2e-7", "friction.param=2e6"]
+    subprocess.run(c3d.run.solve_command(binary, scene, out, [*common, *sets]), check=True)
+    return c3d.run.summary(out), c3d.run.face_displacements(out)
 
 
 def main():

@@ -1,4 +1,5 @@
-"""Run `contact3d solve` and read its summary.json."""
+"""Run `contact3d solve` and read its summary.json and contact displacements."""
+import csv
 import json
 import subprocess
 import time
@@ -35,3 +36,9 @@ def solve(binary, scene, out, sets=(), mesh=None, quiet=True, timeout=None):
 def summary(out):
     """summary.json of a finished solve in folder `out` as a dict."""
     return json.loads((Path(out) / "summary.json").read_text())
+
+
+def face_displacements(out):
+    """u on Γc of a finished solve in folder `out`: {node id: [u1, u2, u3]} from contact_nodes.csv."""
+    with open(Path(out) / "contact_nodes.csv") as f:
+        return {r["node"]: [float(r[k]) for k in ("u1", "u2", "u3")] for r in csv.DictReader(f)}
