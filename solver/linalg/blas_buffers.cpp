@@ -2,9 +2,10 @@
 
 #include <dlfcn.h>
 #include <sys/mman.h>
-#include <sys/resource.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -19,9 +20,12 @@ constexpr std::uint64_t kBufferBytes = (128ull << 20) + 4096;  // one thread's b
 constexpr std::uint64_t kMiB = 1ull << 20;
 constexpr std::uint64_t kMargin = 16 * kMiB;  // beyond the buffers, for the solve's first steps
 
-bool address_space_limited() {
-  rlimit lim{};
-  return getrlimit(RLIMIT_AS, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY;
+// OpenBLAS's thread count (0: the BLAS is not OpenBLAS); each thread, the caller one of them, maps a
+// buffer.
+int openblas_threads() {
+  using ThreadCount = int (*)();
+  const auto count = reinterpret_cast<ThreadCount>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  return count ? std::max(count(), 1) : 0;
 }
 
 // Whether `bytes` of address space can still be mapped (mapped and released at once, never touched).
@@ -42,29 +46,21 @@ void run_on_every_thread() {
 
 }  // namespace
 
-BlasBuffers blas_buffers() {
-  using ThreadCount = int (*)();
-  const auto count = reinterpret_cast<ThreadCount>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  if (!count) return {};
-  const int threads = count() > 0 ? count() : 1;
-  // A buffer per thread, the caller being one of them.
-  return {threads, static_cast<std::uint64_t>(threads) * kBufferBytes};
-}
-
 void reserve_blas_buffers() {
   // OpenBLAS's buffers are the process's, mapped once: so is this flag.
   static std::atomic<bool> reserved{false};
   if (reserved) return;
-  const BlasBuffers buffers = blas_buffers();
-  if (buffers.threads == 0 || !address_space_limited()) return;
+  const int threads = openblas_threads();
+  const std::uint64_t headroom = memory_detail::address_space_headroom();  // 0: no limit
+  if (threads == 0 || headroom == 0) return;
+  const std::uint64_t bytes = static_cast<std::uint64_t>(threads) * kBufferBytes;
   // Room for the buffers and a little besides, else OpenBLAS would hang in its first threaded call.
-  if (!can_map(buffers.bytes + kMargin)) {
-    const bool one_thread_fits = buffers.threads > 1 && can_map(kBufferBytes + kMargin);
-    throw InputError("the address-space limit (ulimit -v) leaves " +
-                     std::to_string(memory_detail::address_space_headroom() / kMiB) + " MiB, and OpenBLAS maps " +
-                     std::to_string(kBufferBytes / kMiB) + " MiB of work space for each of its " +
-                     std::to_string(buffers.threads) + " threads (" + std::to_string(buffers.bytes / kMiB) +
-                     " MiB), waiting forever when it cannot: raise the limit" +
+  if (!can_map(bytes + kMargin)) {
+    const bool one_thread_fits = threads > 1 && can_map(kBufferBytes + kMargin);
+    throw InputError("the address-space limit (ulimit -v) leaves " + std::to_string(headroom / kMiB) +
+                     " MiB, and OpenBLAS maps " + std::to_string(kBufferBytes / kMiB) +
+                     " MiB of work space for each of its " + std::to_string(threads) + " threads (" +
+                     std::to_string(bytes / kMiB) + " MiB), waiting forever when it cannot: raise the limit" +
                      (one_thread_fits ? ", or set OPENBLAS_NUM_THREADS=1" : ""));
   }
   run_on_every_thread();

@@ -7,17 +7,7 @@
 // the solve is refused (InputError) with the figures and the way out.
 #pragma once
 
-#include <cstdint>
-
 namespace contact3d {
-
-// OpenBLAS's threads and the address space their buffers may take (0 threads: not OpenBLAS, nothing
-// to map).
-struct BlasBuffers {
-  int threads = 0;
-  std::uint64_t bytes = 0;
-};
-BlasBuffers blas_buffers();
 
 // Maps OpenBLAS's buffers now (a matrix product on every thread) where RLIMIT_AS is set; throws
 // InputError when the limit leaves no room for them. Nothing without a limit or without OpenBLAS.

@@ -1,6 +1,5 @@
 #include "qp/dual_qp_solver.hpp"
 
-#include <limits>
 #include <utility>
 
 #include "linalg/dual_operator.hpp"
@@ -80,8 +79,6 @@ QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lam
     hybrid.rtol = rtol;
     hybrid.max_iterations = settings_.max_iterations;
     hybrid.progress = progress_;
-    // Matrix-free, a Newton step's CG products cost what MPGP's do: no reason to stop taking them.
-    if (qp_.matrix_free()) hybrid.max_newton_rounds = std::numeric_limits<int>::max();
     result = solve_hybrid(problem, x, hybrid);
   } else if (settings_.variant == QpVariant::Ssn) {
     SsnSettings ssn;

@@ -49,7 +49,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
     add_work(total, solve_mpgp(qp, lambda, mpgp));
     if (total.status != QpStatus::IterationLimit) return total;  // converged, or a breakdown
     const bool mpgp_is_slow = total.projected_gradient > 0.1 * pg_before;
-    if (mpgp_is_slow && newton_rounds < settings.max_newton_rounds) {
+    if (mpgp_is_slow && (qp.matrix_free() || newton_rounds < settings.max_newton_rounds)) {
       ++newton_rounds;
       SsnSettings ssn;
       ssn.rtol = settings.rtol;

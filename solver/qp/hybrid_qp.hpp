@@ -17,9 +17,9 @@
 //      more than a window; until 2026-11-26 only full steps counted, and on the slab at 10 092
 //      multipliers seven damped steps of about 2 s each crept on where MPGP finished in 156
 //      iterations);
-//   3. then MPGP again from Newton's iterate (at most three Newton rounds, then MPGP alone; DualQpSolver
-//      lifts the limit on a matrix-free Q, whose Newton steps are CG products costing what MPGP's do:
-//      capped, the slab with 4 800 multipliers took 11 569 products, uncapped 3 739).
+//   3. then MPGP again from Newton's iterate (at most three Newton rounds, then MPGP alone; no limit on
+//      a matrix-free Q, whose Newton steps are CG products costing what MPGP's do: capped, the slab
+//      with 4 800 multipliers took 11 569 products, uncapped 3 739).
 // Same stopping test and answer as MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ.
 #pragma once
 
@@ -33,7 +33,7 @@ namespace contact3d {
 struct HybridSettings {
   double rtol = 1e-6;            // same criterion as MpgpSettings::rtol
   int max_iterations = 100000;   // MPGP iterations + Newton steps
-  int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before MPGP alone
+  int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before MPGP alone (a dense Q only)
   int window = 0;                // MPGP iterations per window (0: max(25, m/256))
   Progress* progress = nullptr;  // heartbeat (none: silent)
 };
