@@ -140,7 +140,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       j.begin_object("fixed_point");
       j.value("contraction_factor", fp.contraction_factor);  // null before three steps
       j.value("contracted", fp.contraction_factor < 1);      // q < 1 observed over the last steps
-      j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err; null when q >= 1 (no bound)
+      j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err, an estimate; null when q >= 1
       j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
       j.value("plain_fallback_step", fp.plain_fallback_step);  // 0: the variant never fell back to plain steps
       j.value("mixed_steps", fp.mixed_steps);                  // iterates from the accelerated variant's tail mixing

@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
 
 #include "linalg/blas.hpp"
+#include "linalg/sparse_forward_solve.hpp"
 #include "linalg/symmetric_product.hpp"
 
 namespace contact3d {
@@ -49,36 +52,40 @@ ForwardSolvedRows forward_solved_rows(const SparseCholesky& K, const Eigen::Spar
                                       double max_nonzeros, int block_columns) {
   const int m = static_cast<int>(B.rows());
   ForwardSolvedRows out;
-  out.diagonal.resize(m);
-  const Eigen::SparseMatrix<double> Bt = B.transpose();
-  // Blocks of 16 MiB: a block lives in four copies on its way through the solve (the right-hand side,
-  // the permuted one, the solved one, the result), and this route is taken to save memory.
-  block_columns = block_columns_for(B.cols(), block_columns, 16LL << 20);
-  // W in compressed columns as the blocks come, until it outgrows max_nonzeros.
-  std::vector<int> column_start{0}, rows;
-  std::vector<double> values;
+  out.diagonal = Eigen::VectorXd::Zero(m);
+  // W's columns as they come (in blocks of neighbouring cells, not in order), until W outgrows max_nonzeros.
+  std::vector<std::vector<int>> column_rows(m);
+  std::vector<std::vector<double>> column_values(m);
+  double kept = 0;
   bool keep = max_nonzeros > 0;
-  for (int j0 = 0; j0 < m; j0 += block_columns) {
-    const int cols = std::min(block_columns, m - j0);
-    const Eigen::MatrixXd W = K.forward_solve(Eigen::MatrixXd(Bt.middleCols(j0, cols)));
-    out.diagonal.segment(j0, cols) = W.colwise().squaredNorm();
-    for (int c = 0; keep && c < cols; ++c) {
-      for (Eigen::Index i = 0; i < W.rows(); ++i)
-        if (W(i, c) != 0) {
-          rows.push_back(static_cast<int>(i));
-          values.push_back(W(i, c));
-        }
-      column_start.push_back(static_cast<int>(rows.size()));
-      keep = static_cast<double>(rows.size()) <= max_nonzeros;
-    }
-    if (!keep) {  // too big to pay: the products go through the factor
-      std::vector<int>().swap(rows);
-      std::vector<double>().swap(values);
-    }
+  // 16 MiB of workspace per block: this route is taken to save memory.
+  forward_solve_sparse_columns(K, B.transpose(), block_columns, 16LL << 20,
+                               [&](int j, std::span<const std::int64_t> rows, std::span<const double> values) {
+                                 out.diagonal[j] =
+                                     Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()).squaredNorm();
+                                 if (!keep) return;
+                                 column_rows[j].assign(rows.begin(), rows.end());
+                                 column_values[j].assign(values.begin(), values.end());
+                                 kept += static_cast<double>(rows.size());
+                                 if (kept > max_nonzeros) {  // too big to pay: the products go through the factor
+                                   keep = false;
+                                   std::vector<std::vector<int>>(m).swap(column_rows);
+                                   std::vector<std::vector<double>>(m).swap(column_values);
+                                 }
+                               });
+  if (!keep) return out;
+  out.W.resize(K.size(), m);
+  out.W.reserve(static_cast<Eigen::Index>(kept));
+  for (int j = 0; j < m; ++j) {
+    out.W.startVec(j);
+    std::vector<std::size_t> by_row(column_rows[j].size());
+    std::iota(by_row.begin(), by_row.end(), 0);
+    std::sort(by_row.begin(), by_row.end(),
+              [&](std::size_t a, std::size_t b) { return column_rows[j][a] < column_rows[j][b]; });
+    for (std::size_t k : by_row)
+      out.W.insertBack(static_cast<Eigen::Index>(column_rows[j][k]), j) = column_values[j][k];
   }
-  if (keep)
-    out.W = Eigen::Map<const Eigen::SparseMatrix<double>>(K.size(), m, static_cast<Eigen::Index>(rows.size()),
-                                                          column_start.data(), rows.data(), values.data());
+  out.W.finalize();
   return out;
 }
 

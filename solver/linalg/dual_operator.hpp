@@ -39,9 +39,10 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
 DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
                                           const Eigen::VectorXd& f, const Eigen::VectorXd* u_free = nullptr);
 
-// 𝔹's rows forward-solved, W = L⁻¹P𝔹ᵀ (the factor of K alone, not augmented), by blocks of rows:
-// Q = WᵀW, so Q's diagonal is ‖Wᵢ‖² (half the flops of make_dual_operator, no m × m array). Column i
-// of W is nonzero only on the supernodes at or above cell i's dofs, so W is sparse: it is kept while
+// 𝔹's rows forward-solved, W = L⁻¹P𝔹ᵀ (the factor of K alone, not augmented), in blocks of
+// `block_columns` neighbouring rows over their reach (sparse_forward_solve.hpp): Q = WᵀW, so Q's
+// diagonal is ‖Wᵢ‖² (no m × m array). Column i of W is nonzero only on the supernodes at or above
+// cell i's dofs, so W is sparse: it is kept while
 // it has at most `max_nonzeros` entries (a product Wᵀ(Wv) then reads fewer bytes than a solve with
 // the factor), else left empty.
 struct ForwardSolvedRows {
