@@ -336,4 +336,21 @@ std::vector<int> cells_without_own_node(const ContactFace& face, const Partition
   return unmatched_rows(adj, static_cast<int>(face.nodes.size()));
 }
 
+std::vector<int> cell_aggregates(const Partition& partition, int cells_per_side, int& count) {
+  const std::size_t r = partition.cells.size();
+  std::vector<int> aggregate(r, 0);
+  count = r > 0 ? 1 : 0;
+  if (r == 0 || cells_per_side <= 0 || partition.grid_nx <= 0) return aggregate;
+  std::map<std::pair<int, int>, int> number;
+  for (std::size_t i = 0; i < r; ++i) {
+    int box = INT32_MAX;  // the cell's first grid rectangle (a merged cell spans several)
+    for (const CellPiece& piece : partition.cells[i].pieces) box = std::min(box, piece.box);
+    if (box == INT32_MAX) box = 0;
+    const std::pair<int, int> key{box % partition.grid_nx / cells_per_side, box / partition.grid_nx / cells_per_side};
+    aggregate[i] = number.try_emplace(key, static_cast<int>(number.size())).first->second;
+  }
+  count = static_cast<int>(number.size());
+  return aggregate;
+}
+
 }  // namespace contact3d

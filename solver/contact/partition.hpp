@@ -61,6 +61,11 @@ struct Partition {
 
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& options);
 
+// Cells grouped into aggregates of `cells_per_side` × `cells_per_side` grid rectangles (by the
+// first rectangle of each cell) (the coarse space of the matrix-free Newton steps' two-level preconditioner,
+// qp/reduced_cg.hpp): aggregate of each cell, numbered 0 .. count − 1 without gaps.
+std::vector<int> cell_aggregates(const Partition& partition, int cells_per_side, int& count);
+
 // For cell i: the pairs (mesh node, ∫_{R_i} φ_node dS) — the entries of one row of 𝔹 before
 // the component and the sign are applied. Nodes on Γu are included.
 std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face, const Partition& partition);

@@ -1,5 +1,6 @@
 #include "linalg/dual_problem.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 
@@ -99,6 +100,20 @@ class MatrixFreeDualProblem final : public DualProblem {
     return B_ * solve(Eigen::VectorXd(B_.transpose() * v));
   }
   Eigen::VectorXd Q_diagonal() const override { return diagonal_; }
+  bool blocks_pay() const override { return forward_solved_.size() == 0; }  // Wᵀ(WV) costs per column what Wᵀ(Wv) does
+  Eigen::MatrixXd apply_Q_block(const Eigen::MatrixXd& V) const override {
+    if (forward_solved_.size() > 0) return forward_solved_.transpose() * (forward_solved_ * V);
+    if (!factor_) throw std::logic_error("DualProblem: the factor was released");
+    // Blocks of about 32 MiB of right-hand sides (each lives in a few copies through the solve).
+    const Eigen::Index n = B_.cols(),
+                       step = std::max<Eigen::Index>(1, (Eigen::Index{32} << 20) / (8 * std::max<Eigen::Index>(1, n)));
+    Eigen::MatrixXd out(V.rows(), V.cols());
+    for (Eigen::Index j = 0; j < V.cols(); j += step) {
+      const Eigen::Index cols = std::min(step, V.cols() - j);
+      out.middleCols(j, cols) = B_ * factor_->solve(Eigen::MatrixXd(B_.transpose() * V.middleCols(j, cols)));
+    }
+    return out;
+  }
 
   Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const override {
     return gather(displacement(lambda), face_dofs_);

@@ -18,6 +18,16 @@ Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
   return scale.cwiseProduct(Q_times(scale.cwiseProduct(v)));
 }
 
+Eigen::MatrixXd BoxDiscQP::apply_block(const Eigen::MatrixXd& V) const {
+  if (!Q && block_product) {
+    if (scale.size() == 0) return block_product(V);
+    return scale.asDiagonal() * block_product(scale.asDiagonal() * V);
+  }
+  Eigen::MatrixXd out(V.rows(), V.cols());
+  for (Eigen::Index j = 0; j < V.cols(); ++j) out.col(j) = apply(V.col(j));
+  return out;
+}
+
 Eigen::VectorXd BoxDiscQP::diagonal() const {
   const Eigen::VectorXd d = Q ? Eigen::VectorXd(Q->diagonal()) : q_diagonal;
   return scale.size() ? Eigen::VectorXd(d.cwiseProduct(scale.cwiseAbs2())) : d;

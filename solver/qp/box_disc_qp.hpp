@@ -6,6 +6,8 @@
 #pragma once
 
 #include <functional>
+#include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -14,6 +16,7 @@
 namespace contact3d {
 
 class BorderedNewton;
+struct CoarseProducts;
 
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
@@ -22,6 +25,13 @@ struct BoxDiscQP {
   // (reduced_cg.hpp), having no entries to factor.
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product;
   Eigen::VectorXd q_diagonal;
+  // Matrix-free, optional: Q V for several columns at once (one blocked solve through the factor,
+  // far cheaper per column than single products), and the coarse group of each multiplier (cells
+  // aggregated by position on Γc, each component apart) whose indicator vectors the Newton steps' CG
+  // deflates (reduced_cg.hpp). Either empty: CG with the diagonal alone.
+  std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> block_product;
+  std::vector<int> coarse_group;
+  std::shared_ptr<CoarseProducts> coarse_products;  // the coarse space's products kept between Newton steps
   // Optional diagonal scaling: the problem's operator is then S Q S, S = diag(scale) (the Jacobi
   // scaling, jacobi_scaling.hpp), applied in each product instead of stored as a second dense copy
   // (m² doubles: 800 MB at 10 000 multipliers). Empty: Q itself. Read Q through apply(),
@@ -47,6 +57,8 @@ struct BoxDiscQP {
   int size() const { return layout().size(); }
   // Q v from the lower triangle only (linalg/symmetric_product.hpp), scaled when `scale` is set.
   Eigen::VectorXd apply(const Eigen::VectorXd& v) const;
+  // Q V column by column, or by block_product where there is one; scaled as apply().
+  Eigen::MatrixXd apply_block(const Eigen::MatrixXd& V) const;
   // The operator's diagonal, and the factor its entry (i, j) carries over Q's (1 without a scale).
   Eigen::VectorXd diagonal() const;
   double entry_factor(Eigen::Index i) const { return scale.size() ? scale[i] : 1.0; }

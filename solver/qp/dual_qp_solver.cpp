@@ -5,6 +5,7 @@
 #include "linalg/dual_operator.hpp"
 #include "linalg/symmetric_product.hpp"
 #include "qp/hybrid_qp.hpp"
+#include "qp/reduced_cg.hpp"
 #include "qp/ssn.hpp"
 
 namespace contact3d {
@@ -37,13 +38,15 @@ DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, i
                                      jacobi_ ? jacobi_->scale() : Eigen::VectorXd(Eigen::VectorXd::Ones(qp_.size())));
 }
 
-DualQpSolver::DualQpSolver(std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product, Eigen::VectorXd diagonal,
-                           const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
+DualQpSolver::DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                            const QpSettings& settings)
     : settings_(settings) {
   settings_.precision = QpPrecision::Double;
-  qp_.product = std::move(product);
-  qp_.q_diagonal = std::move(diagonal);
+  qp_.product = std::move(Q.product);
+  qp_.block_product = std::move(Q.block_product);
+  qp_.q_diagonal = std::move(Q.diagonal);
+  qp_.coarse_group = std::move(Q.coarse_group);
+  if (!qp_.coarse_group.empty()) qp_.coarse_products = std::make_shared<CoarseProducts>();
   qp_.h = h;
   qp_.r = r;
   qp_.with_friction = with_friction;

@@ -55,16 +55,24 @@ struct QpSettings {
   NewtonSystems newton_systems = NewtonSystems::Auto;
 };
 
+// Q seen only through products (a matrix-free dual, linalg/dual_problem.hpp): what the QP needs of it.
+struct MatrixFreeQ {
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product;
+  std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> block_product;  // optional: several columns at once
+  Eigen::VectorXd diagonal;
+  std::vector<int> coarse_group;  // optional: BoxDiscQP::coarse_group (of the multipliers)
+};
+
 class DualQpSolver {
  public:
   // `Q` must outlive the solver; `q_norm` is an estimate of ‖Q‖ (estimate_norm).
   // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
   DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
-  // Matrix-free: Q only through `product` (v ↦ Q v) and its `diagonal`; products in double, Newton
+  // Matrix-free: Q only through products and its diagonal (MatrixFreeQ); products in double, Newton
   // steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), no sensitivity.
-  DualQpSolver(std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product, Eigen::VectorXd diagonal,
-               const Eigen::VectorXd& h, int r, bool with_friction, double q_norm, const QpSettings& settings);
+  DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
+               const QpSettings& settings);
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
   // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);

@@ -38,6 +38,28 @@ Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction
   return out;
 }
 
+Eigen::MatrixXd prolong(const std::vector<Direction>& d, const Eigen::MatrixXd& Y, int size) {
+  Eigen::MatrixXd V = Eigen::MatrixXd::Zero(size, Y.cols());
+  for (std::size_t j = 0; j < d.size(); ++j) {
+    const Eigen::Index row = static_cast<Eigen::Index>(j);
+    V.row(d[j].a) += d[j].w_a * Y.row(row);
+    if (d[j].b >= 0) V.row(d[j].b) += d[j].w_b * Y.row(row);
+  }
+  return V;
+}
+
+Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::MatrixXd& Y) {
+  const Eigen::Index k = static_cast<Eigen::Index>(d.size());
+  const Eigen::MatrixXd QV = qp.apply_block(prolong(d, Y, qp.size()));
+  Eigen::MatrixXd out(k, Y.cols());
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const Direction& e = d[static_cast<std::size_t>(j)];
+    out.row(j) = e.w_a * QV.row(e.a) + e.shift * Y.row(j);
+    if (e.b >= 0) out.row(j) += e.w_b * QV.row(e.b);
+  }
+  return out;
+}
+
 Eigen::VectorXd restrict_to(const std::vector<Direction>& d, const Eigen::VectorXd& v) {
   Eigen::VectorXd y(static_cast<Eigen::Index>(d.size()));
   for (std::size_t j = 0; j < d.size(); ++j)

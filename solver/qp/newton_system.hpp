@@ -66,8 +66,11 @@ void reduced_matrix(const BoxDiscQP& qp, const std::vector<Direction>& d, Matrix
 
 // (Dᵀ Q D + diag(shift)) y with one product by Q in double.
 Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y);
+// The same for the columns of Y at once (BoxDiscQP::apply_block).
+Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::MatrixXd& Y);
 // Dᵀ v (the reduced right-hand side of a full-size v) and D y (a reduced vector in full size).
 Eigen::VectorXd restrict_to(const std::vector<Direction>& d, const Eigen::VectorXd& v);
 Eigen::VectorXd prolong(const std::vector<Direction>& d, const Eigen::VectorXd& y, int size);
+Eigen::MatrixXd prolong(const std::vector<Direction>& d, const Eigen::MatrixXd& Y, int size);
 
 }  // namespace contact3d

@@ -14,6 +14,13 @@
 
 namespace contact3d {
 
+// Q (D Z) of the two-level preconditioner's coarse space Z for the directions D of the last Newton
+// step, kept between steps (BoxDiscQP::coarse_products): a step recomputes only the columns whose
+// D Z changed.
+struct CoarseProducts {
+  Eigen::MatrixXd DZ, QDZ;  // m × groups
+};
+
 struct ReducedCgResult {
   int iterations = 0;      // = products by Q
   bool converged = false;  // ‖b − A y‖ <= tolerance reached

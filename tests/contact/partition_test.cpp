@@ -263,3 +263,37 @@ TEST(Partition, FaceWithoutContactNodesIsAnInputError) {
   const DofMap dofs = make_dof_map(f.mesh, {"clamped"});
   EXPECT_THROW(make_contact_face(f.mesh, {"contact"}, dofs), InputError);
 }
+
+// Aggregates for the matrix-free Newton steps' coarse space: a 7 × 5 grid of cells in blocks of
+// 2 × 2 gives ⌈7/2⌉·⌈5/2⌉ = 12 aggregates of neighbouring cells, numbered without gaps; a cell of
+// several rectangles (merged) goes with its first.
+TEST(Partition, CellAggregatesGroupNeighbours) {
+  Partition partition;
+  partition.grid_nx = 7;
+  partition.grid_ny = 5;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 7; ++i) {
+      ContactCell cell;
+      cell.pieces.push_back({0, {}, j * 7 + i});
+      if (i == 1 && j == 1) cell.pieces.push_back({1, {}, j * 7 + i + 1});  // also in the next block
+      partition.cells.push_back(cell);
+    }
+  int count = 0;
+  const std::vector<int> aggregate = cell_aggregates(partition, 2, count);
+  ASSERT_EQ(aggregate.size(), partition.cells.size());
+  EXPECT_EQ(count, 12);
+  std::map<int, int> size;
+  for (int a : aggregate) {
+    ASSERT_GE(a, 0);
+    ASSERT_LT(a, count);
+    ++size[a];
+  }
+  EXPECT_EQ(static_cast<int>(size.size()), count);
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 7; ++i)  // same block of 2 × 2 grid cells: same aggregate
+      EXPECT_EQ(aggregate[j * 7 + i], aggregate[(j / 2 * 2) * 7 + i / 2 * 2]) << i << "," << j;
+  EXPECT_NE(aggregate[0], aggregate[2]);
+  int one = 0;
+  EXPECT_EQ(cell_aggregates(partition, 0, one), std::vector<int>(partition.cells.size(), 0));
+  EXPECT_EQ(one, 1);
+}

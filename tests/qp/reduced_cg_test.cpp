@@ -4,6 +4,9 @@
 // product) reach MPGP's minimiser.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <memory>
+
 #include <Eigen/Dense>
 
 #include "linalg/dual_operator.hpp"
@@ -101,4 +104,65 @@ TEST(ReducedCg, NewtonOnAMatrixFreeQpReachesMpgpsMinimiser) {
       EXPECT_LT((by_hybrid - reference).norm(), 1e-7 * (1 + reference.norm())) << "seed " << seed;
     }
   EXPECT_GT(newton_steps, 0);
+}
+
+// The two-level preconditioner (BoxDiscQP::coarse_group): on an operator whose diagonally scaled
+// spectrum is spread by a few strong smooth modes (as a thin plate's bending spreads Q's), CG
+// deflating the groups' indicators needs far fewer products than CG with the diagonal alone, to the
+// same answer; a second step with the same directions reuses the coarse products (none recomputed),
+// and one with a direction changed recomputes only its group's column.
+TEST(ReducedCg, TwoLevelDeflatesTheSmoothModes) {
+  const int r = 60, m = 3 * r, per_group = 6, groups_per_component = r / per_group;
+  RandomQp a = make_random_qp(r, true, 3, 3 * r, 0.0);  // a well-conditioned local part
+  // A smooth kernel on each component's line of cells (the compliance of a plate under smooth loads).
+  Eigen::MatrixXd smooth = Eigen::MatrixXd::Zero(m, m);
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < r; ++i)
+      for (int j = 0; j < r; ++j) smooth(c * r + i, c * r + j) = std::exp(-std::pow((i - j) / (0.25 * r), 2));
+  a.Q = (a.Q / a.Q.diagonal().mean() + 1e3 * smooth).eval();
+  a.qp.Q = &a.Q;
+  BoxDiscQP free = matrix_free_copy(a);
+  const Eigen::VectorXd z = 1.5 * a.qp.h / a.Q.diagonal().mean();
+  const ReducedStep step = split_active_sets(a.qp, z, projection_scale(a.qp));
+  const Eigen::VectorXd b = restrict_to(step.directions, a.qp.h - a.Q * step.lambda_fixed);
+  Eigen::MatrixXd A;
+  reduced_matrix(a.qp, step.directions, A);
+  const Eigen::VectorXd exact = A.selfadjointView<Eigen::Lower>().llt().solve(b);
+  const double tol = 1e-10 * b.norm();
+
+  Eigen::VectorXd by_diagonal;
+  const ReducedCgResult plain = solve_reduced_cg(free, step.directions, b, tol, 5000, by_diagonal);
+  ASSERT_TRUE(plain.converged);
+
+  for (int i = 0; i < m; ++i) free.coarse_group.push_back((i / r) * groups_per_component + (i % r) / per_group);
+  const Eigen::MatrixXd* Q = &a.Q;
+  int block_columns = 0;
+  free.block_product = [Q, &block_columns](const Eigen::MatrixXd& V) {
+    block_columns += static_cast<int>(V.cols());
+    return Eigen::MatrixXd(*Q * V);
+  };
+  free.coarse_products = std::make_shared<CoarseProducts>();
+  Eigen::VectorXd by_two_level;
+  const ReducedCgResult deflated = solve_reduced_cg(free, step.directions, b, tol, 5000, by_two_level);
+  ASSERT_TRUE(deflated.converged);
+  EXPECT_LT((by_two_level - exact).norm(), 1e-8 * exact.norm());
+  EXPECT_LT((by_diagonal - exact).norm(), 1e-8 * exact.norm());
+  const int coarse_columns = block_columns;
+  EXPECT_GT(coarse_columns, 0);
+  EXPECT_LE(coarse_columns, 3 * groups_per_component);
+  EXPECT_LT(deflated.iterations - coarse_columns, plain.iterations / 3)
+      << "diagonal " << plain.iterations << ", two-level " << deflated.iterations << " (" << coarse_columns
+      << " coarse)";
+
+  Eigen::VectorXd again;  // the same directions: the coarse products are reused
+  const ReducedCgResult reused = solve_reduced_cg(free, step.directions, b, tol, 5000, again);
+  EXPECT_EQ(block_columns, coarse_columns);
+  EXPECT_EQ(reused.iterations, deflated.iterations - coarse_columns);
+  EXPECT_LT((again - exact).norm(), 1e-8 * exact.norm());
+
+  std::vector<Direction> changed = step.directions;  // one direction's weight changed: one group recomputed
+  changed.front().w_a *= 0.5;
+  Eigen::VectorXd y;
+  solve_reduced_cg(free, changed, restrict_to(changed, a.qp.h), tol, 5000, y);
+  EXPECT_EQ(block_columns, coarse_columns + 1);
 }
