@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """The matrix-free dual (solver.schur = "matrix_free": Q never formed) against the default dense route on
 the same scenes, one process each: what the route costs where a face is solved without its dense Q, with
-the default QP (Newton steps by CG there) and with the paper's MPGP alone.
+the default QP (Newton steps by preconditioned CG there) and with the paper's MPGP alone.
 `make bench-matrix-free` runs it.
 
 Per case and route: the solve's stages (factorization, dual = forming Q, or h and Q's diagonal with the
 forward-solved rows W; stability; dual solve), QP iterations, n_mult (products with Q, each one a full
-K⁻¹ solve or a product Wᵀ(Wv) on the matrix-free route), the ratio of the solve to one CHOLMOD
+K⁻¹ solve or a product Wᵀ(Wv) on the matrix-free route, or a column of a blocked solve), the ratio of the solve to one CHOLMOD
 factorization of K in the same process (solver.reference_factorization), the peak memory of the child, and
 the largest difference of u on Γc between the two routes relative to its largest value.
 
@@ -107,7 +107,9 @@ def main():
              "row; `ratio` = (assembly + contact + factorization + dual + stability + dual solve + postprocess) / one "
              "CHOLMOD factorization of K in the same process. `dual`: forming Q (dense), or h, Q's diagonal and the "
              "forward-solved rows W (matrix-free). QP `auto` takes Newton steps, their reduced systems by CG on the "
-             "matrix-free route (n_mult counts the CG products); `mpgp` is the paper's algorithm alone. `du`: largest difference of u on Γc from the dense route's, "
+             "matrix-free route with a two-level preconditioner where products go through the factor (n_mult counts the CG "
+             "products and the coarse space's columns, which blocked solves compute at a sixth to an eighth of a product's "
+             "time each); `mpgp` is the paper's algorithm alone. `du`: largest difference of u on Γc from the dense route's, "
              "relative to its largest value. Wall seconds, 2-core machine.", "",
              "| case | route | multipliers | steps | QP it. | n_mult | factor. | dual | stability | dual solve | ratio | "
              "peak MiB | cond(Q) est. | du |",
