@@ -122,7 +122,8 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
         .value("qp_iterations", res.qp_iterations)
         .value("qp_newton_steps", res.qp_newton_steps)
         .value("qp_newton_steps_bordered", res.qp_bordered_newton_steps)
-        .value("qp_single_products", res.qp_single_products);
+        .value("qp_single_products", res.qp_single_products)
+        .value("qp_coarse_products", res.qp_coarse_products);
     j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
     j.begin_object("backend").value("name", res.backend);
     j.value("ranks", res.ranks).value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");

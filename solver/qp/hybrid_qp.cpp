@@ -23,6 +23,7 @@ void add_work(QpResult& total, const QpResult& part) {
   total.proportioning_steps += part.proportioning_steps;
   total.newton_steps += part.newton_steps;
   total.bordered_steps += part.bordered_steps;
+  total.coarse_products += part.coarse_products;
   total.status = part.status;
   total.projected_gradient = part.projected_gradient;
 }

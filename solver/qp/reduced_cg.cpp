@@ -126,7 +126,8 @@ ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Directio
   std::optional<TwoLevel> two_level;
   if (!qp.coarse_group.empty() && !d.empty()) {
     two_level.emplace(qp, d, inverse_diagonal);
-    result.iterations += two_level->products();
+    result.coarse_products = two_level->products();
+    result.iterations += result.coarse_products;
   }
   const auto precondition = [&](const Eigen::VectorXd& v) {
     return two_level ? two_level->apply(v) : Eigen::VectorXd(v.cwiseProduct(inverse_diagonal));

@@ -22,9 +22,10 @@ struct CoarseProducts {
 };
 
 struct ReducedCgResult {
-  int iterations = 0;      // = products by Q
-  bool converged = false;  // ‖b − A y‖ <= tolerance reached
-  double residual = 0;     // the last ‖b − A y‖ (recursive)
+  int iterations = 0;       // = products by Q (those of the coarse space included)
+  int coarse_products = 0;  // of which columns of the two-level preconditioner's blocked product
+  bool converged = false;   // ‖b − A y‖ <= tolerance reached
+  double residual = 0;      // the last ‖b − A y‖ (recursive)
 };
 
 // From the start `y` (a Newton step's current λ on its directions: the residual is then the gradient

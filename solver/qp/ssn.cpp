@@ -89,6 +89,7 @@ bool newton_target_by_cg(const BoxDiscQP& qp, const ReducedStep& step, const Eig
   Eigen::VectorXd y = restrict_to(step.directions, lambda);  // CG starts from the current iterate
   const ReducedCgResult cg = solve_reduced_cg(qp, step.directions, b, cg_tolerance, kMaxCgIterations, y);
   result.hessian_products += cg.iterations;
+  result.coarse_products += cg.coarse_products;
   cost = cg.iterations;
   lambda_new = step.lambda_fixed + prolong(step.directions, y, qp.size());
   return y.allFinite();
@@ -225,10 +226,12 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
   fallback.max_iterations = settings.max_iterations;
   fallback.progress = settings.progress;
   const int newton = result.iterations, products = result.hessian_products, bordered_steps = result.bordered_steps;
+  const int coarse_products = result.coarse_products;
   result = solve_mpgp(qp, lambda, fallback);
   result.iterations += newton;
   result.newton_steps = newton;
   result.bordered_steps = bordered_steps;
+  result.coarse_products = coarse_products;
   result.hessian_products += products;
   return result;
 }

@@ -158,6 +158,8 @@ TEST(ReducedCg, TwoLevelDeflatesTheSmoothModes) {
   const ReducedCgResult reused = solve_reduced_cg(free, step.directions, b, tol, 5000, again);
   EXPECT_EQ(block_columns, coarse_columns);
   EXPECT_EQ(reused.iterations, deflated.iterations - coarse_columns);
+  EXPECT_EQ(deflated.coarse_products, coarse_columns);
+  EXPECT_EQ(reused.coarse_products, 0);
   EXPECT_LT((again - exact).norm(), 1e-8 * exact.norm());
 
   std::vector<Direction> changed = step.directions;  // one direction's weight changed: one group recomputed
