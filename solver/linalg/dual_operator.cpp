@@ -16,16 +16,10 @@
 
 namespace contact3d {
 
-namespace {
-
-// Columns per dense block of right-hand sides: at most `requested`, fewer on big meshes so that a
-// block stays near `block_bytes` (at least 8 columns).
-int block_columns_for(Eigen::Index rows, int requested, long long block_bytes = 64LL << 20) {
+int block_columns_for(Eigen::Index rows, int requested, long long block_bytes) {
   const long long n = std::max<long long>(1, rows);
   return static_cast<int>(std::clamp<long long>(block_bytes / (8 * n), 8, std::max(8, requested)));
 }
-
-}  // namespace
 
 DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B, const Eigen::VectorXd& f,
                                 int block_columns) {

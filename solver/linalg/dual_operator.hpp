@@ -52,6 +52,10 @@ struct ForwardSolvedRows {
 ForwardSolvedRows forward_solved_rows(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
                                       double max_nonzeros, int block_columns = 256);
 
+// Columns per dense block of right-hand sides of `rows` rows: at most `requested`, fewer on big
+// meshes so that a block stays near `block_bytes` (at least 8 columns).
+int block_columns_for(Eigen::Index rows, int requested, long long block_bytes = 64LL << 20);
+
 // The dofs (columns) on which 𝔹 has a nonzero, ascending.
 std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);
 

@@ -103,14 +103,12 @@ class MatrixFreeDualProblem final : public DualProblem {
   bool blocks_pay() const override { return forward_solved_.size() == 0; }  // Wᵀ(WV) costs per column what Wᵀ(Wv) does
   Eigen::MatrixXd apply_Q_block(const Eigen::MatrixXd& V) const override {
     if (forward_solved_.size() > 0) return forward_solved_.transpose() * (forward_solved_ * V);
-    if (!factor_) throw std::logic_error("DualProblem: the factor was released");
     // Blocks of about 32 MiB of right-hand sides (each lives in a few copies through the solve).
-    const Eigen::Index n = B_.cols(),
-                       step = std::max<Eigen::Index>(1, (Eigen::Index{32} << 20) / (8 * std::max<Eigen::Index>(1, n)));
+    const Eigen::Index step = block_columns_for(B_.cols(), static_cast<int>(V.cols()), 32LL << 20);
     Eigen::MatrixXd out(V.rows(), V.cols());
     for (Eigen::Index j = 0; j < V.cols(); j += step) {
       const Eigen::Index cols = std::min(step, V.cols() - j);
-      out.middleCols(j, cols) = B_ * factor_->solve(Eigen::MatrixXd(B_.transpose() * V.middleCols(j, cols)));
+      out.middleCols(j, cols) = B_ * solve(Eigen::MatrixXd(B_.transpose() * V.middleCols(j, cols)));
     }
     return out;
   }
@@ -124,7 +122,8 @@ class MatrixFreeDualProblem final : public DualProblem {
   void release_factor() override { factor_.reset(); }
 
  private:
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+  template <typename Rhs>
+  Rhs solve(const Rhs& b) const {  // one right-hand side or a block
     if (!factor_) throw std::logic_error("DualProblem: the factor was released");
     return factor_->solve(b);
   }

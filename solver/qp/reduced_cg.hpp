@@ -1,6 +1,8 @@
 // The reduced Newton system of newton_system.hpp, (Dᵀ Q D + diag(shift)) y = b, solved by conjugate
 // gradients with one product by Q per iteration, preconditioned by the system's diagonal (its
-// Dᵀ diag(Q) D part plus the sliding discs' shifts). For a matrix-free dual
+// Dᵀ diag(Q) D part plus the sliding discs' shifts) or, where the problem gives coarse groups and
+// blocked products (BoxDiscQP::coarse_group), by a two-level preconditioner that solves the groups'
+// indicators exactly. For a matrix-free dual
 // (linalg/dual_problem.hpp), whose Q has no entries to factor: Newton steps there are inexact, their
 // systems solved to a tolerance the caller sets from the current residual (ssn.hpp).
 #pragma once
