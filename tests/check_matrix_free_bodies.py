@@ -4,8 +4,8 @@ the default dense route, end to end, on bodies other than the brick the unit tes
 (two materials, rollers, prescribed displacement, pressure, gravity, a curved face with a gap), the
 hexagonal prism (slip-dependent law) and the thin slab at h = 0.05. Each must converge, to the same
 contact displacements within the QP's accuracy (1e-5 of max |u|, ten times below the fixed point's 1e-4),
-in at most twice the fixed-point steps (the matrix-free fixed point takes no predicted steps: 6 against 5
-on the capped block), and take Newton steps; on the slab the default QP must need
+in at most one fixed-point step more, with predicted steps where the dense route takes them (their
+sensitivity by CG: 5 steps against 5 on the capped block, 2 of them predicted), and take Newton steps; on the slab the default QP must need
 fewer products than the paper's MPGP alone on the same matrix-free dual (624 against 3 732 measured),
 and its Newton steps' CG must use the two-level preconditioner (qp_coarse_products > 0).
 
@@ -42,9 +42,12 @@ def main():
             failures.append(f"{scene}: a run did not converge")
         if sm["schur_method"] != "matrix_free":
             failures.append(f"{scene}: the matrix-free run took {sm['schur_method']}")
-        if sm["fixed_point_iterations"] > 2 * max(sd["fixed_point_iterations"], 1):
+        if sm["fixed_point_iterations"] > sd["fixed_point_iterations"] + 1:
             failures.append(f"{scene}: {sm['fixed_point_iterations']} fixed-point steps against "
                             f"{sd['fixed_point_iterations']}")
+        predicted = [s.get("fixed_point", {}).get("predicted_steps", 0) for s in (sd, sm)]
+        if predicted[0] > 0 and predicted[1] == 0:
+            failures.append(f"{scene}: the matrix-free fixed point took no predicted step ({predicted[0]} dense)")
         if sm["qp_newton_steps"] <= 0:
             failures.append(f"{scene}: the matrix-free QP took no Newton step")
         if not diff < 1e-5:

@@ -1,5 +1,5 @@
 // Shared fixtures of the unit tests: the paper's scene as TOML text, and small random QPs of
-// the form (5.5) with both constraint kinds.
+// the form (5.5) with both constraint kinds (also as matrix-free ones).
 #pragma once
 
 #include <random>
@@ -45,6 +45,18 @@ struct RandomQp {
     qp.q_norm = 1.05 * estimate_norm(Q, 200);
   }
 };
+
+// `a`'s QP as a matrix-free one: the same Q (which must outlive it), seen only through products and
+// its diagonal.
+inline BoxDiscQP matrix_free_copy(const RandomQp& a) {
+  BoxDiscQP qp = a.qp;
+  qp.Q = nullptr;
+  const Eigen::MatrixXd* Q = &a.Q;
+  qp.product = [Q](const Eigen::VectorXd& v) { return Eigen::VectorXd(*Q * v); };
+  qp.q_diagonal = a.Q.diagonal();
+  qp.q_norm = 1.05 * estimate_norm(a.Q);
+  return qp;
+}
 
 // Q = AᵀA + shift·I with A Gaussian (m+extra_rows) x m, h Gaussian, radii uniform in [0, 2)
 // with every fifth disc a point (c = 0).

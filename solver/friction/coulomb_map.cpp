@@ -37,14 +37,14 @@ SlipEvaluation CoulombMap::operator()(const Eigen::VectorXd& state, double qp_rt
   eval.slip = std::move(next);
   // The derivative and the prediction of the scaled map, from the second solve on (the first one's
   // slip is not fed back).
-  if (eval.ok && !first && tresca_.differentiable()) {
+  if (eval.ok && !first) {
     eval.derivative = [this, s_phi, s_g](const Eigen::VectorXd& v) {
       const TrescaStep::Derivative d = tresca_.derivative(s_phi * v.head(n_nodes_), s_g * v.tail(n_cells_));
       Eigen::VectorXd out(size());
       out << d.slip / phi_scale_, d.normal_pressure / g_scale_;
       return out;
     };
-    eval.products_per_derivative = TrescaStep::kDerivativeProducts;
+    eval.derivative_products = [this] { return tresca_.sensitivity_products(); };
     eval.predict = [this, s_phi, s_g](const Eigen::VectorXd& x) {
       const TrescaStep::Prediction p = tresca_.predict(s_phi * x.head(n_nodes_), s_g * x.tail(n_cells_));
       if (p.slip.size() == 0) return Eigen::VectorXd();

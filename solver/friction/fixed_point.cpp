@@ -299,13 +299,12 @@ std::optional<Eigen::VectorXd> predicted_fixed_point(const SlipPrediction& predi
 
 // A Newton step on φ − G(φ) = 0: (I − G'(φ)) δ = G(φ) − φ solved by GMRES (from δ = 0, to 1e-2 of
 // the residual or 30 Krylov vectors: an inexact Newton step is enough on a map that is only
-// piecewise smooth), each iteration one derivative product (`applications` counts them). Near the
+// piecewise smooth), each iteration one derivative product. Near the
 // fixed point it converges superlinearly where the relaxation's single ω cannot fit the map's
 // different rates (a rate q needs the step r/(1 − q), a different one per direction).
 // `map_norm` returns ‖G′‖ on the Krylov space, from the Arnoldi relation (I − G′)V = V₊H: the largest
 // singular value of [I; 0] − H, a lower estimate of the map's local Lipschitz constant.
-Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::VectorXd& residual, int& applications,
-                                 double& map_norm) {
+Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::VectorXd& residual, double& map_norm) {
   constexpr int kMaxKrylov = 30;
   constexpr double kRelativeResidual = 1e-2;
   const double beta = residual.norm();
@@ -316,7 +315,6 @@ Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::
   Eigen::VectorXd y;
   for (int j = 0; j < kMaxKrylov; ++j) {
     Eigen::VectorXd w = basis[j] - derivative(basis[j]);
-    ++applications;
     for (int i = 0; i <= j; ++i) {  // modified Gram–Schmidt
       H(i, j) = w.dot(basis[i]);
       w -= H(i, j) * basis[i];
@@ -336,6 +334,9 @@ Eigen::VectorXd newton_direction(const SlipDerivative& derivative, const Eigen::
   map_norm = k > 0 ? Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues()[0] : 0.0;
   return delta.allFinite() ? delta : Eigen::VectorXd::Zero(residual.size());
 }
+
+// The running total of an evaluation's derivative and prediction products (SlipEvaluation).
+int products_so_far(const SlipEvaluation& eval) { return eval.derivative_products ? eval.derivative_products() : 0; }
 
 // q from the last three step lengths ‖G(xₖ) − xₖ‖ (the largest of their two ratios: conservative).
 double contraction_factor(const std::vector<double>& step_lengths) {
@@ -488,9 +489,10 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
       int predictions = 0;
       const double target = std::max(0.1 * settings.tol, 1e-2 * result.history.back().err);
       double rate = 0;
+      const int products_before = products_so_far(eval);
       std::optional<Eigen::VectorXd> y =
           predicted_fixed_point(eval.predict, gx, target, settings.blocks, predictions, rate);
-      derivative_products += predictions * eval.products_per_derivative;
+      derivative_products += products_so_far(eval) - products_before;
       if (y) {
         note_tail_start();
         prediction_rate = std::isnan(rate) ? 0.0 : rate;
@@ -514,13 +516,13 @@ FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPoint
     const Eigen::VectorXd& x0 = rejected ? previous_x : xk;
     const Eigen::VectorXd& g0 = rejected ? previous_gx : gx;
     if (use_newton) {
-      int applications = 0;
       const Eigen::VectorXd residual = gx - xk;
       note_tail_start();
-      Eigen::VectorXd delta = newton_direction(eval.derivative, residual, applications, newton_map_norm);
+      const int products_before = products_so_far(eval);
+      Eigen::VectorXd delta = newton_direction(eval.derivative, residual, newton_map_norm);
       if (delta.norm() > newton_trust * residual.norm()) delta *= newton_trust * residual.norm() / delta.norm();
       last_newton_ratio = delta.norm() / residual.norm();
-      derivative_products += applications * eval.products_per_derivative;
+      derivative_products += products_so_far(eval) - products_before;
       relaxation.plain(xk, gx);  // the relaxation's secant starts afresh should Newton stop
       mixer.reset();
       ++result.newton_steps;

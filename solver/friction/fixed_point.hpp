@@ -103,9 +103,11 @@ struct SlipEvaluation {
   bool ok = true;        // false when the inner QP failed
   int qp_iterations = 0;
   int hessian_products = 0;
-  SlipDerivative derivative;        // empty: G gives no derivative (the frictionless first Coulomb solve, tests)
-  SlipPrediction predict;           // empty: G gives no prediction
-  int products_per_derivative = 0;  // K⁻¹ applications (paper's count) of one derivative product or prediction
+  SlipDerivative derivative;  // empty: G gives no derivative (the frictionless first Coulomb solve, tests)
+  SlipPrediction predict;     // empty: G gives no prediction
+  // K⁻¹ applications (paper's count) that `derivative` and `predict` have cost so far, a running
+  // total (empty: they cost none); the fixed point counts the difference across its calls in n_mult.
+  std::function<int()> derivative_products;
 };
 
 // How a step's input φᵏ⁻¹ was made from the steps before it (history.csv's `update` column):

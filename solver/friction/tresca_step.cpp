@@ -16,11 +16,11 @@ TrescaStep::TrescaStep(const DualProblem& dual, DualQpSolver& qp, const FaceDofs
 
 SlipEvaluation TrescaStep::operator()(const Eigen::VectorXd& phi, double qp_rtol) {
   SlipEvaluation eval = solve(phi, slip_bound_, qp_rtol);
-  if (eval.ok && differentiable()) {
+  if (eval.ok) {
     eval.derivative = [this](const Eigen::VectorXd& v) {
       return derivative(v, Eigen::VectorXd::Zero(slip_bound_.size())).slip;
     };
-    eval.products_per_derivative = kDerivativeProducts;
+    eval.derivative_products = [this] { return sensitivity_products(); };
     eval.predict = [this](const Eigen::VectorXd& phi) { return predict(phi, slip_bound_).slip; };
   }
   return eval;
@@ -42,12 +42,12 @@ TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, cons
   const double t = t_phi > 0 && t_g > 0 ? std::min(t_phi, t_g) : std::max(t_phi, t_g);
   Derivative out{Eigen::VectorXd::Zero(v_phi.size()), Eigen::VectorXd::Zero(slip_bound_.size())};
   if (!(t > 0)) return out;
-  products_ += kDerivativeProducts;  // in the run's n_mult, as the fixed point's history counts them
   const Eigen::VectorXd dc =
       (radii_((slip_input_ + t * v_phi).cwiseMax(0.0), (slip_bound_input_ + t * v_g).cwiseMax(0.0)) - radius_) / t;
   RadiusSensitivity* S = sensitivity();
-  if (!S) return out;
-  const Eigen::VectorXd dlambda = S->apply(dc);
+  const Eigen::VectorXd dlambda = S ? S->apply(dc) : Eigen::VectorXd();
+  count_sensitivity_products(S);
+  if (!S || !S->ok()) return out;
   out.normal_pressure = dlambda.head(slip_bound_.size());
   // λ ↦ w is affine: its change along dλ, from one application of K⁻¹ on Γc.
   const Eigen::VectorXd dw = face_dofs_.scatter(dual_.face_displacement(lambda_ + dlambda)) - last_face_;
@@ -57,15 +57,30 @@ TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, cons
 }
 
 RadiusSensitivity* TrescaStep::sensitivity() {
-  if (!sensitivity_) sensitivity_.emplace(qp_.radius_sensitivity(lambda_));
+  if (!sensitivity_) {
+    sensitivity_.emplace(qp_.radius_sensitivity(lambda_));
+    counted_products_ = 0;
+  }
   return sensitivity_->ok() ? &*sensitivity_ : nullptr;
 }
 
+// In the run's n_mult (and the fixed point's history, through SlipEvaluation::derivative_products):
+// the sensitivity's products since the last count and the K⁻¹ application on Γc — kDerivativeProducts
+// where the reduced system is factored — or kDerivativeProducts for a try without a sensitivity.
+void TrescaStep::count_sensitivity_products(const RadiusSensitivity* S) {
+  const int products = S ? 1 + S->products() - counted_products_ : kDerivativeProducts;
+  if (S) counted_products_ = S->products();
+  products_ += products;
+  sensitivity_products_ += products;
+}
+
 TrescaStep::Prediction TrescaStep::predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g) {
-  products_ += kDerivativeProducts;
   RadiusSensitivity* S = sensitivity();
-  if (!S) return {};
-  const Eigen::VectorXd lambda = lambda_ + S->apply(radii_(phi.cwiseMax(0.0), g.cwiseMax(0.0)) - radius_);
+  const Eigen::VectorXd dlambda =
+      S ? S->apply(radii_(phi.cwiseMax(0.0), g.cwiseMax(0.0)) - radius_) : Eigen::VectorXd();
+  count_sensitivity_products(S);
+  if (!S || !S->ok()) return {};  // none, or its CG did not converge (matrix-free)
+  const Eigen::VectorXd lambda = lambda_ + dlambda;
   return {face_dofs_.slip(face_, face_dofs_.scatter(dual_.face_displacement(lambda))),
           lambda.head(slip_bound_.size()).cwiseMax(0.0)};
 }

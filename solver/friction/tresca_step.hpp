@@ -40,7 +40,8 @@ class TrescaStep {
   // (qp/radius_sensitivity.hpp), the displacement on Γc it moves (one K⁻¹ application, linear), and
   // the slip's difference quotient along it. Costs kDerivativeProducts in the paper's count (the
   // sensitivity's products by Q, one K⁻¹ on Γc); the first call after a solve also factors the
-  // reduced system.
+  // reduced system. On a matrix-free Q the sensitivity solves by CG: it costs that CG's products
+  // (sensitivity_products()).
   struct Derivative {
     Eigen::VectorXd slip, normal_pressure;
   };
@@ -53,9 +54,8 @@ class TrescaStep {
   using Prediction = Derivative;  // the same two fields, at a point instead of along a direction
   Prediction predict(const Eigen::VectorXd& phi, const Eigen::VectorXd& g);
   static constexpr int kDerivativeProducts = RadiusSensitivity::kProductsPerApply + 1;
-  // Whether derivative() and predict() can work: not with a matrix-free Q (the fixed point then
-  // goes without Newton and predicted steps).
-  bool differentiable() const { return qp_.gives_sensitivity(); }
+  // What derivative() and predict() have cost so far, in K⁻¹ applications (part of products()).
+  int sensitivity_products() const { return sensitivity_products_; }
 
   const Eigen::VectorXd& lambda() const { return lambda_; }
   const Eigen::VectorXd& radius() const { return radius_; }
@@ -92,6 +92,9 @@ class TrescaStep {
   std::vector<Solve> history_;
   std::optional<RadiusSensitivity> sensitivity_;  // of the last solve, made by the first derivative() or predict()
   RadiusSensitivity* sensitivity();               // sensitivity_, made if need be; null when it failed
+  int counted_products_ = 0;                      // sensitivity_->products() already in products_
+  int sensitivity_products_ = 0;
+  void count_sensitivity_products(const RadiusSensitivity* S);
 };
 
 }  // namespace contact3d

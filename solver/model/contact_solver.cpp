@@ -140,9 +140,8 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
   if (*chosen != method) {
     res.notes.push_back("the contact partition has " + sizes +
                         ": Q is not formed (solver.schur = \"matrix_free\"); each of its products goes through the "
-                        "factor of K, the QP's Newton steps solve their systems by CG, and the fixed point takes no "
-                        "Newton or predicted steps — far slower than the dense route; a larger contact.cell_size (H) "
-                        "keeps the dense Q");
+                        "factor of K, and the QP's Newton steps and the fixed point's predictions solve their systems "
+                        "by CG — far slower than the dense route; a larger contact.cell_size (H) keeps the dense Q");
     report.stage(
         "  the dense Q does not fit: matrix-free dual, each QP product through the factor of K (slow; a larger "
         "contact.cell_size keeps the dense Q)");

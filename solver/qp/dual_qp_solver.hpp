@@ -70,7 +70,7 @@ class DualQpSolver {
   DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
   // Matrix-free: Q only through products and its diagonal (MatrixFreeQ); products in double, Newton
-  // steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), no sensitivity.
+  // steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), the sensitivity by CG too.
   DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings);
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
@@ -78,10 +78,9 @@ class DualQpSolver {
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
   // dλ/dc at `lambda`, the solution of the last solve(), in the original variables, computed on the
   // problem that solve() solved (Jacobi-scaled or not; through the factor of Q where the Newton steps
-  // go through it). It holds the radii of this solve and must not outlive the solver.
+  // go through it; by CG on a matrix-free Q). It holds the radii of this solve and must not outlive
+  // the solver.
   RadiusSensitivity radius_sensitivity(const Eigen::VectorXd& lambda);
-  // Whether radius_sensitivity() can succeed (not on a matrix-free Q).
-  bool gives_sensitivity() const { return !qp_.matrix_free(); }
   // Heartbeat lines of long solves go to `progress` (must outlive the solver; null: none).
   void report_progress_to(Progress* progress) { progress_ = progress; }
 

@@ -5,16 +5,17 @@
 #include <utility>
 
 #include "qp/bordered_newton.hpp"
+#include "qp/reduced_cg.hpp"
 
 namespace contact3d {
 
 RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& solution, bool single_precision,
                                      const Eigen::VectorXd& scale)
     : qp_(qp), scale_(scale), single_precision_(single_precision), nu_(Eigen::VectorXd::Zero(qp.size())) {
-  if (qp_.matrix_free()) return;  // its reduced systems need Q's entries: not ok()
   // The active sets of z = λ − ρ g, with the semismooth Newton solver's ρ.
   const double rho = projection_scale(qp_);
   const Eigen::VectorXd z = solution - rho * (qp_.apply(solution) - qp_.h);
+  if (qp_.matrix_free()) ++products_;
   step_ = split_active_sets(qp_, z, rho);
   if (qp_.with_friction)
     for (int i = 0; i < qp_.r; ++i) {
@@ -25,7 +26,7 @@ RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd&
         nu_[b] = step_.lambda_fixed[b] / c;
       }
     }
-  if (step_.directions.empty()) {
+  if (step_.directions.empty() || qp_.matrix_free()) {  // nothing to solve, or by CG in each apply()
     ok_ = true;
     return;
   }
@@ -65,8 +66,9 @@ bool RadiusSensitivity::bordered_ready() {
   return false;
 }
 
-// One solve and one step of refinement in double (one product by Q).
+// One solve and one step of refinement in double (one product by Q); by CG on a matrix-free Q.
 bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y) {
+  if (qp_.matrix_free()) return solve_reduced_by_cg(b, y);
   const bool bordered = bordered_ready();
   if (!ok_) return false;
   auto solve = [&](const Eigen::VectorXd& rhs) {
@@ -77,9 +79,47 @@ bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd&
   return true;
 }
 
+// CG from the Galerkin projection of the solution onto the recycled basis: with A p_j orthonormal in
+// A's inner product, y₀ = Σ (p_jᵀ b) p_j. A CG that does not converge leaves the sensitivity not ok().
+bool RadiusSensitivity::solve_reduced_by_cg(const Eigen::VectorXd& b, Eigen::VectorXd& y) {
+  y = Eigen::VectorXd::Zero(b.size());
+  const double b_norm = b.norm();
+  if (!(b_norm > 0)) return true;
+  for (const Eigen::VectorXd& p : recycled_) y += p.dot(b) * p;
+  const ReducedCgResult cg =
+      solve_reduced_cg(qp_, step_.directions, b, kCgRelativeResidual * b_norm, kMaxCgProducts, y);
+  products_ += cg.iterations;
+  if (!cg.converged || !y.allFinite()) {
+    ok_ = false;
+    return false;
+  }
+  remember(y, b);
+  return true;
+}
+
+// p made A-orthogonal to the basis (A p taken as the right-hand side it solved: equal to CG's
+// tolerance), then A-normalized; dropped when little of it is new. The oldest goes when it is full.
+void RadiusSensitivity::remember(Eigen::VectorXd p, Eigen::VectorXd Ap) {
+  const double energy = p.dot(Ap);
+  for (std::size_t j = 0; j < recycled_.size(); ++j) {
+    const double c = recycled_products_[j].dot(p);
+    p -= c * recycled_[j];
+    Ap -= c * recycled_products_[j];
+  }
+  const double left = p.dot(Ap);
+  if (!(left > 1e-12 * energy)) return;
+  if (static_cast<int>(recycled_.size()) == kRecycledSolutions) {
+    recycled_.erase(recycled_.begin());
+    recycled_products_.erase(recycled_products_.begin());
+  }
+  recycled_.push_back(p / std::sqrt(left));
+  recycled_products_.push_back(Ap / std::sqrt(left));
+}
+
 // dλ in the problem's variables (dμ of the scaled problem, its radii c / s_t), then mapped back.
 Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) {
   Eigen::VectorXd dlambda = Eigen::VectorXd::Zero(qp_.size());
+  if (!qp_.matrix_free()) products_ += kProductsPerApply;
   if (!ok_ || !qp_.with_friction) return dlambda;
   for (int i = 0; i < qp_.r; ++i) {
     const int a = qp_.layout().t1(i), b = qp_.layout().t2(i);
@@ -89,6 +129,7 @@ Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) {
   }
   if (!step_.directions.empty()) {
     Eigen::VectorXd dy;
+    if (qp_.matrix_free()) ++products_;
     if (!solve_reduced(-restrict_to(step_.directions, qp_.apply(dlambda)), dy))
       return Eigen::VectorXd::Zero(qp_.size());
     dlambda += prolong(step_.directions, dy, qp_.size());

@@ -8,14 +8,19 @@
 // that the QP's Newton steps use (qp.bordered, bordered_newton.hpp) where that is cheaper, else by a
 // dense Cholesky factorization of the free size (in single precision where the QP's products are:
 // half the memory, as the QP's own Newton steps). Each apply() is then two products by Q (the
-// right-hand side and one step of refinement in double) and the triangular solves. The fixed point's
-// Newton steps use it (friction/tresca_step.hpp): the derivative of G(φ) = slip(λ(c(φ))).
+// right-hand side and one step of refinement in double) and the triangular solves. On a matrix-free
+// Q (no entries to factor) each apply() solves it by CG instead (reduced_cg.hpp, to kCgRelativeResidual),
+// started from the Galerkin projection onto the earlier applies' solutions, kept A-orthonormal: the
+// fixed point's successive predictions ask for nearby right-hand sides, so CG has little left to do.
+// The fixed point's Newton and predicted steps use it (friction/tresca_step.hpp): the derivative of
+// G(φ) = slip(λ(c(φ))).
 //
 // The problem may be a Jacobi-scaled one (jacobi_scaling.hpp: λ = S μ, radii c / s_t): `scale` = S
 // then maps its answers back, so that apply() takes and returns the original variables.
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -27,7 +32,13 @@ namespace contact3d {
 
 class RadiusSensitivity {
  public:
-  static constexpr int kProductsPerApply = 2;  // products by Q of one apply()
+  static constexpr int kProductsPerApply = 2;  // products by Q of one apply(), where it factors (see products())
+  // Matrix-free: CG's stopping residual relative to the right-hand side's norm, its product limit,
+  // and how many earlier solutions the start's Galerkin projection keeps. A prediction is a proposal
+  // that the next solve checks, so 1e-3 is enough: against 1e-4 (1e-6), n_mult of the matrix-free
+  // roller 2 075 against 2 205 (2 662), split ring 2 640 against 3 203 (3 616), same steps.
+  static constexpr double kCgRelativeResidual = 1e-3;
+  static constexpr int kMaxCgProducts = 2000, kRecycledSolutions = 30;
 
   // `qp` is the problem λ (or μ = S⁻¹λ) solves, copied (its Q, and its bordered solver if any, must
   // outlive this object); `solution` a (converged) solution of it; `scale` = S when `qp` is the
@@ -38,6 +49,9 @@ class RadiusSensitivity {
   bool ok() const { return ok_; }
   // Whether the reduced system goes through the factor of the whole Q (qp.bordered).
   bool through_factor_of_Q() const { return bordered_preparation_ >= 0; }
+  // Products by Q so far: kProductsPerApply per apply() where the reduced system is factored (the
+  // paper's count); matrix-free, those the construction and each apply()'s CG took.
+  int products() const { return products_; }
   // dλ for a change dc of the radii (size r), in the original variables. Not const: should the
   // bordered solver have been prepared for another system since, it prepares ours again (or, failing
   // that, factors the reduced matrix).
@@ -48,6 +62,8 @@ class RadiusSensitivity {
   bool bordered_ready();
   // False when no route is left (the lazily made factor failed).
   bool solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y);
+  bool solve_reduced_by_cg(const Eigen::VectorXd& b, Eigen::VectorXd& y);
+  void remember(Eigen::VectorXd p, Eigen::VectorXd Ap);  // adds a solution to the recycled basis
 
   BoxDiscQP qp_;
   Eigen::VectorXd scale_;  // S (empty: none)
@@ -59,6 +75,9 @@ class RadiusSensitivity {
   long bordered_preparation_ = -1;
   std::optional<DenseCholesky> factor_;
   std::optional<SingleCholesky> single_factor_;
+  // Matrix-free: earlier solutions p_j of the reduced system, A-orthonormal, with A p_j.
+  std::vector<Eigen::VectorXd> recycled_, recycled_products_;
+  int products_ = 0;
   bool ok_ = false;
 };
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -423,8 +424,12 @@ SlipMap smooth_map_with_derivative(const std::vector<double>& rates, int derivat
     e.slip = star + a.cwiseProduct(d) + 0.25 * d.cwiseAbs2();
     e.qp_iterations = 100;
     e.hessian_products = 100;
-    e.derivative = [a, d](const Eigen::VectorXd& v) { return Eigen::VectorXd((a + 0.5 * d).cwiseProduct(v)); };
-    e.products_per_derivative = derivative_products;
+    auto products = std::make_shared<int>(0);  // the running total SlipEvaluation::derivative_products reads
+    e.derivative = [a, d, products, derivative_products](const Eigen::VectorXd& v) {
+      *products += derivative_products;
+      return Eigen::VectorXd((a + 0.5 * d).cwiseProduct(v));
+    };
+    e.derivative_products = [products] { return *products; };
     return e;
   };
 }
@@ -517,13 +522,18 @@ SlipMap jump_front(
     e.qp_iterations = 10;
     e.hessian_products = 20;
     const Eigen::VectorXd gx = e.slip;
+    auto products = std::make_shared<int>(0);  // 3 per prediction, as a Tresca step's
     if (wrong_prediction)
-      e.predict = [=](const Eigen::VectorXd& y) { return wrong_prediction(gx, y); };
+      e.predict = [=](const Eigen::VectorXd& y) {
+        *products += 3;
+        return wrong_prediction(gx, y);
+      };
     else
       e.predict = [=](const Eigen::VectorXd& y) {
+        *products += 3;
         return Eigen::VectorXd(gx + response(coefficient_drop(y) - coefficient_drop(phi)));
       };
-    e.products_per_derivative = 3;
+    e.derivative_products = [products] { return *products; };
     return e;
   };
 }

@@ -150,3 +150,34 @@ TEST(RadiusSensitivity, ThroughTheFactorOfQOnTheJacobiScaledProblem) {
     EXPECT_LE((sensitivity.apply(dc) - reference).norm(), tol) << (single ? "single" : "double") << ", re-prepared";
   }
 }
+
+// Matrix-free (no entries to factor): the reduced system by CG to kCgRelativeResidual, from the
+// Galerkin projection onto the earlier applies' solutions. The answer is the factored one's to CG's
+// tolerance; asked again for the same or a proportional change, the start is already the answer and
+// CG costs only the products of its right-hand side and start residual.
+TEST(RadiusSensitivity, MatrixFreeByCgRecyclingEarlierSolutions) {
+  int sliding_problems = 0;
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    RandomQp a = make_random_qp(40, true, seed);
+    a.use_operator();
+    for (int i = 0; i < a.qp.r; ++i) a.qp.radius[i] = 0.3 + a.qp.radius[i];
+    const Eigen::VectorXd lambda = solve_tightly(a.qp, Eigen::VectorXd());
+    const Eigen::VectorXd dc = Eigen::VectorXd::LinSpaced(a.qp.r, 1.0, -0.5);
+    const Eigen::VectorXd reference = RadiusSensitivity(a.qp, lambda, false).apply(dc);
+    if (reference.norm() == 0) continue;  // no sliding disc
+    ++sliding_problems;
+
+    RadiusSensitivity sensitivity(contact3d::testing::matrix_free_copy(a), lambda, false);
+    ASSERT_TRUE(sensitivity.ok());
+    EXPECT_EQ(sensitivity.products(), 1);  // Q λ for the active sets
+    EXPECT_LE((sensitivity.apply(dc) - reference).norm(), 1e-2 * reference.norm()) << "seed " << seed;
+    const int first = sensitivity.products() - 1;
+    EXPECT_GT(first, 3) << "seed " << seed;  // CG did work
+
+    const int before = sensitivity.products();
+    EXPECT_LE((sensitivity.apply(2 * dc) - 2 * reference).norm(), 2e-2 * reference.norm()) << "seed " << seed;
+    EXPECT_LE(sensitivity.products() - before, 3) << "seed " << seed;
+    EXPECT_TRUE(sensitivity.ok());
+  }
+  EXPECT_GE(sliding_problems, 4);
+}

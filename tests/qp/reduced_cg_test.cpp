@@ -19,22 +19,8 @@
 
 using namespace contact3d;
 using contact3d::testing::make_random_qp;
+using contact3d::testing::matrix_free_copy;
 using contact3d::testing::RandomQp;
-
-namespace {
-
-// `a`'s QP as a matrix-free one: the same Q, seen only through products and its diagonal.
-BoxDiscQP matrix_free_copy(const RandomQp& a) {
-  BoxDiscQP qp = a.qp;
-  qp.Q = nullptr;
-  const Eigen::MatrixXd* Q = &a.Q;
-  qp.product = [Q](const Eigen::VectorXd& v) { return Eigen::VectorXd(*Q * v); };
-  qp.q_diagonal = a.Q.diagonal();
-  qp.q_norm = 1.05 * estimate_norm(a.Q);
-  return qp;
-}
-
-}  // namespace
 
 TEST(ReducedCg, SolvesTheReducedSystemAsItsFactorizationDoes) {
   int sliding = 0;
