@@ -578,8 +578,9 @@ std::string describe_dual_solve(const Scene& scene) {
 // aggregates of about a 64th of Γc (at least 2 × 2 cells), each component apart. Where W is kept
 // (a body whose face reaches little of the factor) a block costs its columns' products, and CG
 // with the diagonal did not need the coarse space there (the paper's brick: 738 products with it
-// off, 1 591 on).
-MatrixFreeQ matrix_free_q(const DualProblem& dual, const ContactOperator& op, const Partition& partition) {
+// off, 1 591 on). Nor where its arrays would not fit (coarse_space_fits): a note says so.
+MatrixFreeQ matrix_free_q(const DualProblem& dual, const ContactOperator& op, const Partition& partition,
+                          std::vector<std::string>& notes) {
   constexpr double kAggregates = 64;
   MatrixFreeQ q;
   q.product = [&dual](const Eigen::VectorXd& v) { return dual.apply_Q(v); };
@@ -590,6 +591,15 @@ MatrixFreeQ matrix_free_q(const DualProblem& dual, const ContactOperator& op, co
   int count = 0;
   const std::vector<int> aggregate = cell_aggregates(partition, side, count);
   const MultiplierLayout layout = op.layout();
+  const int groups = (layout.with_friction ? 3 : 1) * count;
+  const double available = static_cast<double>(available_memory_bytes());
+  if (!coarse_space_fits(layout.size(), groups, available)) {
+    notes.push_back("the Newton steps' CG goes without its two-level preconditioner: its " + std::to_string(groups) +
+                    " coarse vectors would take " + gib(coarse_space_bytes(layout.size(), groups)) + " of the " +
+                    gib(available) + " available (more than " + number(100 * kCoarseSpaceShare) +
+                    "%); expect more QP products");
+    return q;
+  }
   q.coarse_group.resize(static_cast<std::size_t>(layout.size()));
   for (int i = 0; i < op.r; ++i) {
     q.coarse_group[static_cast<std::size_t>(layout.normal(i))] = aggregate[static_cast<std::size_t>(i)];
@@ -699,7 +709,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                                               gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) *
                                                   op.rows() * op.rows()) +
                                               ")");
-  DualQpSolver qp = matrix_free ? DualQpSolver(matrix_free_q(*dual, op, res.partition), dual->h(), op.r,
+  DualQpSolver qp = matrix_free ? DualQpSolver(matrix_free_q(*dual, op, res.partition, res.notes), dual->h(), op.r,
                                                op.with_friction, q_norm, scene.solver.qp)
                                 : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp,
                                                std::move(q_factor));

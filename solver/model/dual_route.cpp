@@ -8,4 +8,10 @@ std::optional<DualMethod> dual_method_for_memory(DualMethod requested, DualMetho
   return std::nullopt;
 }
 
+double coarse_space_bytes(int multipliers, int groups) { return 4.0 * 8.0 * multipliers * static_cast<double>(groups); }
+
+bool coarse_space_fits(int multipliers, int groups, double available_bytes) {
+  return !(available_bytes > 0 && coarse_space_bytes(multipliers, groups) > kCoarseSpaceShare * available_bytes);
+}
+
 }  // namespace contact3d

@@ -15,4 +15,13 @@ namespace contact3d {
 // may be taken (a dense method the scene named, or MUMPS, whose Schur complement is dense).
 std::optional<DualMethod> dual_method_for_memory(DualMethod requested, DualMethod resolved, bool dense_Q_fits);
 
+// The matrix-free route's two-level preconditioner (qp/reduced_cg.hpp) for `groups` coarse vectors:
+// D·Z and Q·D·Z kept between Newton steps, and Y = A·Z with a blocked product's right-hand sides in a
+// step, about 4 · m · groups doubles (176 MiB at 30 000 multipliers and 192 groups). It is taken where
+// that is at most kCoarseSpaceShare of the memory available (0: unknown, taken); else the Newton
+// steps' CG goes with the diagonal alone.
+inline constexpr double kCoarseSpaceShare = 0.25;
+double coarse_space_bytes(int multipliers, int groups);
+bool coarse_space_fits(int multipliers, int groups, double available_bytes);
+
 }  // namespace contact3d

@@ -21,3 +21,13 @@ TEST(DualRoute, AutoGoesMatrixFreeWhereQDoesNotFitAndANamedDenseRouteIsRefused) 
   EXPECT_FALSE(dual_method_for_memory(DualMethod::Auto, DualMethod::Mumps, false));
   EXPECT_FALSE(dual_method_for_memory(DualMethod::MumpsPetsc, DualMethod::MumpsPetsc, false));
 }
+
+TEST(DualRoute, TheTwoLevelPreconditionerOnlyWhereItsArraysFit) {
+  // 30 000 multipliers, 192 groups: 4 · 8 · 30 000 · 192 bytes = 176 MiB.
+  EXPECT_NEAR(coarse_space_bytes(30000, 192), 184.32e6, 1.0);
+  EXPECT_TRUE(coarse_space_fits(30000, 192, 8e9));
+  EXPECT_TRUE(coarse_space_fits(30000, 192, 0));  // unknown memory: taken
+  EXPECT_TRUE(coarse_space_fits(30000, 192, 4 * 184.32e6));
+  EXPECT_FALSE(coarse_space_fits(30000, 192, 4 * 184.32e6 - 1e3));
+  EXPECT_FALSE(coarse_space_fits(30000, 192, 500e6));
+}
