@@ -30,15 +30,18 @@ void add_work(QpResult& total, const QpResult& part) {
 
 }  // namespace
 
+int default_window(const BoxDiscQP& qp) {
+  return qp.matrix_free() ? kMinWindow : std::max(kMinWindow, qp.size() / 256);
+}
+
 QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const HybridSettings& settings) {
   QpResult total;
   if (!prepare_start(qp, lambda)) {
     total.status = QpStatus::Converged;
     return total;
   }
-  const int m = qp.size();
   const double h_norm = qp.h.norm();
-  const int window = settings.window > 0 ? settings.window : std::max(25, m / 256);
+  const int window = settings.window > 0 ? settings.window : default_window(qp);
   double pg_before = relative_projected_gradient(qp, lambda, h_norm);
   ++total.hessian_products;
   int newton_rounds = 0;

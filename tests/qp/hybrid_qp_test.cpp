@@ -123,3 +123,19 @@ TEST(HybridQp, NewtonRoundsEndWhereStepsStopPaying) {
     for (int k = 0; k < 5; ++k) EXPECT_FALSE(cheap_steps.record(0.5, 1e-3, 9e-4, cheap)) << k;
   }
 }
+
+// MPGP's windows: m/256 iterations on a large dense Q (a Newton step factors a system that grows with
+// m), the floor of 25 on a matrix-free one (a Newton step is CG products) and on small problems.
+TEST(HybridQp, WindowsGrowWithADenseQOnly) {
+  const Eigen::MatrixXd stand_in = Eigen::MatrixXd::Identity(1, 1);  // only Q's presence matters here
+  BoxDiscQP dense;
+  dense.Q = &stand_in;
+  dense.r = 4000;  // 12 000 multipliers
+  EXPECT_EQ(default_window(dense), 12000 / 256);
+  BoxDiscQP matrix_free = dense;
+  matrix_free.Q = nullptr;
+  EXPECT_EQ(default_window(matrix_free), kMinWindow);
+  BoxDiscQP small = dense;
+  small.r = 1000;  // 3 000 multipliers: 3000 / 256 = 11
+  EXPECT_EQ(default_window(small), kMinWindow);
+}
