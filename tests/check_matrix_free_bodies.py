@@ -7,7 +7,9 @@ contact displacements within the QP's accuracy (1e-5 of max |u|, ten times below
 in at most one fixed-point step more, with predicted steps where the dense route takes them (their
 sensitivity by CG: 5 steps against 5 on the capped block, 2 of them predicted), and take Newton steps; on the slab the default QP must need
 fewer products than the paper's MPGP alone on the same matrix-free dual (624 against 3 732 measured),
-and its Newton steps' CG must use the two-level preconditioner (qp_coarse_products > 0).
+and its Newton steps' CG must use the two-level preconditioner (qp_coarse_products > 0); with
+solver.qp_precision = "mixed" its products must go through the float copy of the factor
+(qp_single_products > 0) to the same answer.
 
 usage: check_matrix_free_bodies.py CONTACT3D SOURCE_DIR WORK_DIR
 """
@@ -61,6 +63,16 @@ def main():
             # Its products go through the factor, so CG deflates the coarse space (blocked products).
             if not 0 < sm.get("qp_coarse_products", 0) < sm["n_mult"]:
                 failures.append(f"{scene}: the two-level CG computed {sm.get('qp_coarse_products')} coarse columns")
+            # Single-precision products through a float copy of the factor ("auto" takes them from
+            # 2 000 multipliers on; the slab here has fewer): used, and the dense route's answer.
+            ss, us = solve(binary, source, scene, work / f"{scene}_matrix_free_single",
+                           [*sets, 'solver.schur="matrix_free"', 'solver.qp_precision="mixed"'])
+            single_diff = max(abs(a - b) for n in ud for a, b in zip(ud[n], us[n])) / scale
+            print(f"{scene}: single products on the matrix-free dual: {ss['qp_single_products']} of n_mult "
+                  f"{ss['n_mult']}, largest u difference {single_diff:.1e} of max |u|")
+            if not (ss["converged"] and ss["qp_single_products"] > 0 and single_diff < 1e-5):
+                failures.append(f"{scene}: with single products: converged {ss['converged']}, "
+                                f"{ss['qp_single_products']} single products, u difference {single_diff:.1e}")
     if failures:
         print("FAILED:\n  " + "\n  ".join(failures))
         return 1

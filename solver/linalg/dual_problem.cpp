@@ -7,6 +7,7 @@
 #include "base/memory.hpp"
 #include "linalg/displacement_trace.hpp"
 #include "linalg/dual_operator.hpp"
+#include "linalg/single_precision_factor.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 namespace contact3d {
@@ -103,14 +104,23 @@ class MatrixFreeDualProblem final : public DualProblem {
   bool blocks_pay() const override { return forward_solved_.size() == 0; }  // Wᵀ(WV) costs per column what Wᵀ(Wv) does
   Eigen::MatrixXd apply_Q_block(const Eigen::MatrixXd& V) const override {
     if (forward_solved_.size() > 0) return forward_solved_.transpose() * (forward_solved_ * V);
-    // Blocks of about 32 MiB of right-hand sides (each lives in a few copies through the solve).
-    const Eigen::Index step = block_columns_for(B_.cols(), static_cast<int>(V.cols()), 32LL << 20);
-    Eigen::MatrixXd out(V.rows(), V.cols());
-    for (Eigen::Index j = 0; j < V.cols(); j += step) {
-      const Eigen::Index cols = std::min(step, V.cols() - j);
-      out.middleCols(j, cols) = B_ * solve(Eigen::MatrixXd(B_.transpose() * V.middleCols(j, cols)));
-    }
-    return out;
+    return in_blocks(V, [this](const Eigen::MatrixXd& rhs) { return solve(rhs); });
+  }
+  Eigen::MatrixXd apply_Q_block_single(const Eigen::MatrixXd& V) const override {
+    if (!single_) return apply_Q_block(V);
+    return in_blocks(V, [this](const Eigen::MatrixXd& rhs) { return single_->solve(rhs); });
+  }
+
+  Eigen::VectorXd apply_Q_single(const Eigen::VectorXd& v) const override {
+    if (!single_) return apply_Q(v);
+    return B_ * single_->solve(Eigen::VectorXd(B_.transpose() * v));
+  }
+  bool prepare_single_products(double memory_bytes) override {
+    // Where W is kept its products already read less than a solve does.
+    if (!factor_ || forward_solved_.size() > 0) return false;
+    if (SinglePrecisionFactor::bytes_for(*factor_) > memory_bytes) return false;
+    single_ = std::make_unique<SinglePrecisionFactor>(*factor_);
+    return true;
   }
 
   Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const override {
@@ -119,9 +129,24 @@ class MatrixFreeDualProblem final : public DualProblem {
   Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const override {
     return u_free_ - solve(Eigen::VectorXd(B_.transpose() * lambda));
   }
-  void release_factor() override { factor_.reset(); }
+  void release_factor() override {
+    single_.reset();  // it reads the factor's structure
+    factor_.reset();
+  }
 
  private:
+  // 𝔹 K⁻¹ 𝔹ᵀ V by `solve_block` in blocks of about 32 MiB of right-hand sides (each lives in a few
+  // copies through the solve).
+  template <typename BlockSolve>
+  Eigen::MatrixXd in_blocks(const Eigen::MatrixXd& V, const BlockSolve& solve_block) const {
+    const Eigen::Index step = block_columns_for(B_.cols(), static_cast<int>(V.cols()), 32LL << 20);
+    Eigen::MatrixXd out(V.rows(), V.cols());
+    for (Eigen::Index j = 0; j < V.cols(); j += step) {
+      const Eigen::Index cols = std::min(step, V.cols() - j);
+      out.middleCols(j, cols) = B_ * solve_block(Eigen::MatrixXd(B_.transpose() * V.middleCols(j, cols)));
+    }
+    return out;
+  }
   template <typename Rhs>
   Rhs solve(const Rhs& b) const {  // one right-hand side or a block
     if (!factor_) throw std::logic_error("DualProblem: the factor was released");
@@ -131,9 +156,10 @@ class MatrixFreeDualProblem final : public DualProblem {
   const Eigen::SparseMatrix<double>& B_;
   std::vector<int> face_dofs_;
   std::unique_ptr<SparseCholesky> factor_;
-  Eigen::VectorXd u_free_;                      // K⁻¹f
-  Eigen::VectorXd diagonal_;                    // Q's
-  Eigen::SparseMatrix<double> forward_solved_;  // W = L⁻¹P𝔹ᵀ (Q = WᵀW), or empty: products by solves
+  std::unique_ptr<SinglePrecisionFactor> single_;  // for apply_Q_single, or none
+  Eigen::VectorXd u_free_;                         // K⁻¹f
+  Eigen::VectorXd diagonal_;                       // Q's
+  Eigen::SparseMatrix<double> forward_solved_;     // W = L⁻¹P𝔹ᵀ (Q = WᵀW), or empty: products by solves
 };
 
 }  // namespace

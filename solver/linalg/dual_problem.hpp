@@ -98,6 +98,16 @@ class DualProblem {
     return out;
   }
 
+  // Q v in single precision where the backend has made such products (prepare_single_products),
+  // else apply_Q. Matrix-free through a float copy of K's factor: half the bytes of a solve, a
+  // relative error of order 1e-7 · cond(K) at worst (single_precision_factor.hpp).
+  virtual Eigen::VectorXd apply_Q_single(const Eigen::VectorXd& v) const { return apply_Q(v); }
+  // Q V in single precision likewise (blocked float solves), else apply_Q_block.
+  virtual Eigen::MatrixXd apply_Q_block_single(const Eigen::MatrixXd& V) const { return apply_Q_block(V); }
+  // Makes apply_Q_single's products where they pay (matrix-free products by solves through the
+  // factor) and their copy takes at most `memory_bytes`; returns whether it did.
+  virtual bool prepare_single_products(double /*memory_bytes*/) { return false; }
+
   // w = K⁻¹(f − 𝔹ᵀλ) at the face dofs, in the order of DualProblemInput::face_dofs.
   virtual Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const = 0;
   // w = K⁻¹(f − 𝔹ᵀλ) at every free dof.

@@ -573,19 +573,37 @@ std::string describe_dual_solve(const Scene& scene) {
          " (" + name_of(scene.solver.qp.variant, kQpVariantNames) + ")";
 }
 
+// MPGP's single-precision products on the matrix-free route where the QP asks for them
+// (QpSettings::precision) and a float copy of the factor fits its budget (single_factor_budget).
+void add_single_products(DualProblem& dual, const QpSettings& settings, MatrixFreeQ& q,
+                         std::vector<std::string>& notes) {
+  if (!uses_single_products(settings.precision, dual.size())) return;
+  const double available = static_cast<double>(available_memory_bytes());
+  if (dual.prepare_single_products(single_factor_budget(available))) {
+    q.single_product = [&dual](const Eigen::VectorXd& v) { return dual.apply_Q_single(v); };
+    q.single_block_product = [&dual](const Eigen::MatrixXd& V) { return dual.apply_Q_block_single(V); };
+    return;
+  }
+  notes.push_back(
+      "MPGP's products stay in double precision: a single-precision copy of the factor would take more "
+      "than " +
+      number(100 * kSingleFactorShare) + "% of the " + gib(available) + " available");
+}
+
 // A matrix-free Q for the QP: its products and diagonal and, where blocked products pay (through the
 // factor, not W), the coarse groups of its Newton steps' two-level preconditioner: the cells in
 // aggregates of about a 64th of Γc (at least 2 × 2 cells), each component apart. Where W is kept
 // (a body whose face reaches little of the factor) a block costs its columns' products, and CG
 // with the diagonal did not need the coarse space there (the paper's brick: 738 products with it
 // off, 1 591 on). Nor where its arrays would not fit (coarse_space_fits): a note says so.
-MatrixFreeQ matrix_free_q(const DualProblem& dual, const ContactOperator& op, const Partition& partition,
-                          std::vector<std::string>& notes) {
+MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Partition& partition,
+                          const QpSettings& settings, std::vector<std::string>& notes) {
   constexpr double kAggregates = 64;
   MatrixFreeQ q;
   q.product = [&dual](const Eigen::VectorXd& v) { return dual.apply_Q(v); };
   q.diagonal = dual.Q_diagonal();
   if (!dual.blocks_pay()) return q;
+  add_single_products(dual, settings, q, notes);
   q.block_product = [&dual](const Eigen::MatrixXd& V) { return dual.apply_Q_block(V); };
   const int side = std::max(2, static_cast<int>(std::ceil(std::sqrt(op.r / kAggregates))));
   int count = 0;
@@ -709,8 +727,8 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                                               gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) *
                                                   op.rows() * op.rows()) +
                                               ")");
-  DualQpSolver qp = matrix_free ? DualQpSolver(matrix_free_q(*dual, op, res.partition, res.notes), dual->h(), op.r,
-                                               op.with_friction, q_norm, scene.solver.qp)
+  DualQpSolver qp = matrix_free ? DualQpSolver(matrix_free_q(*dual, op, res.partition, scene.solver.qp, res.notes),
+                                               dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp)
                                 : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp,
                                                std::move(q_factor));
   qp.report_progress_to(&report);

@@ -1,5 +1,7 @@
 #include "model/dual_route.hpp"
 
+#include <limits>
+
 namespace contact3d {
 
 std::optional<DualMethod> dual_method_for_memory(DualMethod requested, DualMethod resolved, bool dense_Q_fits) {
@@ -12,6 +14,10 @@ double coarse_space_bytes(int multipliers, int groups) { return 4.0 * 8.0 * mult
 
 bool coarse_space_fits(int multipliers, int groups, double available_bytes) {
   return !(available_bytes > 0 && coarse_space_bytes(multipliers, groups) > kCoarseSpaceShare * available_bytes);
+}
+
+double single_factor_budget(double available_bytes) {
+  return available_bytes > 0 ? kSingleFactorShare * available_bytes : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace contact3d

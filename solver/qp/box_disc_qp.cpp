@@ -34,7 +34,16 @@ Eigen::VectorXd BoxDiscQP::diagonal() const {
 }
 
 Eigen::VectorXd BoxDiscQP::apply_single(const Eigen::VectorXd& v) const {
-  return Q_single ? symmetric_product(*Q_single, single_scale, v) : apply(v);
+  if (Q_single) return symmetric_product(*Q_single, single_scale, v);
+  if (!single_product) return apply(v);
+  if (scale.size() == 0) return single_product(v);
+  return scale.cwiseProduct(single_product(scale.cwiseProduct(v)));
+}
+
+Eigen::MatrixXd BoxDiscQP::apply_block_single(const Eigen::MatrixXd& V) const {
+  if (Q || !single_block_product) return apply_block(V);
+  if (scale.size() == 0) return single_block_product(V);
+  return scale.asDiagonal() * single_block_product(scale.asDiagonal() * V);
 }
 
 double BoxDiscQP::value(const Eigen::VectorXd& lambda) const { return 0.5 * lambda.dot(apply(lambda)) - h.dot(lambda); }

@@ -43,6 +43,10 @@ struct BoxDiscQP {
   // set, Newton steps factor their reduced systems in single precision and refine in double (ssn.hpp).
   const Eigen::MatrixXf* Q_single = nullptr;
   double single_scale = 1;  // Q = single_scale · Q_single (kept near 1 in float: no under- or overflow)
+  // Matrix-free, optional: Q v through a single-precision copy of K's factor (half the bytes of a
+  // product by `product`; linalg/single_precision_factor.hpp), used as Q_single is by MPGP.
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&)> single_product;
+  std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> single_block_product;  // the same for several columns
   // Optional solver of the Newton steps' reduced systems through a factor of the whole Q, kept for
   // the scene (bordered_newton.hpp); Newton steps try it before factoring the reduced matrix.
   BorderedNewton* bordered = nullptr;
@@ -62,8 +66,12 @@ struct BoxDiscQP {
   // The operator's diagonal, and the factor its entry (i, j) carries over Q's (1 without a scale).
   Eigen::VectorXd diagonal() const;
   double entry_factor(Eigen::Index i) const { return scale.size() ? scale[i] : 1.0; }
-  // Q v through Q_single (rounding error about 1e-7 ‖Q‖‖v‖); apply() when there is none.
+  // Q v through Q_single (rounding error about 1e-7 ‖Q‖‖v‖) or single_product (scaled as apply());
+  // apply() when there is neither.
   Eigen::VectorXd apply_single(const Eigen::VectorXd& v) const;
+  // Q V through single_block_product (scaled as apply_block()); apply_block() when there is none.
+  Eigen::MatrixXd apply_block_single(const Eigen::MatrixXd& V) const;
+  bool has_single_products() const { return Q_single != nullptr || static_cast<bool>(single_product); }
   double value(const Eigen::VectorXd& lambda) const;
 };
 

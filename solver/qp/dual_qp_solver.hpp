@@ -61,6 +61,11 @@ struct MatrixFreeQ {
   std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> block_product;  // optional: several columns at once
   Eigen::VectorXd diagonal;
   std::vector<int> coarse_group;  // optional: BoxDiscQP::coarse_group (of the multipliers)
+  // Optional: Q v in single precision (BoxDiscQP::single_product) where QpSettings::precision asks
+  // for single products: MPGP's recursive gradient updates, the Newton steps' CG where its tolerance
+  // allows (reduced_cg.hpp), and the two-level preconditioner's coarse products.
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&)> single_product;
+  std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> single_block_product;  // optional, several columns
 };
 
 class DualQpSolver {
@@ -69,12 +74,15 @@ class DualQpSolver {
   // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
   DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
-  // Matrix-free: Q only through products and its diagonal (MatrixFreeQ); products in double, Newton
-  // steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), the sensitivity by CG too.
+  // Matrix-free: Q only through products and its diagonal (MatrixFreeQ); MPGP's recursive updates
+  // through its single products where it has them and `settings.precision` asks for them, every
+  // other product in double; Newton steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), the
+  // sensitivity by CG too.
   DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings);
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
-  // from the warm start `lambda` (in the original, unscaled variables), which holds the result.
+  // from the warm start `lambda` (in the original, unscaled variables; of another size: from zero),
+  // which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
   // dλ/dc at `lambda`, the solution of the last solve(), in the original variables, computed on the
   // problem that solve() solved (Jacobi-scaled or not; through the factor of Q where the Newton steps

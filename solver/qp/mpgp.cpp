@@ -35,7 +35,7 @@ struct State {
   Eigen::VectorXd g;
   GradientSplit split;
   QpResult& result;
-  bool single = qp.Q_single != nullptr;
+  bool single = qp.has_single_products();
   bool drifted = false;
   int false_stops = 0, single_updates = 0;
 

@@ -3,7 +3,7 @@
 // active constraints, and expansion steps that add them (Kučera 2008, ref. [10] of the paper;
 // the paper performs proportioning and expansion "simultaneously"). Stops when the projected
 // gradient satisfies ‖gᴾ(λ)‖ <= rtol ‖h‖ (the paper's criterion).
-// With a single-precision copy of Q (BoxDiscQP::Q_single) every product goes through it and g is
+// With single-precision products (BoxDiscQP::Q_single or ::single_product) every product goes through it and g is
 // updated recursively; g = Qλ − h is recomputed in double every kSingleRefreshEvery updates after a
 // projection, and by the stopping test before it accepts: a solve ends only when the exact ‖gᴾ‖
 // meets the tolerance. After kSingleFalseStops stops that the exact gradient refuses (the rounding

@@ -31,8 +31,10 @@ ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, dou
   return step;
 }
 
-Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y) {
-  Eigen::VectorXd out = restrict_to(d, qp.apply(prolong(d, y, qp.size())));
+Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y,
+                                bool single) {
+  const Eigen::VectorXd v = prolong(d, y, qp.size());
+  Eigen::VectorXd out = restrict_to(d, single ? qp.apply_single(v) : qp.apply(v));
   for (std::size_t j = 0; j < d.size(); ++j)
     out[static_cast<Eigen::Index>(j)] += d[j].shift * y[static_cast<Eigen::Index>(j)];
   return out;

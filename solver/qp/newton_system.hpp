@@ -64,8 +64,10 @@ void reduced_matrix(const BoxDiscQP& qp, const std::vector<Direction>& d, Matrix
   }
 }
 
-// (Dᵀ Q D + diag(shift)) y with one product by Q in double.
-Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y);
+// (Dᵀ Q D + diag(shift)) y with one product by Q in double, or through BoxDiscQP::apply_single
+// where `single` is set.
+Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y,
+                                bool single = false);
 // The same for the columns of Y at once (BoxDiscQP::apply_block).
 Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::MatrixXd& Y);
 // Dᵀ v (the reduced right-hand side of a full-size v) and D y (a reduced vector in full size).

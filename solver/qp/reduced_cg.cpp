@@ -89,7 +89,9 @@ class TwoLevel {
         delta.col(static_cast<Eigen::Index>(c)) = same_shape
                                                       ? Eigen::VectorXd(DZ.col(changed[c]) - cache.DZ.col(changed[c]))
                                                       : Eigen::VectorXd(DZ.col(changed[c]));
-      const Eigen::MatrixXd Qdelta = qp.apply_block(delta);
+      // In single precision where the problem has it: Y only shapes the preconditioner, which stays
+      // symmetric positive definite for any Y (E symmetrized), so its rounding costs no accuracy.
+      const Eigen::MatrixXd Qdelta = qp.apply_block_single(delta);
       for (std::size_t c = 0; c < changed.size(); ++c)
         cache.QDZ.col(changed[c]) += Qdelta.col(static_cast<Eigen::Index>(c));
     }
@@ -129,6 +131,7 @@ ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Directio
     result.coarse_products = two_level->products();
     result.iterations += result.coarse_products;
   }
+  const bool single = qp.has_single_products() && tolerance >= kSingleCgReduction * result.residual;
   const auto precondition = [&](const Eigen::VectorXd& v) {
     return two_level ? two_level->apply(v) : Eigen::VectorXd(v.cwiseProduct(inverse_diagonal));
   };
@@ -136,8 +139,9 @@ ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Directio
   Eigen::VectorXd p = z;
   double rz = r.dot(z);
   while (result.iterations < max_iterations) {
-    const Eigen::VectorXd Ap = reduced_product(qp, d, p);
+    const Eigen::VectorXd Ap = reduced_product(qp, d, p, single);
     ++result.iterations;
+    if (single) ++result.single_products;
     const double curvature = p.dot(Ap);
     if (!(curvature > 0)) break;  // not positive definite in this direction (rounding): stop here
     const double alpha = rz / curvature;

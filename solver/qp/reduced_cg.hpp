@@ -26,6 +26,7 @@ struct CoarseProducts {
 struct ReducedCgResult {
   int iterations = 0;       // = products by Q (those of the coarse space included)
   int coarse_products = 0;  // of which columns of the two-level preconditioner's blocked product
+  int single_products = 0;  // of which through BoxDiscQP::apply_single
   bool converged = false;   // ‖b − A y‖ <= tolerance reached
   double residual = 0;      // the last ‖b − A y‖ (recursive)
 };
@@ -34,6 +35,11 @@ struct ReducedCgResult {
 // left there, as small as the iterate is good, not ‖b‖; empty: y = 0); on return y holds the last
 // iterate. Stops at ‖b − A y‖ <= `tolerance` (absolute), after `max_iterations` products (the start's
 // residual one of them), or when A shows a direction of non-positive curvature (rounding).
+// Where the problem has single-precision products (BoxDiscQP::has_single_products) and `tolerance`
+// asks to cut the start's residual (computed in double) by at most kSingleCgReduction, the
+// iterations' products are single: their rounding (about 4e-7 of the product on the thin slab)
+// enters the recursive residual relative to the corrections, which sum to about the start's residual.
+inline constexpr double kSingleCgReduction = 1e-4;
 ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
                                  double tolerance, int max_iterations, Eigen::VectorXd& y);
 

@@ -90,6 +90,7 @@ bool newton_target_by_cg(const BoxDiscQP& qp, const ReducedStep& step, const Eig
   const ReducedCgResult cg = solve_reduced_cg(qp, step.directions, b, cg_tolerance, kMaxCgIterations, y);
   result.hessian_products += cg.iterations;
   result.coarse_products += cg.coarse_products;
+  result.single_products += cg.single_products;
   cost = cg.iterations;
   lambda_new = step.lambda_fixed + prolong(step.directions, y, qp.size());
   return y.allFinite();

@@ -5,6 +5,7 @@
 // - whole solves: contactlast/ssn/inexact fixed point against blocksolve/mpgp/exact.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 #include <string>
 
@@ -41,9 +42,9 @@ struct BrickData {
   int r = 0;
 };
 
-BrickData brick_data(int n, bool friction) {
+BrickData brick_data(const BrickSize& size, bool friction) {
   const Scene scene = parse_scene_text(kBrick, ".", {});
-  const Mesh mesh = make_paper_brick({n});
+  const Mesh mesh = make_paper_brick(size);
   BrickData d;
   const DofMap dofs = make_dof_map(mesh, scene.clamped);
   d.K = assemble_stiffness(mesh, dofs, scene.material);
@@ -55,6 +56,8 @@ BrickData brick_data(int n, bool friction) {
   d.r = op.r;
   return d;
 }
+
+BrickData brick_data(int n, bool friction) { return brick_data(BrickSize{n}, friction); }
 
 void expect_same_dual(int n, bool friction) {
   const BrickData d = brick_data(n, friction);
@@ -407,4 +410,19 @@ TEST(FastPaths, NoContactIsOneLinearSolve) {
   EXPECT_EQ(res.n_mult, 1);
   EXPECT_EQ(res.n_dual, 0);
   EXPECT_LT(res.kkt.equilibrium, 1e-10);
+}
+
+// Single-precision products on the matrix-free dual: none before prepare_single_products, and none
+// where W is kept (the paper's brick: its products already read less than a solve). Where products
+// go through solves the float factor serves them (check_matrix_free_bodies.py: the thin slab).
+TEST(FastPaths, MatrixFreeSingleProductsOnlyWhereProductsSolve) {
+  const BrickData d = brick_data(4, true);
+  StageTimes times;
+  StageClock clock(times);
+  const DualProblemInput input{d.K, d.B, d.f, {}};
+  const std::unique_ptr<DualProblem> dual = make_cholmod_dual_problem(DualMethod::MatrixFree, input, clock);
+  ASSERT_FALSE(dual->blocks_pay());  // W kept
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(dual->size(), -1.0, 2.0);
+  EXPECT_FALSE(dual->prepare_single_products(std::numeric_limits<double>::infinity()));
+  EXPECT_EQ(dual->apply_Q_single(v), dual->apply_Q(v));
 }

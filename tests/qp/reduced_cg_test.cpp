@@ -154,3 +154,57 @@ TEST(ReducedCg, TwoLevelDeflatesTheSmoothModes) {
   solve_reduced_cg(free, changed, restrict_to(changed, a.qp.h), tol, 5000, y);
   EXPECT_EQ(block_columns, coarse_columns + 1);
 }
+
+// Single-precision products (BoxDiscQP::single_product; here Q in float) in the Newton steps' CG:
+// taken where the tolerance asks to cut the start's residual by at most kSingleCgReduction, to the
+// answer within that tolerance; not taken where it asks for more, nor where the problem has none.
+// The two-level preconditioner's coarse products go through single_block_product either way.
+TEST(ReducedCg, SingleProductsWhereTheToleranceAllowsThem) {
+  RandomQp a = make_random_qp(40, true, 5);
+  a.qp.Q = &a.Q;
+  BoxDiscQP free = matrix_free_copy(a);
+  const Eigen::MatrixXf Q_float = a.Q.cast<float>();
+  int single_columns = 0;
+  free.single_product = [&Q_float](const Eigen::VectorXd& v) {
+    return Eigen::VectorXd((Q_float * v.cast<float>()).cast<double>());
+  };
+  free.single_block_product = [&Q_float, &single_columns](const Eigen::MatrixXd& V) {
+    single_columns += static_cast<int>(V.cols());
+    return Eigen::MatrixXd((Q_float * V.cast<float>()).cast<double>());
+  };
+  const Eigen::VectorXd z = 1.5 * a.qp.h / a.Q.diagonal().mean();
+  const ReducedStep step = split_active_sets(a.qp, z, projection_scale(a.qp));
+  const Eigen::VectorXd b = restrict_to(step.directions, a.qp.h - a.Q * step.lambda_fixed);
+  Eigen::MatrixXd A;
+  reduced_matrix(a.qp, step.directions, A);
+  const Eigen::VectorXd exact = A.selfadjointView<Eigen::Lower>().llt().solve(b);
+
+  // From zero the start's residual is ‖b‖: a loose tolerance takes single products and meets it
+  // (the true residual, in double, within twice the tolerance).
+  const double loose = 1e-3 * b.norm();
+  Eigen::VectorXd y;
+  const ReducedCgResult single = solve_reduced_cg(free, step.directions, b, loose, 1000, y);
+  ASSERT_TRUE(single.converged);
+  EXPECT_EQ(single.single_products, single.iterations);
+  EXPECT_LT((b - A.selfadjointView<Eigen::Lower>() * y).norm(), 2 * loose);
+  // A tight one stays in double and reaches the answer to it.
+  Eigen::VectorXd tight_y;
+  const ReducedCgResult tight = solve_reduced_cg(free, step.directions, b, 1e-12 * b.norm(), 1000, tight_y);
+  ASSERT_TRUE(tight.converged);
+  EXPECT_EQ(tight.single_products, 0);
+  EXPECT_LT((tight_y - exact).norm(), 1e-9 * exact.norm());
+  // Without single products nothing changes.
+  const BoxDiscQP plain = matrix_free_copy(a);
+  Eigen::VectorXd plain_y;
+  EXPECT_EQ(solve_reduced_cg(plain, step.directions, b, loose, 1000, plain_y).single_products, 0);
+
+  // The coarse products in float: the preconditioner only, the answer as tight as in double.
+  for (int i = 0; i < free.size(); ++i) free.coarse_group.push_back(i / 10);
+  free.block_product = [&a](const Eigen::MatrixXd& V) { return Eigen::MatrixXd(a.Q * V); };
+  Eigen::VectorXd deflated_y;
+  const ReducedCgResult deflated = solve_reduced_cg(free, step.directions, b, 1e-12 * b.norm(), 1000, deflated_y);
+  ASSERT_TRUE(deflated.converged);
+  EXPECT_GT(single_columns, 0);
+  EXPECT_EQ(single_columns, deflated.coarse_products);
+  EXPECT_LT((deflated_y - exact).norm(), 1e-9 * exact.norm());
+}

@@ -120,3 +120,38 @@ TEST(SinglePrecisionProducts, NewtonStepsRefinedToTheDoubleAnswer) {
     EXPECT_GT(mixed.hessian_products, in_double.hessian_products) << "no refinement products: not solved in single";
   }
 }
+
+// The matrix-free solver (a Q seen only through products, as on the matrix-free dual) takes the
+// single products it is given (MatrixFreeQ::single_product: a float factor of K there, Q in float
+// here) where QpSettings::precision asks for them, in MPGP and in the Newton steps' CG, and meets the
+// tolerance on the exact gradient all the same; with "double" it leaves them unused.
+TEST(SinglePrecisionProducts, MatrixFreeSolverTakesThemWhereAsked) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    const RandomQp rq = make_random_qp(60, true, seed * 7);
+    const Eigen::MatrixXf Q_float = rq.Q.cast<float>();
+    const auto make_q = [&] {
+      MatrixFreeQ q;
+      q.product = [&rq](const Eigen::VectorXd& v) { return Eigen::VectorXd(rq.Q * v); };
+      q.single_product = [&Q_float](const Eigen::VectorXd& v) {
+        return Eigen::VectorXd((Q_float * v.cast<float>()).cast<double>());
+      };
+      q.diagonal = rq.Q.diagonal();
+      return q;
+    };
+    QpResult results[2];
+    Eigen::VectorXd answers[2];
+    for (int mixed = 0; mixed < 2; ++mixed) {
+      QpSettings settings;
+      settings.precision = mixed ? QpPrecision::Mixed : QpPrecision::Double;
+      DualQpSolver solver(make_q(), rq.qp.h, rq.qp.r, true, estimate_norm(rq.Q), settings);
+      results[mixed] = solver.solve(rq.qp.radius, answers[mixed], 1e-10);
+      ASSERT_EQ(results[mixed].status, QpStatus::Converged) << "seed " << seed;
+    }
+    EXPECT_EQ(results[0].single_products, 0);
+    EXPECT_GT(results[1].single_products, 0) << "seed " << seed;
+    BoxDiscQP check = rq.qp;
+    check.Q = &rq.Q;
+    EXPECT_LE(exact_projected_gradient(check, answers[1]), 1e-10) << "seed " << seed;
+    EXPECT_LT((answers[1] - answers[0]).norm(), 1e-7 * (1 + answers[0].norm())) << "seed " << seed;
+  }
+}
