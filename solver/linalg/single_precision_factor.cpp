@@ -70,75 +70,66 @@ double SinglePrecisionFactor::bytes_for(const SparseCholesky& factor) {
   return 4.0 * static_cast<double>(value_count(factor.supernodes()));
 }
 
+SinglePrecisionFactor::Supernode SinglePrecisionFactor::supernode(std::int64_t s) const {
+  Supernode v;
+  v.first_column = L_.super[s];
+  v.columns = static_cast<int>(L_.super[s + 1] - v.first_column);
+  v.rows = static_cast<int>(L_.pi[s + 1] - L_.pi[s]);
+  v.values = values_.data() + L_.px[s];
+  v.rows_below = L_.rows + L_.pi[s] + v.columns;
+  return v;
+}
+
+// X_s ← L_ss⁻¹ X_s, then the rows below the supernode lose L_bs X_s.
+void SinglePrecisionFactor::forward_step(const Supernode& s, float* X, int k, std::vector<float>& below) const {
+  const int nc = s.columns, nrows = s.rows, nb = s.rows - s.columns, ldx = static_cast<int>(L_.n), one = 1;
+  const float zero = 0, plus_one = 1;
+  float* Xs = X + s.first_column;
+  below.resize(static_cast<std::size_t>(nb) * k);
+  if (k == 1 && static_cast<std::int64_t>(nrows) * nc <= kLoopEntries) {
+    forward_one(s.values, nrows, nc, Xs, below.data());
+  } else if (k == 1) {
+    strsv_("L", "N", "N", &nc, s.values, &nrows, Xs, &one);
+    if (nb > 0) sgemv_("N", &nb, &nc, &plus_one, s.values + nc, &nrows, Xs, &one, &zero, below.data(), &one);
+  } else {
+    strsm_("L", "L", "N", "N", &nc, &k, &plus_one, s.values, &nrows, Xs, &ldx);
+    if (nb > 0) sgemm_("N", "N", &nb, &k, &nc, &plus_one, s.values + nc, &nrows, Xs, &ldx, &zero, below.data(), &nb);
+  }
+  for (int c = 0; c < k; ++c) {
+    float* x = X + static_cast<std::int64_t>(c) * L_.n;
+    const float* t = below.data() + static_cast<std::int64_t>(c) * nb;
+    for (int p = 0; p < nb; ++p) x[s.rows_below[p]] -= t[p];
+  }
+}
+
+// X_s ← L_ssᵀ⁻¹ (X_s − L_bsᵀ X_b), the rows below already solved.
+void SinglePrecisionFactor::backward_step(const Supernode& s, float* X, int k, std::vector<float>& below) const {
+  const int nc = s.columns, nrows = s.rows, nb = s.rows - s.columns, ldx = static_cast<int>(L_.n), one = 1;
+  const float plus_one = 1, minus_one = -1;
+  float* Xs = X + s.first_column;
+  below.resize(static_cast<std::size_t>(nb) * k);
+  for (int c = 0; c < k; ++c) {
+    const float* x = X + static_cast<std::int64_t>(c) * L_.n;
+    float* t = below.data() + static_cast<std::int64_t>(c) * nb;
+    for (int p = 0; p < nb; ++p) t[p] = x[s.rows_below[p]];
+  }
+  if (k == 1 && static_cast<std::int64_t>(nrows) * nc <= kLoopEntries) {
+    backward_one(s.values, nrows, nc, Xs, below.data());
+  } else if (k == 1) {
+    if (nb > 0) sgemv_("T", &nb, &nc, &minus_one, s.values + nc, &nrows, below.data(), &one, &plus_one, Xs, &one);
+    strsv_("L", "T", "N", &nc, s.values, &nrows, Xs, &one);
+  } else {
+    if (nb > 0)
+      sgemm_("T", "N", &nc, &k, &nb, &minus_one, s.values + nc, &nrows, below.data(), &nb, &plus_one, Xs, &ldx);
+    strsm_("L", "L", "T", "N", &nc, &k, &plus_one, s.values, &nrows, Xs, &ldx);
+  }
+}
+
 void SinglePrecisionFactor::solve_in_pivot_order(float* X, int k) const {
-  const std::int64_t n = L_.n;
-  const int ldx = static_cast<int>(n), one = 1;
-  const float zero = 0, plus_one = 1, minus_one = -1;
   std::vector<float> below;
-  // Forward: supernode by supernode, X_s ← L_ss⁻¹ X_s, then the rows below it lose L_bs X_s.
-  for (std::int64_t s = 0; s < L_.count; ++s) {
-    const std::int64_t k1 = L_.super[s];
-    const int nc = static_cast<int>(L_.super[s + 1] - k1), nrows = static_cast<int>(L_.pi[s + 1] - L_.pi[s]);
-    const int nb = nrows - nc;
-    const float* block = values_.data() + L_.px[s];
-    const std::int64_t* rows = L_.rows + L_.pi[s] + nc;
-    if (k == 1 && static_cast<std::int64_t>(nrows) * nc <= kLoopEntries) {
-      below.resize(nb);
-      forward_one(block, nrows, nc, X + k1, below.data());
-      for (int p = 0; p < nb; ++p) X[rows[p]] -= below[p];
-      continue;
-    }
-    if (k == 1) {
-      strsv_("L", "N", "N", &nc, block, &nrows, X + k1, &one);
-      if (nb == 0) continue;
-      below.resize(nb);
-      sgemv_("N", &nb, &nc, &plus_one, block + nc, &nrows, X + k1, &one, &zero, below.data(), &one);
-      for (int p = 0; p < nb; ++p) X[rows[p]] -= below[p];
-      continue;
-    }
-    strsm_("L", "L", "N", "N", &nc, &k, &plus_one, block, &nrows, X + k1, &ldx);
-    if (nb == 0) continue;
-    below.resize(static_cast<std::size_t>(nb) * k);
-    sgemm_("N", "N", &nb, &k, &nc, &plus_one, block + nc, &nrows, X + k1, &ldx, &zero, below.data(), &nb);
-    for (int c = 0; c < k; ++c) {
-      float* x = X + static_cast<std::int64_t>(c) * n;
-      const float* t = below.data() + static_cast<std::int64_t>(c) * nb;
-      for (int p = 0; p < nb; ++p) x[rows[p]] -= t[p];
-    }
-  }
-  // Backward, descending: every row below a supernode is solved before it.
-  for (std::int64_t s = L_.count - 1; s >= 0; --s) {
-    const std::int64_t k1 = L_.super[s];
-    const int nc = static_cast<int>(L_.super[s + 1] - k1), nrows = static_cast<int>(L_.pi[s + 1] - L_.pi[s]);
-    const int nb = nrows - nc;
-    const float* block = values_.data() + L_.px[s];
-    const std::int64_t* rows = L_.rows + L_.pi[s] + nc;
-    if (k == 1 && static_cast<std::int64_t>(nrows) * nc <= kLoopEntries) {
-      below.resize(nb);
-      for (int p = 0; p < nb; ++p) below[p] = X[rows[p]];
-      backward_one(block, nrows, nc, X + k1, below.data());
-      continue;
-    }
-    if (k == 1) {
-      if (nb > 0) {
-        below.resize(nb);
-        for (int p = 0; p < nb; ++p) below[p] = X[rows[p]];
-        sgemv_("T", &nb, &nc, &minus_one, block + nc, &nrows, below.data(), &one, &plus_one, X + k1, &one);
-      }
-      strsv_("L", "T", "N", &nc, block, &nrows, X + k1, &one);
-      continue;
-    }
-    if (nb > 0) {
-      below.resize(static_cast<std::size_t>(nb) * k);
-      for (int c = 0; c < k; ++c) {
-        const float* x = X + static_cast<std::int64_t>(c) * n;
-        float* t = below.data() + static_cast<std::int64_t>(c) * nb;
-        for (int p = 0; p < nb; ++p) t[p] = x[rows[p]];
-      }
-      sgemm_("T", "N", &nc, &k, &nb, &minus_one, block + nc, &nrows, below.data(), &nb, &plus_one, X + k1, &ldx);
-    }
-    strsm_("L", "L", "T", "N", &nc, &k, &plus_one, block, &nrows, X + k1, &ldx);
-  }
+  for (std::int64_t s = 0; s < L_.count; ++s) forward_step(supernode(s), X, k, below);
+  // Descending: every row below a supernode is solved before it.
+  for (std::int64_t s = L_.count - 1; s >= 0; --s) backward_step(supernode(s), X, k, below);
 }
 
 Eigen::MatrixXd SinglePrecisionFactor::solve(const Eigen::MatrixXd& B) const {

@@ -32,10 +32,24 @@ class SinglePrecisionFactor {
   static double bytes_for(const SparseCholesky& factor);
 
  private:
+  // Supernode s of the float copy: its columns first_column .. first_column + columns − 1, a
+  // column-major block of `rows` rows (its own columns' first), and the row indices below them.
+  struct Supernode {
+    std::int64_t first_column = 0;
+    int columns = 0, rows = 0;
+    const float* values = nullptr;
+    const std::int64_t* rows_below = nullptr;
+  };
+
   SparseCholesky::Supernodes L_;
   std::vector<float> values_;  // L's values in float, laid out as L_.values
-  // X (n × k, column-major, pivot order) ← L⁻ᵀ L⁻¹ X in place.
+
+  Supernode supernode(std::int64_t s) const;
+  // X (n × k, column-major, pivot order) ← L⁻ᵀ L⁻¹ X in place, supernode by supernode: forward
+  // ascending, backward descending; `below` is workspace for the rows below a supernode.
   void solve_in_pivot_order(float* X, int k) const;
+  void forward_step(const Supernode& s, float* X, int k, std::vector<float>& below) const;
+  void backward_step(const Supernode& s, float* X, int k, std::vector<float>& below) const;
 };
 
 }  // namespace contact3d
