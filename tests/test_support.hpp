@@ -1,15 +1,42 @@
-// Shared fixtures of the unit tests: the paper's scene as TOML text, and small random QPs of
-// the form (5.5) with both constraint kinds (also as matrix-free ones).
+// Shared fixtures of the unit tests: the paper's scene as TOML text, small random QPs of the form
+// (5.5) with both constraint kinds (also as matrix-free ones), and a grid Laplacian to factor.
 #pragma once
 
 #include <random>
+#include <vector>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 
 #include "linalg/dual_operator.hpp"
 #include "qp/box_disc_qp.hpp"
 
 namespace contact3d::testing {
+
+// stiffness · (7-point Laplacian on an nx × ny × nz grid, with `diagonal` instead of 6): SPD for a
+// diagonal above 6, with many supernodes under nested dissection.
+inline Eigen::SparseMatrix<double> grid_laplacian(int nx, int ny, int nz, double stiffness = 1.0,
+                                                  double diagonal = 6.1) {
+  const int n = nx * ny * nz;
+  auto id = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
+  std::vector<Eigen::Triplet<double>> t;
+  const auto couple = [&](int p, int q) {
+    t.emplace_back(p, q, -stiffness);
+    t.emplace_back(q, p, -stiffness);
+  };
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int p = id(i, j, k);
+        t.emplace_back(p, p, diagonal * stiffness);
+        if (i + 1 < nx) couple(p, id(i + 1, j, k));
+        if (j + 1 < ny) couple(p, id(i, j + 1, k));
+        if (k + 1 < nz) couple(p, id(i, j, k + 1));
+      }
+  Eigen::SparseMatrix<double> K(n, n);
+  K.setFromTriplets(t.begin(), t.end());
+  return K;
+}
 
 // Section 6 of the paper on the built-in five-tet brick at n = 4 (override with mesh.n).
 inline const char* paper_scene_text() {

@@ -9,37 +9,19 @@
 #include <Eigen/Dense>
 
 #include "linalg/sparse_cholesky.hpp"
+#include "test_support.hpp"
 
 using namespace contact3d;
+using contact3d::testing::grid_laplacian;
 
 namespace {
-
-// A shifted 7-point Laplacian on an nx × ny × nz grid, times `stiffness` (steel-like magnitudes:
-// K's entries near 1e9), with many supernodes under nested dissection.
-Eigen::SparseMatrix<double> scaled_grid_laplacian(int nx, int ny, int nz, double stiffness) {
-  const int n = nx * ny * nz;
-  auto id = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
-  std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int p = id(i, j, k);
-        t.emplace_back(p, p, 6.01 * stiffness);
-        if (i + 1 < nx) t.emplace_back(p, id(i + 1, j, k), -stiffness), t.emplace_back(id(i + 1, j, k), p, -stiffness);
-        if (j + 1 < ny) t.emplace_back(p, id(i, j + 1, k), -stiffness), t.emplace_back(id(i, j + 1, k), p, -stiffness);
-        if (k + 1 < nz) t.emplace_back(p, id(i, j, k + 1), -stiffness), t.emplace_back(id(i, j, k + 1), p, -stiffness);
-      }
-  Eigen::SparseMatrix<double> K(n, n);
-  K.setFromTriplets(t.begin(), t.end());
-  return K;
-}
 
 double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).norm() / b.norm(); }
 
 }  // namespace
 
 TEST(SinglePrecisionFactor, SolvesAsTheDoubleFactorToSinglePrecision) {
-  const Eigen::SparseMatrix<double> K = scaled_grid_laplacian(16, 13, 6, 2.1e9);
+  const Eigen::SparseMatrix<double> K = grid_laplacian(16, 13, 6, 2.1e9, 6.01);  // steel-like magnitudes
   const SparseCholesky factor(K);
   const SinglePrecisionFactor single(factor);
   EXPECT_EQ(single.size(), K.rows());
@@ -80,7 +62,7 @@ TEST(SinglePrecisionFactor, SolvesAsTheDoubleFactorToSinglePrecision) {
 }
 
 TEST(SinglePrecisionFactor, RefusesAnAugmentedFactorAndWrongSizes) {
-  const Eigen::SparseMatrix<double> K = scaled_grid_laplacian(5, 4, 3, 1.0);
+  const Eigen::SparseMatrix<double> K = grid_laplacian(5, 4, 3);
   Eigen::SparseMatrix<double> B(2, K.rows());
   B.insert(0, 0) = 1;
   B.insert(1, 7) = 1;

@@ -9,30 +9,12 @@
 #include <Eigen/Dense>
 
 #include "linalg/sparse_cholesky.hpp"
+#include "test_support.hpp"
 
 using namespace contact3d;
+using contact3d::testing::grid_laplacian;
 
 namespace {
-
-// A 7-point Laplacian on an nx × ny × nz grid plus a small shift (SPD, many supernodes under
-// nested dissection).
-Eigen::SparseMatrix<double> grid_laplacian(int nx, int ny, int nz) {
-  const int n = nx * ny * nz;
-  auto id = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
-  std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int p = id(i, j, k);
-        t.emplace_back(p, p, 6.1);
-        if (i + 1 < nx) t.emplace_back(p, id(i + 1, j, k), -1), t.emplace_back(id(i + 1, j, k), p, -1);
-        if (j + 1 < ny) t.emplace_back(p, id(i, j + 1, k), -1), t.emplace_back(id(i, j + 1, k), p, -1);
-        if (k + 1 < nz) t.emplace_back(p, id(i, j, k + 1), -1), t.emplace_back(id(i, j, k + 1), p, -1);
-      }
-  Eigen::SparseMatrix<double> K(n, n);
-  K.setFromTriplets(t.begin(), t.end());
-  return K;
-}
 
 // Columns with a few nonzeros each on the grid's bottom layer (as a cell's face dofs), one empty.
 Eigen::SparseMatrix<double> face_columns(int nx, int ny, int nz, int m) {

@@ -22,6 +22,27 @@ using contact3d::testing::make_random_qp;
 using contact3d::testing::matrix_free_copy;
 using contact3d::testing::RandomQp;
 
+namespace {
+
+// A Newton step's reduced system on the QP `a` (the active sets of a scaled h) with its answer by a
+// dense factorization.
+struct ReducedSystem {
+  ReducedStep step;
+  Eigen::VectorXd b, exact;
+  Eigen::MatrixXd A;  // lower triangle
+};
+ReducedSystem reduced_system(const RandomQp& a) {
+  ReducedSystem s;
+  const Eigen::VectorXd z = 1.5 * a.qp.h / a.Q.diagonal().mean();
+  s.step = split_active_sets(a.qp, z, projection_scale(a.qp));
+  s.b = restrict_to(s.step.directions, a.qp.h - a.Q * s.step.lambda_fixed);
+  reduced_matrix(a.qp, s.step.directions, s.A);
+  s.exact = s.A.selfadjointView<Eigen::Lower>().llt().solve(s.b);
+  return s;
+}
+
+}  // namespace
+
 TEST(ReducedCg, SolvesTheReducedSystemAsItsFactorizationDoes) {
   int sliding = 0;
   for (unsigned seed = 1; seed <= 10; ++seed) {
@@ -108,12 +129,10 @@ TEST(ReducedCg, TwoLevelDeflatesTheSmoothModes) {
   a.Q = (a.Q / a.Q.diagonal().mean() + 1e3 * smooth).eval();
   a.qp.Q = &a.Q;
   BoxDiscQP free = matrix_free_copy(a);
-  const Eigen::VectorXd z = 1.5 * a.qp.h / a.Q.diagonal().mean();
-  const ReducedStep step = split_active_sets(a.qp, z, projection_scale(a.qp));
-  const Eigen::VectorXd b = restrict_to(step.directions, a.qp.h - a.Q * step.lambda_fixed);
-  Eigen::MatrixXd A;
-  reduced_matrix(a.qp, step.directions, A);
-  const Eigen::VectorXd exact = A.selfadjointView<Eigen::Lower>().llt().solve(b);
+  const ReducedSystem system = reduced_system(a);
+  const ReducedStep& step = system.step;
+  const Eigen::VectorXd& b = system.b;
+  const Eigen::VectorXd& exact = system.exact;
   const double tol = 1e-10 * b.norm();
 
   Eigen::VectorXd by_diagonal;
@@ -172,12 +191,11 @@ TEST(ReducedCg, SingleProductsWhereTheToleranceAllowsThem) {
     single_columns += static_cast<int>(V.cols());
     return Eigen::MatrixXd((Q_float * V.cast<float>()).cast<double>());
   };
-  const Eigen::VectorXd z = 1.5 * a.qp.h / a.Q.diagonal().mean();
-  const ReducedStep step = split_active_sets(a.qp, z, projection_scale(a.qp));
-  const Eigen::VectorXd b = restrict_to(step.directions, a.qp.h - a.Q * step.lambda_fixed);
-  Eigen::MatrixXd A;
-  reduced_matrix(a.qp, step.directions, A);
-  const Eigen::VectorXd exact = A.selfadjointView<Eigen::Lower>().llt().solve(b);
+  const ReducedSystem system = reduced_system(a);
+  const ReducedStep& step = system.step;
+  const Eigen::VectorXd& b = system.b;
+  const Eigen::VectorXd& exact = system.exact;
+  const Eigen::MatrixXd& A = system.A;
 
   // From zero the start's residual is ‖b‖: a loose tolerance takes single products and meets it
   // (the true residual, in double, within twice the tolerance).
