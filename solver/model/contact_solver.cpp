@@ -573,8 +573,9 @@ std::string describe_dual_solve(const Scene& scene) {
          " (" + name_of(scene.solver.qp.variant, kQpVariantNames) + ")";
 }
 
-// MPGP's single-precision products on the matrix-free route where the QP asks for them
-// (QpSettings::precision) and a float copy of the factor fits its budget (single_factor_budget).
+// The QP's single-precision products on the matrix-free route (MPGP's updates, CG where its tolerance
+// allows, the coarse products; dual_qp_solver.hpp) where QpSettings::precision asks for them and a
+// float copy of the factor fits its budget (single_factor_budget).
 void add_single_products(DualProblem& dual, const QpSettings& settings, MatrixFreeQ& q,
                          std::vector<std::string>& notes) {
   if (!uses_single_products(settings.precision, dual.size())) return;
@@ -585,7 +586,7 @@ void add_single_products(DualProblem& dual, const QpSettings& settings, MatrixFr
     return;
   }
   notes.push_back(
-      "MPGP's products stay in double precision: a single-precision copy of the factor would take more "
+      "the QP's products stay in double precision: a single-precision copy of the factor would take more "
       "than " +
       number(100 * kSingleFactorShare) + "% of the " + gib(available) + " available");
 }

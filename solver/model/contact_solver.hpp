@@ -76,8 +76,9 @@ struct SolveResult {
   int qp_newton_steps = 0;           // of which semismooth Newton steps (each a dense Cholesky of the free size)
   int qp_bordered_newton_steps = 0;  // of which solved through the factor of Q (solver.qp_newton_systems)
   int qp_coarse_products = 0;        // of n_mult, columns of the matrix-free Newton steps' blocked coarse products
-  int qp_single_products =
-      0;  // products Q·v in single precision: Q's float copy, or matrix-free the factor's (solver.qp_precision)
+  // Products Q·v in single precision (solver.qp_precision): through Q's float copy, or matrix-free
+  // through the factor's.
+  int qp_single_products = 0;
   KktResiduals kkt;
   // Coulomb: max_i |c_i − F̄_i(φ) λ_n,i| / max_i c_i for the final (λ, φ) — the fixed point's own
   // residual (of the order of fixed_point_tol), not part of kkt.max(); 0 for Tresca.

@@ -24,7 +24,7 @@ inline constexpr double kCoarseSpaceShare = 0.25;
 double coarse_space_bytes(int multipliers, int groups);
 bool coarse_space_fits(int multipliers, int groups, double available_bytes);
 
-// The matrix-free route's single-precision copy of K's factor for MPGP's products
+// The matrix-free route's single-precision copy of K's factor for the QP's single products
 // (linalg/single_precision_factor.hpp, 4 bytes per entry of L) may take at most kSingleFactorShare
 // of the memory available: the budget passed to DualProblem::prepare_single_products (0 available:
 // unknown, no limit).

@@ -74,10 +74,10 @@ class DualQpSolver {
   // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
   DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
-  // Matrix-free: Q only through products and its diagonal (MatrixFreeQ); MPGP's recursive updates
-  // through its single products where it has them and `settings.precision` asks for them, every
-  // other product in double; Newton steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), the
-  // sensitivity by CG too.
+  // Matrix-free: Q only through products and its diagonal (MatrixFreeQ), through its single products
+  // where it has them and `settings.precision` asks for them (MatrixFreeQ::single_product says where),
+  // else in double; Newton steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), the sensitivity
+  // by CG too.
   DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings);
   // Solves for the radii `radius` (size r; ignored when frictionless) to ‖gᴾ‖ <= rtol ‖h‖,
