@@ -33,10 +33,13 @@ CASES = [
     ("slab h = 0.05, constant", "slab.toml", ['contact.cell_size="2h"', "mesh.parameters.h=0.05"]),
     ("slab h = 0.035, constant", "slab.toml", ['contact.cell_size="2h"', "mesh.parameters.h=0.035"]),
     ("slab h = 0.025, constant", "slab.toml", ['contact.cell_size="2h"', "mesh.parameters.h=0.025"]),
+    ("slab h = 0.0175, constant", "slab.toml", ['contact.cell_size="2h"', "mesh.parameters.h=0.0175"]),
 ]
-# The default QP ("auto": MPGP with Newton steps, by CG without Q's entries) on both routes, and the
-# paper's MPGP alone on the matrix-free one, except where it takes many minutes (MPGP_UP_TO cases).
+# The default QP ("auto": MPGP with Newton steps, by CG without Q's entries) on both routes, the
+# matrix-free one again with the diagonal as the CG's fine level instead of the lumped preconditioner,
+# and the paper's MPGP alone on the matrix-free one, except where it takes many minutes (MPGP_UP_TO cases).
 ROUTES = {"dense (auto)": [], "matrix-free": ['solver.schur="matrix_free"'],
+          "matrix-free, diagonal CG": ['solver.schur="matrix_free"', 'solver.qp_cg_preconditioner="diagonal"'],
           "matrix-free, mpgp": ['solver.schur="matrix_free"', 'solver.qp="mpgp"']}
 MPGP_UP_TO = 3
 
@@ -97,7 +100,7 @@ def main():
                    "ratio": solve / t["reference_factorization"], "peak_mib": peak, "wall_s": wall,
                    "cond_estimate": s["stability_condition_estimate"], "du_vs_dense": du}
             rows.append(row)
-            print(f"{label:30s} {route:17s} ratio {row['ratio']:7.2f} dual solve {row['dual_solve_s']:7.2f} s "
+            print(f"{label:30s} {route:24s} ratio {row['ratio']:7.2f} dual solve {row['dual_solve_s']:7.2f} s "
                   f"QP it {row['qp_iterations']:6d} n_mult {row['n_mult']:6d} peak {peak:6.0f} MiB du {du:.1e}",
                   flush=True)
     Path(args.out).mkdir(parents=True, exist_ok=True)
@@ -107,9 +110,11 @@ def main():
              "row; `ratio` = (assembly + contact + factorization + dual + stability + dual solve + postprocess) / one "
              "CHOLMOD factorization of K in the same process. `dual`: forming Q (dense), or h, Q's diagonal and the "
              "forward-solved rows W (matrix-free). QP `auto` takes Newton steps, their reduced systems by CG on the "
-             "matrix-free route with a two-level preconditioner where products go through the factor (n_mult counts the CG "
+             "matrix-free route with a two-level preconditioner where products go through the factor: aggregates solved "
+             "exactly, the rest by FETI's lumped preconditioner (`diagonal CG`: by the diagonal, solver.qp_cg_preconditioner "
+             "= \"diagonal\"); n_mult counts the CG "
              "products and the coarse space's columns, which blocked solves compute at a sixth to an eighth of a product's "
-             "time each); `mpgp` is the paper's algorithm alone. `du`: largest difference of u on Γc from the dense route's, "
+             "time each; `mpgp` is the paper's algorithm alone. `du`: largest difference of u on Γc from the dense route's, "
              "relative to its largest value. Wall seconds, 2-core machine.", "",
              "| case | route | multipliers | steps | QP it. | n_mult | factor. | dual | stability | dual solve | ratio | "
              "peak MiB | cond(Q) est. | du |",

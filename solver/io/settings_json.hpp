@@ -11,6 +11,8 @@ inline void write_solver_settings(JsonWriter& j, const SolverSettings& s) {
   j.begin_object("settings");
   j.value("qp", name_of(s.qp.variant, kQpVariantNames)).value("qp_scaling", name_of(s.qp.scaling, kQpScalingNames));
   j.value("qp_precision", name_of(s.qp.precision, kQpPrecisionNames));
+  j.value("qp_newton_systems", name_of(s.qp.newton_systems, kNewtonSystemsNames));
+  j.value("qp_cg_preconditioner", name_of(s.qp.cg_preconditioner, kCgPreconditionerNames));
   j.value("qp_rtol", s.qp_rtol).value("qp_max_iterations", s.qp.max_iterations);
   j.value("fixed_point", name_of(s.fixed_point, kFixedPointVariantNames)).value("anderson_depth", s.anderson_depth);
   j.value("fixed_point_tail_err", s.fixed_point_tail_err).value("fixed_point_newton", s.fixed_point_newton);

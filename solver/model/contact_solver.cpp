@@ -33,6 +33,7 @@
 #include "model/plane_frame.hpp"
 #include "model/solution_fields.hpp"
 #include "qp/dual_qp_solver.hpp"
+#include "qp/lumped_preconditioner.hpp"
 
 namespace contact3d {
 namespace {
@@ -591,14 +592,34 @@ void add_single_products(DualProblem& dual, const QpSettings& settings, MatrixFr
       number(100 * kSingleFactorShare) + "% of the " + gib(available) + " available");
 }
 
+// 𝔹𝔹ᵀ and 𝔹K𝔹ᵀ for the matrix-free Newton steps' lumped preconditioner (qp/lumped_preconditioner.hpp),
+// made while K is at hand (the factorization may release it), where the scene asks for it and they fit
+// (lumped_operators_fit); null otherwise, with a note when they do not fit.
+std::shared_ptr<const LumpedOperators> lumped_operators(const Scene& scene, const ContactOperator& op,
+                                                        const Discretisation& disc, std::vector<std::string>& notes) {
+  if (scene.solver.qp.cg_preconditioner != CgPreconditioner::Lumped || disc.K.rows() == 0) return nullptr;
+  auto lumped = std::make_shared<LumpedOperators>(make_lumped_operators(op.B, disc.K));
+  const double bytes = lumped_operator_bytes(*lumped), available = static_cast<double>(available_memory_bytes());
+  if (lumped_operators_fit(bytes, available)) return lumped;
+  notes.push_back(
+      "the Newton steps' CG goes with the diagonal as its fine level: the lumped preconditioner's 𝔹𝔹ᵀ and "
+      "𝔹K𝔹ᵀ would take " +
+      gib(bytes) + " of the " + gib(available) + " available (more than " + number(100 * kLumpedShare) +
+      "%); expect more QP products");
+  return nullptr;
+}
+
 // A matrix-free Q for the QP: its products and diagonal and, where blocked products pay (through the
 // factor, not W), the coarse groups of its Newton steps' two-level preconditioner: the cells in
 // aggregates of about a 64th of Γc (at least 2 × 2 cells), each component apart. Where W is kept
 // (a body whose face reaches little of the factor) a block costs its columns' products, and CG
 // with the diagonal did not need the coarse space there (the paper's brick: 738 products with it
-// off, 1 591 on). Nor where its arrays would not fit (coarse_space_fits): a note says so.
+// off, 1 591 on). Nor where its arrays would not fit (coarse_space_fits): a note says so. The
+// lumped operators go with the coarse space as its fine level (qp/reduced_cg.hpp) and are dropped
+// without it.
 MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Partition& partition,
-                          const QpSettings& settings, std::vector<std::string>& notes) {
+                          const QpSettings& settings, std::shared_ptr<const LumpedOperators> lumped,
+                          std::vector<std::string>& notes) {
   constexpr double kAggregates = 64;
   MatrixFreeQ q;
   q.product = [&dual](const Eigen::VectorXd& v) { return dual.apply_Q(v); };
@@ -626,6 +647,7 @@ MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Pa
     q.coarse_group[static_cast<std::size_t>(layout.t1(i))] = count + aggregate[static_cast<std::size_t>(i)];
     q.coarse_group[static_cast<std::size_t>(layout.t2(i))] = 2 * count + aggregate[static_cast<std::size_t>(i)];
   }
+  q.lumped = std::move(lumped);
   return q;
 }
 
@@ -689,10 +711,12 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
 
   stage.enter("contact", "the contact face and its partition");
   const ContactOperator op = contact_stage(scene, mesh, res);
-  clock.lap("contact");
   describe_contact(report, res, op);
   method = fit_dual_method(scene, method, op, report, res);
   const bool matrix_free = method == DualMethod::MatrixFree;
+  const std::shared_ptr<const LumpedOperators> lumped =
+      matrix_free ? lumped_operators(scene, op, disc, res.notes) : nullptr;
+  clock.lap("contact");
 
   stage.enter("factorization", matrix_free ? "the sparse factor of K (" + count(res.n_primal) + " rows)"
                                            : "the sparse factor of K with the multipliers (" +
@@ -728,10 +752,11 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                                               gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) *
                                                   op.rows() * op.rows()) +
                                               ")");
-  DualQpSolver qp = matrix_free ? DualQpSolver(matrix_free_q(*dual, op, res.partition, scene.solver.qp, res.notes),
-                                               dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp)
-                                : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp,
-                                               std::move(q_factor));
+  DualQpSolver qp =
+      matrix_free
+          ? DualQpSolver(matrix_free_q(*dual, op, res.partition, scene.solver.qp, lumped, res.notes), dual->h(), op.r,
+                         op.with_friction, q_norm, scene.solver.qp)
+          : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp, std::move(q_factor));
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));

@@ -16,6 +16,10 @@ bool coarse_space_fits(int multipliers, int groups, double available_bytes) {
   return !(available_bytes > 0 && coarse_space_bytes(multipliers, groups) > kCoarseSpaceShare * available_bytes);
 }
 
+bool lumped_operators_fit(double bytes, double available_bytes) {
+  return !(available_bytes > 0 && bytes > kLumpedShare * available_bytes);
+}
+
 double single_factor_budget(double available_bytes) {
   return available_bytes > 0 ? kSingleFactorShare * available_bytes : std::numeric_limits<double>::infinity();
 }

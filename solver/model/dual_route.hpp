@@ -24,6 +24,12 @@ inline constexpr double kCoarseSpaceShare = 0.25;
 double coarse_space_bytes(int multipliers, int groups);
 bool coarse_space_fits(int multipliers, int groups, double available_bytes);
 
+// The matrix-free route's lumped preconditioner (qp/lumped_preconditioner.hpp) keeps 𝔹𝔹ᵀ and 𝔹K𝔹ᵀ,
+// sparse m × m (about 200 entries a row on the thin slab), where they take at most kLumpedShare of the
+// memory available (0: unknown, taken); else the Newton steps' CG goes with the diagonal as fine level.
+inline constexpr double kLumpedShare = 0.125;
+bool lumped_operators_fit(double bytes, double available_bytes);
+
 // The matrix-free route's single-precision copy of K's factor for the QP's single products
 // (linalg/single_precision_factor.hpp, 4 bytes per entry of L) may take at most kSingleFactorShare
 // of the memory available: the budget passed to DualProblem::prepare_single_products (0 available:

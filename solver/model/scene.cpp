@@ -378,7 +378,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
                {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
                 "qp_precision", "fixed_point", "anderson_depth", "fixed_point_tail_err", "fixed_point_newton",
                 "fixed_point_prediction", "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization",
-                "out_of_core_dir", "qp_newton_systems"});
+                "out_of_core_dir", "qp_newton_systems", "qp_cg_preconditioner"});
     auto& o = s.solver;
     o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
     o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
@@ -398,6 +398,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
     get_enum(*sv, "solver", "qp_scaling", kQpScalingNames, o.qp.scaling);
     get_enum(*sv, "solver", "qp_precision", kQpPrecisionNames, o.qp.precision);
     get_enum(*sv, "solver", "qp_newton_systems", kNewtonSystemsNames, o.qp.newton_systems);
+    get_enum(*sv, "solver", "qp_cg_preconditioner", kCgPreconditionerNames, o.qp.cg_preconditioner);
     get_enum(*sv, "solver", "schur", kDualMethodNames, o.dual_method);
     get_enum(*sv, "solver", "fixed_point", kFixedPointVariantNames, o.fixed_point);
     for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},

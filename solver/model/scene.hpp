@@ -54,7 +54,9 @@ struct SolverSettings {
   // through a single-precision Q from kMixedPrecisionMinSize multipliers on, "double", "mixed";
   // the tolerance is always checked in double), qp_newton_systems ("auto": Newton steps solve
   // through the stability check's factor of Q where that is cheaper, "reduced": they factor their
-  // reduced matrix; NewtonSystems), qp_max_iterations.
+  // reduced matrix; NewtonSystems), qp_cg_preconditioner ("lumped": the matrix-free route's Newton
+  // steps precondition their CG by FETI's lumped preconditioner, "diagonal"; CgPreconditioner),
+  // qp_max_iterations.
   QpSettings qp;
   // "accelerated" (default: plain while it contracts fast, Aitken's relaxation once it does not),
   // "plain" (the paper's (5.7)), "aitken" (relaxation from the start) or "anderson" (FixedPointVariant).

@@ -17,6 +17,7 @@ namespace contact3d {
 
 class BorderedNewton;
 struct CoarseProducts;
+struct LumpedOperators;
 
 struct BoxDiscQP {
   const Eigen::MatrixXd* Q = nullptr;
@@ -32,6 +33,9 @@ struct BoxDiscQP {
   std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> block_product;
   std::vector<int> coarse_group;
   std::shared_ptr<CoarseProducts> coarse_products;  // the coarse space's products kept between Newton steps
+  // Matrix-free, optional: 𝔹𝔹ᵀ and 𝔹K𝔹ᵀ, from which the Newton steps' CG is preconditioned in place of
+  // the diagonal (lumped_preconditioner.hpp).
+  std::shared_ptr<const LumpedOperators> lumped;
   // Optional diagonal scaling: the problem's operator is then S Q S, S = diag(scale) (the Jacobi
   // scaling, jacobi_scaling.hpp), applied in each product instead of stored as a second dense copy
   // (m² doubles: 800 MB at 10 000 multipliers). Empty: Q itself. Read Q through apply(),

@@ -47,12 +47,19 @@ enum class NewtonSystems { Auto, Reduced };
 inline constexpr NameTable<NewtonSystems, 2> kNewtonSystemsNames{
     {{NewtonSystems::Auto, "auto"}, {NewtonSystems::Reduced, "reduced"}}};
 
+// The fine level of the matrix-free Newton steps' CG (reduced_cg.hpp): FETI's lumped preconditioner
+// from 𝔹K𝔹ᵀ (lumped_preconditioner.hpp), or the reduced system's diagonal.
+enum class CgPreconditioner { Lumped, Diagonal };
+inline constexpr NameTable<CgPreconditioner, 2> kCgPreconditionerNames{
+    {{CgPreconditioner::Lumped, "lumped"}, {CgPreconditioner::Diagonal, "diagonal"}}};
+
 struct QpSettings {
   QpVariant variant = QpVariant::Auto;  // MPGP, switching to Newton steps where it is slow (hybrid_qp.hpp)
   QpScaling scaling = QpScaling::Jacobi;
   QpPrecision precision = QpPrecision::Auto;
   int max_iterations = 100000;
   NewtonSystems newton_systems = NewtonSystems::Auto;
+  CgPreconditioner cg_preconditioner = CgPreconditioner::Lumped;  // matrix-free route only
 };
 
 // Q seen only through products (a matrix-free dual, linalg/dual_problem.hpp): what the QP needs of it.
@@ -60,7 +67,8 @@ struct MatrixFreeQ {
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> product;
   std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> block_product;  // optional: several columns at once
   Eigen::VectorXd diagonal;
-  std::vector<int> coarse_group;  // optional: BoxDiscQP::coarse_group (of the multipliers)
+  std::vector<int> coarse_group;                  // optional: BoxDiscQP::coarse_group (of the multipliers)
+  std::shared_ptr<const LumpedOperators> lumped;  // optional: BoxDiscQP::lumped
   // Optional: Q v in single precision (BoxDiscQP::single_product) where QpSettings::precision asks
   // for single products: MPGP's recursive gradient updates, the Newton steps' CG where its tolerance
   // allows (reduced_cg.hpp), and the two-level preconditioner's coarse products.

@@ -2,7 +2,8 @@
 // gradients with one product by Q per iteration, preconditioned by the system's diagonal (its
 // Dᵀ diag(Q) D part plus the sliding discs' shifts) or, where the problem gives coarse groups and
 // blocked products (BoxDiscQP::coarse_group), by a two-level preconditioner that solves the groups'
-// indicators exactly. For a matrix-free dual
+// indicators exactly and the rest by the diagonal or, where the problem gives 𝔹𝔹ᵀ and 𝔹K𝔹ᵀ
+// (BoxDiscQP::lumped), by FETI's lumped preconditioner (lumped_preconditioner.hpp). For a matrix-free dual
 // (linalg/dual_problem.hpp), whose Q has no entries to factor: Newton steps there are inexact, their
 // systems solved to a tolerance the caller sets from the current residual (ssn.hpp).
 #pragma once

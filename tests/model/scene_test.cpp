@@ -26,6 +26,9 @@ TEST(Scene, DefaultsAndOverrides) {
   EXPECT_EQ(s.solver.qp.scaling, QpScaling::Jacobi);
   EXPECT_EQ(s.solver.qp.newton_systems, NewtonSystems::Auto);
   EXPECT_EQ(parse({"solver.qp_newton_systems=\"reduced\""}).solver.qp.newton_systems, NewtonSystems::Reduced);
+  EXPECT_EQ(parse({}).solver.qp.cg_preconditioner, CgPreconditioner::Lumped);
+  EXPECT_EQ(parse({"solver.qp_cg_preconditioner=\"diagonal\""}).solver.qp.cg_preconditioner,
+            CgPreconditioner::Diagonal);
   EXPECT_FALSE(s.frictionless());
   EXPECT_TRUE(parse({"friction.law=\"none\""}).frictionless());
   EXPECT_TRUE(parse({"friction.law=\"constant\"", "friction.value=0"}).frictionless());
@@ -47,6 +50,7 @@ TEST(Scene, RefusesWhatMakesNoSense) {
   EXPECT_NE(error_of({"solver.qp_scaling=\"diagonal\""}).find("qp_scaling"), std::string::npos);
   EXPECT_NE(error_of({"solver.qp_precision=\"half\""}).find("qp_precision"), std::string::npos);
   EXPECT_NE(error_of({"solver.qp_newton_systems=\"dense\""}).find("qp_newton_systems"), std::string::npos);
+  EXPECT_NE(error_of({"solver.qp_cg_preconditioner=\"ilu\""}).find("qp_cg_preconditioner"), std::string::npos);
   EXPECT_NE(error_of({"mesh.n=65"}).find("mesh.n"), std::string::npos);
   EXPECT_NE(error_of({"frobnicate=1"}).find("frobnicate"), std::string::npos);
 }
