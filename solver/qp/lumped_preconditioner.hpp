@@ -31,21 +31,31 @@ struct LumpedOperators {
 LumpedOperators make_lumped_operators(const Eigen::SparseMatrix<double>& B, const Eigen::SparseMatrix<double>& K);
 double lumped_operator_bytes(const LumpedOperators& lumped);
 
+// The sliding discs' tangent directions (Direction::shift > 0) carry a curvature term that 𝔹K𝔹ᵀ does
+// not see; they are preconditioned by the reduced system's diagonal, the others by M⁻¹ (block
+// diagonal: symmetric positive definite). On the slab at 2 523, 4 800 and 10 092 multipliers this
+// took 16, 24, 16 Newton steps to 13, 17, 14 against M⁻¹ over every direction.
 class LumpedPreconditioner {
  public:
-  // For the directions `d` of a Newton step on `qp` (which must carry BoxDiscQP::lumped).
-  LumpedPreconditioner(const BoxDiscQP& qp, const std::vector<Direction>& d);
-  // False where G could not be factored (R𝔹 rank-deficient): use another preconditioner.
+  // For the directions `d` of a Newton step on `qp` (which must carry BoxDiscQP::lumped), with the
+  // inverse of the reduced system's diagonal.
+  LumpedPreconditioner(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd inverse_diagonal);
+  // False where G could not be factored (R𝔹 rank-deficient) or every direction slides: use the diagonal.
   bool usable() const { return usable_; }
-  // M⁻¹ r, times the factor set by match_energy.
+  // M⁻¹ r on the directions that do not slide (times the factor set by match_energy), diag⁻¹ r on the others.
   Eigen::VectorXd apply(const Eigen::VectorXd& r) const;
-  // Scales M⁻¹ so that rᵀM⁻¹r = rᵀ diag(A)⁻¹ r: M⁻¹ is right up to a factor (K's interior is left
-  // out), and the two-level preconditioner treats the coarse space exactly, so the fine level must
-  // come in the diagonal's units.
-  void match_energy(const Eigen::VectorXd& r, const Eigen::VectorXd& inverse_diagonal);
+  // Scales M⁻¹ so that sᵀM⁻¹s = sᵀ diag⁻¹ s for r's part s on the directions that do not slide: M⁻¹ is
+  // right up to a factor (K's interior is left out), and the two-level preconditioner treats the
+  // coarse space exactly, so the fine level must come in the diagonal's units.
+  void match_energy(const Eigen::VectorXd& r);
 
  private:
-  Eigen::SparseMatrix<double> stiffness_;  // R 𝔹K𝔹ᵀ Rᵀ
+  Eigen::VectorXd lumped_part(const Eigen::VectorXd& r) const;   // r on lumped_rows_
+  Eigen::VectorXd apply_lumped(const Eigen::VectorXd& s) const;  // factor · G⁻¹ (R𝔹K𝔹ᵀRᵀ) G⁻¹ s
+
+  std::vector<Eigen::Index> lumped_rows_;  // the directions that do not slide
+  Eigen::VectorXd inverse_diagonal_;
+  Eigen::SparseMatrix<double> stiffness_;  // R 𝔹K𝔹ᵀ Rᵀ over lumped_rows_
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> gram_;
   double factor_ = 1;
   bool usable_ = false;

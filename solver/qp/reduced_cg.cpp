@@ -138,9 +138,9 @@ ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Directio
   const bool coarse_space = !qp.coarse_group.empty() && !d.empty();
   std::optional<LumpedPreconditioner> lumped;
   if (coarse_space && qp.lumped) {
-    lumped.emplace(qp, d);
+    lumped.emplace(qp, d, inverse_diagonal);
     if (lumped->usable()) {
-      lumped->match_energy(r, inverse_diagonal);
+      lumped->match_energy(r);
       fine = [&lumped](const Eigen::VectorXd& v) { return lumped->apply(v); };
     }
   }

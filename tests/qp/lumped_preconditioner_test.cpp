@@ -3,13 +3,14 @@
 // sparse K (a plate's Laplacian, whose bottom face carries the multipliers as cell averages over
 // 2 × 2 nodes): the same answer as a factorization of the reduced system, in a quarter fewer CG
 // products than with the diagonal, on the Jacobi-scaled problem; no effect without a coarse space;
-// rank-deficient rows refused.
+// rank-deficient rows refused; sliding directions preconditioned by the diagonal.
 #include <gtest/gtest.h>
 
 #include <memory>
 #include <vector>
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 
 #include "qp/lumped_preconditioner.hpp"
@@ -147,7 +148,8 @@ TEST(LumpedPreconditioner, OnlyAsTheFineLevelOfTheTwoLevelCg) {
 TEST(LumpedPreconditioner, RefusesDependentRows) {
   FaceProblem p = face_problem();
   p.qp.lumped = lumped_of_face();
-  EXPECT_TRUE(LumpedPreconditioner(p.qp, p.directions).usable());
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(p.directions.size()));
+  EXPECT_TRUE(LumpedPreconditioner(p.qp, p.directions, ones).usable());
 
   BoxDiscQP dependent = p.qp;  // the first cell's row twice: 𝔹𝔹ᵀ singular
   dependent.r = p.qp.r + 1;
@@ -155,7 +157,40 @@ TEST(LumpedPreconditioner, RefusesDependentRows) {
   dependent.lumped = std::make_shared<LumpedOperators>(make_lumped_operators(cell_averages(true), plate_laplacian()));
   std::vector<Direction> directions = p.directions;
   directions.push_back({p.qp.r, -1, 1.0, 0.0, 0.0});
-  EXPECT_FALSE(LumpedPreconditioner(dependent, directions).usable());
+  EXPECT_FALSE(LumpedPreconditioner(dependent, directions, Eigen::VectorXd::Ones(p.qp.r + 1)).usable());
+}
+
+// A sliding disc's tangent (shift > 0) is preconditioned by the diagonal alone, apart from the rest:
+// the preconditioner is block diagonal, symmetric, and positive on every direction.
+TEST(LumpedPreconditioner, SlidingDirectionsTakeTheDiagonal) {
+  FaceProblem p = face_problem();
+  p.qp.lumped = lumped_of_face();
+  std::vector<Direction> d = p.directions;
+  std::vector<bool> sliding(d.size(), false);
+  for (std::size_t j = 0; j < d.size(); j += 5) {
+    d[j].shift = 3.0;
+    sliding[j] = true;
+  }
+  const Eigen::Index k = static_cast<Eigen::Index>(d.size());
+  const Eigen::VectorXd inverse_diagonal = Eigen::VectorXd::LinSpaced(k, 0.5, 1.5);
+  LumpedPreconditioner lumped(p.qp, d, inverse_diagonal);
+  ASSERT_TRUE(lumped.usable());
+  lumped.match_energy(Eigen::VectorXd::Ones(k));
+  Eigen::MatrixXd P(k, k);
+  for (Eigen::Index j = 0; j < k; ++j) P.col(j) = lumped.apply(Eigen::VectorXd::Unit(k, j));
+  EXPECT_LT((P - P.transpose()).norm(), 1e-10 * P.norm());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (P + P.transpose())).eigenvalues().minCoeff(), 0);
+  int coupled = 0;
+  for (Eigen::Index i = 0; i < k; ++i)
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const std::size_t a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
+      if (sliding[a] || sliding[b]) {
+        EXPECT_EQ(P(i, j), i == j ? inverse_diagonal[i] : 0.0) << i << ", " << j;
+      } else if (i != j && P(i, j) != 0) {
+        ++coupled;
+      }
+    }
+  EXPECT_GT(coupled, 0);  // M⁻¹ couples the directions that do not slide
 }
 
 TEST(LumpedPreconditioner, OperatorsAreTheSparseProducts) {
