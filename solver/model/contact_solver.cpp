@@ -615,7 +615,7 @@ std::shared_ptr<const LumpedOperators> lumped_operators(const Scene& scene, cons
 // (a body whose face reaches little of the factor) a block costs its columns' products, and CG
 // with the diagonal did not need the coarse space there (the paper's brick: 738 products with it
 // off, 1 591 on). Nor where its arrays would not fit (coarse_space_fits): a note says so. The
-// lumped operators go with the coarse space as its fine level (qp/reduced_cg.hpp) and are dropped
+// lumped operators go with the coarse space as its fine level (qp/reduced_cg.hpp) and are not used
 // without it.
 MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Partition& partition,
                           const QpSettings& settings, std::shared_ptr<const LumpedOperators> lumped,
