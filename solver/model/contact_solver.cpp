@@ -592,13 +592,13 @@ void add_single_products(DualProblem& dual, const QpSettings& settings, MatrixFr
       number(100 * kSingleFactorShare) + "% of the " + gib(available) + " available");
 }
 
-// 𝔹𝔹ᵀ and 𝔹K𝔹ᵀ for the matrix-free Newton steps' lumped preconditioner (qp/lumped_preconditioner.hpp),
-// made while K is at hand (the factorization may release it), where the scene asks for it and they fit
-// (lumped_operators_fit); null otherwise, with a note when they do not fit.
-std::shared_ptr<const LumpedOperators> lumped_operators(const Scene& scene, const ContactOperator& op,
-                                                        const Discretisation& disc, std::vector<std::string>& notes) {
-  if (scene.solver.qp.cg_preconditioner != CgPreconditioner::Lumped || disc.K.rows() == 0) return nullptr;
-  auto lumped = std::make_shared<LumpedOperators>(make_lumped_operators(op.B, disc.K));
+// 𝔹𝔹ᵀ and 𝔹K𝔹ᵀ for the matrix-free Newton steps' lumped preconditioner (qp/lumped_preconditioner.hpp)
+// where they fit (lumped_operators_fit); null otherwise, with a note. K is still held here: only the
+// MUMPS backend releases it, and it forms a dense Q.
+std::shared_ptr<const LumpedOperators> lumped_operators(const ContactOperator& op, const Eigen::SparseMatrix<double>& K,
+                                                        std::vector<std::string>& notes) {
+  if (K.rows() == 0) return nullptr;
+  auto lumped = std::make_shared<LumpedOperators>(make_lumped_operators(op.B, K));
   const double bytes = lumped_operator_bytes(*lumped), available = static_cast<double>(available_memory_bytes());
   if (lumped_operators_fit(bytes, available)) return lumped;
   notes.push_back(
@@ -614,11 +614,11 @@ std::shared_ptr<const LumpedOperators> lumped_operators(const Scene& scene, cons
 // aggregates of about a 64th of Γc (at least 2 × 2 cells), each component apart. Where W is kept
 // (a body whose face reaches little of the factor) a block costs its columns' products, and CG
 // with the diagonal did not need the coarse space there (the paper's brick: 738 products with it
-// off, 1 591 on). Nor where its arrays would not fit (coarse_space_fits): a note says so. The
-// lumped operators go with the coarse space as its fine level (qp/reduced_cg.hpp) and are not used
-// without it.
+// off, 1 591 on). Nor where its arrays would not fit (coarse_space_fits): a note says so. With the
+// coarse space, and only there, the lumped operators for its fine level (qp/reduced_cg.hpp) where
+// solver.qp_cg_preconditioner asks for them.
 MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Partition& partition,
-                          const QpSettings& settings, std::shared_ptr<const LumpedOperators> lumped,
+                          const QpSettings& settings, const Eigen::SparseMatrix<double>& K,
                           std::vector<std::string>& notes) {
   constexpr double kAggregates = 64;
   MatrixFreeQ q;
@@ -647,7 +647,7 @@ MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Pa
     q.coarse_group[static_cast<std::size_t>(layout.t1(i))] = count + aggregate[static_cast<std::size_t>(i)];
     q.coarse_group[static_cast<std::size_t>(layout.t2(i))] = 2 * count + aggregate[static_cast<std::size_t>(i)];
   }
-  q.lumped = std::move(lumped);
+  if (settings.cg_preconditioner == CgPreconditioner::Lumped) q.lumped = lumped_operators(op, K, notes);
   return q;
 }
 
@@ -711,12 +711,10 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
 
   stage.enter("contact", "the contact face and its partition");
   const ContactOperator op = contact_stage(scene, mesh, res);
+  clock.lap("contact");
   describe_contact(report, res, op);
   method = fit_dual_method(scene, method, op, report, res);
   const bool matrix_free = method == DualMethod::MatrixFree;
-  const std::shared_ptr<const LumpedOperators> lumped =
-      matrix_free ? lumped_operators(scene, op, disc, res.notes) : nullptr;
-  clock.lap("contact");
 
   stage.enter("factorization", matrix_free ? "the sparse factor of K (" + count(res.n_primal) + " rows)"
                                            : "the sparse factor of K with the multipliers (" +
@@ -754,7 +752,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                                               ")");
   DualQpSolver qp =
       matrix_free
-          ? DualQpSolver(matrix_free_q(*dual, op, res.partition, scene.solver.qp, lumped, res.notes), dual->h(), op.r,
+          ? DualQpSolver(matrix_free_q(*dual, op, res.partition, scene.solver.qp, disc.K, res.notes), dual->h(), op.r,
                          op.with_friction, q_norm, scene.solver.qp)
           : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp, std::move(q_factor));
   qp.report_progress_to(&report);

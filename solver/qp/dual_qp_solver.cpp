@@ -50,7 +50,7 @@ DualQpSolver::DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool 
   qp_.block_product = std::move(Q.block_product);
   qp_.q_diagonal = std::move(Q.diagonal);
   qp_.coarse_group = std::move(Q.coarse_group);
-  if (settings.cg_preconditioner == CgPreconditioner::Lumped) qp_.lumped = std::move(Q.lumped);
+  qp_.lumped = std::move(Q.lumped);
   if (!qp_.coarse_group.empty()) qp_.coarse_products = std::make_shared<CoarseProducts>();
   qp_.h = h;
   qp_.r = r;

@@ -59,7 +59,7 @@ struct QpSettings {
   QpPrecision precision = QpPrecision::Auto;
   int max_iterations = 100000;
   NewtonSystems newton_systems = NewtonSystems::Auto;
-  CgPreconditioner cg_preconditioner = CgPreconditioner::Lumped;  // matrix-free route only
+  CgPreconditioner cg_preconditioner = CgPreconditioner::Lumped;  // matrix-free route only (the model builds it)
 };
 
 // Q seen only through products (a matrix-free dual, linalg/dual_problem.hpp): what the QP needs of it.
