@@ -98,7 +98,7 @@ namespace {
 
 // Subspace iteration on A⁻¹ (through `factor`), then Rayleigh–Ritz with A.
 template <class Factor>
-double smallest_eigenvalue_with(const Factor& factor, const Eigen::MatrixXd& A) {
+double smallest_eigenvalue_with(const Factor& factor, const DenseView& A) {
   const Eigen::Index n = A.rows(), k = std::min<Eigen::Index>(8, n);
   constexpr int kIterations = 12;
   std::mt19937 gen(1);  // fixed: the same estimate on every run
@@ -116,11 +116,11 @@ double smallest_eigenvalue_with(const Factor& factor, const Eigen::MatrixXd& A) 
 
 }  // namespace
 
-double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A) {
+double smallest_eigenvalue(const DenseCholesky& factor, const DenseView& A) {
   return smallest_eigenvalue_with(factor, A);
 }
 
-double smallest_eigenvalue(const SingleCholesky& factor, const Eigen::MatrixXd& A) {
+double smallest_eigenvalue(const SingleCholesky& factor, const DenseView& A) {
   return smallest_eigenvalue_with(factor, A);
 }
 

@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include "linalg/dense_view.hpp"
+
 namespace contact3d {
 
 class DenseCholesky {
@@ -68,7 +70,7 @@ struct DualOperatorFactor {
 // the block converges to the same eigenvectors to single's accuracy and the Rayleigh–Ritz values,
 // taken with A in double, are accurate to its square (a unit test checks both against an exact
 // spectrum): half the factorization's time and memory for the same estimate.
-double smallest_eigenvalue(const DenseCholesky& factor, const Eigen::MatrixXd& A);
-double smallest_eigenvalue(const SingleCholesky& factor, const Eigen::MatrixXd& A);
+double smallest_eigenvalue(const DenseCholesky& factor, const DenseView& A);
+double smallest_eigenvalue(const SingleCholesky& factor, const DenseView& A);
 
 }  // namespace contact3d

@@ -136,18 +136,23 @@ DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::Sp
   op.u_free = u_free ? *u_free : K_aug.solve(f);
   op.h = B * op.u_free;
   op.solves = u_free ? 0 : 1;
-  Eigen::MatrixXd G = K_aug.take_trailing_gram();
   const std::vector<int> order = K_aug.trailing_order();  // n + (row of 𝔹), in the factor's order
   const int m = static_cast<int>(B.rows()), n = K_aug.size();
   std::vector<int> row(m);
   for (int k = 0; k < m; ++k) row[k] = order[k] - n;
   bool in_order = true;  // the usual case: the factor keeps 𝔹's rows in the order they were given
   for (int k = 0; k < m && in_order; ++k) in_order = row[k] == k;
-  if (in_order) {
-    op.Q = std::move(G);
+  if (in_order && K_aug.captured_schur()) {
+    op.Q_in_factor = DenseViewPtr(K_aug.schur_block());
     return op;
   }
-  op.Q.resize(m, m);  // G is symmetric to the bit (trailing_gram mirrors it): only permute
+  const Eigen::MatrixXd trailing_gram = K_aug.captured_schur() ? Eigen::MatrixXd() : K_aug.trailing_gram();
+  const DenseView G = K_aug.captured_schur() ? K_aug.schur_block() : DenseView(trailing_gram);
+  if (in_order) {
+    op.Q = G;
+    return op;
+  }
+  op.Q.resize(m, m);  // G is symmetric to the bit (both triangles mirrored): only permute
   for (int b = 0; b < m; ++b) {
     double* column = op.Q.col(row[b]).data();
     for (int a = 0; a < m; ++a) column[row[a]] = G(a, b);
@@ -213,7 +218,7 @@ SpectrumEstimate lanczos_extremes(Eigen::Index size,
   return out;
 }
 
-double estimate_norm(const Eigen::MatrixXd& Q, int iterations) {
+double estimate_norm(const DenseView& Q, int iterations) {
   return power_iteration(
       Q.rows(), [&](const Eigen::VectorXd& x) { return symmetric_product(Q, x); }, iterations);
 }

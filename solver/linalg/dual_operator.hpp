@@ -11,13 +11,19 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "linalg/dense_view.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 namespace contact3d {
 
 struct DualOperator {
-  Eigen::MatrixXd Q;
+  Eigen::MatrixXd Q;  // empty where Q stays in the factor
+  // The augmented route: Q where the factorization left it, in the factor's trailing block (valid
+  // while the factor lives; SparseCholesky::schur_block).
+  DenseViewPtr Q_in_factor;
   Eigen::VectorXd h;
+  // Q wherever it is held.
+  DenseView Q_view() const { return Q_in_factor ? *Q_in_factor : DenseView(Q); }
   Eigen::VectorXd u_free;  // K⁻¹ f, the unconstrained solution
   int solves = 0;          // right-hand sides solved with the factor to build this
 };
@@ -34,8 +40,9 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
                                       const Eigen::VectorXd& f);
 
 // The same from the augmented factor SparseCholesky(K, 𝔹): Q = the Schur block that factorization
-// captured (handed over, so a second call forms L_21 L_21ᵀ), one solve for h (none when the caller
-// passes u_free = K⁻¹f, e.g. from DisplacementTrace::everywhere(0)).
+// captured, left in the factor (Q_in_factor) when the factor keeps 𝔹's rows in their order (the
+// usual case), else permuted into Q; L_21 L_21ᵀ where nothing was captured. One solve for h (none
+// when the caller passes u_free = K⁻¹f, e.g. from DisplacementTrace::everywhere(0)).
 DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
                                           const Eigen::VectorXd& f, const Eigen::VectorXd* u_free = nullptr);
 
@@ -62,7 +69,7 @@ std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);
 // Largest eigenvalue of a symmetric positive semidefinite matrix by power iteration (a Rayleigh
 // quotient: from below, within ~1% after 50 steps on dual operators; callers add a 5% margin, and
 // MPGP's step ᾱ = 1.8/‖Q‖ still decreases S if the estimate is low by up to 10%).
-double estimate_norm(const Eigen::MatrixXd& Q, int iterations = 50);
+double estimate_norm(const DenseView& Q, int iterations = 50);
 // The same through a single-precision copy (Q = scale · Q_single, its lower triangle read; symmetric_product.hpp):
 // half the bytes per product, and the estimate differs from the one in double by single's rounding.
 double estimate_norm(const Eigen::MatrixXf& Q_single, double scale, int iterations = 50);

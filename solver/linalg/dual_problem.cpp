@@ -40,6 +40,7 @@ class CholmodDualProblem final : public DualProblem {
       dual = make_dual_operator(*factor_, in.B, in.f);
     }
     Q_ = std::move(dual.Q);
+    Q_in_factor_ = dual.Q_in_factor;
     h_ = std::move(dual.h);
     if (in.offset.size() == h_.size()) h_ += in.offset;
     u_free_ = std::move(dual.u_free);
@@ -59,6 +60,8 @@ class CholmodDualProblem final : public DualProblem {
   }
 
   void release_factor() override {
+    if (Q_in_factor_) Q_ = *Q_in_factor_;
+    Q_in_factor_ = nullptr;
     trace_.reset();  // it points into the factor
     factor_.reset();
   }

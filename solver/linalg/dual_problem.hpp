@@ -14,6 +14,7 @@
 #include <Eigen/SparseCore>
 
 #include "base/stage_clock.hpp"
+#include "linalg/dense_view.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "linalg/symmetric_product.hpp"
 
@@ -80,14 +81,16 @@ class DualProblem {
  public:
   virtual ~DualProblem() = default;
 
-  const Eigen::MatrixXd& Q() const { return Q_; }  // dense, symmetric (both triangles filled); empty when matrix-free
+  // Q, dense and symmetric (both triangles filled), wherever it is held (in the augmented factor, or
+  // a matrix of its own); empty when matrix-free.
+  DenseView Q() const { return Q_in_factor_ ? *Q_in_factor_ : DenseView(Q_); }
   const Eigen::VectorXd& h() const { return h_; }
   int size() const { return static_cast<int>(h_.size()); }
   // Whether Q() holds Q (every method but MatrixFree); apply_Q and Q_diagonal work either way.
-  bool forms_Q() const { return Q_.rows() == h_.size(); }
+  bool forms_Q() const { return Q().rows() == h_.size(); }
   // Q v (a K⁻¹ solve when matrix-free).
-  virtual Eigen::VectorXd apply_Q(const Eigen::VectorXd& v) const { return symmetric_product(Q_, v); }
-  virtual Eigen::VectorXd Q_diagonal() const { return Q_.diagonal(); }
+  virtual Eigen::VectorXd apply_Q(const Eigen::VectorXd& v) const { return symmetric_product(Q(), v); }
+  virtual Eigen::VectorXd Q_diagonal() const { return Q().diagonal(); }
   // Q V for several columns: column by column here; matrix-free, by blocked solves (BLAS-3 through the
   // factor: a sixth to an eighth of a single product's time per column on the thin slab) or through W.
   // `blocks_pay`: whether a column of a block costs far less than apply_Q (the blocked solves).
@@ -112,7 +115,8 @@ class DualProblem {
   virtual Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const = 0;
   // w = K⁻¹(f − 𝔹ᵀλ) at every free dof.
   virtual Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const = 0;
-  // Frees the factorization (benchmarks time a reference factorization afterwards); Q and h stay.
+  // Frees the factorization (benchmarks time a reference factorization afterwards); Q (copied out
+  // of the factor where it lay there) and h stay.
   virtual void release_factor() = 0;
 
   std::string method;               // "augmented", "contactlast", "blocksolve", "mumps", ...
@@ -123,6 +127,7 @@ class DualProblem {
 
  protected:
   Eigen::MatrixXd Q_;
+  DenseViewPtr Q_in_factor_;  // Q in the factor that holds it (Q_ then empty), or null
   Eigen::VectorXd h_;
 };
 

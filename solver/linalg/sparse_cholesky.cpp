@@ -372,27 +372,32 @@ bool SparseCholesky::take_schur_block(const SchurCapture& capture) {
   if (block != capture.block() || ncols != capture.block_size() || nrows != ncols || super[s] > first ||
       super[s + 1] != n_aug_)
     return false;
-  // The trailing m × m part of the root holds −𝔹K⁻¹𝔹ᵀ (lower triangle, the factor's order).
+  // The trailing m × m part of the root holds −𝔹K⁻¹𝔹ᵀ (lower triangle, the factor's order); it
+  // becomes 𝔹K⁻¹𝔹ᵀ where it lies, both triangles (the root's block is stored whole), no copy made.
   const SuiteSparse_long o = ncols - m;
-  schur_.resize(m, m);
+  double* schur = block + o * nrows + o;
+  bool finite = true;
   for (int j = 0; j < m; ++j) {
-    double* col = block + (o + j) * nrows + o;
-    for (int i = j; i < m; ++i) schur_(i, j) = -col[i];
+    double* col = schur + j * nrows;
+    for (int i = j; i < m; ++i) {
+      col[i] = -col[i];
+      finite = finite && std::isfinite(col[i]);
+    }
   }
-  schur_.triangularView<Eigen::StrictlyUpper>() = schur_.transpose();
-  if (!schur_.allFinite()) return false;
-  // That block of the factor becomes the identity: solves through the factor stay finite (they use
-  // only its leading part, see solve()).
-  for (int j = 0; j < m; ++j) {
-    double* col = block + (o + j) * nrows + o;
-    for (int i = j; i < m; ++i) col[i] = i == j ? 1.0 : 0.0;
-  }
+  if (!finite) return false;
+  constexpr int kTile = 64;  // the upper triangle mirrored tile by tile (rows of the lower one are strided)
+  for (int jb = 0; jb < m; jb += kTile)
+    for (int ib = 0; ib <= jb; ib += kTile)
+      for (int j = jb; j < std::min(jb + kTile, m); ++j)
+        for (int i = ib; i < std::min({ib + kTile, j, m}); ++i) schur[i + j * nrows] = schur[j + i * nrows];
+  schur_ = schur;
+  schur_stride_ = nrows;
   return true;
 }
 
-Eigen::MatrixXd SparseCholesky::take_trailing_gram() {
-  if (schur_.size() > 0) return std::move(schur_);
-  return trailing_gram();
+DenseView SparseCholesky::schur_block() const {
+  if (!schur_) throw std::logic_error("SparseCholesky::schur_block: no Schur block was captured");
+  return strided_view(schur_, n_trailing_, n_trailing_, schur_stride_);
 }
 
 SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, const std::vector<int>& trailing,
@@ -569,7 +574,10 @@ Eigen::MatrixXd SparseCholesky::apply_system(int system, const Eigen::MatrixXd& 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   if (augmented()) {
     // K⁻¹ through the leading block: with L = [L11 0; L21 L22] (permuted), forward solve,
-    // drop the trailing part, back solve: Lᵀ[x1; 0] = [z1; 0] gives x1 = L11⁻ᵀ z1.
+    // drop the trailing part, back solve: Lᵀ[x1; 0] = [z1; 0] gives x1 = L11⁻ᵀ z1. Where L22 holds
+    // the captured Q (schur_block) the forward solve's trailing rows are meaningless, possibly not
+    // finite: the root's rows are solved in order, so they touch nothing before them, and they are
+    // overwritten; the back solve then meets only zeros there (Q's diagonal is positive).
     const int n = n_, na = n_aug_, first = n_aug_ - n_trailing_;
     Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(na, B.cols());
     padded.topRows(n) = B;

@@ -11,6 +11,8 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "linalg/dense_view.hpp"
+
 namespace contact3d {
 
 // Fill-reducing orderings: CHOLMOD's own choice on K (cholmod_analyze: AMD, then METIS when AMD
@@ -47,8 +49,9 @@ class SparseCholesky {
   // on K's dofs). Its leading block is a Cholesky factor of K — solve() applies K⁻¹ through it —
   // and its off-diagonal block L_21 = 𝔹 (L_11)⁻ᵀ gives 𝔹K⁻¹𝔹ᵀ = L_21 L_21ᵀ (trailing_gram()).
   // σ = 0 (the default): the trailing block, −𝔹K⁻¹𝔹ᵀ after CHOLMOD's updates, is captured before it
-  // would be factored (schur_capture.hpp) and kept for take_trailing_gram(); the factor's trailing
-  // block is then the identity. σ > 0, or where the capture does not work: [K 𝔹ᵀ; 𝔹 σI] factored
+  // would be factored (schur_capture.hpp) and turned in place into 𝔹K⁻¹𝔹ᵀ (schur_block()): the
+  // factor's trailing block is then not a factor, which only the trailing rows of a solve see (they
+  // are discarded, see solve()). σ > 0, or where the capture does not work: [K 𝔹ᵀ; 𝔹 σI] factored
   // whole, σ huge (‖𝔹‖_F² / max diag K · 1e20 when 0 was asked) so that it is positive definite;
   // σ never enters L_21, so it costs no accuracy, only the trailing block's factorization.
   SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma = 0,
@@ -71,10 +74,10 @@ class SparseCholesky {
   // G = L_t,lead L_t,leadᵀ: the rows of the factor in the trailing block, over the leading
   // columns, times their transpose (dense, trailing order). For the augmented factor G = 𝔹K⁻¹𝔹ᵀ.
   Eigen::MatrixXd trailing_gram() const;
-  // The same, handed over: the Schur block captured by the factorization (once; no further work),
-  // else trailing_gram().
-  Eigen::MatrixXd take_trailing_gram();
-  bool captured_schur() const { return schur_.size() > 0; }
+  // Whether the augmented factorization captured 𝔹K⁻¹𝔹ᵀ, and that matrix (symmetric, both
+  // triangles, trailing order) where it lies: in the factor's trailing block, as long as it lives.
+  bool captured_schur() const { return schur_ != nullptr; }
+  DenseView schur_block() const;
   std::vector<int> trailing_order() const;  // the `order` of trailing_factor, without the block
   bool augmented() const { return n_aug_ > n_; }
 
@@ -102,8 +105,9 @@ class SparseCholesky {
   std::unique_ptr<Impl, ImplDeleter> impl_;  // frees the CHOLMOD factor and workspace, also on throw
   int n_;
   int n_trailing_ = 0;
-  int n_aug_ = 0;          // size of the factored matrix (n_ + rows of 𝔹 for the augmented factor)
-  Eigen::MatrixXd schur_;  // 𝔹K⁻¹𝔹ᵀ captured from the factorization (trailing order), until taken
+  int n_aug_ = 0;                  // size of the factored matrix (n_ + rows of 𝔹 for the augmented factor)
+  const double* schur_ = nullptr;  // 𝔹K⁻¹𝔹ᵀ captured by the factorization, in the factor's values
+  std::int64_t schur_stride_ = 0;  // its leading dimension (the root supernode's rows)
   void record_times();
   Eigen::MatrixXd apply_system(int system, const Eigen::MatrixXd& in) const;
   bool take_schur_block(const class SchurCapture& capture);

@@ -7,12 +7,12 @@
 
 namespace contact3d {
 
-Eigen::VectorXd symmetric_product(const Eigen::MatrixXd& Q, const Eigen::VectorXd& v) {
-  const int n = static_cast<int>(Q.rows()), one = 1;
+Eigen::VectorXd symmetric_product(const DenseView& Q, const Eigen::VectorXd& v) {
+  const int n = static_cast<int>(Q.rows()), lda = static_cast<int>(Q.outerStride()), one = 1;
   if (v.size() != n) throw std::invalid_argument("symmetric_product: vector size differs from Q");
   const double alpha = 1, beta = 0;
   Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
-  if (n > 0) dsymv_("L", &n, &alpha, Q.data(), &n, v.data(), &one, &beta, out.data(), &one);
+  if (n > 0) dsymv_("L", &n, &alpha, Q.data(), &lda, v.data(), &one, &beta, out.data(), &one);
   return out;
 }
 
@@ -30,7 +30,7 @@ Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale,
   return out.cast<double>() * (scale * v_scale);
 }
 
-Eigen::MatrixXf lower_triangle_in_single(const Eigen::MatrixXd& Q, double scale, const Eigen::VectorXd& diagonal) {
+Eigen::MatrixXf lower_triangle_in_single(const DenseView& Q, double scale, const Eigen::VectorXd& diagonal) {
   const Eigen::Index m = Q.rows();
   Eigen::MatrixXf out(m, m);
   if (diagonal.size() == 0) {

@@ -6,10 +6,12 @@
 
 #include <Eigen/Core>
 
+#include "linalg/dense_view.hpp"
+
 namespace contact3d {
 
 // Q v.
-Eigen::VectorXd symmetric_product(const Eigen::MatrixXd& Q, const Eigen::VectorXd& v);
+Eigen::VectorXd symmetric_product(const DenseView& Q, const Eigen::VectorXd& v);
 
 // scale · Q_single · v, computed in single precision with v scaled to unit max-norm (no under- or
 // overflow for any v); rounding error about 1e-7 ‖Q‖‖v‖.
@@ -17,7 +19,7 @@ Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale,
 
 // The lower triangle of Q / scale in single precision (the upper one is left unset: never read); with
 // `diagonal` (size of Q), of S Q S / scale, S = diag(diagonal).
-Eigen::MatrixXf lower_triangle_in_single(const Eigen::MatrixXd& Q, double scale,
+Eigen::MatrixXf lower_triangle_in_single(const DenseView& Q, double scale,
                                          const Eigen::VectorXd& diagonal = Eigen::VectorXd());
 
 }  // namespace contact3d

@@ -194,7 +194,7 @@ struct StabilityCheck {
   double condition = 0;
   std::shared_ptr<DualOperatorFactor> factor;  // Q = scale · L Lᵀ (null: the LDLᵀ path, no factor)
 };
-StabilityCheck check_stability(const Eigen::MatrixXd& Q, double lambda_max, const Partition& part, int r,
+StabilityCheck check_stability(const DenseView& Q, double lambda_max, const Partition& part, int r,
                                Eigen::MatrixXf single_copy, double single_scale) {
   constexpr double kSinglePivotFloor = 1e-4;
   if (single_copy.size() > 0 && lambda_max > 0) {

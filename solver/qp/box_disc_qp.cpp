@@ -29,7 +29,7 @@ Eigen::MatrixXd BoxDiscQP::apply_block(const Eigen::MatrixXd& V) const {
 }
 
 Eigen::VectorXd BoxDiscQP::diagonal() const {
-  const Eigen::VectorXd d = Q ? Eigen::VectorXd(Q->diagonal()) : q_diagonal;
+  const Eigen::VectorXd d = Q ? Eigen::VectorXd((*Q).diagonal()) : q_diagonal;
   return scale.size() ? Eigen::VectorXd(d.cwiseProduct(scale.cwiseAbs2())) : d;
 }
 

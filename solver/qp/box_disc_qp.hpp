@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "base/multiplier_layout.hpp"
+#include "linalg/dense_view.hpp"
 
 namespace contact3d {
 
@@ -20,7 +21,7 @@ struct CoarseProducts;
 struct LumpedOperators;
 
 struct BoxDiscQP {
-  const Eigen::MatrixXd* Q = nullptr;
+  DenseViewPtr Q;  // Q (a view: held by the dual problem, or where the factorization left it)
   // Matrix-free (Q null): Q v by `product` (through the factor of K, linalg/dual_problem.hpp)
   // and Q's diagonal given. MPGP works on it as on Q; Newton steps solve their reduced systems by CG
   // (reduced_cg.hpp), having no entries to factor.

@@ -14,10 +14,10 @@ bool uses_single_products(QpPrecision precision, int multipliers) {
   return precision == QpPrecision::Mixed || (precision == QpPrecision::Auto && multipliers >= kMixedPrecisionMinSize);
 }
 
-DualQpSolver::DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
+DualQpSolver::DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                            const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor)
     : settings_(settings) {
-  qp_.Q = &Q;
+  qp_.Q = DenseViewPtr(Q);
   qp_.h = h;
   qp_.r = r;
   qp_.with_friction = with_friction;

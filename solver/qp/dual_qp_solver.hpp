@@ -80,7 +80,7 @@ class DualQpSolver {
  public:
   // `Q` must outlive the solver; `q_norm` is an estimate of ‖Q‖ (estimate_norm).
   // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
-  DualQpSolver(const Eigen::MatrixXd& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
+  DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
   // Matrix-free: Q only through products and its diagonal (MatrixFreeQ), through its single products
   // where it has them and `settings.precision` asks for them (MatrixFreeQ::single_product says where),

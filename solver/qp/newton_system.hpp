@@ -43,7 +43,7 @@ template <typename Matrix>
 void reduced_matrix(const BoxDiscQP& qp, const std::vector<Direction>& d, Matrix& A) {
   using Scalar = typename Matrix::Scalar;
   if (qp.matrix_free()) throw std::logic_error("a Newton system needs Q's entries, which a matrix-free dual has not");
-  const Eigen::MatrixXd& Q = *qp.Q;
+  const DenseView& Q = *qp.Q;
   std::vector<Direction> w = d;  // weights on Q's own entries
   for (Direction& e : w) {
     e.w_a *= qp.entry_factor(e.a);

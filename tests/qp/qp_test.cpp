@@ -22,7 +22,7 @@ using contact3d::testing::RandomQp;
 // Brute force: projected gradient with a fixed step 1/‖Q‖, run to stagnation.
 Eigen::VectorXd brute_force(const BoxDiscQP& qp) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(qp.size());
-  const double step = 1.0 / qp.Q->operatorNorm();
+  const double step = 1.0 / (*qp.Q).operatorNorm();
   for (int k = 0; k < 400000; ++k) {
     Eigen::VectorXd y = x - step * (*qp.Q * x - qp.h);
     project(qp, y);
