@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "linalg/dense_view.hpp"
+#include "linalg/symmetric_product.hpp"
 
 namespace contact3d {
 
@@ -36,7 +37,8 @@ class DenseCholesky {
 // 4800 rows), for solves whose answer is refined in double by the caller (iterative refinement).
 class SingleCholesky {
  public:
-  // Factors the lower triangle of `A`; ok() is false when it is not positive definite in single.
+  // Factors the lower triangle of `A` (m × m, or m × (m + 1): see spare_upper); ok() is false when
+  // it is not positive definite in single.
   explicit SingleCholesky(Eigen::MatrixXf A);
   bool ok() const { return ok_; }
   // x = A⁻¹ b, and X = A⁻¹ B for several right-hand sides at once, computed in single precision.
@@ -44,6 +46,11 @@ class SingleCholesky {
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
   Eigen::VectorXd pivots() const { return L_.diagonal().cast<double>().cwiseAbs2(); }
   const Eigen::MatrixXf& lower() const { return L_; }
+  // With an array of m × (m + 1), the factor fills the lower triangle of its first m columns and
+  // leaves the upper triangle of the last m free (column j + 1's rows 0..j): a symmetric m × m
+  // matrix may be kept there as an upper triangle with columns m apart (upper_triangle_in_single),
+  // instead of a second array. Null where the array has no spare column.
+  float* spare_upper() { return L_.cols() == L_.rows() + 1 ? L_.data() + L_.rows() : nullptr; }
 
  private:
   Eigen::MatrixXf L_;
@@ -59,7 +66,7 @@ struct DualOperatorFactor {
   double scale = 1;
   std::size_t bytes() const {
     const auto m = static_cast<std::size_t>(in_double ? in_double->lower().rows() : in_single->lower().rows());
-    return m * m * (in_double ? sizeof(double) : sizeof(float));
+    return in_double ? m * m * sizeof(double) : static_cast<std::size_t>(in_single->lower().size()) * sizeof(float);
   }
 };
 

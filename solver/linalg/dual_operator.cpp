@@ -223,9 +223,9 @@ double estimate_norm(const DenseView& Q, int iterations) {
       Q.rows(), [&](const Eigen::VectorXd& x) { return symmetric_product(Q, x); }, iterations);
 }
 
-double estimate_norm(const Eigen::MatrixXf& Q_single, double scale, int iterations) {
+double estimate_norm(const SingleSymmetric& Q_single, double scale, int iterations) {
   return power_iteration(
-      Q_single.rows(), [&](const Eigen::VectorXd& x) { return symmetric_product(Q_single, scale, x); }, iterations);
+      Q_single.size, [&](const Eigen::VectorXd& x) { return symmetric_product(Q_single, scale, x); }, iterations);
 }
 
 }  // namespace contact3d

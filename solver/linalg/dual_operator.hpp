@@ -13,6 +13,7 @@
 
 #include "linalg/dense_view.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "linalg/symmetric_product.hpp"
 
 namespace contact3d {
 
@@ -72,7 +73,7 @@ std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B);
 double estimate_norm(const DenseView& Q, int iterations = 50);
 // The same through a single-precision copy (Q = scale · Q_single, its lower triangle read; symmetric_product.hpp):
 // half the bytes per product, and the estimate differs from the one in double by single's rounding.
-double estimate_norm(const Eigen::MatrixXf& Q_single, double scale, int iterations = 50);
+double estimate_norm(const SingleSymmetric& Q_single, double scale, int iterations = 50);
 // The same for an operator given by its product v ↦ A v (of vectors of `size`).
 double estimate_norm(Eigen::Index size, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
                      int iterations = 50);

@@ -16,8 +16,8 @@ Eigen::VectorXd symmetric_product(const DenseView& Q, const Eigen::VectorXd& v) 
   return out;
 }
 
-Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale, const Eigen::VectorXd& v) {
-  const int n = static_cast<int>(Q_single.rows()), one = 1;
+Eigen::VectorXd symmetric_product(const SingleSymmetric& Q_single, double scale, const Eigen::VectorXd& v) {
+  const int n = Q_single.size, lda = Q_single.stride, one = 1;
   if (v.size() != n) throw std::invalid_argument("symmetric_product: vector size differs from Q");
   if (n == 0) return Eigen::VectorXd();
   const double v_scale = v.cwiseAbs().maxCoeff();
@@ -26,13 +26,14 @@ Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale,
   const float alpha = 1, beta = 0;
   const Eigen::VectorXf x = (v / v_scale).cast<float>();
   Eigen::VectorXf out = Eigen::VectorXf::Zero(n);
-  ssymv_("L", &n, &alpha, Q_single.data(), &n, x.data(), &one, &beta, out.data(), &one);
+  ssymv_(Q_single.upper ? "U" : "L", &n, &alpha, Q_single.data, &lda, x.data(), &one, &beta, out.data(), &one);
   return out.cast<double>() * (scale * v_scale);
 }
 
-Eigen::MatrixXf lower_triangle_in_single(const DenseView& Q, double scale, const Eigen::VectorXd& diagonal) {
+Eigen::MatrixXf lower_triangle_in_single(const DenseView& Q, double scale, const Eigen::VectorXd& diagonal,
+                                         bool spare_column) {
   const Eigen::Index m = Q.rows();
-  Eigen::MatrixXf out(m, m);
+  Eigen::MatrixXf out(m, m + (spare_column ? 1 : 0));
   if (diagonal.size() == 0) {
     for (Eigen::Index j = 0; j < m; ++j) out.col(j).tail(m - j) = (Q.col(j).tail(m - j) / scale).cast<float>();
     return out;
@@ -42,6 +43,21 @@ Eigen::MatrixXf lower_triangle_in_single(const DenseView& Q, double scale, const
     out.col(j).tail(m - j) =
         (Q.col(j).tail(m - j).cwiseProduct(diagonal.tail(m - j)) * (diagonal[j] / scale)).cast<float>();
   return out;
+}
+
+SingleSymmetric upper_triangle_in_single(const DenseView& Q, double scale, const Eigen::VectorXd& diagonal, float* out,
+                                         int stride) {
+  const Eigen::Index m = Q.rows();
+  if (diagonal.size() != 0 && diagonal.size() != m)
+    throw std::invalid_argument("upper_triangle_in_single: diagonal size differs from Q");
+  for (Eigen::Index j = 0; j < m; ++j) {  // column j's rows 0..j: Q's own (both triangles are stored)
+    Eigen::Map<Eigen::VectorXf> column(out + j * stride, j + 1);
+    if (diagonal.size() == 0)
+      column = (Q.col(j).head(j + 1) / scale).cast<float>();
+    else
+      column = (Q.col(j).head(j + 1).cwiseProduct(diagonal.head(j + 1)) * (diagonal[j] / scale)).cast<float>();
+  }
+  return SingleSymmetric(out, static_cast<int>(m), stride);
 }
 
 }  // namespace contact3d

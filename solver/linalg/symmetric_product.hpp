@@ -4,6 +4,9 @@
 // again (ssymv 1.8-2.7x faster than dsymv at 4800-14000 rows on the 2-core machine).
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
+
 #include <Eigen/Core>
 
 #include "linalg/dense_view.hpp"
@@ -13,13 +16,39 @@ namespace contact3d {
 // Q v.
 Eigen::VectorXd symmetric_product(const DenseView& Q, const Eigen::VectorXd& v);
 
+// A symmetric size × size matrix in single precision of which one triangle is stored (column-major,
+// columns `stride` apart): the lower one (lower_triangle_in_single's copy), or the upper one, kept
+// above a Cholesky factor in the same array (upper_triangle_in_single, SingleCholesky::spare_upper).
+// Used like a pointer to the copy; null (the default): none.
+struct SingleSymmetric {
+  const float* data = nullptr;
+  int size = 0, stride = 1;
+  bool upper = false;
+  SingleSymmetric() = default;
+  SingleSymmetric(std::nullptr_t) {}             // NOLINT: pointer-like
+  SingleSymmetric(const Eigen::MatrixXf* lower)  // NOLINT: pointer-like; its lower triangle
+      : data(lower ? lower->data() : nullptr),
+        size(lower ? static_cast<int>(lower->rows()) : 0),
+        stride(lower ? std::max(1, static_cast<int>(lower->rows())) : 1) {}
+  SingleSymmetric(const float* upper_data, int n, int columns_apart)
+      : data(upper_data), size(n), stride(columns_apart), upper(true) {}
+  explicit operator bool() const { return data != nullptr; }
+};
+
 // scale · Q_single · v, computed in single precision with v scaled to unit max-norm (no under- or
 // overflow for any v); rounding error about 1e-7 ‖Q‖‖v‖.
-Eigen::VectorXd symmetric_product(const Eigen::MatrixXf& Q_single, double scale, const Eigen::VectorXd& v);
+Eigen::VectorXd symmetric_product(const SingleSymmetric& Q_single, double scale, const Eigen::VectorXd& v);
 
 // The lower triangle of Q / scale in single precision (the upper one is left unset: never read); with
-// `diagonal` (size of Q), of S Q S / scale, S = diag(diagonal).
+// `diagonal` (size of Q), of S Q S / scale, S = diag(diagonal). With `spare_column`, in an array of
+// one column more, whose upper part a second matrix may take once the lower one is factored in place
+// (SingleCholesky::spare_upper).
 Eigen::MatrixXf lower_triangle_in_single(const DenseView& Q, double scale,
-                                         const Eigen::VectorXd& diagonal = Eigen::VectorXd());
+                                         const Eigen::VectorXd& diagonal = Eigen::VectorXd(),
+                                         bool spare_column = false);
+
+// The same written as an upper triangle at `out` (columns `stride` apart), returned as that view.
+SingleSymmetric upper_triangle_in_single(const DenseView& Q, double scale, const Eigen::VectorXd& diagonal, float* out,
+                                         int stride);
 
 }  // namespace contact3d

@@ -655,9 +655,9 @@ MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Pa
 // QP's Newton steps when they are to use it and it fits in memory beside the dual solve's copies.
 // ‖Q‖ (power iteration) is estimated on the way, through a single-precision copy where the QP's
 // products are single, which the check then factors.
-std::shared_ptr<const DualOperatorFactor> check_dual_stability(const DualProblem& dual, double& q_norm,
-                                                               const ContactOperator& op, const QpSettings& qp,
-                                                               Progress& report, SolveResult& res) {
+std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual, double& q_norm,
+                                                         const ContactOperator& op, const QpSettings& qp,
+                                                         Progress& report, SolveResult& res) {
   const auto warn_if_ill_conditioned = [&res] {
     if (res.stability_condition > kIllConditionedDual)
       res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
@@ -676,8 +676,9 @@ std::shared_ptr<const DualOperatorFactor> check_dual_stability(const DualProblem
   double single_scale = 1;
   if (uses_single_products(qp.precision, dual.size())) {
     single_scale = std::max(dual.Q().diagonal().maxCoeff(), std::numeric_limits<double>::min());  // |Q_ij| <= max Q_kk
-    single_copy = lower_triangle_in_single(dual.Q(), single_scale);
-    q_norm = estimate_norm(single_copy, single_scale);
+    // One column more: the QP's own single copy goes above the factor (SingleCholesky::spare_upper).
+    single_copy = lower_triangle_in_single(dual.Q(), single_scale, Eigen::VectorXd(), true);
+    q_norm = estimate_norm(&single_copy, single_scale);
   } else {
     q_norm = estimate_norm(dual.Q());
   }
@@ -741,8 +742,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   stage.enter("stability check", matrix_free ? "the factor of 𝔹𝔹ᵀ and Lanczos steps on Q (one K⁻¹ solve each)"
                                              : "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
   double q_norm = 0;  // once: for cond(Q) and for MPGP's step ᾱ
-  std::shared_ptr<const DualOperatorFactor> q_factor =
-      check_dual_stability(*dual, q_norm, op, scene.solver.qp, report, res);
+  std::shared_ptr<DualOperatorFactor> q_factor = check_dual_stability(*dual, q_norm, op, scene.solver.qp, report, res);
   clock.lap("stability");
 
   stage.enter("dual solve", matrix_free ? std::string("the QP's vectors, each product through the factor of K")

@@ -34,7 +34,7 @@ Eigen::VectorXd BoxDiscQP::diagonal() const {
 }
 
 Eigen::VectorXd BoxDiscQP::apply_single(const Eigen::VectorXd& v) const {
-  if (Q_single) return symmetric_product(*Q_single, single_scale, v);
+  if (Q_single) return symmetric_product(Q_single, single_scale, v);
   if (!single_product) return apply(v);
   if (scale.size() == 0) return single_product(v);
   return scale.cwiseProduct(single_product(scale.cwiseProduct(v)));

@@ -13,6 +13,7 @@
 
 #include "base/multiplier_layout.hpp"
 #include "linalg/dense_view.hpp"
+#include "linalg/symmetric_product.hpp"
 
 namespace contact3d {
 
@@ -46,8 +47,8 @@ struct BoxDiscQP {
   // half the bytes (BLAS ssymv, 1.8-2.7x faster than dsymv at 4800-14000 multipliers). MPGP uses it
   // for recursive updates of the gradient and checks convergence with apply() (mpgp.hpp); when it is
   // set, Newton steps factor their reduced systems in single precision and refine in double (ssn.hpp).
-  const Eigen::MatrixXf* Q_single = nullptr;
-  double single_scale = 1;  // Q = single_scale · Q_single (kept near 1 in float: no under- or overflow)
+  SingleSymmetric Q_single;  // (linalg/symmetric_product.hpp) null: none
+  double single_scale = 1;   // Q = single_scale · Q_single (kept near 1 in float: no under- or overflow)
   // Matrix-free, optional: Q v through a single-precision copy of K's factor (half the bytes of a
   // product by `product`; linalg/single_precision_factor.hpp), used as Q_single is by MPGP.
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> single_product;
@@ -76,7 +77,7 @@ struct BoxDiscQP {
   Eigen::VectorXd apply_single(const Eigen::VectorXd& v) const;
   // Q V through single_block_product (scaled as apply_block()); apply_block() when there is none.
   Eigen::MatrixXd apply_block_single(const Eigen::MatrixXd& V) const;
-  bool has_single_products() const { return Q_single != nullptr || static_cast<bool>(single_product); }
+  bool has_single_products() const { return static_cast<bool>(Q_single) || static_cast<bool>(single_product); }
   double value(const Eigen::VectorXd& lambda) const;
 };
 

@@ -15,7 +15,7 @@ bool uses_single_products(QpPrecision precision, int multipliers) {
 }
 
 DualQpSolver::DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
-                           const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor)
+                           const QpSettings& settings, std::shared_ptr<DualOperatorFactor> factor)
     : settings_(settings) {
   qp_.Q = DenseViewPtr(Q);
   qp_.h = h;
@@ -30,8 +30,15 @@ DualQpSolver::DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, 
     // Ŝ Q Ŝ has a diagonal of at most 1, so its entries are at most 1 in size: no scale needed in
     // float, and its norm comes from the single copy (half the bytes of the 50 products in double).
     single_scale_ = jacobi_ ? 1.0 : solved.q_norm > 0 ? solved.q_norm : 1.0;
-    q_single_ = lower_triangle_in_single(*solved.Q, single_scale_, solved.scale);
-    if (jacobi_) jacobi_->set_norm(1.05 * estimate_norm(q_single_, single_scale_));
+    float* spare = factor && factor->in_single ? factor->in_single->spare_upper() : nullptr;
+    if (spare) {
+      single_ = upper_triangle_in_single(*solved.Q, single_scale_, solved.scale, spare, qp_.size());
+      single_holder_ = factor;
+    } else {
+      q_single_ = lower_triangle_in_single(*solved.Q, single_scale_, solved.scale);
+      single_ = &q_single_;
+    }
+    if (jacobi_) jacobi_->set_norm(1.05 * estimate_norm(single_, single_scale_));
   }
   if (settings.newton_systems == NewtonSystems::Auto)
     bordered_ = make_bordered_newton(std::move(factor),
@@ -69,8 +76,8 @@ DualQpSolver::DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool 
 
 BoxDiscQP DualQpSolver::solved_problem() {
   BoxDiscQP problem = jacobi_ ? jacobi_->scaled(qp_.radius) : qp_;
-  if (q_single_.size() > 0) {
-    problem.Q_single = &q_single_;
+  if (single_) {
+    problem.Q_single = single_;
     problem.single_scale = single_scale_;
   }
   problem.bordered = bordered_.get();

@@ -81,7 +81,7 @@ class DualQpSolver {
   // `Q` must outlive the solver; `q_norm` is an estimate of ‖Q‖ (estimate_norm).
   // `factor`: a Cholesky factor of Q for the Newton steps (QpSettings::newton_systems; null: none).
   DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
-               const QpSettings& settings, std::shared_ptr<const DualOperatorFactor> factor = nullptr);
+               const QpSettings& settings, std::shared_ptr<DualOperatorFactor> factor = nullptr);
   // Matrix-free: Q only through products and its diagonal (MatrixFreeQ), through its single products
   // where it has them and `settings.precision` asks for them (MatrixFreeQ::single_product says where),
   // else in double; Newton steps ("auto", "ssn") inexact by CG (qp/reduced_cg.hpp), the sensitivity
@@ -107,7 +107,11 @@ class DualQpSolver {
 
   BoxDiscQP qp_;
   std::optional<JacobiScaledQP> jacobi_;
-  Eigen::MatrixXf q_single_;  // lower triangle of the solved (scaled) Q / ‖Q‖ (empty: double products)
+  // The solved (scaled) Q / single_scale_ in single precision (null: double products): above the
+  // factor of Q where it has room (SingleCholesky::spare_upper), else the lower triangle of q_single_.
+  SingleSymmetric single_;
+  Eigen::MatrixXf q_single_;
+  std::shared_ptr<const DualOperatorFactor> single_holder_;  // the factor whose array holds single_
   double single_scale_ = 1;
   std::unique_ptr<BorderedNewton> bordered_;  // the Newton steps' route through the factor of Q (or none)
   QpSettings settings_;
