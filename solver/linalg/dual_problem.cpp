@@ -60,7 +60,6 @@ class CholmodDualProblem final : public DualProblem {
   }
 
   void release_factor() override {
-    if (Q_in_factor_) Q_ = *Q_in_factor_;
     Q_in_factor_ = nullptr;
     trace_.reset();  // it points into the factor
     factor_.reset();

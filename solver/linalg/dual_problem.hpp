@@ -115,8 +115,8 @@ class DualProblem {
   virtual Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const = 0;
   // w = K⁻¹(f − 𝔹ᵀλ) at every free dof.
   virtual Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const = 0;
-  // Frees the factorization (benchmarks time a reference factorization afterwards); Q (copied out
-  // of the factor where it lay there) and h stay.
+  // Frees the factorization (benchmarks time a reference factorization afterwards), and with it Q
+  // where it lies in the factor (Q() is then empty): only after the dual solve's last use of Q. h stays.
   virtual void release_factor() = 0;
 
   std::string method;               // "augmented", "contactlast", "blocksolve", "mumps", ...
