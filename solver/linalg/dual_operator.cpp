@@ -6,6 +6,7 @@
 #include <random>
 #include <span>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -142,21 +143,24 @@ DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::Sp
   for (int k = 0; k < m; ++k) row[k] = order[k] - n;
   bool in_order = true;  // the usual case: the factor keeps 𝔹's rows in the order they were given
   for (int k = 0; k < m && in_order; ++k) in_order = row[k] == k;
-  if (in_order && K_aug.captured_schur()) {
-    op.Q_in_factor = DenseViewPtr(K_aug.schur_block());
+  // G (trailing order) into 𝔹's order; G is symmetric to the bit (both triangles mirrored): only permute.
+  const auto permuted = [&row, m](const DenseView& G) {
+    Eigen::MatrixXd Q(m, m);
+    for (int b = 0; b < m; ++b) {
+      double* column = Q.col(row[b]).data();
+      for (int a = 0; a < m; ++a) column[row[a]] = G(a, b);
+    }
+    return Q;
+  };
+  if (K_aug.captured_schur()) {
+    if (in_order)
+      op.Q_in_factor = DenseViewPtr(K_aug.schur_block());
+    else
+      op.Q = permuted(K_aug.schur_block());
     return op;
   }
-  const Eigen::MatrixXd trailing_gram = K_aug.captured_schur() ? Eigen::MatrixXd() : K_aug.trailing_gram();
-  const DenseView G = K_aug.captured_schur() ? K_aug.schur_block() : DenseView(trailing_gram);
-  if (in_order) {
-    op.Q = G;
-    return op;
-  }
-  op.Q.resize(m, m);  // G is symmetric to the bit (both triangles mirrored): only permute
-  for (int b = 0; b < m; ++b) {
-    double* column = op.Q.col(row[b]).data();
-    for (int a = 0; a < m; ++a) column[row[a]] = G(a, b);
-  }
+  Eigen::MatrixXd G = K_aug.trailing_gram();
+  op.Q = in_order ? std::move(G) : permuted(G);
   return op;
 }
 

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <algorithm>
-#include <cstddef>
 
 #include <Eigen/Core>
 
@@ -25,7 +24,6 @@ struct SingleSymmetric {
   int size = 0, stride = 1;
   bool upper = false;
   SingleSymmetric() = default;
-  SingleSymmetric(std::nullptr_t) {}             // NOLINT: pointer-like
   SingleSymmetric(const Eigen::MatrixXf* lower)  // NOLINT: pointer-like; its lower triangle
       : data(lower ? lower->data() : nullptr),
         size(lower ? static_cast<int>(lower->rows()) : 0),
