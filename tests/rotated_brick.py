@@ -102,6 +102,9 @@ with tempfile.TemporaryDirectory() as tmp:
     ca, cb = np.array(sa["forces"]["contact"]), np.array(sb["forces"]["contact"])
     if np.abs(cb - Q @ ca).max() > 1e-6 * np.abs(ca).max():
         fail(f"resultant contact force: turned {cb}, Q x flat {Q @ ca}")
+    ha, hb = np.array(sa["forces"]["contact_at_held_nodes"]), np.array(sb["forces"]["contact_at_held_nodes"])
+    if np.abs(ha).max() <= 1e-4 * np.abs(ca).max() or np.abs(hb - Q @ ha).max() > 1e-6 * np.abs(ca).max():
+        fail(f"contact force at the clamp's nodes on Gc: turned {hb}, Q x flat {Q @ ha} (it must not vanish)")
     if sa["fixed_point_iterations"] != sb["fixed_point_iterations"]:
         fail(f"steps: flat {sa['fixed_point_iterations']}, turned {sb['fixed_point_iterations']}")
     print(f"ok: n={n}: turned brick = Q x paper brick to {worst / scale:.2g} (u, wn, wt on Gc); contact force "

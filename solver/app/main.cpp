@@ -94,6 +94,12 @@ void print_engineering_summary(const Scene& scene, const SolveResult& res) {
       fmt::print(" (stick {:.4g}, slip {:.4g}); friction torque {:.4g} {} {}", cr.area[kStick], cr.area[kSlip],
                  cr.friction_torque, u.force, u.length);
     fmt::print("; max penetration {:.3g} {}\n", res.wn_plus_inf, u.length);
+    const Eigen::Vector3d& held = res.forces.contact_at_held_nodes;
+    if (held.norm() > 1e-9 * (res.forces.contact + held).norm())
+      fmt::print(
+          "  of which ({:.4g}, {:.4g}, {:.4g}) {} at contact nodes with prescribed components, counted in "
+          "the reactions below\n",
+          held.x(), held.y(), held.z(), u.force);
   }
   for (const auto& r : res.forces.reactions)
     fmt::print("reaction on {}: ({:.4g}, {:.4g}, {:.4g}) {}\n", r.condition, r.force.x(), r.force.y(), r.force.z(),

@@ -90,6 +90,7 @@ void write_forces(JsonWriter& j, const ResultantForces& f) {
   j.begin_object("forces");
   write_vector(j, "applied", f.applied);
   write_vector(j, "contact", f.contact);
+  write_vector(j, "contact_at_held_nodes", f.contact_at_held_nodes);  // in the reactions, not in "contact"
   j.begin_array("reactions");
   for (const auto& r : f.reactions) {
     j.begin_object().value("condition", r.condition);

@@ -150,6 +150,15 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
   return *chosen;
 }
 
+// The whole contact force (∫λ over the cells) minus its part on free components (−𝔹ᵀλ summed), both
+// in the plane's frame; components at rounding level (1e-12 of the whole) are zero.
+Eigen::Vector3d held_share_of_contact_force(const Eigen::Vector3d& whole, const Eigen::Vector3d& on_free) {
+  Eigen::Vector3d held = whole - on_free;
+  for (int c = 0; c < 3; ++c)
+    if (std::abs(held[c]) <= 1e-12 * whole.norm()) held[c] = 0;
+  return held;
+}
+
 // The yardsticks of total / factorization (benchmarks), in this process: one factorization of K
 // as CHOLMOD orders it by itself ("reference_factorization"), and one with the ordering this
 // solver uses ("reference_factorization_nd"). Each starts as cold as a fresh process's (the freed
@@ -405,6 +414,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   res.forces =
       resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
+  res.forces.contact_at_held_nodes = held_share_of_contact_force(contact_force_in_plane_frame(res), res.forces.contact);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
   flag_unresolved_contact(scene, res);

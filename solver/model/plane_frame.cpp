@@ -58,6 +58,7 @@ void result_to_user_frame(const FoundationFrame& frame, SolveResult& res) {
   for (auto& s : res.steps) rotate_nodal(s.u);  // λ stays in the plane's frame, as res.lambda
   res.forces.applied = Rt * res.forces.applied;
   res.forces.contact = Rt * res.forces.contact;
+  res.forces.contact_at_held_nodes = Rt * res.forces.contact_at_held_nodes;
   for (auto& r : res.forces.reactions) r.force = Rt * r.force;
   res.frame = frame;
 }

@@ -20,6 +20,10 @@ struct ResultantForces {
   // The foundation's force on the body, −𝔹ᵀλ summed over the free components (where a contact
   // node's component is prescribed, its share of the contact force is in that condition's reaction).
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();
+  // The rest of ∫λ over the cells: the share of the contact force at prescribed components of contact
+  // nodes (a clamped edge of Γc, a roller on it), counted in those conditions' reactions, so that
+  // contact + contact_at_held_nodes is the whole contact force (the run report's and contact_force's).
+  Eigen::Vector3d contact_at_held_nodes = Eigen::Vector3d::Zero();
   std::vector<ReactionForce> reactions;  // the supports' forces on the body (N)
   // |applied + contact + Σ reactions| / max(|applied|, |contact|, max |reaction|): 0 in exact
   // equilibrium; of the order of the solver's tolerances otherwise.

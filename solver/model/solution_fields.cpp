@@ -130,4 +130,9 @@ ContactResultants contact_resultants(const SolveResult& res, const StateView& s)
   return out;
 }
 
+Eigen::Vector3d contact_force_in_plane_frame(const SolveResult& res) {
+  const ContactResultants cr = contact_resultants(res, final_state(res));
+  return {-cr.t1, -cr.t2, cr.normal};
+}
+
 }  // namespace contact3d

@@ -63,5 +63,7 @@ struct ContactResultants {
   std::array<double, 3> area{0, 0, 0};  // cell area by CellStatus (m²)
 };
 ContactResultants contact_resultants(const SolveResult& res, const StateView& s);
+// The whole contact force on the body from the cells, in the plane's frame: (−∫λ_t1, −∫λ_t2, ∫λ_n) (N).
+Eigen::Vector3d contact_force_in_plane_frame(const SolveResult& res);
 
 }  // namespace contact3d

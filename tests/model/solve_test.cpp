@@ -284,6 +284,23 @@ TEST(SolveUserConditions, ResultantForcesBalance) {
   EXPECT_GT(res.forces.contact.z(), 0.5 * -res.forces.applied.z());  // the foundation carries most of the weight
 }
 
+// The contact force from the cells, ∫λ, is the nodal one −𝔹ᵀλ on the free components plus the share
+// at contact nodes with prescribed components (in their reactions): the paper's clamp holds an edge
+// of Γc and carries part of the pressure; a brick held by its top face alone has no such share, so
+// ∫λ and −𝔹ᵀλ agree (𝔹's rows sum to their cells' areas).
+TEST(SolveUserConditions, ContactForceAtHeldNodesIsTheRestOfTheCellIntegral) {
+  const SolveResult clamped = solve_text();
+  ASSERT_TRUE(clamped.converged);
+  EXPECT_GT(clamped.forces.contact_at_held_nodes.z(), 1e-4 * clamped.forces.contact.z());
+  const SolveResult held_on_top =
+      solve_with("[[boundary.displacement]]\ngroup = \"load_top\"\nx = 0\ny = 0\nz = -1e-4\n",
+                 {"boundary.clamped=[]", "friction.law=\"constant\"", "friction.value=0.3"});
+  ASSERT_TRUE(held_on_top.converged) << held_on_top.status;
+  EXPECT_GT(held_on_top.forces.contact.z(), 0);
+  EXPECT_LT(held_on_top.forces.contact_at_held_nodes.norm(), 1e-10 * held_on_top.forces.contact.norm());
+  EXPECT_LT(held_on_top.forces.balance, 1e-10);
+}
+
 // One region covering the whole body with E' equals the default material E'; a region with
 // another E changes the answer.
 TEST(SolveUserConditions, MaterialRegionsAssignByVolumeGroup) {
