@@ -163,10 +163,11 @@ def c_msh_unknown_node(c):
     return ["check", c.scene(p)], ["9999"]
 
 
-def c_msh_quadratic_tet(c):
-    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: [t[0], "11"] + t[2:] + ["1", "2", "3", "4", "5", "6"])
-    p = c.write("tet10.msh", "\n".join(lines))
-    return ["check", c.scene(p)], ["11"]
+def c_msh_cubic_tet(c):
+    # second order is read by its corners; third order (20-node tetrahedra) is refused
+    lines, eid = edit_first_tet(c.msh22_lines(), lambda t: [t[0], "29"] + t[2:] + [str(k % 6 + 1) for k in range(16)])
+    p = c.write("tet20.msh", "\n".join(lines))
+    return ["check", c.scene(p)], ["29", "20-node tetrahedron"]
 
 
 def c_msh_hexahedron(c):

@@ -86,3 +86,6 @@ add_test(NAME matrix_free_dual_equals_dense_on_three_bodies
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_matrix_free_bodies.py $<TARGET_FILE:contact3d>
                  ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/matrix-free-bodies)
 set_tests_properties(matrix_free_dual_equals_dense_on_three_bodies PROPERTIES TIMEOUT 300)
+# A second-order gmsh mesh (-order 2) is read by its corners and solves as the order-1 mesh does.
+add_test(NAME second_order_gmsh_mesh
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/second_order_mesh.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})

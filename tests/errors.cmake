@@ -4,7 +4,7 @@
 set(CONTACT3D_BAD_INPUT_CASES
   msh_truncated_ascii msh_truncated_ascii_elements msh_truncated_binary msh_truncated_binary_header
   msh_empty msh_not_a_mesh msh_missing_file msh_version_3 msh_version_4_0 msh_bad_coordinate
-  msh_nan_coordinate msh_unknown_node msh_quadratic_tet msh_hexahedron msh_inverted_tet
+  msh_nan_coordinate msh_unknown_node msh_cubic_tet msh_hexahedron msh_inverted_tet
   msh_zero_volume_tet msh_inverted_tet_solve group_misspelt group_missing_traction group_misspelt_solve
   contact_not_in_plane gamma_u_empty gamma_u_group_empty gamma_u_group_empty_solve
   poisson_half poisson_above young_zero

@@ -119,9 +119,11 @@ int run_solve(const SolveArgs& args) {
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
   info.mesh_seconds = since(t0);
   require_constrained_triangles(scene, mesh);
+  const char* const corners_note = " (second-order elements read by their corner nodes: P1)";
+  if (mesh.read_by_corner_nodes) info.mesh_description += corners_note;
   if (!args.quiet)
-    fmt::print("mesh: {} nodes, {} tets, {} boundary triangles ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
-               mesh.triangles.size(), info.mesh_seconds);
+    fmt::print("mesh: {} nodes, {} tets, {} boundary triangles{} ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
+               mesh.triangles.size(), mesh.read_by_corner_nodes ? corners_note : "", info.mesh_seconds);
   auto progress = [&](const FixedPointStep& s) {
     if (!args.quiet)
       fmt::print("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s  ({})\n", s.k, s.err,

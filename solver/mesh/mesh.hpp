@@ -36,6 +36,10 @@ struct Mesh {
 
   std::vector<PhysicalGroup> groups;
 
+  // Read from second-order elements (10-node tets, 6-node triangles) by their corner nodes: the
+  // same P1 mesh as gmsh's first order on the same vertices; the other nodes are dropped.
+  bool read_by_corner_nodes = false;
+
   // The group of dimension `dim` called `name` (an unnamed group also answers to its number,
   // "4"), or nullptr.
   const PhysicalGroup* find_group(std::string_view name, int dim) const;

@@ -44,6 +44,16 @@ constexpr int kPoint = 15;
 constexpr int kLine2 = 1;
 constexpr int kTri3 = 2;
 constexpr int kTet4 = 4;
+// Second order (gmsh -order 2): read by their corner nodes, which gmsh lists first.
+constexpr int kLine3 = 8;
+constexpr int kTri6 = 9;
+constexpr int kTet10 = 11;
+constexpr int kMaxElementNodes = 10;
+
+bool is_tet(int type) { return type == kTet4 || type == kTet10; }
+bool is_triangle(int type) { return type == kTri3 || type == kTri6; }
+bool is_line(int type) { return type == kLine2 || type == kLine3; }
+bool is_second_order(int type) { return type == kLine3 || type == kTri6 || type == kTet10; }
 
 // Bytes of a node record in binary MSH 2.2: int node-number, 3 double coordinates.
 constexpr std::size_t kNode22Bytes = 4 + 3 * 8;
@@ -59,6 +69,12 @@ int accepted_type_nodes(int type) {
       return 3;
     case kTet4:
       return 4;
+    case kLine3:
+      return 3;
+    case kTri6:
+      return 6;
+    case kTet10:
+      return 10;
     default:
       return 0;
   }
@@ -165,7 +181,7 @@ std::string unsupported_type_message(long long type) {
   std::string msg =
       "element type " + std::to_string(type) + " (" + (name ? name : "unknown to this reader") + ") is not supported; ";
   if (name && is_higher_order_simplex(static_cast<int>(type)))
-    msg += "mesh with first-order elements (gmsh -order 1)";
+    msg += "mesh with first- or second-order elements (gmsh -order 1 or 2; second order is read by its corners)";
   else
     msg +=
         "contact3d reads 4-node tetrahedra (type 4) and 3-node triangles (type 2), and "
@@ -432,7 +448,7 @@ class Parser {
     return idx;
   }
   // The nn node tags ending an ASCII element record (both MSH versions), as node indices.
-  void read_ascii_element_nodes(int nn, std::array<int, 4>& idx, std::size_t element_tag) {
+  void read_ascii_element_nodes(int nn, std::array<int, kMaxElementNodes>& idx, std::size_t element_tag) {
     for (int k = 0; k < nn; ++k) {
       skip_blank();
       const char* npos = p_;
@@ -493,6 +509,32 @@ class Parser {
   std::pair<int, int> last_used_{-1, 0};
   std::array<std::map<int, std::vector<int>>, 4> entities_;  // physical tags per entity
   std::vector<int> no_physicals_;
+  std::size_t second_order_ = 0;  // element records of second order (kLine3, kTri6, kTet10)
+
+  // The mesh of a second-order file as P1: the nodes that are no element's corner (mid-edge and
+  // mid-face nodes) are dropped and the corners renumbered, in file order.
+  void keep_corner_nodes_only() {
+    std::vector<int> new_index(mesh_.nodes.size(), -1);
+    for (const auto& t : mesh_.tets)
+      for (int v : t) new_index[static_cast<std::size_t>(v)] = 0;
+    for (const auto& t : mesh_.triangles)
+      for (int v : t) new_index[static_cast<std::size_t>(v)] = 0;
+    int kept = 0;
+    for (std::size_t v = 0; v < new_index.size(); ++v) {
+      if (new_index[v] < 0) continue;
+      new_index[v] = kept;
+      mesh_.nodes[static_cast<std::size_t>(kept)] = mesh_.nodes[v];
+      mesh_.node_tags[static_cast<std::size_t>(kept)] = mesh_.node_tags[v];
+      ++kept;
+    }
+    mesh_.nodes.resize(static_cast<std::size_t>(kept));
+    mesh_.node_tags.resize(static_cast<std::size_t>(kept));
+    for (auto& t : mesh_.tets)
+      for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
+    for (auto& t : mesh_.triangles)
+      for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
+    mesh_.read_by_corner_nodes = true;
+  }
 };
 
 Mesh Parser::parse() {
@@ -554,6 +596,7 @@ Mesh Parser::parse() {
   mesh_.groups = named_;
   for (const auto& [dim, tag] : used_order_)
     if (!named_set_.count({dim, tag})) mesh_.groups.push_back(PhysicalGroup{dim, tag, ""});
+  if (second_order_ > 0) keep_corner_nodes_only();
   return std::move(mesh_);
 }
 
@@ -903,10 +946,10 @@ void Parser::read_elements41() {
     const std::vector<int>& phys = entity_physicals(dim, etag, bpos);
     const int group = phys.empty() ? 0 : phys[0];
 
-    if (type == kTet4) reserve_more_tets(n);
-    if (type == kTri3) reserve_more_triangles(n);
+    if (is_tet(type)) reserve_more_tets(n);
+    if (is_triangle(type)) reserve_more_triangles(n);
     const std::size_t first_tri = mesh_.triangles.size();
-    std::array<int, 4> idx{};
+    std::array<int, kMaxElementNodes> idx{};
     for (std::size_t i = 0; i < n; ++i) {
       std::uint64_t tag;
       const char* epos;
@@ -924,17 +967,18 @@ void Parser::read_elements41() {
         read_ascii_element_nodes(nn, idx, tag);
       }
       if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
-      if (type == kTet4) {
+      if (is_tet(type)) {
         mesh_.tets.push_back({idx[0], idx[1], idx[2], idx[3]});
         mesh_.tet_tags.push_back(static_cast<std::size_t>(tag));
         mesh_.tet_group.push_back(group);
-      } else if (type == kTri3) {
+      } else if (is_triangle(type)) {
         mesh_.triangles.push_back({idx[0], idx[1], idx[2]});
         mesh_.triangle_tags.push_back(static_cast<std::size_t>(tag));
         mesh_.triangle_group.push_back(group);
       }
     }
-    if (type == kTri3 && phys.size() > 1) {
+    if (is_second_order(type)) second_order_ += n;
+    if (is_triangle(type) && phys.size() > 1) {
       // Each extra physical tag stores the block again; bound the total by the file size so
       // that a small crafted file cannot demand a huge allocation.
       const std::size_t block = mesh_.triangles.size() - first_tri;
@@ -965,12 +1009,13 @@ void Parser::read_elements22() {
   end_record("the number of elements");
   bool prev_tet = false;
   int prev_elementary = 0;
-  std::array<int, 4> idx{};
+  std::array<int, kMaxElementNodes> idx{};
   // Stores one element of an accepted type whose nodes are in idx.
   const auto keep = [&](int type, std::uint64_t tag, int physical, int elementary) {
-    const int dim = type == kTet4 ? 3 : type == kTri3 ? 2 : type == kLine2 ? 1 : 0;
+    const int dim = is_tet(type) ? 3 : is_triangle(type) ? 2 : is_line(type) ? 1 : 0;
     note_used_group(dim, physical);
-    if (type == kTet4) {
+    if (is_second_order(type)) ++second_order_;
+    if (is_tet(type)) {
       const std::array<int, 4> tet{idx[0], idx[1], idx[2], idx[3]};
       // gmsh writes a tetrahedron once per physical group, as consecutive records.
       if (prev_tet && elementary == prev_elementary && mesh_.tets.back() == tet) return;
@@ -981,7 +1026,7 @@ void Parser::read_elements22() {
       prev_elementary = elementary;
     } else {
       prev_tet = false;
-      if (type == kTri3) {
+      if (is_triangle(type)) {
         mesh_.triangles.push_back({idx[0], idx[1], idx[2]});
         mesh_.triangle_tags.push_back(static_cast<std::size_t>(tag));
         mesh_.triangle_group.push_back(physical);
@@ -1022,8 +1067,8 @@ void Parser::read_elements22() {
       if (static_cast<std::size_t>(count) > n - total)
         fail(cpos, "the element blocks hold more elements than the " + std::to_string(n) +
                        " announced in the $Elements header");
-      if (type == kTet4) reserve_more_tets(static_cast<std::size_t>(count));
-      if (type == kTri3) reserve_more_triangles(static_cast<std::size_t>(count));
+      if (is_tet(type)) reserve_more_tets(static_cast<std::size_t>(count));
+      if (is_triangle(type)) reserve_more_triangles(static_cast<std::size_t>(count));
       for (int i = 0; i < count; ++i) {
         const char* epos = p_;
         const int tag = raw_int("an element tag");

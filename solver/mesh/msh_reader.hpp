@@ -1,6 +1,7 @@
 // Reader for gmsh MSH files: format 4.1 and 2.2, each ASCII or binary (little-endian). Keeps
-// nodes, 4-node tetrahedra, 3-node triangles and physical names/tags; other element types are
-// skipped (points, lines) or rejected (higher order, other volume types).
+// nodes, 4-node tetrahedra, 3-node triangles and physical names/tags; 10-node tetrahedra and 6-node
+// triangles (gmsh -order 2) by their corners, dropping the other nodes (Mesh::read_by_corner_nodes);
+// other element types are skipped (points, lines) or rejected (third order and up, other volume types).
 // Malformed input raises InputError naming the file and line (byte offset in binary files).
 //
 // Physical groups:

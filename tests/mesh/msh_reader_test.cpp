@@ -380,6 +380,34 @@ TEST(MshReader, WindowsLineEndingsAndTrailingBlanks) {
   check_sparse(parse_msh(crlf, "crlf.msh"));
 }
 
+// gmsh -order 2: a 10-node tet and a 6-node triangle are read by their corners (listed first), the
+// mid-edge nodes dropped and the corners renumbered in file order, their tags kept; 3-node lines
+// are skipped as 2-node ones are.
+TEST(MshReader, SecondOrderElementsAreReadByTheirCorners) {
+  const std::string text =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+      "$Nodes\n10\n1 0 0 0\n2 0.5 0 0\n3 1 0 0\n4 0 0.5 0\n5 0 1 0\n6 0 0 0.5\n7 0 0 1\n"
+      "8 0.5 0.5 0\n9 0.5 0 0.5\n10 0 0.5 0.5\n$EndNodes\n"
+      "$Elements\n3\n"
+      "1 8 2 0 1 1 3 2\n"
+      "2 9 2 4 1 1 3 5 2 8 4\n"
+      "3 11 2 6 1 1 3 5 7 2 8 4 6 10 9\n"
+      "$EndElements\n";
+  const Mesh m = parse_msh(text, "p2.msh");
+  EXPECT_TRUE(m.read_by_corner_nodes);
+  EXPECT_EQ(m.nodes.size(), 4u);
+  EXPECT_EQ(m.node_tags, std::vector<std::size_t>({1, 3, 5, 7}));
+  EXPECT_EQ(m.nodes[3], Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(m.tets, std::vector<Tet>({{0, 1, 2, 3}}));
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(m.triangles[0], (std::array<int, 3>{0, 1, 2}));
+  EXPECT_EQ(m.triangle_group, std::vector<int>({4}));
+  EXPECT_FALSE(parse_msh(std::string("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"
+                                     "4 0 0 1\n$EndNodes\n$Elements\n1\n1 4 2 6 1 1 2 3 4\n$EndElements\n"),
+                         "p1.msh")
+                   .read_by_corner_nodes);
+}
+
 TEST(MshReader, Msh22DuplicateTetLinesAreStoredOnce) {
   const std::string text =
       "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
@@ -513,10 +541,10 @@ TEST(MshBroken, AsciiFilesNameFileAndLine) {
       {"missing node in element", base41_with(31, "2 1 2 3"), {"line 31", "line ends"}},
       {"extra value in element", base41_with(29, "1 1 3 2 4"), {"line 29", "more values"}},
       {"bad integer", base41_with(29, "1x 1 3 2"), {"line 29", "'1x'"}},
-      {"tet10",
-       base41_with(30, "3 1 11 1"),
-       {"line 30", "element type 11 (10-node tetrahedron) is not supported", "gmsh -order 1"}},
-      {"tri6", base41_with(28, "2 1 9 1"), {"line 28", "element type 9 (6-node triangle)"}},
+      {"tet20",
+       base41_with(30, "3 1 29 1"),
+       {"line 30", "element type 29 (20-node tetrahedron) is not supported", "gmsh -order 1 or 2"}},
+      {"tri10", base41_with(28, "2 1 21 1"), {"line 28", "element type 21 (10-node triangle)"}},
       {"hex", base41_with(30, "3 1 5 1"), {"line 30", "element type 5 (8-node hexahedron)"}},
       {"unknown type", base41_with(30, "3 1 77 1"), {"line 30", "element type 77"}},
       {"undefined entity", base41_with(28, "2 7 2 1"), {"line 28", "surface entity 7", "$Entities does not define"}},
@@ -544,9 +572,9 @@ TEST(MshBroken, AsciiFilesNameFileAndLine) {
       {"2.2 undefined node",
        base22 + "2 4 2 1 1 1 2 3 4\n$EndElements\n",
        {"line 13", "node 4", "$Nodes does not define"}},
-      {"2.2 tet10",
-       base22 + "2 11 2 1 1 1 2 3 1 2 3 1 2 3 1\n$EndElements\n",
-       {"line 13", "element type 11 (10-node tetrahedron)", "gmsh -order 1"}},
+      {"2.2 tet20",
+       base22 + "2 29 2 1 1 1 2 3 1 2 3 1 2 3 1 1 2 3 1 2 3 1 2 3\n$EndElements\n",
+       {"line 13", "element type 29 (20-node tetrahedron)", "gmsh -order 1 or 2"}},
       {"2.2 too many elements",
        base22 + "2 2 2 1 1 1 2 3\n3 2 2 1 1 1 2 3\n$EndElements\n",
        {"line 14", "expected $EndElements, found '3'", "more data"}},
@@ -636,8 +664,8 @@ TEST(MshBroken, BinaryFilesNameByteOffset) {
        first_coord, "non-finite"},
       {"undefined node", [&](std::string& d) { poke<std::uint64_t>(d, first_element + 8, 9999); }, first_element + 8,
        "node 9999"},
-      {"element type", [&](std::string& d) { poke<std::int32_t>(d, elements + 32 + 8, 11); }, elements + 32,
-       "element type 11"},
+      {"element type", [&](std::string& d) { poke<std::int32_t>(d, elements + 32 + 8, 29); }, elements + 32,
+       "element type 29"},
       {"endianness", [&](std::string& d) { poke<std::int32_t>(d, format_one, 0x01000000); }, format_one, "big-endian"},
       {"truncated in a count", [&](std::string& d) { d.resize(nodes + 4); }, nodes, "unexpected end of file"},
       {"truncated in the nodes", [&](std::string& d) { d.resize(first_coord + 4); }, nodes,
@@ -1066,12 +1094,12 @@ TEST(MshBroken, Binary22FilesNameByteOffset) {
        },
        {"the number of tags per element is negative (-2)"}},
       // Element types
-      {"10-node tetrahedron block",
+      {"20-node tetrahedron block",
        [&](D d) {
-         poke<std::int32_t>(d, first_tet_block, 11);
+         poke<std::int32_t>(d, first_tet_block, 29);
          return first_tet_block;
        },
-       {"element type 11 (10-node tetrahedron) is not supported", "gmsh -order 1"}},
+       {"element type 29 (20-node tetrahedron) is not supported", "gmsh -order 1 or 2"}},
       {"hexahedron block",
        [&](D d) {
          poke<std::int32_t>(d, first_tet_block, 5);
