@@ -22,6 +22,7 @@
 #include "distributed/backend.hpp"
 #include "io/results_writer.hpp"
 #include "io/run_folder.hpp"
+#include "linalg/blas_threads.hpp"
 #include "mesh/brick_generator.hpp"
 #include "mesh/msh_writer.hpp"
 #include "mesh/read_mesh.hpp"
@@ -40,6 +41,7 @@ struct SolveArgs {
   std::string scene, mesh, out;
   std::vector<std::string> sets;
   bool quiet = false;
+  int ranks = 1;  // MPI ranks (the distributed build under mpirun)
 };
 
 double since(std::chrono::steady_clock::time_point t0) {
@@ -108,6 +110,7 @@ void print_engineering_summary(const Scene& scene, const SolveResult& res) {
 
 int run_solve(const SolveArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
+  const CpuSnapshot start = cpu_snapshot();  // what other processes do while the scene and mesh load
   // The folder is claimed before anything can fail, so a failed rerun never leaves the previous
   // run's summary.json looking like this run's result.
   std::optional<RunFolder> folder;
@@ -119,6 +122,11 @@ int run_solve(const SolveArgs& args) {
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
   info.mesh_seconds = since(t0);
   require_constrained_triangles(scene, mesh);
+  // One process per core under mpirun: the ranks' BLAS threads stay as they are.
+  info.blas = args.ranks == 1 ? fit_blas_threads_to_idle_cores(start) : current_blas_threads();
+  if (!args.quiet && info.blas.threads < info.blas.before)
+    fmt::print("BLAS threads: {} of {} (other processes keep {:.1f} of the {} cores busy)\n", info.blas.threads,
+               info.blas.before, info.blas.busy_elsewhere, info.blas.cores);
   const char* const corners_note = " (second-order elements read by their corner nodes: P1)";
   if (mesh.read_by_corner_nodes) info.mesh_description += corners_note;
   if (!args.quiet)
@@ -277,6 +285,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    args.ranks = session.ranks();
     if (*solve) return run_solve(args);
     if (*check) return run_check(args);
     if (*mesh_cmd) {

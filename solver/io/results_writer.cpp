@@ -129,7 +129,12 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.begin_object("backend").value("name", res.backend);
     j.value("ranks", res.ranks).value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");
     for (double mib : res.peak_memory_per_rank_mib) j.element(mib);
-    j.end_array().end_object();
+    j.end_array();
+    // OpenBLAS's threads (blas_threads.hpp): fitted to the cores other processes left idle
+    j.begin_object("blas_threads").value("threads", info.blas.threads).value("before", info.blas.before);
+    j.value("cores", info.blas.cores).value("user_set", info.blas.user_set);
+    if (info.blas.busy_elsewhere >= 0) j.value("busy_cores_elsewhere", info.blas.busy_elsewhere);
+    j.end_object().end_object();
     j.value("friction_model",
             scene.frictionless() ? std::string("none") : name_of(scene.friction_model, kFrictionModelNames));
     j.value("qp_last_status", to_string(res.last_qp.status))

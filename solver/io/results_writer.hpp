@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "linalg/blas_threads.hpp"
 #include "mesh/mesh.hpp"
 #include "model/contact_solver.hpp"
 #include "model/scene.hpp"
@@ -15,6 +16,7 @@ struct RunInfo {
   std::string mesh_description;  // where the mesh came from
   double mesh_seconds = 0;
   double total_seconds = 0;
+  BlasThreadChoice blas;  // OpenBLAS's threads, fitted to the idle cores
 };
 
 void write_results(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res,
