@@ -27,6 +27,7 @@ struct MeditData {
   std::vector<std::array<long long, 3>> triangles;
   std::vector<long long> triangle_labels;
   std::string tets_where, triangles_where;  // where each section started (for index errors)
+  bool second_order = false;                // TetrahedraP2 / TrianglesP2 read by their corners
 };
 
 // Sections that carry nothing a P1 tetrahedral solve uses, skipped in both encodings, with the
@@ -36,6 +37,7 @@ struct Skipped {
   int code, ints, reals;
 };
 constexpr Skipped kSkipped[] = {{"Edges", 5, 3, 0},
+                                {"EdgesP2", 25, 4, 0},
                                 {"Corners", 13, 1, 0},
                                 {"Ridges", 14, 1, 0},
                                 {"RequiredVertices", 15, 1, 0},
@@ -51,10 +53,7 @@ struct Rejected {
 constexpr Rejected kRejected[] = {{"Quadrilaterals", 7, "quadrilaterals"},
                                   {"Prisms", 9, "prisms"},
                                   {"Hexahedra", 10, "hexahedra"},
-                                  {"TrianglesP2", 24, "second-order triangles"},
-                                  {"EdgesP2", 25, "second-order edges"},
                                   {"QuadrilateralsQ2", 27, "second-order quadrilaterals"},
-                                  {"TetrahedraP2", 30, "second-order tetrahedra"},
                                   {"Pyramids", 49, "pyramids"}};
 
 bool same_word(std::string_view a, std::string_view b) {
@@ -64,7 +63,7 @@ bool same_word(std::string_view a, std::string_view b) {
 
 [[noreturn]] void rejected(const std::string& where, const char* what) {
   throw InputError(where + ": the mesh holds " + std::string(what) +
-                   "; contact3d solves with first-order tetrahedra (P1) and triangles only");
+                   "; contact3d reads tetrahedra and triangles only (first order, or second order by their corners)");
 }
 
 // ------------------------------------------------------------------------------- ASCII
@@ -92,6 +91,14 @@ class AsciiParser {
       } else if (same_word(word, "Triangles")) {
         data_.triangles_where = where;
         elements<3>(where, data_.triangles, data_.triangle_labels);
+      } else if (same_word(word, "TetrahedraP2")) {  // 4 corners, then 6 mid-edge vertices
+        data_.tets_where = where;
+        data_.second_order = true;
+        elements<4, 10>(where, data_.tets, data_.tet_labels);
+      } else if (same_word(word, "TrianglesP2")) {  // 3 corners, then 3 mid-edge vertices
+        data_.triangles_where = where;
+        data_.second_order = true;
+        elements<3, 6>(where, data_.triangles, data_.triangle_labels);
       } else if (same_word(word, "End")) {
         data_.has_end = true;
         break;
@@ -182,13 +189,17 @@ class AsciiParser {
     }
   }
 
-  template <std::size_t N>
+  // Entries of `Read` vertices and a label; the first N vertices are kept (the corners).
+  template <std::size_t N, std::size_t Read = N>
   void elements(const std::string& where, std::vector<std::array<long long, N>>& out, std::vector<long long>& labels) {
-    const std::size_t n = count(where, static_cast<int>(N) + 1);
+    const std::size_t n = count(where, static_cast<int>(Read) + 1);
     out.reserve(out.size() + n);
     for (std::size_t k = 0; k < n; ++k) {
       std::array<long long, N> e{};
-      for (auto& v : e) v = integer(where);
+      for (std::size_t a = 0; a < Read; ++a) {
+        const long long v = integer(where);
+        if (a < N) e[a] = v;
+      }
       out.push_back(e);
       labels.push_back(integer(where));
     }
@@ -339,6 +350,16 @@ class BinaryParser {
         data_.triangles_where = where;
         elements<3>(at, end, data_.triangles, data_.triangle_labels);
         return;
+      case 30:  // TetrahedraP2: 4 corners, then 6 mid-edge vertices
+        data_.tets_where = where;
+        data_.second_order = true;
+        elements<4, 10>(at, end, data_.tets, data_.tet_labels);
+        return;
+      case 24:  // TrianglesP2: 3 corners, then 3 mid-edge vertices
+        data_.triangles_where = where;
+        data_.second_order = true;
+        elements<3, 6>(at, end, data_.triangles, data_.triangle_labels);
+        return;
       default:
         break;
     }
@@ -355,14 +376,17 @@ class BinaryParser {
                  "Tetrahedra 8, ...)");
   }
 
-  template <std::size_t N>
+  template <std::size_t N, std::size_t Read = N>
   void elements(std::size_t at, std::size_t end, std::vector<std::array<long long, N>>& out,
                 std::vector<long long>& labels) {
     const std::size_t ib = version_ >= 4 ? 8 : 4;
-    const std::size_t n = count(at, end, (N + 1) * ib);
+    const std::size_t n = count(at, end, (Read + 1) * ib);
     for (std::size_t k = 0; k < n; ++k) {
       std::array<long long, N> e{};
-      for (auto& v : e) v = integer(at);
+      for (std::size_t a = 0; a < Read; ++a) {
+        const long long v = integer(at);
+        if (a < N) e[a] = v;
+      }
       out.push_back(e);
       labels.push_back(integer(at));
     }
@@ -407,6 +431,10 @@ Mesh build_mesh(MeditData&& d, const std::string& name) {
     if (key.second < INT32_MIN || key.second > INT32_MAX)
       throw InputError(name + ": label " + std::to_string(key.second) + " is out of range");
     mesh.groups.push_back(PhysicalGroup{key.first, static_cast<int>(key.second), std::to_string(key.second)});
+  }
+  if (d.second_order) {  // P1 on the corners
+    drop_unused_nodes(mesh);
+    mesh.read_by_corner_nodes = true;
   }
   return mesh;
 }

@@ -1,9 +1,10 @@
 // Reader for the Medit mesh format that FreeFEM's savemesh writes for a mesh3: ASCII `.mesh`
 // (keywords MeshVersionFormatted, Dimension 3, Vertices, Tetrahedra, Triangles, End; `#`
 // comments) and binary `.meshb` (libMeshb's layout: versions 1-4, either byte order). Keeps the
-// vertices, 4-node tetrahedra and 3-node triangles with their integer labels; edges, corners,
-// ridges, required entities and normals are skipped; quadrilaterals, hexahedra, prisms,
-// pyramids and second-order elements are rejected.
+// vertices, 4-node tetrahedra and 3-node triangles with their integer labels, and second-order
+// ones (TetrahedraP2, TrianglesP2, as gmsh -order 2 -format mesh writes) by their corners, the
+// mid-edge vertices dropped (Mesh::read_by_corner_nodes); edges, corners, ridges, required
+// entities and normals are skipped; quadrilaterals, hexahedra, prisms and pyramids are rejected.
 //
 // Groups: every label becomes a physical group named by its number ("4"), of dimension 3 for
 // tetrahedra and 2 for triangles, so a scene names them as strings: contact = ["5"].

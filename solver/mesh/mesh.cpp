@@ -36,4 +36,26 @@ std::vector<int> Mesh::triangles_of_group(std::string_view name) const {
   return out;
 }
 
+void drop_unused_nodes(Mesh& mesh) {
+  std::vector<int> new_index(mesh.nodes.size(), -1);
+  for (const auto& t : mesh.tets)
+    for (int v : t) new_index[static_cast<std::size_t>(v)] = 0;
+  for (const auto& t : mesh.triangles)
+    for (int v : t) new_index[static_cast<std::size_t>(v)] = 0;
+  std::size_t kept = 0;
+  for (std::size_t v = 0; v < new_index.size(); ++v) {
+    if (new_index[v] < 0) continue;
+    new_index[v] = static_cast<int>(kept);
+    mesh.nodes[kept] = mesh.nodes[v];
+    if (v < mesh.node_tags.size()) mesh.node_tags[kept] = mesh.node_tags[v];
+    ++kept;
+  }
+  mesh.nodes.resize(kept);
+  if (mesh.node_tags.size() > kept) mesh.node_tags.resize(kept);
+  for (auto& t : mesh.tets)
+    for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
+  for (auto& t : mesh.triangles)
+    for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
+}
+
 }  // namespace contact3d

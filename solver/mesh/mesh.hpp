@@ -50,4 +50,9 @@ struct Mesh {
   std::vector<int> triangles_of_group(std::string_view name) const;
 };
 
+// Drops the nodes that no tet or triangle uses (a second-order file's mid-edge nodes, read by the
+// elements' corners) and renumbers the others in their order; node_tags follow, so messages still
+// name the file's nodes.
+void drop_unused_nodes(Mesh& mesh);
+
 }  // namespace contact3d

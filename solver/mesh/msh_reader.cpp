@@ -510,31 +510,6 @@ class Parser {
   std::array<std::map<int, std::vector<int>>, 4> entities_;  // physical tags per entity
   std::vector<int> no_physicals_;
   std::size_t second_order_ = 0;  // element records of second order (kLine3, kTri6, kTet10)
-
-  // The mesh of a second-order file as P1: the nodes that are no element's corner (mid-edge and
-  // mid-face nodes) are dropped and the corners renumbered, in file order.
-  void keep_corner_nodes_only() {
-    std::vector<int> new_index(mesh_.nodes.size(), -1);
-    for (const auto& t : mesh_.tets)
-      for (int v : t) new_index[static_cast<std::size_t>(v)] = 0;
-    for (const auto& t : mesh_.triangles)
-      for (int v : t) new_index[static_cast<std::size_t>(v)] = 0;
-    int kept = 0;
-    for (std::size_t v = 0; v < new_index.size(); ++v) {
-      if (new_index[v] < 0) continue;
-      new_index[v] = kept;
-      mesh_.nodes[static_cast<std::size_t>(kept)] = mesh_.nodes[v];
-      mesh_.node_tags[static_cast<std::size_t>(kept)] = mesh_.node_tags[v];
-      ++kept;
-    }
-    mesh_.nodes.resize(static_cast<std::size_t>(kept));
-    mesh_.node_tags.resize(static_cast<std::size_t>(kept));
-    for (auto& t : mesh_.tets)
-      for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
-    for (auto& t : mesh_.triangles)
-      for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
-    mesh_.read_by_corner_nodes = true;
-  }
 };
 
 Mesh Parser::parse() {
@@ -596,7 +571,10 @@ Mesh Parser::parse() {
   mesh_.groups = named_;
   for (const auto& [dim, tag] : used_order_)
     if (!named_set_.count({dim, tag})) mesh_.groups.push_back(PhysicalGroup{dim, tag, ""});
-  if (second_order_ > 0) keep_corner_nodes_only();
+  if (second_order_ > 0) {  // P1 on the corners
+    drop_unused_nodes(mesh_);
+    mesh_.read_by_corner_nodes = true;
+  }
   return std::move(mesh_);
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "base/errors.hpp"
@@ -102,8 +103,10 @@ TEST(MeditReader, BrokenFilesNameWhereAndWhat) {
       {replaced(t, "0 0 1 1", "0 0 nan 1"), {"line 9", "not finite"}},
       {replaced(t, "1 3 2 5 8", "1 3 2 9 8"), {"Tetrahedra", "entry 2", "vertex 9", "1 to 5"}},
       {replaced(t, "1 2 3 5\n", "1 2 0 5\n"), {"Triangles", "vertex 0"}},
-      {replaced(t, "Triangles", "Quadrilaterals\n1\n1 2 3 4 0\nTriangles"), {"Quadrilaterals", "quadrilaterals", "P1"}},
-      {replaced(t, "Triangles", "TetrahedraP2\n1\n1 2 3 4 1 2 3 4 1 2 0\nTriangles"), {"second-order"}},
+      {replaced(t, "Triangles", "Quadrilaterals\n1\n1 2 3 4 0\nTriangles"),
+       {"Quadrilaterals", "quadrilaterals", "tetrahedra and triangles only"}},
+      {replaced(t, "Triangles", "QuadrilateralsQ2\n1\n1 2 3 4 1 2 3 4 1 0\nTriangles"),
+       {"second-order quadrilaterals"}},
       {replaced(t, "Triangles", "Hexahedra\n1\n1 2 3 4 5 1 2 3 0\nTriangles"), {"hexahedra"}},
       {replaced(t, "Triangles", "Blobs\n1\nTriangles"), {"unknown keyword 'Blobs'", "line"}},
       {replaced(t, "End\n", ""), {"without 'End'"}},
@@ -118,6 +121,72 @@ TEST(MeditReader, BrokenFilesNameWhereAndWhat) {
     ASSERT_FALSE(msg.empty()) << c.text;
     for (const auto& f : c.facts) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
   }
+}
+
+// Second order (gmsh -order 2 -format mesh): a TetrahedraP2 entry lists 4 corners then 6 mid-edge
+// vertices, a TrianglesP2 entry 3 then 3; the corners are kept, the mid-edge vertices dropped and
+// the others renumbered, their positions kept as node tags. EdgesP2 are skipped.
+TEST(MeditReader, SecondOrderElementsAreReadByTheirCorners) {
+  const std::string text =
+      "MeshVersionFormatted 2\nDimension 3\nVertices\n10\n"
+      "0 0 0 0\n0.5 0 0 0\n1 0 0 0\n0 0.5 0 0\n0 1 0 0\n0 0 0.5 0\n0 0 1 0\n0.5 0.5 0 0\n0.5 0 0.5 0\n"
+      "0 0.5 0.5 0\n"
+      "EdgesP2\n1\n1 3 2 4\n"
+      "TrianglesP2\n1\n1 3 5 2 8 4 5\n"
+      "TetrahedraP2\n1\n1 3 5 7 2 8 4 6 10 9 1\nEnd\n";
+  const Mesh m = parse_medit(text, "p2.mesh");
+  EXPECT_TRUE(m.read_by_corner_nodes);
+  ASSERT_EQ(m.nodes.size(), 4u);
+  EXPECT_EQ(m.node_tags, std::vector<std::size_t>({1, 3, 5, 7}));
+  EXPECT_EQ(m.nodes[2], Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(m.tets, (std::vector<std::array<int, 4>>{{0, 1, 2, 3}}));
+  EXPECT_EQ(m.triangles, (std::vector<std::array<int, 3>>{{0, 1, 2}}));
+  EXPECT_EQ(m.triangles_of_group("5").size(), 1u);
+  EXPECT_FALSE(parse_medit(kTwoTets, "p1.mesh").read_by_corner_nodes);
+}
+
+// The same in binary (.meshb, version 2: 32-bit integers, 64-bit reals), written here keyword by
+// keyword: code, position of the next keyword, data.
+TEST(MeditReader, SecondOrderElementsAreReadByTheirCornersInBinary) {
+  std::string data;
+  const auto put_int = [&](std::int32_t v) { data.append(reinterpret_cast<const char*>(&v), 4); };
+  const auto put_real = [&](double v) { data.append(reinterpret_cast<const char*>(&v), 8); };
+  const auto keyword = [&](std::int32_t code, const std::function<void()>& body) {
+    put_int(code);
+    const std::size_t next = data.size();
+    put_int(0);
+    body();
+    const std::int32_t end = static_cast<std::int32_t>(data.size());
+    std::memcpy(data.data() + next, &end, 4);
+  };
+  put_int(1);
+  put_int(2);
+  keyword(3, [&] { put_int(3); });
+  const double xyz[10][3] = {{0, 0, 0},   {0.5, 0, 0}, {1, 0, 0},     {0, 0.5, 0},   {0, 1, 0},
+                             {0, 0, 0.5}, {0, 0, 1},   {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  keyword(4, [&] {
+    put_int(10);
+    for (const auto& x : xyz) {
+      for (double c : x) put_real(c);
+      put_int(0);
+    }
+  });
+  keyword(24, [&] {  // TrianglesP2
+    put_int(1);
+    for (std::int32_t v : {1, 3, 5, 2, 8, 4, 5}) put_int(v);
+  });
+  keyword(30, [&] {  // TetrahedraP2
+    put_int(1);
+    for (std::int32_t v : {1, 3, 5, 7, 2, 8, 4, 6, 10, 9, 1}) put_int(v);
+  });
+  put_int(54);
+  put_int(0);
+  const Mesh m = parse_medit(data, "p2.meshb");
+  EXPECT_TRUE(m.read_by_corner_nodes);
+  ASSERT_EQ(m.nodes.size(), 4u);
+  EXPECT_EQ(m.nodes[3], Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(m.tets, (std::vector<std::array<int, 4>>{{0, 1, 2, 3}}));
+  EXPECT_EQ(m.triangles, (std::vector<std::array<int, 3>>{{0, 1, 2}}));
 }
 
 TEST(MeditReader, EdgesCornersAndRequiredEntitiesAreSkipped) {
