@@ -1,9 +1,7 @@
 #include "linalg/blas_buffers.hpp"
 
-#include <dlfcn.h>
 #include <sys/mman.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <string>
@@ -12,6 +10,7 @@
 #include "base/errors.hpp"
 #include "base/memory.hpp"
 #include "linalg/blas.hpp"
+#include "linalg/blas_threads.hpp"
 
 namespace contact3d {
 namespace {
@@ -19,14 +18,6 @@ namespace {
 constexpr std::uint64_t kBufferBytes = (128ull << 20) + 4096;  // one thread's buffer, as OpenBLAS maps it
 constexpr std::uint64_t kMiB = 1ull << 20;
 constexpr std::uint64_t kMargin = 16 * kMiB;  // beyond the buffers, for the solve's first steps
-
-// OpenBLAS's thread count (0: the BLAS is not OpenBLAS); each thread, the caller one of them, maps a
-// buffer.
-int openblas_threads() {
-  using ThreadCount = int (*)();
-  const auto count = reinterpret_cast<ThreadCount>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  return count ? std::max(count(), 1) : 0;
-}
 
 // Whether `bytes` of address space can still be mapped (mapped and released at once, never touched).
 bool can_map(std::uint64_t bytes) {
@@ -50,7 +41,8 @@ void reserve_blas_buffers() {
   // OpenBLAS's buffers are the process's, mapped once: so is this flag.
   static std::atomic<bool> reserved{false};
   if (reserved) return;
-  const int threads = openblas_threads();
+  // Each OpenBLAS thread, the caller one of them, maps a buffer (0 threads: the BLAS is not OpenBLAS).
+  const int threads = current_blas_threads().threads;
   const std::uint64_t headroom = memory_detail::address_space_headroom();  // 0: no limit
   if (threads == 0 || headroom == 0) return;
   const std::uint64_t bytes = static_cast<std::uint64_t>(threads) * kBufferBytes;

@@ -509,7 +509,7 @@ class Parser {
   std::pair<int, int> last_used_{-1, 0};
   std::array<std::map<int, std::vector<int>>, 4> entities_;  // physical tags per entity
   std::vector<int> no_physicals_;
-  std::size_t second_order_ = 0;  // element records of second order (kLine3, kTri6, kTet10)
+  bool second_order_ = false;  // the file holds second-order elements (kLine3, kTri6, kTet10)
 };
 
 Mesh Parser::parse() {
@@ -571,7 +571,7 @@ Mesh Parser::parse() {
   mesh_.groups = named_;
   for (const auto& [dim, tag] : used_order_)
     if (!named_set_.count({dim, tag})) mesh_.groups.push_back(PhysicalGroup{dim, tag, ""});
-  if (second_order_ > 0) {  // P1 on the corners
+  if (second_order_) {  // P1 on the corners
     drop_unused_nodes(mesh_);
     mesh_.read_by_corner_nodes = true;
   }
@@ -955,7 +955,7 @@ void Parser::read_elements41() {
         mesh_.triangle_group.push_back(group);
       }
     }
-    if (is_second_order(type)) second_order_ += n;
+    if (is_second_order(type)) second_order_ = true;
     if (is_triangle(type) && phys.size() > 1) {
       // Each extra physical tag stores the block again; bound the total by the file size so
       // that a small crafted file cannot demand a huge allocation.
@@ -992,7 +992,7 @@ void Parser::read_elements22() {
   const auto keep = [&](int type, std::uint64_t tag, int physical, int elementary) {
     const int dim = is_tet(type) ? 3 : is_triangle(type) ? 2 : is_line(type) ? 1 : 0;
     note_used_group(dim, physical);
-    if (is_second_order(type)) ++second_order_;
+    if (is_second_order(type)) second_order_ = true;
     if (is_tet(type)) {
       const std::array<int, 4> tet{idx[0], idx[1], idx[2], idx[3]};
       // gmsh writes a tetrahedron once per physical group, as consecutive records.
