@@ -520,6 +520,14 @@ def c_displacement_rigid_motion_free(c):
     return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["free to move", "translation"]
 
 
+def c_held_by_contact_pulled_off(c):
+    # Rollers on x = 0 hold u_x, u_y: the lift is the contact's to hold, and an upward body force
+    # pulls the body off the foundation.
+    text = open(c.scene(clamped="[]", body_force="[0.0, 0.0, 1e9]")).read().replace(
+        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "clamped"\nx = 0.0\ny = 0.0\n\n[[boundary.traction]]', 1)
+    return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["held by contact alone", "pull the body off"]
+
+
 def c_displacement_conflicting_values(c):
     text = open(c.scene()).read().replace(
         "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "clamped"\nx = 1e-3\n\n[[boundary.traction]]', 1)

@@ -129,14 +129,15 @@ Eigen::MatrixXd rigid_body_modes(const Mesh& mesh, const DofMap& dofs) {
   return qr.householderQ() * Eigen::MatrixXd::Identity(dofs.n_free, 6);
 }
 
-void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
-  // A rigid motion u(x) = t + ω × (x − x̄) is free iff it vanishes at every prescribed component.
-  // With coordinates scaled by the body's size, the 6×6 Gram matrix of those components' rows is
-  // singular exactly then; its null vector is the free motion.
+FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs) {
+  // A rigid motion is free iff it vanishes at every prescribed component: with coordinates scaled
+  // by the body's size, the Gram matrix of those components' rows is singular exactly along it.
   const BodyFrame frame = body_frame(mesh, dofs);
-  if (frame.n_used == 0) return;
-  const Eigen::Vector3d centre = frame.centre;
-  const double size = frame.size;
+  FreeRigidMotions free;
+  free.centre = frame.centre;
+  free.size = frame.size;
+  free.motions.resize(6, 0);
+  if (frame.n_used == 0) return free;
   Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
   for (int v = 0; v < dofs.n_nodes; ++v) {
     if (!dofs.used[v] || !dofs.fixed[v]) continue;
@@ -145,19 +146,39 @@ void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
       if (dofs.fixed[v] >> c & 1) gram += basis.row(c).transpose() * basis.row(c);
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram);
-  if (eig.eigenvalues()[0] > 1e-10 * std::max(eig.eigenvalues()[5], 1.0)) return;
-  const Eigen::Matrix<double, 6, 1> motion = eig.eigenvectors().col(0);
+  const double tiny = 1e-10 * std::max(eig.eigenvalues()[5], 1.0);
+  int k = 0;
+  while (k < 6 && eig.eigenvalues()[k] <= tiny) ++k;
+  free.motions = eig.eigenvectors().leftCols(k);
+  return free;
+}
+
+std::string FreeRigidMotions::describe(const Eigen::Matrix<double, 6, 1>& motion) const {
   const Eigen::Vector3d t = motion.head<3>(), w = motion.tail<3>();
-  std::string what;
-  if (w.norm() < 1e-6 * t.norm()) {
-    what = "a translation along " + vector_text(t.normalized());
-  } else {
-    // The axis of u = t + ω × (x − x̄), scaled back: points p with u(p) ∥ ω.
-    const Eigen::Vector3d point = centre + size * w.cross(t) / w.squaredNorm();
-    what = "a rotation about the axis along " + vector_text(w.normalized()) + " through " + vector_text(point, size);
-    if (std::abs(t.dot(w)) > 1e-6 * t.norm() * w.norm()) what += " (with a slide along it)";
+  if (w.norm() < 1e-6 * t.norm()) return "a translation along " + vector_text(t.normalized());
+  // The axis of u = t + ω × (x − x̄), scaled back: points p with u(p) ∥ ω.
+  const Eigen::Vector3d point = centre + size * w.cross(t) / w.squaredNorm();
+  std::string what =
+      "a rotation about the axis along " + vector_text(w.normalized()) + " through " + vector_text(point, size);
+  if (std::abs(t.dot(w)) > 1e-6 * t.norm() * w.norm()) what += " (with a slide along it)";
+  return what;
+}
+
+Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free) {
+  Eigen::MatrixXd field = Eigen::MatrixXd::Zero(dofs.n_free, free.count());
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    if (!dofs.used[v]) continue;
+    const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis((mesh.nodes[v] - free.centre) / free.size);
+    for (int c = 0; c < 3; ++c)
+      if (const int d = dofs.dof(v, c); d >= 0) field.row(d) = basis.row(c) * free.motions;
   }
-  throw InputError("the prescribed displacements leave the body free to move: " + what +
+  return field;
+}
+
+void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
+  const FreeRigidMotions free = free_rigid_motions(mesh, dofs);
+  if (free.count() == 0) return;
+  throw InputError("the prescribed displacements leave the body free to move: " + free.describe(free.motions.col(0)) +
                    " is not prevented by boundary.clamped or boundary.displacement, so the stiffness matrix is "
                    "singular (contact alone does not hold a body); constrain more components or groups");
 }

@@ -50,6 +50,21 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_gr
 // coarse spaces from them (the distributed backend attaches them to its matrix).
 Eigen::MatrixXd rigid_body_modes(const Mesh& mesh, const DofMap& dofs);
 
+// The rigid motions u(x) = t + ω × (x − centre)/size that the prescribed components leave free (K is
+// singular exactly along them): the null space of the 6 × 6 Gram matrix of the prescribed rows, as
+// orthonormal columns (t; ω), about the used nodes' centroid in coordinates scaled by their extent.
+struct FreeRigidMotions {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> motions;  // 6 × k, k = 0 when K is regular
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double size = 1;
+  int count() const { return static_cast<int>(motions.cols()); }
+  // "a translation along (0, 0, 1)", "a rotation about the axis along … through …", for (t; ω).
+  std::string describe(const Eigen::Matrix<double, 6, 1>& motion) const;
+};
+FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs);
+// Those motions at the free dofs (n_free × k).
+Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free);
+
 // Throws InputError, before anything is factorized, when the prescribed components leave a rigid
 // motion of the body free (K would be singular), naming the motion: a translation along a
 // direction or a rotation about an axis through a point.

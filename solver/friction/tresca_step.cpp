@@ -50,7 +50,7 @@ TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, cons
   if (!S || !S->ok()) return out;
   out.normal_pressure = dlambda.head(slip_bound_.size());
   // λ ↦ w is affine: its change along dλ, from one application of K⁻¹ on Γc.
-  const Eigen::VectorXd dw = face_dofs_.scatter(dual_.face_displacement(lambda_ + dlambda)) - last_face_;
+  const Eigen::VectorXd dw = face_displacement(lambda_ + dlambda) - last_face_;
   const double s = difference_step(last_face_, dw);
   if (s > 0) out.slip = (face_dofs_.slip(face_, last_face_ + s * dw) - last_slip_) / s;
   return out;
@@ -81,15 +81,20 @@ TrescaStep::Prediction TrescaStep::predict(const Eigen::VectorXd& phi, const Eig
   count_sensitivity_products(S);
   if (!S || !S->ok()) return {};  // none, or its CG did not converge (matrix-free)
   const Eigen::VectorXd lambda = lambda_ + dlambda;
-  return {face_dofs_.slip(face_, face_dofs_.scatter(dual_.face_displacement(lambda))),
-          lambda.head(slip_bound_.size()).cwiseMax(0.0)};
+  return {face_dofs_.slip(face_, face_displacement(lambda)), lambda.head(slip_bound_.size()).cwiseMax(0.0)};
+}
+
+Eigen::VectorXd TrescaStep::face_displacement(const Eigen::VectorXd& lambda) const {
+  Eigen::VectorXd at_dofs = dual_.face_displacement(lambda);
+  if (rigid_face_.cols()) at_dofs -= rigid_face_ * qp_.equality_multiplier();
+  return face_dofs_.scatter(at_dofs);
 }
 
 SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::VectorXd& g, double qp_rtol) {
   radius_ = radii_(phi, g);
   sensitivity_.reset();
   last_qp_ = qp_.solve(radius_, lambda_, qp_rtol);
-  Eigen::VectorXd u_face = face_dofs_.scatter(dual_.face_displacement(lambda_));
+  Eigen::VectorXd u_face = face_displacement(lambda_);
   SlipEvaluation eval;
   eval.ok = last_qp_.status == QpStatus::Converged && u_face.allFinite();
   eval.qp_iterations = last_qp_.iterations;
@@ -103,7 +108,7 @@ SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::Vector
   eval.slip = face_dofs_.slip(face_, u_face);
   last_slip_ = eval.slip;
   last_face_ = std::move(u_face);
-  history_.push_back({lambda_, radius_});
+  history_.push_back({lambda_, radius_, rigid_face_.cols() ? qp_.equality_multiplier() : Eigen::VectorXd()});
   slip_input_ = phi;
   slip_bound_input_ = g;
   return eval;

@@ -57,6 +57,11 @@ class TrescaStep {
   // What derivative() and predict() have cost so far, in K⁻¹ applications (part of products()).
   int sensitivity_products() const { return sensitivity_products_; }
 
+  // Rigid motions held by the contact alone (model/held_by_contact.hpp): their values at the face
+  // dofs (FaceDofs order, one column per motion). From then on u on Γc is w − Rμ, μ the QP's
+  // equality multiplier of each solve (its change along a derivative is not followed).
+  void add_rigid_motions(Eigen::MatrixXd face_field) { rigid_face_ = std::move(face_field); }
+
   const Eigen::VectorXd& lambda() const { return lambda_; }
   const Eigen::VectorXd& radius() const { return radius_; }
   const Eigen::VectorXd& slip_input() const { return slip_input_; }                     // φ of the last radii
@@ -74,6 +79,7 @@ class TrescaStep {
   // λ and the radii of every solve so far, in order (one value per multiplier: small).
   struct Solve {
     Eigen::VectorXd lambda, radius;
+    Eigen::VectorXd rigid;  // μ: the rigid motions' amplitudes (empty without add_rigid_motions)
   };
   const std::vector<Solve>& history() const { return history_; }
 
@@ -90,6 +96,9 @@ class TrescaStep {
   int coarse_products_ = 0;
   Eigen::VectorXd last_face_, last_slip_;  // u on Γc after the last solve, and its slip G(φ)
   std::vector<Solve> history_;
+  Eigen::MatrixXd rigid_face_;  // R at the face dofs (no columns: none)
+  // u on Γc (3 per node) for multipliers λ: w(λ) − Rμ with the last solve's μ.
+  Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const;
   std::optional<RadiusSensitivity> sensitivity_;  // of the last solve, made by the first derivative() or predict()
   RadiusSensitivity* sensitivity();               // sensitivity_, made if need be; null when it failed
   int counted_products_ = 0;                      // sensitivity_->products() already in products_

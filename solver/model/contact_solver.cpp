@@ -30,6 +30,7 @@
 #include "linalg/symmetric_product.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "model/dual_route.hpp"
+#include "model/held_by_contact.hpp"
 #include "model/plane_frame.hpp"
 #include "model/solution_fields.hpp"
 #include "qp/dual_qp_solver.hpp"
@@ -48,6 +49,8 @@ struct Discretisation {
   Eigen::SparseMatrix<double> K;
   Eigen::VectorXd f;
   bool K_elsewhere = false;
+  ContactHeldMotions held;    // rigid motions the contact alone holds (none: count() = 0)
+  bool springs_in_K = false;  // K holds held's pin springs (K_s)
 
   std::function<void()> release_K() {
     return [this] {
@@ -55,13 +58,18 @@ struct Discretisation {
       K_elsewhere = true;
     };
   }
+  // K w (never K_s w).
   Eigen::VectorXd stiffness_times(const Mesh& mesh, const DofMap& dofs, const Eigen::VectorXd& w) const {
-    return K_elsewhere ? apply_stiffness(mesh, dofs, materials, w) : Eigen::VectorXd(K * w);
+    if (K_elsewhere) return apply_stiffness(mesh, dofs, materials, w);
+    Eigen::VectorXd Kw = K * w;
+    if (springs_in_K) held.remove_springs(w, Kw);
+    return Kw;
   }
   const Eigen::SparseMatrix<double>& stiffness(const Mesh& mesh, const DofMap& dofs) {
     if (K_elsewhere) {
       K = assemble_stiffness(mesh, dofs, materials);
       K_elsewhere = false;
+      springs_in_K = false;
     }
     return K;
   }
@@ -74,13 +82,22 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   check_mesh_meaning(mesh, mesh_roles(scene));
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
-  require_rigid_motions_fixed(mesh, res.dofs);
+  Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
+  disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty());
   res.n_primal = res.dofs.n_free;
-  Discretisation disc{tet_materials(scene, mesh), {}, {}};
-  if (assemble_K)
+  if (disc.held.count() && !assemble_K)
+    throw InputError("the body is held by contact alone (" + disc.held.describe() +
+                     " is free), which the distributed backend does not solve yet: run it serially, or prescribe "
+                     "that motion");
+  if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
-  else
+    if (disc.held.count()) {
+      add_pin_springs(disc.K, disc.held);
+      disc.springs_in_K = true;
+    }
+  } else {
     disc.K_elsewhere = true;
+  }
   disc.f =
       assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
   return disc;
@@ -394,9 +411,47 @@ void flag_possible_nonuniqueness(const Scene& scene, SolveResult& res) {
 }
 
 // The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
+// A body held by contact alone: the dual QP gets the equilibrium of the free rigid motions as its
+// equality constraints Gλ = e, and the Tresca step their displacement on Γc.
+void hold_by_contact(const Discretisation& disc, const ContactOperator& op, const FaceDofs& face_dofs, DualQpSolver& qp,
+                     TrescaStep& tresca, Progress& report, SolveResult& res) {
+  const Eigen::MatrixXd& R = disc.held.field;
+  qp.set_equality((op.B * R).transpose(), R.transpose() * disc.f);
+  Eigen::MatrixXd face_field(static_cast<Eigen::Index>(face_dofs.dofs.size()), R.cols());
+  for (std::size_t k = 0; k < face_dofs.dofs.size(); ++k)
+    face_field.row(static_cast<Eigen::Index>(k)) = R.row(face_dofs.dofs[k]);
+  tresca.add_rigid_motions(std::move(face_field));
+  const std::string note = "held by contact alone: " + disc.held.describe() +
+                           " is free of prescribed components; K made regular by a spring at " +
+                           std::to_string(disc.held.pins.size()) +
+                           " dof(s), the motion's equilibrium an equality constraint of the dual";
+  report.stage(note);
+  res.notes.push_back(note);
+}
+
+// After the dual solve of a body held by contact alone: an InputError when the contact forces could
+// not balance the loads along the free motions (the loads pull the body off the foundation, or tilt
+// it about an edge of the contact face).
+void require_held(const Discretisation& disc, const DualQpSolver& qp, const TrescaStep& tresca) {
+  if (qp.equality_residual() <= 1e-6 && !tresca.history().empty()) return;
+  throw InputError("the body is held by contact alone (" + disc.held.describe() +
+                   " is free), but no contact forces balance the loads along that motion (their imbalance is " +
+                   number(100 * qp.equality_residual(), 3) +
+                   "% of the loads): the loads pull the body off the foundation or tip it over an edge of the "
+                   "contact face; prescribe that motion, or check the loads' directions");
+}
+
+// The displacement at the free dofs after one Tresca solve: w = K⁻¹(f − 𝔹ᵀλ), less the rigid
+// motions Rμ that the contact alone holds (held_by_contact.hpp).
+Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& disc, const TrescaStep::Solve& solve) {
+  Eigen::VectorXd w = dual.displacement(solve.lambda);
+  if (disc.held.count()) w -= disc.held.field * solve.rigid;
+  return w;
+}
+
 void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, const ContactOperator& op,
              const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
-  const Eigen::VectorXd w = dual.displacement(tresca.lambda());
+  const Eigen::VectorXd w = displacement_of(dual, disc, tresca.history().back());
   res.lambda = tresca.lambda();
   res.radius = tresca.radius();
   res.slip_input = tresca.slip_input();
@@ -428,13 +483,14 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
 // The state after every solve, for the per-step output: λ and the radii as the Tresca step kept
 // them, and (for [output] steps = "all") the whole displacement, one back substitution per step
 // before the last (whose displacement is the answer's).
-void record_steps(const Scene& scene, const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
+void record_steps(const Scene& scene, const DualProblem& dual, const Discretisation& disc, const TrescaStep& tresca,
+                  SolveResult& res) {
   const auto& solves = tresca.history();
   res.steps.clear();
   for (std::size_t k = 0; k < solves.size(); ++k) {
     SolveStep step{solves[k].lambda, solves[k].radius, Eigen::VectorXd()};
     if (resolved(scene.output.steps, static_cast<std::size_t>(res.dofs.n_nodes)) == StepOutput::All)
-      step.u = k + 1 == solves.size() ? res.u : expand_to_nodes(res.dofs, dual.displacement(step.lambda));
+      step.u = k + 1 == solves.size() ? res.u : expand_to_nodes(res.dofs, displacement_of(dual, disc, solves[k]));
     res.steps.push_back(std::move(step));
   }
 }
@@ -726,6 +782,11 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   describe_contact(report, res, op);
   method = fit_dual_method(scene, method, op, report, res);
   const bool matrix_free = method == DualMethod::MatrixFree;
+  if (disc.held.count() && matrix_free)
+    throw InputError("the body is held by contact alone (" + disc.held.describe() +
+                     " is free), which the matrix-free dual (solver.dual_method = \"matrix_free\", or \"auto\" when "
+                     "the dense Q does not fit) does not solve yet: use fewer multipliers (a larger "
+                     "contact.cell_size) or prescribe that motion");
 
   stage.enter("factorization", matrix_free ? "the sparse factor of K (" + count(res.n_primal) + " rows)"
                                            : "the sparse factor of K with the multipliers (" +
@@ -768,8 +829,10 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));
+  if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
+  if (disc.held.count()) require_held(disc, qp, tresca);
   clock.lap("dual_solve");
 
   stage.enter("recovery",
@@ -777,7 +840,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   report.stage("recovery: displacement, residuals, forces");
   recover(scene, mesh, disc, op, *dual, tresca, res);
   clock.lap("postprocess");
-  record_steps(scene, *dual, tresca, res);
+  record_steps(scene, *dual, disc, tresca, res);
   clock.lap("step_fields");
   res.schur_method = dual->method;
   res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);

@@ -1,6 +1,9 @@
 #include "qp/dual_qp_solver.hpp"
 
+#include <algorithm>
 #include <utility>
+
+#include <Eigen/QR>
 
 #include "linalg/dual_operator.hpp"
 #include "linalg/symmetric_product.hpp"
@@ -16,7 +19,7 @@ bool uses_single_products(QpPrecision precision, int multipliers) {
 
 DualQpSolver::DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                            const QpSettings& settings, std::shared_ptr<DualOperatorFactor> factor)
-    : settings_(settings) {
+    : settings_(settings), h_(h) {
   qp_.Q = DenseViewPtr(Q);
   qp_.h = h;
   qp_.r = r;
@@ -47,7 +50,7 @@ DualQpSolver::DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, 
 
 DualQpSolver::DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,
                            const QpSettings& settings)
-    : settings_(settings) {
+    : settings_(settings), h_(h) {
   settings_.precision = QpPrecision::Double;  // no single copy of Q to factor reduced systems in
   qp_.product = std::move(Q.product);
   if (uses_single_products(settings.precision, static_cast<int>(Q.diagonal.size()))) {
@@ -91,6 +94,106 @@ RadiusSensitivity DualQpSolver::radius_sensitivity(const Eigen::VectorXd& lambda
 }
 
 QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
+  return has_equality() ? solve_with_equality(radius, lambda, rtol) : solve_for_linear_term(radius, lambda, rtol);
+}
+
+void DualQpSolver::set_equality(Eigen::MatrixXd G, Eigen::VectorXd e) {
+  G_ = std::move(G);
+  e_ = std::move(e);
+  mu_ = Eigen::VectorXd::Zero(G_.rows());
+  jacobian_.resize(0, 0);
+}
+
+void DualQpSolver::set_linear_term(const Eigen::VectorXd& h) {
+  qp_.h = h;
+  if (jacobi_) jacobi_->set_linear_term(h);
+}
+
+namespace {
+
+void add_counts(QpResult& into, const QpResult& r) {
+  into.iterations += r.iterations;
+  into.hessian_products += r.hessian_products;
+  into.single_products += r.single_products;
+  into.cg_steps += r.cg_steps;
+  into.expansion_steps += r.expansion_steps;
+  into.proportioning_steps += r.proportioning_steps;
+  into.newton_steps += r.newton_steps;
+  into.bordered_steps += r.bordered_steps;
+  into.coarse_products += r.coarse_products;
+  into.projected_gradient = r.projected_gradient;
+}
+
+constexpr int kMaxEqualitySteps = 50;
+// Below this ‖F‖/‖e‖ a step that finds no descent is the inner solves' rounding, not a failure.
+constexpr double kEqualityNoiseFloor = 1e-7;
+
+}  // namespace
+
+QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
+  const Eigen::Index k = G_.rows();
+  const double inner_rtol = std::min(1e-2 * rtol, 1e-8);
+  QpResult total;
+  total.status = QpStatus::Converged;
+  bool inner_failed = false;
+  // F(μ) = Gλ(μ) − e, λ(μ) warm-started from what `lam` holds.
+  const auto F_at = [&](const Eigen::VectorXd& mu, Eigen::VectorXd& lam) {
+    set_linear_term(h_ - G_.transpose() * mu);
+    const QpResult r = solve_for_linear_term(radius, lam, inner_rtol);
+    add_counts(total, r);
+    if (r.status != QpStatus::Converged) inner_failed = true;
+    return Eigen::VectorXd(G_ * lam - e_);
+  };
+  if (lambda.size() != qp_.size()) lambda = Eigen::VectorXd::Zero(qp_.size());
+  Eigen::VectorXd F = F_at(mu_, lambda);
+  // The difference quotients' step: 1e-3 of μ, or of a rigid shift whose 𝔹Rμ is the size of h.
+  const double G_max = G_.lpNorm<Eigen::Infinity>();
+  const double mu_unit = G_max > 0 && h_.lpNorm<Eigen::Infinity>() > 0 ? h_.lpNorm<Eigen::Infinity>() / G_max : 1.0;
+  const auto measure_jacobian = [&] {
+    jacobian_.resize(k, k);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      Eigen::VectorXd mu_j = mu_, lam = lambda;
+      const double step = 1e-3 * std::max(std::abs(mu_[j]), mu_unit);
+      mu_j[j] += step;
+      jacobian_.col(j) = (F_at(mu_j, lam) - F) / step;
+    }
+  };
+  const double F_scale = e_.norm() > 0 ? e_.norm() : std::max(G_.norm() * lambda.norm(), 1e-300);
+  const double target = std::max(rtol, 1e-9) * F_scale;
+  bool fresh_jacobian = false;
+  if (jacobian_.rows() != k && F.norm() > target) {
+    measure_jacobian();
+    fresh_jacobian = true;
+  }
+  for (int step = 0; step < kMaxEqualitySteps && F.norm() > target && !inner_failed; ++step) {
+    // J ≈ −G·dλ/dh·Gᵀ is singular where the contact does not hold a motion: least squares there.
+    const Eigen::VectorXd newton = jacobian_.completeOrthogonalDecomposition().solve(-F);
+    bool accepted = false;
+    for (double t = 1; t >= 1.0 / 256 && !accepted && !inner_failed; t /= 2) {
+      Eigen::VectorXd mu_t = mu_ + t * newton, lam_t = lambda;
+      const Eigen::VectorXd F_t = F_at(mu_t, lam_t);
+      if (F_t.norm() >= (1 - 1e-4 * t) * F.norm()) continue;
+      const Eigen::VectorXd s = t * newton, y = F_t - F;  // Broyden's update along the step taken
+      jacobian_ += (y - jacobian_ * s) * s.transpose() / s.squaredNorm();
+      mu_ = std::move(mu_t);
+      lambda = std::move(lam_t);
+      F = F_t;
+      accepted = true;
+    }
+    if (!accepted && fresh_jacobian) break;  // even a measured Jacobian gives no descent: F has no root
+    if (!accepted) measure_jacobian();
+    fresh_jacobian = !accepted;
+  }
+  set_linear_term(h_ - G_.transpose() * mu_);  // the problem of the answer (for radius_sensitivity)
+  equality_residual_ = F.norm() / F_scale;
+  if (inner_failed)
+    total.status = QpStatus::Breakdown;
+  else if (F.norm() > std::max(target, kEqualityNoiseFloor * F_scale))
+    total.status = QpStatus::IterationLimit;
+  return total;
+}
+
+QpResult DualQpSolver::solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
   if (qp_.with_friction) qp_.radius = radius;
   if (lambda.size() != qp_.size()) lambda = Eigen::VectorXd::Zero(qp_.size());  // no warm start
   const BoxDiscQP problem = solved_problem();

@@ -92,6 +92,18 @@ class DualQpSolver {
   // from the warm start `lambda` (in the original, unscaled variables; of another size: from zero),
   // which holds the result.
   QpResult solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
+
+  // Equality constraints Gλ = e (G: k × m, k <= 6): the equilibrium of the rigid motions that only
+  // the contact holds (model/held_by_contact.hpp), FETI's "Gλ = e". From then on solve() also finds
+  // their multiplier μ: λ(μ) solves the QP with the linear term h − Gᵀμ, and μ is the root of
+  // F(μ) = Gλ(μ) − e, piecewise affine and monotone, found by Newton steps with a difference-quotient
+  // Jacobian (kept from solve to solve, Broyden-updated, re-measured when a step fails) and halving,
+  // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (1e-7 where the inner solves' rounding stops the descent), the
+  // inner solves to min(rtol/100, 1e-8). μ is warm-started too.
+  void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);
+  bool has_equality() const { return G_.rows() > 0; }
+  const Eigen::VectorXd& equality_multiplier() const { return mu_; }  // μ of the last solve
+  double equality_residual() const { return equality_residual_; }     // ‖Gλ − e‖ / ‖e‖ of the last solve
   // dλ/dc at `lambda`, the solution of the last solve(), in the original variables, computed on the
   // problem that solve() solved (Jacobi-scaled or not; through the factor of Q where the Newton steps
   // go through it; by CG on a matrix-free Q). It holds the radii of this solve and must not outlive
@@ -104,6 +116,9 @@ class DualQpSolver {
   // The problem the solvers work on for the current radii: Jacobi-scaled or not, with the single
   // copy of Q and the bordered Newton solver attached.
   BoxDiscQP solved_problem();
+  QpResult solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
+  QpResult solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
+  void set_linear_term(const Eigen::VectorXd& h);
 
   BoxDiscQP qp_;
   std::optional<JacobiScaledQP> jacobi_;
@@ -116,6 +131,11 @@ class DualQpSolver {
   std::unique_ptr<BorderedNewton> bordered_;  // the Newton steps' route through the factor of Q (or none)
   QpSettings settings_;
   Progress* progress_ = nullptr;
+  Eigen::VectorXd h_;         // the linear term of the problem as given (before any −Gᵀμ)
+  Eigen::MatrixXd G_;         // equality constraints (0 rows: none)
+  Eigen::VectorXd e_, mu_;    // their right-hand side and multiplier
+  Eigen::MatrixXd jacobian_;  // dF/dμ as last measured and updated (empty: not yet)
+  double equality_residual_ = 0;
 };
 
 }  // namespace contact3d

@@ -18,6 +18,8 @@ class JacobiScaledQP {
   // when it estimates it from a single-precision copy.
   explicit JacobiScaledQP(const BoxDiscQP& qp, bool estimate_norm = true);
   void set_norm(double q_norm) { qp_.q_norm = q_norm; }
+  // A new linear term h of the original problem (the scaled one gets S h).
+  void set_linear_term(const Eigen::VectorXd& h) { qp_.h = qp_.scale.cwiseProduct(h); }
   // The scaled problem for the current radii of the original one.
   const BoxDiscQP& scaled(const Eigen::VectorXd& radius);
   Eigen::VectorXd to_scaled(const Eigen::VectorXd& lambda) const { return lambda.cwiseQuotient(scale()); }

@@ -469,3 +469,34 @@ TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) 
     FAIL() << "a y-only condition under a tilt about x was accepted";
   } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("'free'"), std::string::npos) << e.what(); }
 }
+
+// A body held by contact alone: rollers on x = 0 holding u_x and u_y leave the lift along z free;
+// the contact forces must then carry the whole downward load (no clamp reaction), the KKT residuals
+// include the equilibrium at every dof, and the body moves down as a whole (the roller face too).
+// Loads that pull it off, or rollers that leave it free to slide, are refused with a clear error.
+TEST(SolveUserConditions, BodyHeldByContactAlone) {
+  const std::string rollers = "[[boundary.displacement]]\ngroup = \"clamped\"\nx = 0\ny = 0\n";
+  const SolveResult held = solve_with(rollers, {"boundary.clamped=[]"});
+  ASSERT_TRUE(held.converged) << held.status;
+  EXPECT_LT(held.kkt.max(), 1e-8);
+  EXPECT_LT(held.forces.balance, 1e-10);
+  EXPECT_NEAR(held.forces.contact.z(), -held.forces.applied.z(), 1e-9 * std::abs(held.forces.applied.z()));
+  double roller_face_uz = 0;
+  for (std::size_t v = 0; v < held.dofs.fixed.size(); ++v)
+    if (held.dofs.fixed[v] == 3)
+      roller_face_uz = std::min(roller_face_uz, held.u[static_cast<Eigen::Index>(3 * v + 2)]);
+  EXPECT_LT(roller_face_uz, 0.0);  // not pinned at its place: the lift is the contact's to fix
+
+  try {
+    solve_with(rollers, {"boundary.clamped=[]", "material.body_force=[0, 0, 1e9]"});
+    FAIL() << "a load pulling the body off solved";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pull the body off"), std::string::npos) << e.what();
+  }
+  try {
+    solve_with("[[boundary.displacement]]\ngroup = \"clamped\"\nx = 0\n", {"boundary.clamped=[]"});
+    FAIL() << "a body free to slide solved";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not in its plane"), std::string::npos) << e.what();
+  }
+}

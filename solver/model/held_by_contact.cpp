@@ -1,0 +1,75 @@
+#include "model/held_by_contact.hpp"
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "base/errors.hpp"
+
+namespace contact3d {
+
+std::string ContactHeldMotions::describe() const {
+  std::string text;
+  for (int j = 0; j < count(); ++j) text += (j ? " and " : "") + free.describe(free.motions.col(j));
+  return text;
+}
+
+void ContactHeldMotions::remove_springs(const Eigen::VectorXd& w, Eigen::VectorXd& Ks_w) const {
+  for (std::size_t p = 0; p < pins.size(); ++p) Ks_w[pins[p]] -= pin_springs[p] * w[pins[p]];
+}
+
+namespace {
+
+// Of the motions (t; ω), the parts that move the plane z = 0 along its normal: t_z, ω_x, ω_y.
+Eigen::Matrix<double, 3, Eigen::Dynamic> normal_parts(const FreeRigidMotions& free) {
+  Eigen::Matrix<double, 3, Eigen::Dynamic> parts(3, free.count());
+  parts.row(0) = free.motions.row(2);
+  parts.row(1) = free.motions.row(3);
+  parts.row(2) = free.motions.row(4);
+  return parts;
+}
+
+// k dofs where R's rows are the best conditioned k × k block (column-pivoted QR of Rᵀ).
+std::vector<int> pin_dofs(const Eigen::MatrixXd& field) {
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(field.transpose());
+  std::vector<int> pins;
+  for (Eigen::Index j = 0; j < field.cols(); ++j) pins.push_back(qr.colsPermutation().indices()[j]);
+  return pins;
+}
+
+}  // namespace
+
+ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact) {
+  ContactHeldMotions held;
+  held.free = free_rigid_motions(mesh, dofs);
+  if (held.count() == 0) return held;
+  if (!has_contact) require_rigid_motions_fixed(mesh, dofs);  // throws, naming the motion
+  // A combination of the free motions with no normal part slides or turns the body in the plane.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(normal_parts(held.free), Eigen::ComputeFullV);
+  const Eigen::Index k = held.count();
+  Eigen::Index held_rank = 0;  // motions with a normal part
+  while (held_rank < svd.singularValues().size() && svd.singularValues()[held_rank] >= 1e-6) ++held_rank;
+  if (held_rank < k) {
+    // The in-plane motions; named by the one that turns least (a slide where there is one).
+    const Eigen::MatrixXd in_plane = held.free.motions * svd.matrixV().rightCols(k - held_rank);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> turn(in_plane.bottomRows(3), Eigen::ComputeFullV);
+    const Eigen::Matrix<double, 6, 1> named = in_plane * turn.matrixV().col(in_plane.cols() - 1);
+    throw InputError("the prescribed displacements leave the body free to move: " + held.free.describe(named) +
+                     " is not prevented by boundary.clamped or boundary.displacement; contact holds a body only "
+                     "along the foundation's normal (a lift, a tilt), not in its plane, so the stiffness matrix "
+                     "is singular; constrain more components or groups (e.g. symmetry planes)");
+  }
+  held.field = rigid_motion_field(mesh, dofs, held.free);
+  held.pins = pin_dofs(held.field);
+  return held;
+}
+
+void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held) {
+  held.pin_springs.clear();
+  for (const int p : held.pins) {
+    const double spring = K.coeff(p, p);
+    K.coeffRef(p, p) += spring;
+    held.pin_springs.push_back(spring);
+  }
+}
+
+}  // namespace contact3d

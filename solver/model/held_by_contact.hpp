@@ -1,0 +1,44 @@
+// Bodies held by contact alone (a block pressed onto the foundation with symmetry rollers and no
+// clamp, a gasket under pressure): the rigid motions the prescribed components leave free are
+// held by the contact forces, as in FETI's treatment of floating subdomains. K is singular along
+// them; it is made invertible by a spring at one well-chosen dof per motion ("pins"), whose
+// K_s⁻¹ acts as a generalized inverse of K wherever the loads on the body balance along the free
+// motions, Rᵀ(f − 𝔹ᵀλ) = 0 — the equality constraints Gλ = e (G = (𝔹R)ᵀ, e = Rᵀf) that the dual
+// QP gets (qp/dual_qp_solver.hpp). Their multiplier μ is the body's rigid displacement: u = w − Rμ,
+// w = K_s⁻¹(f − 𝔹ᵀλ). Normal contact holds only motions that move the body along the foundation's
+// normal (a lift, a tilt about an axis in the plane); a free motion in the plane (a slide, a turn
+// about the normal) is refused, as before: friction alone would leave it undetermined.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "fem/dof_map.hpp"
+#include "mesh/mesh.hpp"
+
+namespace contact3d {
+
+struct ContactHeldMotions {
+  FreeRigidMotions free;            // the motions, about the body's centroid
+  Eigen::MatrixXd field;            // n_free × k: the motions at the free dofs (R)
+  std::vector<int> pins;            // k free dofs with a spring, where R's rows are best conditioned
+  std::vector<double> pin_springs;  // the springs added to K's diagonal there (K_s = K + Σ s_p e_p e_pᵀ)
+  int count() const { return free.count(); }
+  // "a translation along (0, 0, 1)" and so on, one per motion, joined by " and ".
+  std::string describe() const;
+  // K_s w − (K_s − K) w: K w from a product by K_s.
+  void remove_springs(const Eigen::VectorXd& w, Eigen::VectorXd& Ks_w) const;
+};
+
+// The free rigid motions of a body whose contact face lies on the plane z = 0 (the solve's frame):
+// none (count() = 0) when the prescribed components hold the body. Throws InputError when a free
+// motion moves the body in the plane (no normal contact force can hold it) or `has_contact` is false.
+ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact);
+
+// Adds the pins' springs (each equal to K's diagonal entry there) to K; records them in `held`.
+void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held);
+
+}  // namespace contact3d

@@ -1,0 +1,90 @@
+// The dual QP with equality constraints Gλ = e (a body held by contact alone): a case solved by
+// hand, and random QPs with friction whose answer must be the minimizer of the QP without them for
+// the linear term h − Gᵀμ (checked by an independent MPGP solve) and satisfy Gλ = e.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "linalg/dual_operator.hpp"
+#include "qp/dual_qp_solver.hpp"
+#include "qp/mpgp.hpp"
+#include "test_support.hpp"
+
+using namespace contact3d;
+
+namespace {
+
+QpSettings settings_for(QpVariant variant) {
+  QpSettings s;
+  s.variant = variant;
+  return s;
+}
+
+}  // namespace
+
+// min ½|λ|² − hᵀλ, λ >= 0, λ₁ + λ₂ + λ₃ = 2 with h = (2, 1, −5): λ = max(h − μ, 0) summing to 2
+// gives μ = 0.5, λ = (1.5, 0.5, 0).
+TEST(EqualityConstrainedQp, SolvedByHand) {
+  const Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(3, 3);
+  const Eigen::VectorXd h = (Eigen::VectorXd(3) << 2, 1, -5).finished();
+  for (const QpVariant variant : {QpVariant::Auto, QpVariant::Mpgp, QpVariant::Ssn}) {
+    DualQpSolver qp(Q, h, 3, false, 1.0, settings_for(variant));
+    qp.set_equality(Eigen::MatrixXd::Ones(1, 3), Eigen::VectorXd::Constant(1, 2.0));
+    Eigen::VectorXd lambda;
+    const QpResult result = qp.solve(Eigen::VectorXd::Zero(3), lambda, 1e-12);
+    ASSERT_EQ(result.status, QpStatus::Converged) << name_of(variant, kQpVariantNames);
+    EXPECT_NEAR(lambda[0], 1.5, 1e-9);
+    EXPECT_NEAR(lambda[1], 0.5, 1e-9);
+    EXPECT_NEAR(lambda[2], 0.0, 1e-12);
+    EXPECT_NEAR(qp.equality_multiplier()[0], 0.5, 1e-9);
+    EXPECT_LT(qp.equality_residual(), 1e-9);
+  }
+}
+
+// Random QPs with half-lines and discs, two equality rows whose right-hand side a feasible point
+// meets: Gλ = e holds, and λ solves the QP without equalities for h − Gᵀμ.
+TEST(EqualityConstrainedQp, RandomProblemsWithFriction) {
+  std::mt19937 gen(7);
+  std::normal_distribution<double> normal;
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    contact3d::testing::RandomQp rq = contact3d::testing::make_random_qp(8, true, seed);
+    rq.use_operator();
+    const int m = rq.qp.size();
+    Eigen::MatrixXd G(2, m);
+    for (int i = 0; i < G.rows(); ++i)
+      for (int j = 0; j < m; ++j) G(i, j) = normal(gen);
+    G.row(0).head(rq.qp.r).array() = G.row(0).head(rq.qp.r).array().abs() + 0.5;  // a "lift": normals push
+    Eigen::VectorXd feasible = Eigen::VectorXd::Zero(m);
+    feasible.head(rq.qp.r).setConstant(1.0);  // inside the half-lines, tangential parts 0
+    const Eigen::VectorXd e = G * feasible;
+    DualQpSolver qp(rq.Q, rq.qp.h, rq.qp.r, true, estimate_norm(rq.Q), QpSettings());
+    qp.set_equality(G, e);
+    Eigen::VectorXd lambda;
+    const QpResult result = qp.solve(rq.qp.radius, lambda, 1e-11);
+    ASSERT_EQ(result.status, QpStatus::Converged) << "seed " << seed;
+    EXPECT_LT((G * lambda - e).norm(), 1e-8 * e.norm()) << "seed " << seed;
+    BoxDiscQP shifted = rq.qp;
+    shifted.h = rq.qp.h - G.transpose() * qp.equality_multiplier();
+    Eigen::VectorXd independent = Eigen::VectorXd::Zero(m);
+    MpgpSettings mpgp;
+    mpgp.rtol = 1e-12;
+    ASSERT_EQ(solve_mpgp(shifted, independent, mpgp).status, QpStatus::Converged);
+    EXPECT_LT((lambda - independent).norm(), 1e-7 * independent.norm()) << "seed " << seed;
+  }
+}
+
+// Loads the contact cannot balance (e outside what G maps the constraint set to): not converged,
+// and the residual says how far off.
+TEST(EqualityConstrainedQp, UnreachableRightHandSideIsReported) {
+  const Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(3, 3);
+  const Eigen::VectorXd h = (Eigen::VectorXd(3) << 2, 1, -5).finished();
+  DualQpSolver qp(Q, h, 3, false, 1.0, QpSettings());
+  qp.set_equality(Eigen::MatrixXd::Ones(1, 3), Eigen::VectorXd::Constant(1, -1.0));  // λ >= 0 cannot sum to −1
+  Eigen::VectorXd lambda;
+  const QpResult result = qp.solve(Eigen::VectorXd::Zero(3), lambda, 1e-10);
+  EXPECT_NE(result.status, QpStatus::Converged);
+  EXPECT_GT(qp.equality_residual(), 0.5);
+  EXPECT_TRUE(lambda.allFinite());
+}
