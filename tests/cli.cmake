@@ -22,6 +22,12 @@ set_tests_properties(coulomb_against_getfem_n4_n8 PROPERTIES LABELS crosscheck)
 add_test(NAME hertz_quarter_hemisphere
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/hertz_hemisphere.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
                  --h-pole 0.0085 --cell-size 0.017)
+# The same hemisphere pressed by a pressure on its top instead: nothing prescribed holds it along z,
+# the contact alone does (model/held_by_contact.hpp); Hertz as above, and the contact force equals
+# the applied load to 1e-8.
+add_test(NAME hertz_quarter_hemisphere_pressed
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/hertz_hemisphere.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
+                 --h-pole 0.0085 --cell-size 0.017 --top-pressure 1e8)
 # Rotation: the brick turned and moved with its foundation plane (contact.plane_point/normal) and
 # its loads, through the whole command line, gives Q·u, the same wn, wt and contact forces.
 add_test(NAME rotated_brick_n4

@@ -12,10 +12,12 @@ force P (4 x the quarter's) Hertz's formulas for a sphere on a rigid plane give
 The computed contact radius comes from a least-squares fit of p(r)^2 = p0^2 (1 - r^2 / a^2) to the
 cells' mean pressures (cells with p > 0.2 max p and r < 0.8 a_Hertz, r the cell centre's distance to
 the pole), the computed peak pressure from the same fit. Both must be within --tolerance (5%) of
-Hertz's values. With --report the pressure profile is written as a markdown table and a figure
+Hertz's values. With --top-pressure p the top is pressed by a pressure instead of moved: nothing
+prescribed then holds the body along z, the contact alone does (model/held_by_contact.hpp), and the
+contact force must also equal the applied load to 1e-8. With --report the pressure profile is written as a markdown table and a figure
 (p against p0 sqrt(1 - r^2/a^2)) when matplotlib is there.
 
-Usage: hertz_hemisphere.py BIN SOURCE_DIR [--h-pole 0.01] [--cell-size 0.02] [--delta 0.01]
+Usage: hertz_hemisphere.py BIN SOURCE_DIR [--h-pole 0.01] [--cell-size 0.02] [--delta 0.01 | --top-pressure 1e8]
                            [--report results/runs/hertz]
 Exit 0 within tolerance, 1 not, 2 when a step fails.
 """
@@ -49,9 +51,7 @@ x = 0
 [[boundary.displacement]]
 group = "sym_y"
 y = 0
-[[boundary.displacement]]
-group = "top"
-z = {displacement}
+{top_load}
 [contact]
 cell_size = {cell_size}
 [solver]
@@ -86,6 +86,7 @@ def main():
     ap.add_argument("--h-pole", type=float, default=0.01)
     ap.add_argument("--cell-size", type=float, default=0.02)
     ap.add_argument("--delta", type=float, default=0.01)
+    ap.add_argument("--top-pressure", type=float, help="Pa on the top instead of moving it by delta")
     ap.add_argument("--tolerance", type=float, default=0.05)
     ap.add_argument("--report", help="folder for hertz.md, hertz.json and hertz_profile.png")
     args = ap.parse_args()
@@ -99,7 +100,9 @@ def main():
             print(f"error: gmsh failed on {geo}: {gm.stderr[-500:]}", file=sys.stderr)
             return 2
         scene = work / "hertz.toml"
-        scene.write_text(SCENE.format(mesh=msh, young=YOUNG, poisson=POISSON, displacement=-args.delta,
+        top_load = (f'[[boundary.pressure]]\ngroup = "top"\nvalue = {args.top_pressure}' if args.top_pressure else
+                    f'[[boundary.displacement]]\ngroup = "top"\nz = {-args.delta}')
+        scene.write_text(SCENE.format(mesh=msh, young=YOUNG, poisson=POISSON, top_load=top_load,
                                       cell_size=args.cell_size))
         proc, seconds = c3d_run.solve(args.bin, scene, work / "out")
         if proc.returncode != 0:
@@ -108,6 +111,12 @@ def main():
         summary = c3d_run.summary(work / "out")
         cells = np.genfromtxt(work / "out" / "contact_cells.csv", delimiter=",", names=True)
     P = 4 * summary["contact_force"]["normal"]
+    if args.top_pressure:
+        applied = -4 * summary["forces"]["applied"][2]
+        print(f"held by contact alone: contact force {P:.10g} N, applied {applied:.10g} N")
+        if abs(P - applied) > 1e-8 * applied:
+            print("HERTZ FAILED: the contact force does not balance the applied load")
+            return 1
     a_h, p0_h = hertz(P)
     try:
         a_c, p0_c, r, p = fit_profile(cells, a_h)
@@ -115,7 +124,8 @@ def main():
         print(f"error: {e}", file=sys.stderr)
         return 1
     err_a, err_p = abs(a_c / a_h - 1), abs(p0_c / p0_h - 1)
-    row = {"h_pole": args.h_pole, "cell_size": args.cell_size, "delta": args.delta, "n_primal": summary["n_primal"],
+    row = {"h_pole": args.h_pole, "cell_size": args.cell_size, "delta": None if args.top_pressure else args.delta,
+           "top_pressure": args.top_pressure, "n_primal": summary["n_primal"],
            "n_cells": summary["n_cells"], "force_P": P, "a_hertz": a_h, "a_computed": a_c, "p0_hertz": p0_h,
            "p0_computed": p0_c, "p_max_cell": float(p.max()), "err_a": err_a, "err_p0": err_p,
            "wn_plus_inf": summary["wn_plus_inf"], "kkt_max": max(v for v in summary["kkt"].values() if v is not None),
@@ -135,7 +145,8 @@ def write_report(folder, row, r, p):
     (folder / "hertz.json").write_text(json.dumps(row, indent=1) + "\n")
     a, p0 = row["a_hertz"], row["p0_hertz"]
     lines = ["# Hertz: a quarter hemisphere (R = 1 m, E = 200 GPa, nu = 0.3) pressed onto the rigid plane", "",
-             f"Top moved down by {row['delta']} m; mesh size {row['h_pole']} m at the pole, cells H = {row['cell_size']} m; "
+             (f"Top pressed by {row['top_pressure']} Pa (the body held by contact alone)" if row["top_pressure"] else
+              f"Top moved down by {row['delta']} m") + f"; mesh size {row['h_pole']} m at the pole, cells H = {row['cell_size']} m; "
              f"{row['n_primal']} unknowns, {row['n_cells']} cells, {row['seconds']:.1f} s.", "",
              "| | contact3d | Hertz (from the computed force) | difference |", "|---|---|---|---|",
              f"| total force P (N) | {row['force_P']:.4e} | | |",

@@ -59,7 +59,7 @@ struct FreeRigidMotions {
   double size = 1;
   int count() const { return static_cast<int>(motions.cols()); }
   // "a translation along (0, 0, 1)", "a rotation about the axis along … through …", for (t; ω).
-  std::string describe(const Eigen::Matrix<double, 6, 1>& motion) const;
+  std::string describe(const Eigen::Matrix<double, 6, 1>& free_motion) const;
 };
 FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs);
 // Those motions at the free dofs (n_free × k).

@@ -86,9 +86,8 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty());
   res.n_primal = res.dofs.n_free;
   if (disc.held.count() && !assemble_K)
-    throw InputError("the body is held by contact alone (" + disc.held.describe() +
-                     " is free), which the distributed backend does not solve yet: run it serially, or prescribe "
-                     "that motion");
+    throw InputError("the body is held by contact alone (nothing prescribed holds " + disc.held.describe() +
+                     "), which the distributed backend does not solve yet: run it serially, or prescribe that motion");
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
     if (disc.held.count()) {
@@ -421,10 +420,9 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
   for (std::size_t k = 0; k < face_dofs.dofs.size(); ++k)
     face_field.row(static_cast<Eigen::Index>(k)) = R.row(face_dofs.dofs[k]);
   tresca.add_rigid_motions(std::move(face_field));
-  const std::string note = "held by contact alone: " + disc.held.describe() +
-                           " is free of prescribed components; K made regular by a spring at " +
-                           std::to_string(disc.held.pins.size()) +
-                           " dof(s), the motion's equilibrium an equality constraint of the dual";
+  const std::string note = "held by contact alone: nothing prescribed holds " + disc.held.describe() +
+                           "; K made regular by a spring at " + std::to_string(disc.held.pins.size()) +
+                           " dof(s), the equilibrium along those motions an equality constraint of the dual";
   report.stage(note);
   res.notes.push_back(note);
 }
@@ -434,11 +432,11 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
 // it about an edge of the contact face).
 void require_held(const Discretisation& disc, const DualQpSolver& qp, const TrescaStep& tresca) {
   if (qp.equality_residual() <= 1e-6 && !tresca.history().empty()) return;
-  throw InputError("the body is held by contact alone (" + disc.held.describe() +
-                   " is free), but no contact forces balance the loads along that motion (their imbalance is " +
-                   number(100 * qp.equality_residual(), 3) +
-                   "% of the loads): the loads pull the body off the foundation or tip it over an edge of the "
-                   "contact face; prescribe that motion, or check the loads' directions");
+  throw InputError(
+      "the body is held by contact alone (nothing prescribed holds " + disc.held.describe() +
+      "), but no contact forces balance the loads along it (" + number(100 * qp.equality_residual(), 3) +
+      "% of them left unbalanced): the loads pull the body off the foundation or tip it over an edge of the "
+      "contact face; prescribe that motion, or check the loads' directions");
 }
 
 // The displacement at the free dofs after one Tresca solve: w = K⁻¹(f − 𝔹ᵀλ), less the rigid
@@ -783,8 +781,8 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   method = fit_dual_method(scene, method, op, report, res);
   const bool matrix_free = method == DualMethod::MatrixFree;
   if (disc.held.count() && matrix_free)
-    throw InputError("the body is held by contact alone (" + disc.held.describe() +
-                     " is free), which the matrix-free dual (solver.dual_method = \"matrix_free\", or \"auto\" when "
+    throw InputError("the body is held by contact alone (nothing prescribed holds " + disc.held.describe() +
+                     "), which the matrix-free dual (solver.dual_method = \"matrix_free\", or \"auto\" when "
                      "the dense Q does not fit) does not solve yet: use fewer multipliers (a larger "
                      "contact.cell_size) or prescribe that motion");
 

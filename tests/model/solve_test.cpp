@@ -487,6 +487,14 @@ TEST(SolveUserConditions, BodyHeldByContactAlone) {
       roller_face_uz = std::min(roller_face_uz, held.u[static_cast<Eigen::Index>(3 * v + 2)]);
   EXPECT_LT(roller_face_uz, 0.0);  // not pinned at its place: the lift is the contact's to fix
 
+  // u_x, u_y held on Γc only: the lift and both tilts are the contact's (three equality rows). KKT's
+  // equilibrium is K u − f + 𝔹ᵀλ at every free dof, the springs' too: the moments balance as well.
+  const SolveResult tilted = solve_with("[[boundary.displacement]]\ngroup = \"contact\"\nx = 0\ny = 0\n",
+                                        {"boundary.clamped=[]", "friction.law=\"none\""});
+  ASSERT_TRUE(tilted.converged) << tilted.status;
+  EXPECT_LT(tilted.kkt.max(), 1e-8);
+  EXPECT_NEAR(tilted.forces.contact.z(), -tilted.forces.applied.z(), 1e-9 * std::abs(tilted.forces.applied.z()));
+
   try {
     solve_with(rollers, {"boundary.clamped=[]", "material.body_force=[0, 0, 1e9]"});
     FAIL() << "a load pulling the body off solved";
