@@ -42,6 +42,11 @@ CASES = [
     # two materials (each rank's mesh part carries its tets' material), prescribed non-zero
     # displacement and rollers instead of a clamp, a pressure, gravity, a curved Γc with a gap
     ("quarter block on a cap, two materials", "capblock.toml", ["mesh.parameters.h=0.05"], "mumps"),
+    # no clamp: rollers on x = 0 hold u_x, u_y, the contact alone the lift (the ranks add rank 0's
+    # spring to K; model/held_by_contact.hpp)
+    ("paper brick n=8 held by contact alone", "paper_brick.toml",
+     ["mesh.generator=paper_brick", "mesh.n=8", "boundary.clamped=[]",
+      'boundary.displacement=[{group="clamped", x=0.0, y=0.0}]'], "mumps"),
     # Coulomb's bound F(φ)·λ_n: the fixed point on (φ, λ_n), each step a MUMPS solve
     ("paper brick n=8, Coulomb", "paper_brick.toml",
      ["mesh.generator=paper_brick", "mesh.n=8", "friction.model=coulomb", "friction.slip_bound=0"], "mumps"),

@@ -457,6 +457,7 @@ std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source
             for (Eigen::SparseMatrix<double>::InnerIterator it(*B, j); it; ++it)
               share.add(fz->n + it.row(), j, it.value());
           for (std::int64_t r = 0; r < fz->m; ++r) share.add(fz->n + r, fz->n + r, 0.0);
+          for (const auto& [dof, spring] : source->springs) share.add(dof, dof, spring);  // MUMPS sums duplicates
         } else {
           MeshPart part = receive_part(static_cast<int>(fz->n));
           share = lower_columns(part.mesh, part.dofs, TetMaterials(std::move(part.materials)), part.first_node,

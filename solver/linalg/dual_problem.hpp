@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -30,6 +31,9 @@ struct StiffnessSource {
   const Mesh& mesh;
   const DofMap& dofs;
   const TetMaterials& materials;
+  // (dof, value) added to K's diagonal: the springs of a body held by contact alone
+  // (model/held_by_contact.hpp); empty otherwise.
+  std::vector<std::pair<int, double>> springs = {};
 };
 
 // How Q is formed with CHOLMOD (the dual problem's "method"):

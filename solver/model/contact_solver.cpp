@@ -85,9 +85,6 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty());
   res.n_primal = res.dofs.n_free;
-  if (disc.held.count() && !assemble_K)
-    throw InputError("the body is held by contact alone (nothing prescribed holds " + disc.held.describe() +
-                     "), which the distributed backend does not solve yet: run it serially, or prescribe that motion");
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
     if (disc.held.count()) {
@@ -96,6 +93,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
     }
   } else {
     disc.K_elsewhere = true;
+    if (disc.held.count()) add_pin_springs(mesh, res.dofs, disc.materials, disc.held);  // the ranks add them to K
   }
   disc.f =
       assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
@@ -780,11 +778,6 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   describe_contact(report, res, op);
   method = fit_dual_method(scene, method, op, report, res);
   const bool matrix_free = method == DualMethod::MatrixFree;
-  if (disc.held.count() && matrix_free)
-    throw InputError("the body is held by contact alone (nothing prescribed holds " + disc.held.describe() +
-                     "), which the matrix-free dual (solver.dual_method = \"matrix_free\", or \"auto\" when "
-                     "the dense Q does not fit) does not solve yet: use fewer multipliers (a larger "
-                     "contact.cell_size) or prescribe that motion");
 
   stage.enter("factorization", matrix_free ? "the sparse factor of K (" + count(res.n_primal) + " rows)"
                                            : "the sparse factor of K with the multipliers (" +
@@ -793,7 +786,10 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   report.stage("factorization (" +
                std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
                name_of(method, kDualMethodNames) + ")");
-  const StiffnessSource source{mesh, res.dofs, disc.materials};
+  StiffnessSource source{mesh, res.dofs, disc.materials};
+  if (!disc.springs_in_K)
+    for (std::size_t p = 0; p < disc.held.pins.size(); ++p)
+      source.springs.emplace_back(disc.held.pins[p], disc.held.pin_springs[p]);
   DualProblemInput input{disc.K,           op.B,
                          disc.f,           face_dofs.dofs,
                          op.offset,        factor_size_check(report, &stage),

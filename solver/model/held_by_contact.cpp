@@ -72,4 +72,13 @@ void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held) {
   }
 }
 
+void add_pin_springs(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, ContactHeldMotions& held) {
+  held.pin_springs.clear();
+  for (const int p : held.pins) {
+    Eigen::VectorXd unit = Eigen::VectorXd::Zero(dofs.n_free);
+    unit[p] = 1;
+    held.pin_springs.push_back(apply_stiffness(mesh, dofs, materials, unit)[p]);
+  }
+}
+
 }  // namespace contact3d

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "mesh/mesh.hpp"
 
@@ -40,5 +41,8 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
 
 // Adds the pins' springs (each equal to K's diagonal entry there) to K; records them in `held`.
 void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held);
+// The same springs for a K assembled elsewhere (the distributed backend's ranks add them): K's
+// diagonal at the pins from the elements, recorded in `held` only.
+void add_pin_springs(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, ContactHeldMotions& held);
 
 }  // namespace contact3d

@@ -486,6 +486,10 @@ TEST(SolveUserConditions, BodyHeldByContactAlone) {
     if (held.dofs.fixed[v] == 3)
       roller_face_uz = std::min(roller_face_uz, held.u[static_cast<Eigen::Index>(3 * v + 2)]);
   EXPECT_LT(roller_face_uz, 0.0);  // not pinned at its place: the lift is the contact's to fix
+  // The matrix-free dual (Q only through K⁻¹ solves) gives the same answer.
+  const SolveResult matrix_free = solve_with(rollers, {"boundary.clamped=[]", "solver.schur=\"matrix_free\""});
+  ASSERT_TRUE(matrix_free.converged) << matrix_free.status;
+  EXPECT_LT(max_difference(matrix_free.u, held.u), 1e-8 * held.u.cwiseAbs().maxCoeff());
 
   // u_x, u_y held on Γc only: the lift and both tilts are the contact's (three equality rows). KKT's
   // equilibrium is K u − f + 𝔹ᵀλ at every free dof, the springs' too: the moments balance as well.
