@@ -83,7 +83,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
-  disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty());
+  disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   res.n_primal = res.dofs.n_free;
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);

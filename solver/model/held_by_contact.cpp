@@ -9,7 +9,7 @@ namespace contact3d {
 
 std::string ContactHeldMotions::describe() const {
   std::string text;
-  for (int j = 0; j < count(); ++j) text += (j ? " and " : "") + free.describe(free.motions.col(j));
+  for (int j = 0; j < count(); ++j) text += (j ? " and " : "") + named.describe(named.motions.col(j));
   return text;
 }
 
@@ -36,11 +36,32 @@ std::vector<int> pin_dofs(const Eigen::MatrixXd& field) {
   return pins;
 }
 
+// The motions (t; ω) about the centre, from the plane's frame into the user's global axes, in a basis
+// that names well: the slides and lifts first (no rotation), then the rotations orthogonal to them
+// (their axes pass as near the centroid as the free space allows).
+FreeRigidMotions in_user_frame(const FreeRigidMotions& local, const FoundationFrame& frame) {
+  FreeRigidMotions global = local;
+  if (local.count() > 0) {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> turns(local.motions.bottomRows(3), Eigen::ComputeFullV);
+    const Eigen::MatrixXd by_rotation = local.motions * turns.matrixV();  // orthonormal, rotations first
+    global.motions = by_rotation.rowwise().reverse();                     // translations first
+  }
+  global.centre = frame.to_global_point(local.centre);
+  for (Eigen::Index j = 0; j < global.motions.cols(); ++j) {
+    const Eigen::Matrix<double, 6, 1> motion = global.motions.col(j);
+    global.motions.col(j).head<3>() = frame.to_global(motion.head<3>());
+    global.motions.col(j).tail<3>() = frame.to_global(motion.tail<3>());
+  }
+  return global;
+}
+
 }  // namespace
 
-ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact) {
+ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
+                                        const FoundationFrame& user_frame) {
   ContactHeldMotions held;
   held.free = free_rigid_motions(mesh, dofs);
+  held.named = in_user_frame(held.free, user_frame);
   if (held.count() == 0) return held;
   if (!has_contact) require_rigid_motions_fixed(mesh, dofs);  // throws, naming the motion
   // A combination of the free motions with no normal part slides or turns the body in the plane.
@@ -52,8 +73,10 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
     // The in-plane motions; named by the one that turns least (a slide where there is one).
     const Eigen::MatrixXd in_plane = held.free.motions * svd.matrixV().rightCols(k - held_rank);
     const Eigen::JacobiSVD<Eigen::MatrixXd> turn(in_plane.bottomRows(3), Eigen::ComputeFullV);
-    const Eigen::Matrix<double, 6, 1> named = in_plane * turn.matrixV().col(in_plane.cols() - 1);
-    throw InputError("the prescribed displacements leave the body free to move: " + held.free.describe(named) +
+    const Eigen::Matrix<double, 6, 1> slide = in_plane * turn.matrixV().col(in_plane.cols() - 1);
+    const FreeRigidMotions one{slide, held.free.centre, held.free.size};
+    throw InputError("the prescribed displacements leave the body free to move: " +
+                     in_user_frame(one, user_frame).describe(in_user_frame(one, user_frame).motions.col(0)) +
                      " is not prevented by boundary.clamped or boundary.displacement; contact holds a body only "
                      "along the foundation's normal (a lift, a tilt), not in its plane, so the stiffness matrix "
                      "is singular; constrain more components or groups (e.g. symmetry planes)");

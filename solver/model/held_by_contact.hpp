@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "contact/foundation_frame.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "mesh/mesh.hpp"
@@ -24,6 +25,7 @@ namespace contact3d {
 
 struct ContactHeldMotions {
   FreeRigidMotions free;            // the motions, about the body's centroid
+  FreeRigidMotions named;           // the same in the user's frame (for messages)
   Eigen::MatrixXd field;            // n_free × k: the motions at the free dofs (R)
   std::vector<int> pins;            // k free dofs with a spring, where R's rows are best conditioned
   std::vector<double> pin_springs;  // the springs added to K's diagonal there (K_s = K + Σ s_p e_p e_pᵀ)
@@ -37,7 +39,9 @@ struct ContactHeldMotions {
 // The free rigid motions of a body whose contact face lies on the plane z = 0 (the solve's frame):
 // none (count() = 0) when the prescribed components hold the body. Throws InputError when a free
 // motion moves the body in the plane (no normal contact force can hold it) or `has_contact` is false.
-ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact);
+// Messages name the motions in `user_frame`'s global axes (the solve's frame is the plane's).
+ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
+                                        const FoundationFrame& user_frame = FoundationFrame());
 
 // Adds the pins' springs (each equal to K's diagonal entry there) to K; records them in `held`.
 void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held);

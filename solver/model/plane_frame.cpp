@@ -39,6 +39,7 @@ PlaneFrameProblem to_plane_frame(const Scene& scene, const Mesh& mesh) {
   const Eigen::Matrix3d& R = f.rotation;
   PlaneFrameProblem local{scene, mesh};
   local.scene.foundation = FoundationFrame();
+  local.scene.user_frame = f;
   for (auto& x : local.mesh.nodes) x = f.to_local_point(x);
   local.scene.body_force = R * scene.body_force;
   for (auto& t : local.scene.tractions) {  // t(x) = v + G x, x = Rᵀx' + p

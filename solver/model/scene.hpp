@@ -136,6 +136,9 @@ struct Scene {
   bool cell_size_auto = true;
   // [contact] plane_point (m, default origin) and plane_normal (towards the body, default +z).
   FoundationFrame foundation;
+  // Not an option: where a solve runs in the plane's frame (plane_frame.hpp), the user's frame, for
+  // messages that name points and directions; the identity otherwise.
+  FoundationFrame user_frame;
   SolverSettings solver;
   OutputSettings output;
   std::string echo;  // the scene as solved, TOML text (overrides applied)
