@@ -1,9 +1,11 @@
 #include "qp/dual_qp_solver.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include <Eigen/QR>
+#include <Eigen/SVD>
 
 #include "linalg/dual_operator.hpp"
 #include "linalg/symmetric_product.hpp"
@@ -158,6 +160,33 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
       jacobian_.col(j) = (F_at(mu_j, lam) - F) / step;
     }
   };
+  // Where no contact force responds to a change of μ (the body hovers over its gaps, or touches at
+  // too few cells to hold a tilt), F is flat along it and the Jacobian blind: μ then moves along the
+  // rigid shift that full contact would take (dμ = (G D⁻¹ Gᵀ)⁻¹ F, D = diag Q), as far as the Jacobian
+  // does not see it, to just past the next touch of a cell (h_i − (Gᵀμ)_i = 0).
+  const Eigen::VectorXd q_diagonal = qp_.diagonal();
+  const Eigen::MatrixXd full_contact = G_ * q_diagonal.cwiseInverse().asDiagonal() * G_.transpose();
+  const auto jump_to_next_touch = [&](const Eigen::VectorXd& d) {
+    // The QP's gradient at λ, Qλ − h + Gᵀμ, moves by Gᵀd per unit of the shift (λ held).
+    const Eigen::VectorXd gradient = qp_.apply(lambda) - h_ + G_.transpose() * mu_, slope = G_.transpose() * d;
+    double touch = INFINITY;
+    for (int i = 0; i < qp_.r; ++i)
+      if (lambda[i] == 0 && slope[i] < 0) touch = std::min(touch, std::max(-gradient[i] / slope[i], 0.0));
+    if (!std::isfinite(touch)) return false;
+    mu_ += (1.05 * touch + 0.05) * d;
+    F = F_at(mu_, lambda);
+    return true;
+  };
+  const auto unseen_shift = [&] {
+    const Eigen::VectorXd shift = full_contact.completeOrthogonalDecomposition().solve(F);
+    if (jacobian_.rows() != k) return shift;
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian_, Eigen::ComputeFullV);
+    Eigen::Index seen = 0;
+    while (seen < k && svd.singularValues()[seen] > 1e-6 * svd.singularValues()[0]) ++seen;
+    const Eigen::MatrixXd blind = svd.matrixV().rightCols(k - seen);
+    return Eigen::VectorXd(blind * (blind.transpose() * shift));
+  };
+  if (F.norm() > 0 && qp_.r > 0 && lambda.head(qp_.r).cwiseAbs().maxCoeff() == 0) jump_to_next_touch(unseen_shift());
   const double F_scale = e_.norm() > 0 ? e_.norm() : std::max(G_.norm() * lambda.norm(), 1e-300);
   const double target = std::max(rtol, 1e-9) * F_scale;
   bool fresh_jacobian = false;
@@ -166,6 +195,11 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     fresh_jacobian = true;
   }
   for (int step = 0; step < kMaxEqualitySteps && F.norm() > target && !inner_failed; ++step) {
+    if (const Eigen::VectorXd blind = unseen_shift(); qp_.r > 0 && blind.norm() > 0 && jump_to_next_touch(blind)) {
+      measure_jacobian();
+      fresh_jacobian = true;
+      continue;
+    }
     // J ≈ −G·dλ/dh·Gᵀ is singular where the contact does not hold a motion: least squares there.
     const Eigen::VectorXd newton = jacobian_.completeOrthogonalDecomposition().solve(-F);
     bool accepted = false;

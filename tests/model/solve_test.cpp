@@ -494,10 +494,21 @@ TEST(SolveUserConditions, BodyHeldByContactAlone) {
   // u_x, u_y held on Γc only: the lift and both tilts are the contact's (three equality rows). KKT's
   // equilibrium is K u − f + 𝔹ᵀλ at every free dof, the springs' too: the moments balance as well.
   const SolveResult tilted = solve_with("[[boundary.displacement]]\ngroup = \"contact\"\nx = 0\ny = 0\n",
-                                        {"boundary.clamped=[]", "friction.law=\"none\""});
+                                        {"boundary.clamped=[]", "friction.law=\"none\"", "contact.cell_size=\"2h\""});
   ASSERT_TRUE(tilted.converged) << tilted.status;
   EXPECT_LT(tilted.kkt.max(), 1e-8);
   EXPECT_NEAR(tilted.forces.contact.z(), -tilted.forces.applied.z(), 1e-9 * std::abs(tilted.forces.applied.z()));
+  // The same body hovering 0.5 m above the foundation (no contact until it has moved down): the same
+  // answer moved down rigidly by the gap.
+  const SolveResult hovering = solve_with(
+      "[[boundary.displacement]]\ngroup = \"contact\"\nx = 0\ny = 0\n",
+      {"boundary.clamped=[]", "friction.law=\"none\"", "contact.cell_size=\"2h\"", "contact.plane_point=[0, 0, -0.5]"});
+  ASSERT_EQ(hovering.lambda.size(), tilted.lambda.size());
+  ASSERT_TRUE(hovering.converged) << hovering.status;
+  EXPECT_LT(max_difference(hovering.lambda, tilted.lambda), 1e-7 * tilted.lambda.cwiseAbs().maxCoeff());
+  Eigen::VectorXd moved_down = tilted.u;
+  for (Eigen::Index v = 0; v < moved_down.size() / 3; ++v) moved_down[3 * v + 2] -= 0.5;
+  EXPECT_LT(max_difference(hovering.u, moved_down), 1e-9);
 
   try {
     solve_with(rollers, {"boundary.clamped=[]", "material.body_force=[0, 0, 1e9]"});
