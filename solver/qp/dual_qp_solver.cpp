@@ -113,19 +113,6 @@ void DualQpSolver::set_linear_term(const Eigen::VectorXd& h) {
 
 namespace {
 
-void add_counts(QpResult& into, const QpResult& r) {
-  into.iterations += r.iterations;
-  into.hessian_products += r.hessian_products;
-  into.single_products += r.single_products;
-  into.cg_steps += r.cg_steps;
-  into.expansion_steps += r.expansion_steps;
-  into.proportioning_steps += r.proportioning_steps;
-  into.newton_steps += r.newton_steps;
-  into.bordered_steps += r.bordered_steps;
-  into.coarse_products += r.coarse_products;
-  into.projected_gradient = r.projected_gradient;
-}
-
 constexpr int kMaxEqualitySteps = 50;
 // Below this ‖F‖/‖e‖ a step that finds no descent is the inner solves' rounding, not a failure.
 constexpr double kEqualityNoiseFloor = 1e-7;
@@ -142,7 +129,7 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
   const auto F_at = [&](const Eigen::VectorXd& mu, Eigen::VectorXd& lam) {
     set_linear_term(h_ - G_.transpose() * mu);
     const QpResult r = solve_for_linear_term(radius, lam, inner_rtol);
-    add_counts(total, r);
+    add_work(total, r);
     if (r.status != QpStatus::Converged) inner_failed = true;
     return Eigen::VectorXd(G_ * lam - e_);
   };
@@ -163,7 +150,8 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
   // Where no contact force responds to a change of μ (the body hovers over its gaps, or touches at
   // too few cells to hold a tilt), F is flat along it and the Jacobian blind: μ then moves along the
   // rigid shift that full contact would take (dμ = (G D⁻¹ Gᵀ)⁻¹ F, D = diag Q), as far as the Jacobian
-  // does not see it, to just past the next touch of a cell (h_i − (Gᵀμ)_i = 0).
+  // does not see it, to just past the next touch of a cell (where its gradient (Qλ − h + Gᵀμ)_i reaches
+  // 0 with λ held), and the Jacobian is measured again there.
   const Eigen::VectorXd q_diagonal = qp_.diagonal();
   const Eigen::MatrixXd full_contact = G_ * q_diagonal.cwiseInverse().asDiagonal() * G_.transpose();
   const auto jump_to_next_touch = [&](const Eigen::VectorXd& d) {

@@ -1,8 +1,9 @@
 // DualQpSolver: the dual QP (5.5) of one scene with its solver chosen once — MPGP (the paper's
 // algorithm), MPGP with projected-CG expansion, semismooth Newton, or the hybrid of MPGP and
 // Newton steps ("auto", the default) — on the Jacobi-scaled or
-// the plain problem. Q and h are fixed per scene; each solve() takes the radii c_i of the disc
-// constraints (which change from one fixed-point step to the next) and a warm start.
+// the plain problem. Q and h are fixed per scene (h less Gᵀμ where equality constraints are set,
+// set_equality); each solve() takes the radii c_i of the disc constraints (which change from one
+// fixed-point step to the next) and a warm start.
 #pragma once
 
 #include <functional>
@@ -97,7 +98,8 @@ class DualQpSolver {
   // the contact holds (model/held_by_contact.hpp), FETI's "Gλ = e". From then on solve() also finds
   // their multiplier μ: λ(μ) solves the QP with the linear term h − Gᵀμ, and μ is the root of
   // F(μ) = Gλ(μ) − e, piecewise affine and monotone, found by Newton steps with a difference-quotient
-  // Jacobian (kept from solve to solve, Broyden-updated, re-measured when a step fails) and halving,
+  // Jacobian (kept from solve to solve, Broyden-updated, re-measured when a step fails) and halving;
+  // along motions no contact force responds to yet (a body above its gaps) μ jumps to the next touch,
   // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (1e-7 where the inner solves' rounding stops the descent), the
   // inner solves to min(rtol/100, 1e-8). μ is warm-started too.
   void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);

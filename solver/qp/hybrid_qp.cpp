@@ -14,20 +14,6 @@ double relative_projected_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& l
   return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm()) / h_norm;
 }
 
-void add_work(QpResult& total, const QpResult& part) {
-  total.iterations += part.iterations;
-  total.hessian_products += part.hessian_products;
-  total.single_products += part.single_products;
-  total.cg_steps += part.cg_steps;
-  total.expansion_steps += part.expansion_steps;
-  total.proportioning_steps += part.proportioning_steps;
-  total.newton_steps += part.newton_steps;
-  total.bordered_steps += part.bordered_steps;
-  total.coarse_products += part.coarse_products;
-  total.status = part.status;
-  total.projected_gradient = part.projected_gradient;
-}
-
 }  // namespace
 
 int default_window(const BoxDiscQP& qp) {

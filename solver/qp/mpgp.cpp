@@ -187,4 +187,18 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
   return result;
 }
 
+void add_work(QpResult& total, const QpResult& part) {
+  total.iterations += part.iterations;
+  total.hessian_products += part.hessian_products;
+  total.single_products += part.single_products;
+  total.cg_steps += part.cg_steps;
+  total.expansion_steps += part.expansion_steps;
+  total.proportioning_steps += part.proportioning_steps;
+  total.newton_steps += part.newton_steps;
+  total.bordered_steps += part.bordered_steps;
+  total.coarse_products += part.coarse_products;
+  total.status = part.status;
+  total.projected_gradient = part.projected_gradient;
+}
+
 }  // namespace contact3d
