@@ -70,9 +70,12 @@ figures: build
 coulomb-getfem: build
 	$(PY) pipeline/getfem_coulomb.py --bin $(BIN) --n 4 8 12 16 --out $(REPORTS)/coulomb_getfem.md
 
-# Hertz validation on a finer mesh than the test's ($(REPORTS)/hertz/: table, JSON, pressure profile figure).
+# Hertz validation on a finer mesh than the test's ($(REPORTS)/hertz/: table, JSON, pressure profile figure),
+# moved by a displacement and (hertz/pressed/) pressed by a pressure, held by contact alone.
 hertz: build
 	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --cell-size 0.01 --report $(REPORTS)/hertz
+	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --cell-size 0.01 --top-pressure 1e8 \
+		--report $(REPORTS)/hertz/pressed
 
 # Symmetry plane and rotated foundation at n = 4 and 8 ($(REPORTS)/validation.md).
 validation: build
