@@ -407,7 +407,6 @@ void flag_possible_nonuniqueness(const Scene& scene, SolveResult& res) {
                         "successive approximations (5.7) reach from φ⁰ = 0, the sticking start");
 }
 
-// The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
 // A body held by contact alone: the dual QP gets the equilibrium of the free rigid motions as its
 // equality constraints Gλ = e, and the Tresca step their displacement on Γc.
 void hold_by_contact(const Discretisation& disc, const ContactOperator& op, const FaceDofs& face_dofs, DualQpSolver& qp,
@@ -445,6 +444,7 @@ Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& d
   return w;
 }
 
+// The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
 void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, const ContactOperator& op,
              const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
   const Eigen::VectorXd w = displacement_of(dual, disc, tresca.history().back());
