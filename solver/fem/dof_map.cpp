@@ -156,9 +156,10 @@ FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs) {
 std::string FreeRigidMotions::describe(const Eigen::Matrix<double, 6, 1>& free_motion) const {
   // A free motion is free either way: named with its direction's largest component positive.
   const bool turns = free_motion.tail<3>().norm() >= 1e-6 * free_motion.head<3>().norm();
+  const Eigen::Vector3d direction = turns ? free_motion.tail<3>() : free_motion.head<3>();
   Eigen::Index largest = 0;
-  (turns ? free_motion.tail<3>() : free_motion.head<3>()).cwiseAbs().maxCoeff(&largest);
-  const double sign = (turns ? free_motion.tail<3>() : free_motion.head<3>())[largest] < 0 ? -1.0 : 1.0;
+  direction.cwiseAbs().maxCoeff(&largest);
+  const double sign = direction[largest] < 0 ? -1.0 : 1.0;
   const Eigen::Matrix<double, 6, 1> motion = sign * free_motion;
   const Eigen::Vector3d t = motion.head<3>(), w = motion.tail<3>();
   if (w.norm() < 1e-6 * t.norm()) return "a translation along " + vector_text(t.normalized());

@@ -65,6 +65,7 @@ struct Discretisation {
     if (springs_in_K) held.remove_springs(w, Kw);
     return Kw;
   }
+  // The matrix factored: K, or K_s where springs_in_K (for timing and preconditioning, not residuals).
   const Eigen::SparseMatrix<double>& stiffness(const Mesh& mesh, const DofMap& dofs) {
     if (K_elsewhere) {
       K = assemble_stiffness(mesh, dofs, materials);

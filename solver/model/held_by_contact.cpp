@@ -74,12 +74,12 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
     const Eigen::MatrixXd in_plane = held.free.motions * svd.matrixV().rightCols(k - held_rank);
     const Eigen::JacobiSVD<Eigen::MatrixXd> turn(in_plane.bottomRows(3), Eigen::ComputeFullV);
     const Eigen::Matrix<double, 6, 1> slide = in_plane * turn.matrixV().col(in_plane.cols() - 1);
-    const FreeRigidMotions one{slide, held.free.centre, held.free.size};
-    throw InputError("the prescribed displacements leave the body free to move: " +
-                     in_user_frame(one, user_frame).describe(in_user_frame(one, user_frame).motions.col(0)) +
-                     " is not prevented by boundary.clamped or boundary.displacement; contact holds a body only "
-                     "along the foundation's normal (a lift, a tilt), not in its plane, so the stiffness matrix "
-                     "is singular; constrain more components or groups (e.g. symmetry planes)");
+    const FreeRigidMotions named = in_user_frame({slide, held.free.centre, held.free.size}, user_frame);
+    throw InputError(
+        "the prescribed displacements leave the body free to move: " + named.describe(named.motions.col(0)) +
+        " is not prevented by boundary.clamped or boundary.displacement; contact holds a body only "
+        "along the foundation's normal (a lift, a tilt), not in its plane, so the stiffness matrix "
+        "is singular; constrain more components or groups (e.g. symmetry planes)");
   }
   held.field = rigid_motion_field(mesh, dofs, held.free);
   held.pins = pin_dofs(held.field);
