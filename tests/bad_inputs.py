@@ -212,7 +212,8 @@ def c_contact_not_in_plane(c):
 
 
 def c_gamma_u_empty(c):
-    return ["check", c.scene(clamped="[]")], ["clamped"]
+    # nothing clamped, nothing prescribed and no contact face (contact alone may hold a body)
+    return ["check", c.scene(clamped="[]", contact="[]")], ["clamped", "contact"]
 
 
 def c_gamma_u_group_empty(c):
@@ -515,9 +516,17 @@ def c_displacement_missing_group(c):
 
 
 def c_displacement_rigid_motion_free(c):
-    text = open(c.scene(clamped="[]")).read().replace(
+    # u_z = 0 on the bottom face and no contact face: the slides and the turn about z are free
+    text = open(c.scene(clamped="[]", contact="[]")).read().replace(
         "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "contact"\nz = 0.0\n\n[[boundary.traction]]', 1)
     return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["free to move", "translation"]
+
+
+def c_held_by_friction_too_weak(c):
+    # Nothing prescribed: friction alone must hold the body against the end face's 1e7 Pa along x, but
+    # g = 2e6 Pa with F <= 0.3 carries at most 0.6e6 Pa over Γc.
+    return (["solve", c.scene(clamped="[]", g="2e6"), "--out", c.path("out"), "--quiet"],
+            ["friction alone must hold it", "translation along (1, 0, 0)"])
 
 
 def c_held_by_contact_pulled_off(c):

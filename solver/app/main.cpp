@@ -27,6 +27,7 @@
 #include "mesh/msh_writer.hpp"
 #include "mesh/read_mesh.hpp"
 #include "model/contact_solver.hpp"
+#include "model/held_by_contact.hpp"
 #include "model/mesh_source.hpp"
 #include "model/plane_frame.hpp"
 #include "model/scene.hpp"
@@ -223,7 +224,12 @@ int run_check(const SolveArgs& args) {
   require_constrained_triangles(scene, mesh);
   for (const auto& tr : scene.tractions) mesh.triangles_of_group(tr.group);
   const DofMap dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
-  require_rigid_motions_fixed(mesh, dofs);
+  // Motions nothing prescribed holds are the contact's to hold (refused without a contact face).
+  const ContactHeldMotions held = contact_held_motions(mesh, dofs, !scene.contact.empty(), scene.user_frame);
+  if (held.count())
+    fmt::print("held by contact alone: {}{}\n", held.describe(),
+               held.in_plane.count() ? "; in the foundation's plane by friction alone: " + held.describe_in_plane()
+                                     : std::string());
   tet_materials(scene, mesh);
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);

@@ -187,7 +187,7 @@ void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {
   if (free.count() == 0) return;
   throw InputError("the prescribed displacements leave the body free to move: " + free.describe(free.motions.col(0)) +
                    " is not prevented by boundary.clamped or boundary.displacement, so the stiffness matrix is "
-                   "singular (contact alone does not hold a body); constrain more components or groups");
+                   "singular (the scene has no contact face that could hold it); constrain more components or groups");
 }
 
 }  // namespace contact3d

@@ -51,6 +51,10 @@ struct Discretisation {
   bool K_elsewhere = false;
   ContactHeldMotions held;    // rigid motions the contact alone holds (none: count() = 0)
   bool springs_in_K = false;  // K holds held's pin springs (K_s)
+  // Frictionless contact with held.in_plane motions: nothing fixes the body's place along them (their
+  // loads balance, or the solve is refused), so the displacement is reported without a rigid part
+  // along them, in the least-squares sense over the free dofs.
+  bool centre_in_plane = false;
 
   std::function<void()> release_K() {
     return [this] {
@@ -85,6 +89,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
+  disc.centre_in_plane = disc.held.in_plane.count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
@@ -423,18 +428,36 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
                            " dof(s), the equilibrium along those motions an equality constraint of the dual";
   report.stage(note);
   res.notes.push_back(note);
+  if (disc.centre_in_plane)
+    res.notes.push_back("frictionless contact does not fix " + disc.held.describe_in_plane() +
+                        ": the loads along it must balance, and the displacement is given without a rigid part "
+                        "along it (its mean over the body's nodes, in the least-squares sense)");
 }
 
 // After the dual solve of a body held by contact alone: an InputError when the contact forces could
-// not balance the loads along the free motions (the loads pull the body off the foundation, or tilt
-// it about an edge of the contact face).
-void require_held(const Discretisation& disc, const DualQpSolver& qp, const TrescaStep& tresca) {
+// not balance the loads along the free motions — the loads pull the body off the foundation or tilt
+// it about an edge of the contact face, or push it along the plane harder than friction holds.
+void require_held(const Discretisation& disc, const ContactOperator& op, const DualQpSolver& qp,
+                  const TrescaStep& tresca) {
   if (qp.equality_residual() <= 1e-6 && !tresca.history().empty()) return;
-  throw InputError(
-      "the body is held by contact alone (nothing prescribed holds " + disc.held.describe() +
-      "), but no contact forces balance the loads along it (" + number(100 * qp.equality_residual(), 3) +
-      "% of them left unbalanced): the loads pull the body off the foundation or tip it over an edge of the "
-      "contact face; prescribe that motion, or check the loads' directions");
+  const ContactHeldMotions& held = disc.held;
+  const std::string unbalanced = number(100 * qp.equality_residual(), 3) + "% of them left unbalanced";
+  if (held.in_plane.count() && !tresca.history().empty()) {
+    // The generalized forces along the free motions that the contact leaves over, Rᵀ(𝔹ᵀλ − f).
+    const Eigen::MatrixXd& R = held.field;
+    const Eigen::VectorXd left = (op.B * R).transpose() * tresca.history().back().lambda - R.transpose() * disc.f;
+    if ((held.in_plane_combinations.transpose() * left).norm() > 0.5 * left.norm())
+      throw InputError("the body is held by contact alone and nothing prescribed holds " + held.describe_in_plane() +
+                       " in the foundation's plane: friction alone must hold it there, but the loads along it are " +
+                       "more than the contact's friction carries (" + unbalanced + ")" +
+                       (op.with_friction ? "" : ", the contact being frictionless") +
+                       "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
+                       "friction (friction.slip_bound, friction.model) and the loads' directions");
+  }
+  throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() +
+                   "), but no contact forces balance the loads along it (" + unbalanced +
+                   "): the loads pull the body off the foundation or tip it over an edge of the "
+                   "contact face; prescribe that motion, or check the loads' directions");
 }
 
 // The displacement at the free dofs after one Tresca solve: w = K⁻¹(f − 𝔹ᵀλ), less the rigid
@@ -442,6 +465,10 @@ void require_held(const Discretisation& disc, const DualQpSolver& qp, const Tres
 Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& disc, const TrescaStep::Solve& solve) {
   Eigen::VectorXd w = dual.displacement(solve.lambda);
   if (disc.held.count()) w -= disc.held.field * solve.rigid;
+  if (disc.centre_in_plane) {
+    const Eigen::MatrixXd slides = disc.held.field * disc.held.in_plane_combinations;
+    w -= slides * (slides.transpose() * slides).ldlt().solve(slides.transpose() * w);
+  }
   return w;
 }
 
@@ -827,7 +854,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
-  if (disc.held.count()) require_held(disc, qp, tresca);
+  if (disc.held.count()) require_held(disc, op, qp, tresca);
   clock.lap("dual_solve");
 
   stage.enter("recovery",

@@ -7,11 +7,18 @@
 
 namespace contact3d {
 
-std::string ContactHeldMotions::describe() const {
+namespace {
+
+std::string describe_all(const FreeRigidMotions& motions) {
   std::string text;
-  for (int j = 0; j < count(); ++j) text += (j ? " and " : "") + named.describe(named.motions.col(j));
+  for (int j = 0; j < motions.count(); ++j) text += (j ? " and " : "") + motions.describe(motions.motions.col(j));
   return text;
 }
+
+}  // namespace
+
+std::string ContactHeldMotions::describe() const { return describe_all(named); }
+std::string ContactHeldMotions::describe_in_plane() const { return describe_all(in_plane); }
 
 void ContactHeldMotions::remove_springs(const Eigen::VectorXd& w, Eigen::VectorXd& Ks_w) const {
   for (std::size_t p = 0; p < pins.size(); ++p) Ks_w[pins[p]] -= pin_springs[p] * w[pins[p]];
@@ -64,22 +71,16 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
   held.named = in_user_frame(held.free, user_frame);
   if (held.count() == 0) return held;
   if (!has_contact) require_rigid_motions_fixed(mesh, dofs);  // throws, naming the motion
-  // A combination of the free motions with no normal part slides or turns the body in the plane.
+  // A combination of the free motions with no normal part slides or turns the body in the plane:
+  // only friction holds it.
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(normal_parts(held.free), Eigen::ComputeFullV);
   const Eigen::Index k = held.count();
   Eigen::Index held_rank = 0;  // motions with a normal part
   while (held_rank < svd.singularValues().size() && svd.singularValues()[held_rank] >= 1e-6) ++held_rank;
   if (held_rank < k) {
-    // The in-plane motions; named by the one that turns least (a slide where there is one).
-    const Eigen::MatrixXd in_plane = held.free.motions * svd.matrixV().rightCols(k - held_rank);
-    const Eigen::JacobiSVD<Eigen::MatrixXd> turn(in_plane.bottomRows(3), Eigen::ComputeFullV);
-    const Eigen::Matrix<double, 6, 1> slide = in_plane * turn.matrixV().col(in_plane.cols() - 1);
-    const FreeRigidMotions named = in_user_frame({slide, held.free.centre, held.free.size}, user_frame);
-    throw InputError(
-        "the prescribed displacements leave the body free to move: " + named.describe(named.motions.col(0)) +
-        " is not prevented by boundary.clamped or boundary.displacement; contact holds a body only "
-        "along the foundation's normal (a lift, a tilt), not in its plane, so the stiffness matrix "
-        "is singular; constrain more components or groups (e.g. symmetry planes)");
+    held.in_plane_combinations = svd.matrixV().rightCols(k - held_rank);
+    const Eigen::MatrixXd in_plane = held.free.motions * held.in_plane_combinations;
+    held.in_plane = in_user_frame({in_plane, held.free.centre, held.free.size}, user_frame);
   }
   held.field = rigid_motion_field(mesh, dofs, held.free);
   held.pins = pin_dofs(held.field);

@@ -5,9 +5,11 @@
 // K_s⁻¹ acts as a generalized inverse of K wherever the loads on the body balance along the free
 // motions, Rᵀ(f − 𝔹ᵀλ) = 0 — the equality constraints Gλ = e (G = (𝔹R)ᵀ, e = Rᵀf) that the dual
 // QP gets (qp/dual_qp_solver.hpp). Their multiplier μ is the body's rigid displacement: u = w − Rμ,
-// w = K_s⁻¹(f − 𝔹ᵀλ). Normal contact holds only motions that move the body along the foundation's
-// normal (a lift, a tilt about an axis in the plane); a free motion in the plane (a slide, a turn
-// about the normal) is refused, as before: friction alone would leave it undetermined.
+// w = K_s⁻¹(f − 𝔹ᵀλ). Normal contact holds the motions that move the body along the foundation's
+// normal (a lift, a tilt about an axis in the plane); a motion in the plane (a slide, a turn about
+// the normal) is held by friction alone, its equilibrium then a condition on the tangential
+// multipliers (Σ friction forces = the tangential load). Frictionless contact holds it only when the
+// loads along it balance (the pin then places the body, carrying no force).
 #pragma once
 
 #include <string>
@@ -24,21 +26,24 @@
 namespace contact3d {
 
 struct ContactHeldMotions {
-  FreeRigidMotions free;            // the motions, about the body's centroid
-  FreeRigidMotions named;           // the same in the user's frame (for messages)
-  Eigen::MatrixXd field;            // n_free × k: the motions at the free dofs (R)
-  std::vector<int> pins;            // k free dofs with a spring, where R's rows are best conditioned
-  std::vector<double> pin_springs;  // the springs added to K's diagonal there (K_s = K + Σ s_p e_p e_pᵀ)
+  FreeRigidMotions free;                  // the motions, about the body's centroid
+  FreeRigidMotions named;                 // the same in the user's frame (for messages)
+  FreeRigidMotions in_plane;              // those of them that slide or turn in the foundation's plane, user frame
+  Eigen::MatrixXd in_plane_combinations;  // k × (in_plane.count()): the same as combinations of `free`
+  Eigen::MatrixXd field;                  // n_free × k: the motions at the free dofs (R)
+  std::vector<int> pins;                  // k free dofs with a spring, where R's rows are best conditioned
+  std::vector<double> pin_springs;        // the springs added to K's diagonal there (K_s = K + Σ s_p e_p e_pᵀ)
   int count() const { return free.count(); }
   // "a translation along (0, 0, 1)" and so on, one per motion, joined by " and ".
   std::string describe() const;
+  std::string describe_in_plane() const;  // the same for the in-plane motions ("" where none)
   // K_s w − (K_s − K) w: K w from a product by K_s.
   void remove_springs(const Eigen::VectorXd& w, Eigen::VectorXd& Ks_w) const;
 };
 
 // The free rigid motions of a body whose contact face lies on the plane z = 0 (the solve's frame):
-// none (count() = 0) when the prescribed components hold the body. Throws InputError when a free
-// motion moves the body in the plane (no normal contact force can hold it) or `has_contact` is false.
+// none (count() = 0) when the prescribed components hold the body. Throws InputError when
+// `has_contact` is false.
 // Messages name the motions in `user_frame`'s global axes (the solve's frame is the plane's).
 ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
                                         const FoundationFrame& user_frame = FoundationFrame());

@@ -168,10 +168,10 @@ void parse_boundary(const toml::table& bnd, Scene& s) {
       throw InputError(where + " on '" + d.group + "' prescribes no component: give any of x, y, z (m)");
     s.displacements.push_back(d);
   }
-  if (s.clamped.empty() && s.displacements.empty())
+  if (s.clamped.empty() && s.displacements.empty() && s.contact.empty())
     throw InputError(
-        "the scene has no boundary.clamped group and no [[boundary.displacement]]: something must keep the "
-        "body from rigid motions");
+        "the scene has no boundary.clamped group, no [[boundary.displacement]] and no boundary.contact: "
+        "something must keep the body from rigid motions");
   for (const toml::table* t : get_tables(bnd, "boundary", "traction")) {
     check_keys(*t, "boundary.traction", {"group", "value", "gradient"});
     Traction tr;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
@@ -117,7 +118,28 @@ constexpr int kMaxEqualitySteps = 50;
 // Below this ‖F‖/‖e‖ a step that finds no descent is the inner solves' rounding, not a failure.
 constexpr double kEqualityNoiseFloor = 1e-7;
 
+// The orthogonal projector onto the range of `G` (k × k): the part of Gλ − e that λ can move.
+Eigen::MatrixXd range_projector(const Eigen::MatrixXd& G) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G * G.transpose());
+  const double largest = eig.eigenvalues().size() ? eig.eigenvalues().maxCoeff() : 0.0;
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(G.rows(), G.rows());
+  for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j)
+    if (largest > 0 && eig.eigenvalues()[j] > 1e-12 * largest)
+      P += eig.eigenvectors().col(j) * eig.eigenvectors().col(j).transpose();
+  return P;
+}
+
 }  // namespace
+
+// The multipliers that can carry force in a solve with these radii: every normal one, a cell's
+// tangential pair only where its disc has a radius (none in a frictionless solve, e.g. Coulomb's first).
+Eigen::MatrixXd DualQpSolver::reachable_columns(const Eigen::VectorXd& radius) const {
+  Eigen::MatrixXd G = G_;
+  if (qp_.with_friction)
+    for (int i = 0; i < qp_.r; ++i)
+      if (!(radius[i] > 0)) G.col(qp_.r + i).setZero(), G.col(2 * qp_.r + i).setZero();
+  return G;
+}
 
 QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
   const Eigen::Index k = G_.rows();
@@ -134,6 +156,14 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     return Eigen::VectorXd(G_ * lam - e_);
   };
   if (lambda.size() != qp_.size()) lambda = Eigen::VectorXd::Zero(qp_.size());
+  // Only the part of F in the range of the columns that can carry force is driven to 0 (P F); the
+  // rest — a slide's loads where no disc has a radius — stays in equality_residual() for the caller.
+  const Eigen::MatrixXd G_reach = qp_.with_friction ? reachable_columns(radius) : G_;
+  const Eigen::MatrixXd P = range_projector(G_reach);
+  const auto reach = [&P](const Eigen::VectorXd& F) { return (P * F).norm(); };
+  if (reach_projector_.rows() != k || !reach_projector_.isApprox(P))
+    jacobian_.resize(0, 0);  // other columns: measure again
+  reach_projector_ = P;
   Eigen::VectorXd F = F_at(mu_, lambda);
   // The difference quotients' step: 1e-3 of μ, or of a rigid shift whose 𝔹Rμ is the size of h.
   const double G_max = G_.lpNorm<Eigen::Infinity>();
@@ -153,7 +183,7 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
   // does not see it, to just past the next touch of a cell (where its gradient (Qλ − h + Gᵀμ)_i reaches
   // 0 with λ held), and the Jacobian is measured again there.
   const Eigen::VectorXd q_diagonal = qp_.diagonal();
-  const Eigen::MatrixXd full_contact = G_ * q_diagonal.cwiseInverse().asDiagonal() * G_.transpose();
+  const Eigen::MatrixXd full_contact = G_reach * q_diagonal.cwiseInverse().asDiagonal() * G_reach.transpose();
   const auto jump_to_next_touch = [&](const Eigen::VectorXd& d) {
     // The QP's gradient at λ, Qλ − h + Gᵀμ, moves by Gᵀd per unit of the shift (λ held).
     const Eigen::VectorXd gradient = qp_.apply(lambda) - h_ + G_.transpose() * mu_, slope = G_.transpose() * d;
@@ -166,7 +196,7 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     return true;
   };
   const auto unseen_shift = [&] {
-    const Eigen::VectorXd shift = full_contact.completeOrthogonalDecomposition().solve(F);
+    const Eigen::VectorXd shift = full_contact.completeOrthogonalDecomposition().solve(P * F);
     if (jacobian_.rows() != k) return shift;
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian_, Eigen::ComputeFullV);
     Eigen::Index seen = 0;
@@ -174,27 +204,27 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     const Eigen::MatrixXd blind = svd.matrixV().rightCols(k - seen);
     return Eigen::VectorXd(blind * (blind.transpose() * shift));
   };
-  if (F.norm() > 0 && qp_.r > 0 && lambda.head(qp_.r).cwiseAbs().maxCoeff() == 0) jump_to_next_touch(unseen_shift());
+  if (reach(F) > 0 && qp_.r > 0 && lambda.head(qp_.r).cwiseAbs().maxCoeff() == 0) jump_to_next_touch(unseen_shift());
   const double F_scale = e_.norm() > 0 ? e_.norm() : std::max(G_.norm() * lambda.norm(), 1e-300);
   const double target = std::max(rtol, 1e-9) * F_scale;
   bool fresh_jacobian = false;
-  if (jacobian_.rows() != k && F.norm() > target) {
+  if (jacobian_.rows() != k && reach(F) > target) {
     measure_jacobian();
     fresh_jacobian = true;
   }
-  for (int step = 0; step < kMaxEqualitySteps && F.norm() > target && !inner_failed; ++step) {
+  for (int step = 0; step < kMaxEqualitySteps && reach(F) > target && !inner_failed; ++step) {
     if (const Eigen::VectorXd blind = unseen_shift(); qp_.r > 0 && blind.norm() > 0 && jump_to_next_touch(blind)) {
       measure_jacobian();
       fresh_jacobian = true;
       continue;
     }
     // J ≈ −G·dλ/dh·Gᵀ is singular where the contact does not hold a motion: least squares there.
-    const Eigen::VectorXd newton = jacobian_.completeOrthogonalDecomposition().solve(-F);
+    const Eigen::VectorXd newton = jacobian_.completeOrthogonalDecomposition().solve(-P * F);
     bool accepted = false;
     for (double t = 1; t >= 1.0 / 256 && !accepted && !inner_failed; t /= 2) {
       Eigen::VectorXd mu_t = mu_ + t * newton, lam_t = lambda;
       const Eigen::VectorXd F_t = F_at(mu_t, lam_t);
-      if (F_t.norm() >= (1 - 1e-4 * t) * F.norm()) continue;
+      if (reach(F_t) >= (1 - 1e-4 * t) * reach(F)) continue;
       const Eigen::VectorXd s = t * newton, y = F_t - F;  // Broyden's update along the step taken
       jacobian_ += (y - jacobian_ * s) * s.transpose() / s.squaredNorm();
       mu_ = std::move(mu_t);
@@ -210,7 +240,7 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
   equality_residual_ = F.norm() / F_scale;
   if (inner_failed)
     total.status = QpStatus::Breakdown;
-  else if (F.norm() > std::max(target, kEqualityNoiseFloor * F_scale))
+  else if (reach(F) > std::max(target, kEqualityNoiseFloor * F_scale))
     total.status = QpStatus::IterationLimit;
   return total;
 }

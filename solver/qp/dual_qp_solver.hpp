@@ -121,6 +121,7 @@ class DualQpSolver {
   QpResult solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
   QpResult solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
   void set_linear_term(const Eigen::VectorXd& h);
+  Eigen::MatrixXd reachable_columns(const Eigen::VectorXd& radius) const;  // G where λ can be nonzero
 
   BoxDiscQP qp_;
   std::optional<JacobiScaledQP> jacobi_;
@@ -133,10 +134,11 @@ class DualQpSolver {
   std::unique_ptr<BorderedNewton> bordered_;  // the Newton steps' route through the factor of Q (or none)
   QpSettings settings_;
   Progress* progress_ = nullptr;
-  Eigen::VectorXd h_;         // the linear term of the problem as given (before any −Gᵀμ)
-  Eigen::MatrixXd G_;         // equality constraints (0 rows: none)
-  Eigen::VectorXd e_, mu_;    // their right-hand side and multiplier
-  Eigen::MatrixXd jacobian_;  // dF/dμ as last measured and updated (empty: not yet)
+  Eigen::VectorXd h_;                // the linear term of the problem as given (before any −Gᵀμ)
+  Eigen::MatrixXd G_;                // equality constraints (0 rows: none)
+  Eigen::VectorXd e_, mu_;           // their right-hand side and multiplier
+  Eigen::MatrixXd jacobian_;         // dF/dμ as last measured and updated (empty: not yet)
+  Eigen::MatrixXd reach_projector_;  // onto the part of F the last solve's multipliers could move
   double equality_residual_ = 0;
 };
 

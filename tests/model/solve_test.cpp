@@ -4,6 +4,9 @@
 // near the end lifted by the end load, symmetry about y = 1/2.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <map>
+
 #include <Eigen/Geometry>
 
 #include "base/errors.hpp"
@@ -516,10 +519,84 @@ TEST(SolveUserConditions, BodyHeldByContactAlone) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("pull the body off"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+
+// The largest difference between u and u mirrored through the brick's two vertical symmetry planes
+// x = 1.5 and y = 0.5 (u_x and u_y change sign), over its nodes.
+double mirror_asymmetry(const SolveResult& res, int n) {
+  const Mesh mesh = make_paper_brick({n});
+  std::map<std::array<long, 3>, Eigen::Index> node_at;
+  const auto key = [](const Eigen::Vector3d& x) {
+    return std::array<long, 3>{std::lround(1e6 * x.x()), std::lround(1e6 * x.y()), std::lround(1e6 * x.z())};
+  };
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) node_at[key(mesh.nodes[v])] = static_cast<Eigen::Index>(v);
+  double worst = 0;
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
+    const Eigen::Vector3d& x = mesh.nodes[v];
+    const Eigen::Index w = node_at.at(key({3 - x.x(), 1 - x.y(), x.z()}));
+    const Eigen::Vector3d u = res.u.segment<3>(3 * static_cast<Eigen::Index>(v)), u_mirror = res.u.segment<3>(3 * w);
+    worst = std::max(
+        {worst, std::abs(u.x() + u_mirror.x()), std::abs(u.y() + u_mirror.y()), std::abs(u.z() - u_mirror.z())});
+  }
+  return worst;
+}
+
+}  // namespace
+
+// A body held by contact alone in every direction (nothing clamped): the slides and the turn about
+// the normal are held by friction, the lift and tilts by the normal pressure.
+// - The paper's loads, with their tangential 1e7 N on the end face: Tresca (the ramp law) and
+//   Coulomb both balance every component of the load with the contact force, KKT to 1e-8.
+// - Only the vertical load on the top face, Tresca: the answer has the brick's two mirror symmetries
+//   (friction, not the springs that make K regular, places the body).
+// - Frictionless, vertical load only: the body's place in the plane is free; the answer is given
+//   without a rigid slide or turn (symmetric again) and says so in a note.
+// - A tangential load friction cannot carry (frictionless, or g = 2e6: at most 0.3·2e6·3 m² = 1.8e6 N
+//   against 1e7 N), also with u_y held on x = 0 (the slide along x free): refused, naming the motion.
+TEST(SolveUserConditions, BodyHeldInItsPlaneByFriction) {
+  const std::vector<std::string> free_body = {"boundary.clamped=[]"};
+  const auto with = [&free_body](std::vector<std::string> more) {
+    more.insert(more.begin(), free_body.begin(), free_body.end());
+    return more;
+  };
+  for (const char* model : {"\"tresca\"", "\"coulomb\""}) {
+    const SolveResult res =
+        solve_with("", with({std::string("friction.model=") + model,
+                             std::string("friction.slip_bound=") + (model[1] == 'c' ? "0" : "2e7")}));
+    ASSERT_TRUE(res.converged) << model << ": " << res.status;
+    EXPECT_LT(res.kkt.max(), 1e-8) << model;
+    EXPECT_LT((res.forces.contact + res.forces.applied).norm(), 1e-8 * res.forces.applied.norm()) << model;
+    EXPECT_GT(std::abs(res.forces.contact.x()), 0.1 * res.forces.applied.norm()) << model;
+  }
+  const std::string top_only = "boundary.traction=[{group=\"load_top\", value=[0.0, 0.0, -3e7]}]";
+  const SolveResult pressed = solve_with("", with({top_only}));
+  ASSERT_TRUE(pressed.converged) << pressed.status;
+  EXPECT_LT(pressed.kkt.max(), 1e-8);
+  const double size = pressed.u.cwiseAbs().maxCoeff();
+  EXPECT_LT(mirror_asymmetry(pressed, 4), 1e-7 * size);
+
+  const SolveResult frictionless = solve_with("", with({top_only, "friction.law=\"none\""}));
+  ASSERT_TRUE(frictionless.converged) << frictionless.status;
+  EXPECT_LT(mirror_asymmetry(frictionless, 4), 1e-7 * frictionless.u.cwiseAbs().maxCoeff());
+  bool noted = false;
+  for (const std::string& note : frictionless.notes) noted |= note.find("does not fix") != std::string::npos;
+  EXPECT_TRUE(noted);
+
+  for (const auto& overrides : {with({"friction.law=\"none\""}), with({"friction.slip_bound=2e6"})}) {
+    try {
+      solve_with("", overrides);
+      FAIL() << "a load friction cannot hold solved: " << overrides.back();
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("friction alone must hold it"), std::string::npos) << e.what();
+    }
+  }
   try {
-    solve_with("[[boundary.displacement]]\ngroup = \"clamped\"\nx = 0\n", {"boundary.clamped=[]"});
-    FAIL() << "a body free to slide solved";
+    solve_with("[[boundary.displacement]]\ngroup = \"clamped\"\ny = 0\n",
+               {"boundary.clamped=[]", "friction.slip_bound=2e6"});
+    FAIL() << "rollers holding u_y on x = 0 with a load along x friction cannot hold solved";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("not in its plane"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("in the foundation's plane"), std::string::npos) << e.what();
   }
 }

@@ -88,3 +88,37 @@ TEST(EqualityConstrainedQp, UnreachableRightHandSideIsReported) {
   EXPECT_GT(qp.equality_residual(), 0.5);
   EXPECT_TRUE(lambda.allFinite());
 }
+
+// One cell with friction, a lift row (its normal multiplier) and a slide row (its first tangential
+// one), min ½|λ|² − hᵀλ with h = (1, 0, 0), λ₁ + μ₁ = 1 = λ_n and λ_t1 = −μ₂ inside the disc |λ_t| <= c:
+// - c = 0 (a frictionless solve, Coulomb's first): no multiplier can move the slide row; the lift
+//   row is solved (converged) and the slide's load stays in equality_residual() for the caller;
+// - c = 1: friction holds the slide, λ_t1 = 0.3 (μ₂ = −0.3);
+// - c = 0.2: the slide's load 0.3 exceeds the disc: not converged.
+TEST(EqualityConstrainedQp, RowsNoMultiplierCanMoveAreLeftToTheCaller) {
+  const Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(3, 3);
+  const Eigen::VectorXd h = (Eigen::VectorXd(3) << 1, 0, 0).finished();
+  const Eigen::MatrixXd G = (Eigen::MatrixXd(2, 3) << 1, 0, 0, 0, 1, 0).finished();
+  const Eigen::VectorXd e = (Eigen::VectorXd(2) << 0.5, 0.3).finished();
+  for (const QpVariant variant : {QpVariant::Auto, QpVariant::Mpgp, QpVariant::Ssn}) {
+    const std::string label = name_of(variant, kQpVariantNames);
+    DualQpSolver qp(Q, h, 1, true, 1.0, settings_for(variant));
+    qp.set_equality(G, e);
+    Eigen::VectorXd lambda;
+    ASSERT_EQ(qp.solve(Eigen::VectorXd::Zero(1), lambda, 1e-12).status, QpStatus::Converged) << label;
+    EXPECT_NEAR(lambda[0], 0.5, 1e-9) << label;
+    EXPECT_EQ(lambda[1], 0.0) << label;
+    EXPECT_NEAR(qp.equality_residual(), 0.3 / e.norm(), 1e-9) << label;
+
+    ASSERT_EQ(qp.solve(Eigen::VectorXd::Ones(1), lambda, 1e-12).status, QpStatus::Converged) << label;
+    EXPECT_NEAR(lambda[0], 0.5, 1e-9) << label;
+    EXPECT_NEAR(lambda[1], 0.3, 1e-9) << label;
+    EXPECT_NEAR(lambda[2], 0.0, 1e-9) << label;
+    EXPECT_NEAR(qp.equality_multiplier()[1], -0.3, 1e-9) << label;
+    EXPECT_LT(qp.equality_residual(), 1e-9) << label;
+
+    EXPECT_NE(qp.solve(Eigen::VectorXd::Constant(1, 0.2), lambda, 1e-12).status, QpStatus::Converged) << label;
+    EXPECT_GT(qp.equality_residual(), 0.05) << label;
+    EXPECT_TRUE(lambda.allFinite()) << label;
+  }
+}
