@@ -47,6 +47,10 @@ CASES = [
     ("paper brick n=8 held by contact alone", "paper_brick.toml",
      ["mesh.generator=paper_brick", "mesh.n=8", "boundary.clamped=[]",
       'boundary.displacement=[{group="clamped", x=0.0, y=0.0}]'], "mumps"),
+    # nothing prescribed: the lift and tilts held by the pressure, the slides and the turn about the
+    # normal by friction (six equality rows, six springs)
+    ("paper brick n=8 with nothing prescribed", "paper_brick.toml",
+     ["mesh.generator=paper_brick", "mesh.n=8", "boundary.clamped=[]"], "mumps"),
     # Coulomb's bound F(φ)·λ_n: the fixed point on (φ, λ_n), each step a MUMPS solve
     ("paper brick n=8, Coulomb", "paper_brick.toml",
      ["mesh.generator=paper_brick", "mesh.n=8", "friction.model=coulomb", "friction.slip_bound=0"], "mumps"),
