@@ -50,7 +50,7 @@ TrescaStep::Derivative TrescaStep::derivative(const Eigen::VectorXd& v_phi, cons
   if (!S || !S->ok()) return out;
   out.normal_pressure = dlambda.head(slip_bound_.size());
   // λ ↦ w is affine: its change along dλ, from one application of K⁻¹ on Γc.
-  const Eigen::VectorXd dw = face_displacement(lambda_ + dlambda) - last_face_;
+  const Eigen::VectorXd dw = face_displacement(lambda_ + dlambda, S->equality_change()) - last_face_;
   const double s = difference_step(last_face_, dw);
   if (s > 0) out.slip = (face_dofs_.slip(face_, last_face_ + s * dw) - last_slip_) / s;
   return out;
@@ -81,12 +81,16 @@ TrescaStep::Prediction TrescaStep::predict(const Eigen::VectorXd& phi, const Eig
   count_sensitivity_products(S);
   if (!S || !S->ok()) return {};  // none, or its CG did not converge (matrix-free)
   const Eigen::VectorXd lambda = lambda_ + dlambda;
-  return {face_dofs_.slip(face_, face_displacement(lambda)), lambda.head(slip_bound_.size()).cwiseMax(0.0)};
+  return {face_dofs_.slip(face_, face_displacement(lambda, S->equality_change())),
+          lambda.head(slip_bound_.size()).cwiseMax(0.0)};
 }
 
-Eigen::VectorXd TrescaStep::face_displacement(const Eigen::VectorXd& lambda) const {
+Eigen::VectorXd TrescaStep::face_displacement(const Eigen::VectorXd& lambda, const Eigen::VectorXd& dmu) const {
   Eigen::VectorXd at_dofs = dual_.face_displacement(lambda);
-  if (rigid_face_.cols()) at_dofs -= rigid_face_ * qp_.equality_multiplier();
+  if (rigid_face_.cols()) {
+    at_dofs -= rigid_face_ * qp_.equality_multiplier();
+    if (dmu.size()) at_dofs -= rigid_face_ * dmu;
+  }
   return face_dofs_.scatter(at_dofs);
 }
 

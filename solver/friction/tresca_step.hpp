@@ -97,8 +97,8 @@ class TrescaStep {
   Eigen::VectorXd last_face_, last_slip_;  // u on Γc after the last solve, and its slip G(φ)
   std::vector<Solve> history_;
   Eigen::MatrixXd rigid_face_;  // R at the face dofs (no columns: none)
-  // u on Γc (3 per node) for multipliers λ: w(λ) − Rμ with the last solve's μ.
-  Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const;
+  // u on Γc (3 per node) for multipliers λ: w(λ) − R(μ + dμ), μ the last solve's (dμ empty: 0).
+  Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda, const Eigen::VectorXd& dmu = {}) const;
   std::optional<RadiusSensitivity> sensitivity_;  // of the last solve, made by the first derivative() or predict()
   RadiusSensitivity* sensitivity();               // sensitivity_, made if need be; null when it failed
   int counted_products_ = 0;                      // sensitivity_->products() already in products_

@@ -441,7 +441,12 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const D
                   const TrescaStep& tresca) {
   if (qp.equality_residual() <= 1e-6 && !tresca.history().empty()) return;
   const ContactHeldMotions& held = disc.held;
-  const std::string unbalanced = number(100 * qp.equality_residual(), 3) + "% of them left unbalanced";
+  const std::size_t solves = tresca.history().size();
+  const std::string unbalanced = number(100 * qp.equality_residual(), 3) + "% of them left unbalanced" +
+                                 (solves > 1 ? " in solve " + std::to_string(solves) +
+                                                   " of the successive approximations, "
+                                                   "with its slips' friction coefficients"
+                                             : "");
   if (held.in_plane.count() && !tresca.history().empty()) {
     // The generalized forces along the free motions that the contact leaves over, Rᵀ(𝔹ᵀλ − f).
     const Eigen::MatrixXd& R = held.field;

@@ -92,8 +92,8 @@ BoxDiscQP DualQpSolver::solved_problem() {
 
 RadiusSensitivity DualQpSolver::radius_sensitivity(const Eigen::VectorXd& lambda) {
   const bool single = uses_single_products(settings_.precision, qp_.size());
-  if (!jacobi_) return {solved_problem(), lambda, single};
-  return {solved_problem(), jacobi_->to_scaled(lambda), single, jacobi_->scale()};
+  if (!jacobi_) return {solved_problem(), lambda, single, {}, G_};
+  return {solved_problem(), jacobi_->to_scaled(lambda), single, jacobi_->scale(), G_};
 }
 
 QpResult DualQpSolver::solve(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {

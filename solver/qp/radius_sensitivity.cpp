@@ -10,8 +10,12 @@
 namespace contact3d {
 
 RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& solution, bool single_precision,
-                                     const Eigen::VectorXd& scale)
+                                     const Eigen::VectorXd& scale, const Eigen::MatrixXd& equality)
     : qp_(qp), scale_(scale), single_precision_(single_precision), nu_(Eigen::VectorXd::Zero(qp.size())) {
+  if (equality.rows()) {
+    G_ = scale_.size() ? Eigen::MatrixXd(equality * scale_.asDiagonal()) : equality;
+    dmu_ = Eigen::VectorXd::Zero(equality.rows());
+  }
   // The active sets of z = λ − ρ g, with the semismooth Newton solver's ρ.
   const double rho = projection_scale(qp_);
   const Eigen::VectorXd z = solution - rho * (qp_.apply(solution) - qp_.h);
@@ -116,9 +120,28 @@ void RadiusSensitivity::remember(Eigen::VectorXd p, Eigen::VectorXd Ap) {
   recycled_products_.push_back(Ap / std::sqrt(left));
 }
 
+// Z = A⁻¹DᵀGᵀ column by column, and G D Z, decomposed (rank-revealing: rows of G that no free
+// direction moves — a slide where no disc slides or sticks — give no dμ).
+bool RadiusSensitivity::prepare_equality() {
+  if (Z_.cols() == G_.rows()) return true;
+  const Eigen::Index k = G_.rows();
+  Z_.resize(static_cast<Eigen::Index>(step_.directions.size()), k);
+  Eigen::MatrixXd GDZ(k, k);
+  for (Eigen::Index j = 0; j < k; ++j) {
+    Eigen::VectorXd z;
+    if (!solve_reduced(restrict_to(step_.directions, Eigen::VectorXd(G_.row(j).transpose())), z)) return false;
+    if (!qp_.matrix_free()) ++products_;  // its step of refinement (CG counts its own)
+    Z_.col(j) = z;
+    GDZ.col(j) = G_ * prolong(step_.directions, z, qp_.size());
+  }
+  GDZ_.compute(GDZ);
+  return true;
+}
+
 // dλ in the problem's variables (dμ of the scaled problem, its radii c / s_t), then mapped back.
 Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) {
   Eigen::VectorXd dlambda = Eigen::VectorXd::Zero(qp_.size());
+  if (dmu_.size()) dmu_.setZero();
   if (!qp_.matrix_free()) products_ += kProductsPerApply;
   if (!ok_ || !qp_.with_friction) return dlambda;
   for (int i = 0; i < qp_.r; ++i) {
@@ -132,6 +155,11 @@ Eigen::VectorXd RadiusSensitivity::apply(const Eigen::VectorXd& dc) {
     if (qp_.matrix_free()) ++products_;
     if (!solve_reduced(-restrict_to(step_.directions, qp_.apply(dlambda)), dy))
       return Eigen::VectorXd::Zero(qp_.size());
+    if (G_.rows()) {  // μ moves so that G dλ = 0
+      if (!prepare_equality()) return Eigen::VectorXd::Zero(qp_.size());
+      dmu_ = GDZ_.solve(G_ * (dlambda + prolong(step_.directions, dy, qp_.size())));
+      dy -= Z_ * dmu_;
+    }
     dlambda += prolong(step_.directions, dy, qp_.size());
   }
   return scale_.size() ? Eigen::VectorXd(dlambda.cwiseProduct(scale_)) : dlambda;

@@ -15,6 +15,10 @@
 // The fixed point's Newton and predicted steps use it (friction/tresca_step.hpp): the derivative of
 // G(φ) = slip(λ(c(φ))).
 //
+// With equality constraints Gλ = e (a body held by contact alone, dual_qp_solver.hpp) the linear
+// term is h − Gᵀμ and μ moves too, so that G dλ = 0: with Z = A⁻¹DᵀGᵀ (k reduced solves, once),
+// dy = dy₀ − Z dμ and (G D Z) dμ = G(dλ_fixed + D dy₀); equality_change() gives that dμ.
+//
 // The problem may be a Jacobi-scaled one (jacobi_scaling.hpp: λ = S μ, radii c / s_t): `scale` = S
 // then maps its answers back, so that apply() takes and returns the original variables.
 #pragma once
@@ -23,6 +27,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/QR>
 
 #include "linalg/dense_cholesky.hpp"
 #include "qp/box_disc_qp.hpp"
@@ -43,8 +48,9 @@ class RadiusSensitivity {
   // `qp` is the problem λ (or μ = S⁻¹λ) solves, copied (its Q, and its bordered solver if any, must
   // outlive this object); `solution` a (converged) solution of it; `scale` = S when `qp` is the
   // Jacobi-scaled problem of the original one (empty: `qp` is the original).
+  // `equality`: G of the constraints Gλ = e in the original variables (empty: none).
   RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd& solution, bool single_precision,
-                    const Eigen::VectorXd& scale = {});
+                    const Eigen::VectorXd& scale = {}, const Eigen::MatrixXd& equality = {});
   // False when the reduced matrix is not numerically positive definite (then apply() returns 0).
   bool ok() const { return ok_; }
   // Whether the reduced system goes through the factor of the whole Q (qp.bordered).
@@ -56,6 +62,8 @@ class RadiusSensitivity {
   // bordered solver have been prepared for another system since, it prepares ours again (or, failing
   // that, factors the reduced matrix).
   Eigen::VectorXd apply(const Eigen::VectorXd& dc);
+  // dμ of the last apply() (size k; empty without equality constraints).
+  const Eigen::VectorXd& equality_change() const { return dmu_; }
 
  private:
   bool factor_reduced_matrix();
@@ -64,6 +72,7 @@ class RadiusSensitivity {
   bool solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y);
   bool solve_reduced_by_cg(const Eigen::VectorXd& b, Eigen::VectorXd& y);
   void remember(Eigen::VectorXd p, Eigen::VectorXd Ap);  // adds a solution to the recycled basis
+  bool prepare_equality();                               // Z and G D Z, on the first apply()
 
   BoxDiscQP qp_;
   Eigen::VectorXd scale_;  // S (empty: none)
@@ -79,6 +88,11 @@ class RadiusSensitivity {
   std::vector<Eigen::VectorXd> recycled_, recycled_products_;
   int products_ = 0;
   bool ok_ = false;
+  // Equality constraints: G in the problem's variables (G S where scaled), Z = A⁻¹DᵀGᵀ (reduced size
+  // × k, empty until prepared) and the decomposition of G D Z; dμ of the last apply().
+  Eigen::MatrixXd G_, Z_;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> GDZ_;
+  Eigen::VectorXd dmu_;
 };
 
 }  // namespace contact3d

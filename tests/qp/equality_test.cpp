@@ -122,3 +122,52 @@ TEST(EqualityConstrainedQp, RowsNoMultiplierCanMoveAreLeftToTheCaller) {
     EXPECT_TRUE(lambda.allFinite()) << label;
   }
 }
+
+// dλ/dc and dμ/dc with equality constraints (radius_sensitivity.hpp: μ moves so that G dλ = 0)
+// against central differences of the solutions, on random QPs whose second equality row pulls on
+// the tangential multipliers (a slide held by friction): without dμ the prediction would move Gλ.
+TEST(EqualityConstrainedQp, RadiusSensitivityMovesTheEqualityMultiplier) {
+  std::mt19937 gen(11);
+  std::normal_distribution<double> normal;
+  int compared = 0;
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    contact3d::testing::RandomQp rq = contact3d::testing::make_random_qp(8, true, seed);
+    rq.use_operator();
+    const int m = rq.qp.size(), r = rq.qp.r;
+    for (int i = 0; i < r; ++i) rq.qp.radius[i] = 0.3 + rq.qp.radius[i];
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(2, m);
+    G.row(0).head(r).setOnes();                                       // a lift: the normal forces' sum
+    for (int i = 0; i < r; ++i) G(1, r + i) = 1 + 0.1 * normal(gen);  // a slide: the t1 forces' sum
+    Eigen::VectorXd feasible = Eigen::VectorXd::Zero(m);
+    feasible.head(r).setConstant(1.0);
+    feasible.segment(r, r).setConstant(0.1);
+    const Eigen::VectorXd e = G * feasible;
+    const auto solve_at = [&](const Eigen::VectorXd& radius, Eigen::VectorXd& mu) {
+      DualQpSolver qp(rq.Q, rq.qp.h, r, true, estimate_norm(rq.Q), settings_for(QpVariant::Mpgp));
+      qp.set_equality(G, e);
+      Eigen::VectorXd lambda;
+      EXPECT_EQ(qp.solve(radius, lambda, 1e-12).status, QpStatus::Converged) << "seed " << seed;
+      mu = qp.equality_multiplier();
+      return lambda;
+    };
+    DualQpSolver qp(rq.Q, rq.qp.h, r, true, estimate_norm(rq.Q), settings_for(QpVariant::Mpgp));
+    qp.set_equality(G, e);
+    Eigen::VectorXd lambda;
+    ASSERT_EQ(qp.solve(rq.qp.radius, lambda, 1e-12).status, QpStatus::Converged) << "seed " << seed;
+    RadiusSensitivity sensitivity = qp.radius_sensitivity(lambda);
+    ASSERT_TRUE(sensitivity.ok());
+    const Eigen::VectorXd dc = Eigen::VectorXd::LinSpaced(r, 1.0, -0.5);
+    const Eigen::VectorXd dlambda = sensitivity.apply(dc), dmu = sensitivity.equality_change();
+    const double t = 1e-6;
+    Eigen::VectorXd mu_plus, mu_minus;
+    const Eigen::VectorXd lambda_plus = solve_at(rq.qp.radius + t * dc, mu_plus);
+    const Eigen::VectorXd lambda_minus = solve_at(rq.qp.radius - t * dc, mu_minus);
+    const Eigen::VectorXd quotient = (lambda_plus - lambda_minus) / (2 * t),
+                          mu_quotient = (mu_plus - mu_minus) / (2 * t);
+    EXPECT_LT((G * dlambda).norm(), 1e-8 * (1 + dlambda.norm())) << "seed " << seed;
+    EXPECT_LE((dlambda - quotient).norm(), 1e-4 * (1 + quotient.norm())) << "seed " << seed;
+    EXPECT_LE((dmu - mu_quotient).norm(), 1e-4 * (1 + mu_quotient.norm())) << "seed " << seed;
+    compared += mu_quotient.norm() > 1e-2;
+  }
+  EXPECT_GE(compared, 4);  // μ does move with the radii in most of them
+}
