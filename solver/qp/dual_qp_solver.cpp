@@ -168,7 +168,18 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
   // The difference quotients' step: 1e-3 of μ, or of a rigid shift whose 𝔹Rμ is the size of h.
   const double G_max = G_.lpNorm<Eigen::Infinity>();
   const double mu_unit = G_max > 0 && h_.lpNorm<Eigen::Infinity>() > 0 ? h_.lpNorm<Eigen::Infinity>() / G_max : 1.0;
+  // The Jacobian −G D A⁻¹ DᵀGᵀ from the reduced system at λ, its active sets held
+  // (radius_sensitivity.hpp: k reduced solves instead of k QP solves); by difference quotients where
+  // that system cannot be solved.
   const auto measure_jacobian = [&] {
+    set_linear_term(h_ - G_.transpose() * mu_);
+    RadiusSensitivity at_lambda = radius_sensitivity(lambda);
+    const std::optional<Eigen::MatrixXd> response = at_lambda.equality_response();
+    total.hessian_products += at_lambda.products();
+    if (response) {
+      jacobian_ = -*response;
+      return;
+    }
     jacobian_.resize(k, k);
     for (Eigen::Index j = 0; j < k; ++j) {
       Eigen::VectorXd mu_j = mu_, lam = lambda;

@@ -135,7 +135,15 @@ bool RadiusSensitivity::prepare_equality() {
     GDZ.col(j) = G_ * prolong(step_.directions, z, qp_.size());
   }
   GDZ_.compute(GDZ);
+  GDZ_matrix_ = std::move(GDZ);
   return true;
+}
+
+std::optional<Eigen::MatrixXd> RadiusSensitivity::equality_response() {
+  if (!ok_ || G_.rows() == 0) return std::nullopt;
+  if (step_.directions.empty()) return Eigen::MatrixXd::Zero(G_.rows(), G_.rows());  // nothing moves
+  if (!prepare_equality()) return std::nullopt;
+  return GDZ_matrix_;
 }
 
 // dλ in the problem's variables (dμ of the scaled problem, its radii c / s_t), then mapped back.

@@ -62,6 +62,10 @@ class RadiusSensitivity {
   // bordered solver have been prepared for another system since, it prepares ours again (or, failing
   // that, factors the reduced matrix).
   Eigen::VectorXd apply(const Eigen::VectorXd& dc);
+  // With equality constraints: G dλ/dμ = −G D Z, the response of Gλ to the multiplier μ with the
+  // active sets held (the Jacobian of the equality loop's F(μ) = Gλ(μ) − e is its negative); none
+  // where the reduced system cannot be solved.
+  std::optional<Eigen::MatrixXd> equality_response();
   // dμ of the last apply() (size k; empty without equality constraints).
   const Eigen::VectorXd& equality_change() const { return dmu_; }
 
@@ -90,7 +94,7 @@ class RadiusSensitivity {
   bool ok_ = false;
   // Equality constraints: G in the problem's variables (G S where scaled), Z = A⁻¹DᵀGᵀ (reduced size
   // × k, empty until prepared) and the decomposition of G D Z; dμ of the last apply().
-  Eigen::MatrixXd G_, Z_;
+  Eigen::MatrixXd G_, Z_, GDZ_matrix_;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> GDZ_;
   Eigen::VectorXd dmu_;
 };
