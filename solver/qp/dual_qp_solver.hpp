@@ -97,8 +97,11 @@ class DualQpSolver {
   // Equality constraints Gλ = e (G: k × m, k <= 6): the equilibrium of the rigid motions that only
   // the contact holds (model/held_by_contact.hpp), FETI's "Gλ = e". From then on solve() also finds
   // their multiplier μ: λ(μ) solves the QP with the linear term h − Gᵀμ, and μ is the root of
-  // F(μ) = Gλ(μ) − e, piecewise affine and monotone, found by Newton steps with a difference-quotient
-  // Jacobian (kept from solve to solve, Broyden-updated, re-measured when a step fails) and halving;
+  // F(μ) = Gλ(μ) − e, piecewise affine and monotone, found by Newton steps with a Jacobian from the
+  // reduced system of λ's active sets (difference quotients where it cannot be solved; kept from
+  // solve to solve, Broyden-updated, measured again when a step fails or the reachable rows change:
+  // rows no multiplier can move under these radii, a slide without friction, are left to the caller
+  // in equality_residual()) and halving;
   // along motions no contact force responds to yet (a body above its gaps) μ jumps to the next touch,
   // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (1e-7 where the inner solves' rounding stops the descent), the
   // inner solves to min(rtol/100, 1e-8). μ is warm-started too.
