@@ -8,6 +8,12 @@ add_test(NAME bodies_ufoot_coarse
   COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/pipeline/bodies_report.py check --bin $<TARGET_FILE:contact3d>
           --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/ufoot.toml --out ${CMAKE_BINARY_DIR}/bodies/ufoot
           --set mesh.parameters.h=0.15)
+# The example of a body held by contact alone in every direction (nothing prescribed; friction holds
+# the slides and the turn about the normal, Coulomb's bound): solved end to end from its scene file.
+add_test(NAME bodies_free_brick_coarse
+  COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/pipeline/bodies_report.py check --bin $<TARGET_FILE:contact3d>
+          --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/free_brick.toml --out ${CMAKE_BINARY_DIR}/bodies/free_brick
+          --set mesh.parameters.n=4)
 add_test(NAME bodies_stability_rejected
   COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/pipeline/bodies_report.py stability --bin $<TARGET_FILE:contact3d>
           --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/wedge.toml --out ${CMAKE_BINARY_DIR}/bodies/wedge_unstable)
