@@ -125,15 +125,15 @@ void RadiusSensitivity::remember(Eigen::VectorXd p, Eigen::VectorXd Ap) {
 bool RadiusSensitivity::prepare_equality() {
   if (Z_.cols() == G_.rows()) return true;
   const Eigen::Index k = G_.rows();
-  Z_.resize(static_cast<Eigen::Index>(step_.directions.size()), k);
-  Eigen::MatrixXd GDZ(k, k);
+  Eigen::MatrixXd Z(static_cast<Eigen::Index>(step_.directions.size()), k), GDZ(k, k);
   for (Eigen::Index j = 0; j < k; ++j) {
     Eigen::VectorXd z;
     if (!solve_reduced(restrict_to(step_.directions, Eigen::VectorXd(G_.row(j).transpose())), z)) return false;
     if (!qp_.matrix_free()) ++products_;  // its step of refinement (CG counts its own)
-    Z_.col(j) = z;
+    Z.col(j) = z;
     GDZ.col(j) = G_ * prolong(step_.directions, z, qp_.size());
   }
+  Z_ = std::move(Z);  // only once complete: a failed column leaves it unprepared
   GDZ_.compute(GDZ);
   GDZ_matrix_ = std::move(GDZ);
   return true;
