@@ -522,6 +522,14 @@ def c_displacement_rigid_motion_free(c):
     return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["free to move", "translation"]
 
 
+def c_contact_normal_prescribed(c):
+    # u_z = 0 prescribed on Γc itself: no cell has a free normal displacement for the contact to act on
+    text = open(c.scene()).read().replace(
+        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "contact"\nz = 0.0\n\n[[boundary.traction]]', 1)
+    return (["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"],
+            ["no contact node whose normal displacement is free", "cell"])
+
+
 def c_held_by_friction_too_weak(c):
     # Nothing prescribed: friction alone must hold the body against the end face's 1e7 Pa along x, but
     # g = 2e6 Pa with F <= 0.3 carries at most 0.6e6 Pa over Γc.

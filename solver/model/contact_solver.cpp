@@ -107,6 +107,26 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
 }
 
 // Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
+// A row of 𝔹 with no free dof (every contact node of the cell has that component prescribed, e.g.
+// u_z = 0 given on Γc) breaks (5.1) whatever the cell size: said before anything is factorized.
+void require_free_contact_rows(const ContactOperator& op, const Partition& part) {
+  Eigen::VectorXd row_size = Eigen::VectorXd::Zero(op.rows());
+  for (int j = 0; j < op.B.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(op.B, j); it; ++it) row_size[it.row()] += std::abs(it.value());
+  for (int row = 0; row < op.rows(); ++row) {
+    if (row_size[row] > 0) continue;
+    const int cell = row % op.r;
+    const char* component = row < op.r ? "normal" : row < 2 * op.r ? "first tangential" : "second tangential";
+    const auto& c = part.cells[static_cast<std::size_t>(cell)];
+    throw InputError("cell " + std::to_string(cell) + " of the contact face ([" + number(c.lo.x()) + ", " +
+                     number(c.hi.x()) + "] x [" + number(c.lo.y()) + ", " + number(c.hi.y()) +
+                     "] in the foundation's plane) has no contact node whose " + component +
+                     " displacement is free: boundary.clamped or boundary.displacement prescribes it on all of them, "
+                     "so the contact cannot act there (the stability condition (5.1) fails at any cell size); "
+                     "prescribe on the contact face only components the contact does not carry");
+  }
+}
+
 ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult& res) {
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
   // H = k·h means k times the typical element extent in each direction (h_xy), so that an
@@ -119,6 +139,7 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   ContactOperator op = make_contact_operator(res.face, res.partition, res.dofs, !scene.frictionless());
   res.n_cells = op.r;
   res.n_dual = op.rows();
+  require_free_contact_rows(op, res.partition);
   return op;
 }
 
