@@ -406,15 +406,27 @@ constexpr double kRefinedCellSize = 1.5;
 
 bool unresolved(const SolveResult& res) { return res.penetration_ratio > kUnresolvedPenetration; }
 
-void flag_unresolved_contact(const Scene& scene, SolveResult& res) {
-  double u_max = 0;
-  for (Eigen::Index p = 0; p + 2 < res.u.size(); p += 3) u_max = std::max(u_max, res.u.segment<3>(p).norm());
+// The largest nodal displacement of `u_free` expanded to the nodes, less its least-squares fit by the
+// rigid motions `held` (n_free × k, none: nothing removed). A body held by contact alone may approach
+// the foundation rigidly by far more than it deforms (a body hovering over its gaps): its penetration
+// is measured against the deformation, not the approach.
+double largest_deformation(const DofMap& dofs, const Eigen::VectorXd& u_free, const Eigen::MatrixXd& held) {
+  Eigen::VectorXd deformation = u_free;
+  if (held.cols()) deformation -= held * held.colPivHouseholderQr().solve(u_free);
+  const Eigen::VectorXd u = expand_to_nodes(dofs, deformation);
+  double largest = 0;
+  for (Eigen::Index p = 0; p + 2 < u.size(); p += 3) largest = std::max(largest, u.segment<3>(p).norm());
+  return largest;
+}
+
+void flag_unresolved_contact(const Scene& scene, bool held_by_contact, SolveResult& res) {
+  const double u_max = res.largest_deformation;
   res.penetration_ratio = u_max > 0 ? res.wn_plus_inf / u_max : 0.0;
   if (!unresolved(res)) return;
   res.warnings.push_back("the largest nodal penetration (" + number(res.wn_plus_inf, 3) + ") is " +
-                         number(100 * res.wn_plus_inf / u_max, 2) +
-                         "% of the body's largest displacement: non-penetration holds as averages over cells of H = " +
-                         number(res.cell_size, 3) +
+                         number(100 * res.wn_plus_inf / u_max, 2) + "% of the body's largest displacement" +
+                         (held_by_contact ? std::string(" less its rigid motion") : std::string()) +
+                         ": non-penetration holds as averages over cells of H = " + number(res.cell_size, 3) +
                          " and the body deforms inside a cell (a body about as thin as a cell, or a contact zone a "
                          "few cells wide), so the displacement near Γc is not resolved; refine the mesh (h)" +
                          (scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
@@ -514,6 +526,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.n_mult =
       tresca.products() + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   res.u = expand_to_nodes(res.dofs, w);
+  res.largest_deformation = largest_deformation(res.dofs, w, disc.held.field);
   res.kkt = kkt_residuals(disc.stiffness_times(mesh, res.dofs, w), disc.f, op.B, op.r, op.with_friction, res.radius, w,
                           res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
@@ -522,7 +535,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.forces.contact_at_held_nodes = held_share_of_contact_force(contact_force_in_plane_frame(res), res.forces.contact);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
-  flag_unresolved_contact(scene, res);
+  flag_unresolved_contact(scene, disc.held.count() > 0, res);
   flag_possible_nonuniqueness(scene, res);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError(

@@ -512,6 +512,9 @@ TEST(SolveUserConditions, BodyHeldByContactAlone) {
   Eigen::VectorXd moved_down = tilted.u;
   for (Eigen::Index v = 0; v < moved_down.size() / 3; ++v) moved_down[3 * v + 2] -= 0.5;
   EXPECT_LT(max_difference(hovering.u, moved_down), 1e-9);
+  // Its penetration is measured against its deformation, not against the 0.5 m it fell.
+  EXPECT_GT(tilted.penetration_ratio, 0.0);
+  EXPECT_NEAR(hovering.penetration_ratio, tilted.penetration_ratio, 1e-6 * tilted.penetration_ratio);
 
   try {
     solve_with(rollers, {"boundary.clamped=[]", "material.body_force=[0, 0, 1e9]"});
