@@ -81,6 +81,23 @@ Eigen::VectorXd apply_stiffness(const Mesh& mesh, const DofMap& dofs, const TetM
   return Kw;
 }
 
+std::vector<double> stiffness_diagonal_at(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material,
+                                          const std::vector<int>& free_dofs) {
+  std::vector<double> diagonal(free_dofs.size(), 0.0);
+  std::vector<int> global(free_dofs.size(), -1);  // node · 3 + component of each
+  for (int i = 0; i < 3 * dofs.n_nodes; ++i)
+    for (std::size_t k = 0; k < free_dofs.size(); ++k)
+      if (dofs.free_index[i] >= 0 && dofs.free_index[i] == free_dofs[k]) global[k] = i;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e)
+    for (int a = 0; a < 4; ++a)
+      for (std::size_t k = 0; k < free_dofs.size(); ++k) {
+        if (global[k] < 0 || mesh.tets[e][a] != global[k] / 3) continue;
+        const Matrix12d Ke = element_stiffness(coords(mesh, mesh.tets[e]), hooke_matrix(material[e]));
+        diagonal[k] += Ke(3 * a + global[k] % 3, 3 * a + global[k] % 3);
+      }
+  return diagonal;
+}
+
 namespace {
 
 // True when free dofs are numbered node by node, ascending, each node's free components in

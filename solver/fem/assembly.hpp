@@ -61,6 +61,10 @@ NodeGraph free_node_graph(const Mesh& mesh, const DofMap& dofs);
 // factorization and freed it); equals assemble_stiffness(mesh, dofs, material) * w.
 Eigen::VectorXd apply_stiffness(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material,
                                 const Eigen::VectorXd& w);
+// K's diagonal entries at the free dofs `free_dofs`, from the elements that touch their nodes only
+// (K never formed); equal to assemble_stiffness(mesh, dofs, material).diagonal() there.
+std::vector<double> stiffness_diagonal_at(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material,
+                                          const std::vector<int>& free_dofs);
 // The external loads at the free dofs (tractions integrated exactly for affine t). Throws
 // InputError for a pressure on a group that is not a boundary face of the body.
 Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs, const std::vector<Traction>& tractions,

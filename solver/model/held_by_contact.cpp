@@ -97,12 +97,7 @@ void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held) {
 }
 
 void add_pin_springs(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, ContactHeldMotions& held) {
-  held.pin_springs.clear();
-  for (const int p : held.pins) {
-    Eigen::VectorXd unit = Eigen::VectorXd::Zero(dofs.n_free);
-    unit[p] = 1;
-    held.pin_springs.push_back(apply_stiffness(mesh, dofs, materials, unit)[p]);
-  }
+  held.pin_springs = stiffness_diagonal_at(mesh, dofs, materials, held.pins);
 }
 
 }  // namespace contact3d

@@ -241,6 +241,12 @@ TEST(Assembly, PerComponentConditionsAndMaterials) {
   const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(dofs.n_free, -1.0, 2.0).array().sin();
   const Eigen::VectorXd Kw = ref * w;
   EXPECT_LT((apply_stiffness(mesh, dofs, mixed, w) - Kw).norm(), 1e-13 * Kw.norm());
+  // K's diagonal at a few free dofs (the pins' springs on the distributed route) from the elements at their nodes.
+  const std::vector<int> some = {0, 1, dofs.n_free / 2, dofs.n_free - 1};
+  const std::vector<double> diagonal = stiffness_diagonal_at(mesh, dofs, mixed, some);
+  ASSERT_EQ(diagonal.size(), some.size());
+  for (std::size_t k = 0; k < some.size(); ++k)
+    EXPECT_NEAR(diagonal[k], ref.coeff(some[k], some[k]), 1e-13 * ref.coeff(some[k], some[k])) << some[k];
   PrescribedDisplacement clash{"load_end", {+1e-3, std::nullopt, std::nullopt}};
   try {
     make_dof_map(mesh, {"clamped"}, {push, clash});
