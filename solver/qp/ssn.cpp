@@ -24,23 +24,33 @@ double flops_in_products(double flops, int m) { return m > 0 ? flops / (2.0 * m 
 
 // Iterative refinement in double (each refinement one product by Q) of `approximate`, a solver of
 // the reduced system in single precision or through the bordered factor, until the residual is
-// kRefinedResidual of the right-hand side. False when it does not get there: the caller then takes
-// a more accurate route.
-constexpr int kMaxRefinements = 4;
+// `target` of the right-hand side, or stops falling once below kRefinedResidual (rounding). False
+// when it does not get below kRefinedResidual: the caller then takes a more accurate route.
+// The target follows the QP's tolerance (newton_refinement_target): on the free thin slab, whose
+// equality loop solves its QPs to 1e-12, one fixed 1e-10 left every Newton step short and MPGP
+// crawled the rest (h = 0.035: 128 340 products, 42 s; with the target 1 174 products, 2.3 s).
+constexpr int kMaxRefinements = 8;
 constexpr double kRefinedResidual = 1e-10;
+double newton_refinement_target(double rtol) { return std::min(kRefinedResidual, rtol); }
 template <class ApproximateSolve>
 bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, const ApproximateSolve& approximate,
-                      Eigen::VectorXd& y, int& products) {
+                      double target, Eigen::VectorXd& y, int& products) {
   const Eigen::VectorXd b = y;
+  const double b_norm = b.norm();
   Eigen::VectorXd x = approximate(b);
-  for (int it = 0; it < kMaxRefinements; ++it) {
+  double before = INFINITY;
+  for (int it = 0; it <= kMaxRefinements; ++it) {
     const Eigen::VectorXd r = b - reduced_product(qp, d, x);
     ++products;
     if (!r.allFinite()) return false;
-    if (r.norm() <= kRefinedResidual * b.norm()) {
+    const double left = r.norm();
+    const bool stalled = left > 0.5 * before || it == kMaxRefinements;
+    if (left <= target * b_norm || (stalled && left <= kRefinedResidual * b_norm)) {
       y = x;
       return true;
     }
+    if (stalled) return false;
+    before = left;
     x += approximate(r);
   }
   return false;
@@ -48,14 +58,15 @@ bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, cons
 
 // The reduced system through the factor of the whole Q (bordered_newton.hpp), where that is cheaper
 // than factoring it (refined in double when the factor is single).
-bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products) {
+bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d, double target, Eigen::VectorXd& y,
+                            int& products) {
   if (!qp.bordered || !qp.bordered->prepare(d)) return false;
   if (qp.bordered->exact()) {  // as accurate as a factorization of the reduced matrix in double
     const Eigen::VectorXd x = qp.bordered->solve(y);
     if (!x.allFinite()) return false;
     y = x;
   } else if (!refine_in_double(
-                 qp, d, [&](const Eigen::VectorXd& v) { return qp.bordered->solve(v); }, y, products)) {
+                 qp, d, [&](const Eigen::VectorXd& v) { return qp.bordered->solve(v); }, target, y, products)) {
     return false;
   }
   return true;
@@ -65,13 +76,14 @@ bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d
 // large systems (with a single copy of Q, see BoxDiscQP), where the factorization is the cost of a
 // Newton step. False when the single factorization fails or the refinement does not converge: the
 // caller then solves in double.
-bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& d, Eigen::VectorXd& y, int& products) {
+bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& d, double target, Eigen::VectorXd& y,
+                             int& products) {
   Eigen::MatrixXf A;
   reduced_matrix(qp, d, A);
   const SingleCholesky chol(std::move(A));
   if (!chol.ok()) return false;
   return refine_in_double(
-      qp, d, [&](const Eigen::VectorXd& v) { return chol.solve(v); }, y, products);
+      qp, d, [&](const Eigen::VectorXd& v) { return chol.solve(v); }, target, y, products);
 }
 
 // An inexact Newton step on a matrix-free Q: CG from the current iterate `lambda` to a residual of
@@ -96,16 +108,18 @@ bool newton_target_by_cg(const BoxDiscQP& qp, const ReducedStep& step, const Eig
   return y.allFinite();
 }
 
-// Solves the reduced system for λ⁺; false if its Cholesky factorization fails. `products` counts the
+// Solves the reduced system for λ⁺ (refined for the QP's tolerance `rtol`); false if its Cholesky
+// factorization fails. `products` counts the
 // products by Q of a refinement; `cost` gets the step's factorization cost in products (newton_step_cost,
 // or the bordered route's flops), `bordered` whether it took that route.
-bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, Eigen::VectorXd& lambda_new, int& products,
-                   double& cost, bool& bordered) {
+bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, double rtol, Eigen::VectorXd& lambda_new,
+                   int& products, double& cost, bool& bordered) {
+  const double target = newton_refinement_target(rtol);
   const int k = static_cast<int>(step.directions.size());
   Eigen::VectorXd y = restrict_to(step.directions, qp.h - qp.apply(step.lambda_fixed));
-  bordered = k > 0 && solve_reduced_bordered(qp, step.directions, y, products);
+  bordered = k > 0 && solve_reduced_bordered(qp, step.directions, target, y, products);
   cost = bordered ? flops_in_products(qp.bordered->prepare_flops(), qp.size()) : newton_step_cost(k, qp.size());
-  if (k > 0 && !bordered && !(qp.Q_single && solve_reduced_in_single(qp, step.directions, y, products))) {
+  if (k > 0 && !bordered && !(qp.Q_single && solve_reduced_in_single(qp, step.directions, target, y, products))) {
     Eigen::MatrixXd A;
     reduced_matrix(qp, step.directions, A);
     const DenseCholesky chol(std::move(A));
@@ -182,7 +196,7 @@ QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettin
       // (superlinear near the solution), never asked below what the stopping test needs.
       const double forcing = std::min(kMaxForcing, std::sqrt(pg / h_norm));
       if (!newton_target_by_cg(qp, step, lambda, std::max(forcing * pg, 0.1 * tol), target, result, cost)) break;
-    } else if (!newton_target(qp, step, target, result.hessian_products, cost, bordered)) {
+    } else if (!newton_target(qp, step, settings.rtol, target, result.hessian_products, cost, bordered)) {
       break;  // hand over to MPGP
     }
     result.bordered_steps += bordered;

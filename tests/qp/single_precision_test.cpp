@@ -121,6 +121,31 @@ TEST(SinglePrecisionProducts, NewtonStepsRefinedToTheDoubleAnswer) {
   }
 }
 
+// Tolerances far below the refinement's usual 1e-10 (the equality loop of a body held by contact
+// alone solves to 1e-12): the single-precision Newton steps are refined to the QP's tolerance, so
+// semismooth Newton gets there in about the steps it takes in double, without MPGP's help, on a Q
+// whose eigenvalues spread over 1e6.
+TEST(SinglePrecisionProducts, NewtonStepsRefinedToATightTolerance) {
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    RandomQp rq = make_random_qp(60, true, seed * 17);
+    rq.Q = with_condition(static_cast<int>(rq.Q.rows()), 1e6, seed * 17);
+    rq.use_operator();
+    SsnSettings settings;
+    settings.rtol = 1e-13;
+    settings.fallback_to_mpgp = false;
+    Eigen::VectorXd reference;
+    const QpResult in_double = solve_ssn(rq.qp, reference, settings);
+    ASSERT_EQ(in_double.status, QpStatus::Converged) << "seed " << seed;
+    const SingleCopy single(rq.Q);
+    single.attach(rq.qp);
+    Eigen::VectorXd x;
+    const QpResult mixed = solve_ssn(rq.qp, x, settings);
+    ASSERT_EQ(mixed.status, QpStatus::Converged) << "seed " << seed;
+    EXPECT_LE(exact_projected_gradient(rq.qp, x), 1e-13) << "seed " << seed;
+    EXPECT_LE(mixed.newton_steps, in_double.newton_steps + 2) << "seed " << seed;
+  }
+}
+
 // The matrix-free solver (a Q seen only through products, as on the matrix-free dual) takes the
 // single products it is given (MatrixFreeQ::single_product: a float factor of K there, Q in float
 // here) where QpSettings::precision asks for them, in MPGP and in the Newton steps' CG, and meets the
