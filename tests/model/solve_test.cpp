@@ -587,6 +587,12 @@ TEST(SolveUserConditions, BodyHeldInItsPlaneByFriction) {
   for (const std::string& note : frictionless.notes) noted |= note.find("does not fix") != std::string::npos;
   EXPECT_TRUE(noted);
 
+  // A dual QP stopped by its iteration limit leaves the loads unbalanced too: that is the solver's
+  // failure (a run that did not converge), not a friction too weak to hold the body.
+  const SolveResult stopped = solve_with("", with({"solver.qp_max_iterations=3", "solver.qp=\"mpgp\""}));
+  EXPECT_FALSE(stopped.converged);
+  EXPECT_NE(stopped.status, "converged");
+
   for (const auto& overrides : {with({"friction.law=\"none\""}), with({"friction.slip_bound=2e6"})}) {
     try {
       solve_with("", overrides);
