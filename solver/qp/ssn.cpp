@@ -109,9 +109,9 @@ bool newton_target_by_cg(const BoxDiscQP& qp, const ReducedStep& step, const Eig
 }
 
 // Solves the reduced system for λ⁺ (refined for the QP's tolerance `rtol`); false if its Cholesky
-// factorization fails. `products` counts the
-// products by Q of a refinement; `cost` gets the step's factorization cost in products (newton_step_cost,
-// or the bordered route's flops), `bordered` whether it took that route.
+// factorization fails. `products` counts the products by Q of a refinement; `cost` gets the step's
+// factorization cost in products (newton_step_cost, or the bordered route's flops), `bordered`
+// whether it took that route.
 bool newton_target(const BoxDiscQP& qp, const ReducedStep& step, double rtol, Eigen::VectorXd& lambda_new,
                    int& products, double& cost, bool& bordered) {
   const double target = newton_refinement_target(rtol);
