@@ -106,7 +106,6 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   return disc;
 }
 
-// Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
 // A row of 𝔹 with no free dof (every contact node of the cell has that component prescribed, e.g.
 // u_z = 0 given on Γc) breaks (5.1) whatever the cell size: said before anything is factorized.
 void require_free_contact_rows(const ContactOperator& op, const Partition& part) {
@@ -127,6 +126,7 @@ void require_free_contact_rows(const ContactOperator& op, const Partition& part)
   }
 }
 
+// Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
 ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult& res) {
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
   // H = k·h means k times the typical element extent in each direction (h_xy), so that an
@@ -419,8 +419,8 @@ double largest_deformation(const DofMap& dofs, const Eigen::VectorXd& u_free, co
   return largest;
 }
 
-void flag_unresolved_contact(const Scene& scene, bool held_by_contact, SolveResult& res) {
-  const double u_max = res.largest_deformation;
+// `u_max`: largest_deformation, less the rigid motion where `held_by_contact`.
+void flag_unresolved_contact(const Scene& scene, double u_max, bool held_by_contact, SolveResult& res) {
   res.penetration_ratio = u_max > 0 ? res.wn_plus_inf / u_max : 0.0;
   if (!unresolved(res)) return;
   res.warnings.push_back("the largest nodal penetration (" + number(res.wn_plus_inf, 3) + ") is " +
@@ -529,7 +529,6 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.n_mult =
       tresca.products() + 1;  // + h = 𝔹K⁻¹f; forming Q is not counted (not multiplications in the paper's sense)
   res.u = expand_to_nodes(res.dofs, w);
-  res.largest_deformation = largest_deformation(res.dofs, w, disc.held.field);
   res.kkt = kkt_residuals(disc.stiffness_times(mesh, res.dofs, w), disc.f, op.B, op.r, op.with_friction, res.radius, w,
                           res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
@@ -538,7 +537,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.forces.contact_at_held_nodes = held_share_of_contact_force(contact_force_in_plane_frame(res), res.forces.contact);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
-  flag_unresolved_contact(scene, disc.held.count() > 0, res);
+  flag_unresolved_contact(scene, largest_deformation(res.dofs, w, disc.held.field), disc.held.count() > 0, res);
   flag_possible_nonuniqueness(scene, res);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError(

@@ -88,7 +88,6 @@ struct SolveResult {
   // wn_plus_inf / the body's largest nodal displacement less its best-fitting rigid motion along the
   // motions the contact alone holds (all of it where nothing is held; 0 without contact)
   double penetration_ratio = 0;
-  double largest_deformation = 0;  // that largest displacement
   PartitionRefinement refinement;
   double stability_condition = 0;            // estimate of cond(Q) from its Cholesky pivots
   std::vector<std::string> warnings;         // what makes this answer less trustworthy than its residuals say
