@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "qp/ssn.hpp"
 
@@ -15,6 +16,13 @@ double relative_projected_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& l
 }
 
 }  // namespace
+
+bool NewtonRoundGate::admit(double pg) {
+  if (rounds_ >= free_rounds_ && !(pg < pg_at_last_round_)) return false;
+  ++rounds_;
+  pg_at_last_round_ = pg;
+  return true;
+}
 
 int default_window(const BoxDiscQP& qp) {
   return qp.matrix_free() ? kMinWindow : std::max(kMinWindow, qp.size() / 256);
@@ -30,7 +38,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
   const int window = settings.window > 0 ? settings.window : default_window(qp);
   double pg_before = relative_projected_gradient(qp, lambda, h_norm);
   ++total.hessian_products;
-  int newton_rounds = 0;
+  NewtonRoundGate newton_rounds(qp.matrix_free() ? std::numeric_limits<int>::max() : settings.max_newton_rounds);
   while (total.iterations < settings.max_iterations) {
     MpgpSettings mpgp;
     mpgp.rtol = settings.rtol;
@@ -39,8 +47,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
     add_work(total, solve_mpgp(qp, lambda, mpgp));
     if (total.status != QpStatus::IterationLimit) return total;  // converged, or a breakdown
     const bool mpgp_is_slow = total.projected_gradient > 0.1 * pg_before;
-    if (mpgp_is_slow && (qp.matrix_free() || newton_rounds < settings.max_newton_rounds)) {
-      ++newton_rounds;
+    if (mpgp_is_slow && newton_rounds.admit(total.projected_gradient)) {
       SsnSettings ssn;
       ssn.rtol = settings.rtol;
       ssn.progress = settings.progress;

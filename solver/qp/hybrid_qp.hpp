@@ -17,14 +17,21 @@
 //      more than a window; until 2026-11-26 only full steps counted, and on the slab at 10 092
 //      multipliers seven damped steps of about 2 s each crept on where MPGP finished in 156
 //      iterations);
-//   3. then MPGP again from Newton's iterate (at most three Newton rounds, then MPGP alone; no limit on
-//      a matrix-free Q, whose Newton steps are CG products costing what MPGP's do: capped, the slab
-//      with 4 800 multipliers took 11 569 products, uncapped 3 739).
+//   3. then MPGP again from Newton's iterate. After three Newton rounds a further one is taken only
+//      while the alternation converges: each round must start at a smaller ‖gᴾ‖ than the round before
+//      it (NewtonRoundGate). No limit on a matrix-free Q, whose Newton steps are CG products costing
+//      what MPGP's do (capped at three rounds, the slab with 4 800 multipliers took 11 569 products,
+//      uncapped 3 739). Until 2026-11-29 a dense Q stopped after three rounds, and MPGP alone crawled
+//      where the equality loop of a body held by contact alone asks 1e-12 (the free slab with 4 800
+//      multipliers, cond(Q) 1.5e7: ‖gᴾ‖ 1.5e-10 after 20 000 iterations; with the gate five rounds,
+//      1 018 products).
 // On a matrix-free Q the window stays at its floor of 25: a Newton step costs CG products there, not
 // a factorization that grows with m, and the longer windows only let MPGP crawl (the slab with
 // 37 632 multipliers: windows of 147 iterations, 0.5 s a product, cutting ‖gᴾ‖ by 10-15% each).
 // Same stopping test and answer as MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ.
 #pragma once
+
+#include <cmath>
 
 #include <Eigen/Core>
 
@@ -36,9 +43,25 @@ namespace contact3d {
 struct HybridSettings {
   double rtol = 1e-6;            // same criterion as MpgpSettings::rtol
   int max_iterations = 100000;   // MPGP iterations + Newton steps
-  int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before MPGP alone (a dense Q only)
+  int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before NewtonRoundGate asks for progress
   int window = 0;                // MPGP iterations per window (0: default_window)
   Progress* progress = nullptr;  // heartbeat (none: silent)
+};
+
+// Whether the hybrid takes another Newton round where an MPGP window was slow: the first
+// `free_rounds` always (a matrix-free Q: every one), later ones only while each round starts at a
+// smaller ‖gᴾ‖/‖h‖ than the round before it, so that MPGP windows and Newton rounds never alternate
+// without converging.
+class NewtonRoundGate {
+ public:
+  explicit NewtonRoundGate(int free_rounds) : free_rounds_(free_rounds) {}
+  // A round is due at projected gradient `pg`: true (and counted) when it may be taken.
+  bool admit(double pg);
+
+ private:
+  int free_rounds_;
+  int rounds_ = 0;
+  double pg_at_last_round_ = INFINITY;
 };
 
 // MPGP iterations per window: max(kMinWindow, m/256) on a dense Q, kMinWindow on a matrix-free one.

@@ -1,7 +1,8 @@
 // The hybrid QP solver (MPGP + semismooth Newton, the default "auto"): the same minimiser as
 // MPGP on random QPs, also when every round goes through Newton steps; MPGP alone where it
 // converges within its first window; and the reduced symmetric Newton step of solve_ssn on a QP
-// large enough for the LAPACK path; when a Newton round ends (SlowNewtonSteps). (Its speed on slabs
+// large enough for the LAPACK path; when a Newton round ends (SlowNewtonSteps); further rounds only
+// while they converge (NewtonRoundGate). (Its speed on slabs
 // is measured by `make bench-slab`.)
 #include <gtest/gtest.h>
 
@@ -138,4 +139,48 @@ TEST(HybridQp, WindowsGrowWithADenseQOnly) {
   BoxDiscQP small = dense;
   small.r = 1000;  // 3 000 multipliers: 3000 / 256 = 11
   EXPECT_EQ(default_window(small), kMinWindow);
+}
+
+TEST(HybridQp, NewtonRoundsBeyondTheFreeOnesOnlyWhileTheyConverge) {
+  NewtonRoundGate gate{2};
+  EXPECT_TRUE(gate.admit(1e-3));
+  EXPECT_TRUE(gate.admit(5e-3));   // the free rounds, whatever ‖gᴾ‖ did
+  EXPECT_TRUE(gate.admit(1e-4));   // below the round before: the alternation converges
+  EXPECT_FALSE(gate.admit(1e-4));  // no lower: MPGP windows and Newton rounds would only alternate
+  EXPECT_TRUE(gate.admit(1e-6));
+  EXPECT_FALSE(gate.admit(2e-6));
+  NewtonRoundGate none{0};
+  EXPECT_TRUE(none.admit(1.0));
+  EXPECT_FALSE(none.admit(std::nan("")));
+}
+
+TEST(HybridQp, IllConditionedQpToATightToleranceTakesFurtherNewtonRounds) {
+  // Q of rank deficiency 100 shifted by 1e-7 (cond about 1e10), rtol 1e-12 (what the equality loop
+  // of a body held by contact alone asks) and a quarter of the multipliers degenerate (λ_i = 0 with a
+  // zero gradient), which Newton settles a few at a time. With at most three Newton rounds, MPGP
+  // alone crawled after them: 2 of these 6 stopped at 3 000 iterations, ‖gᴾ‖ 3e-12 and 2e-9.
+  // Further rounds, each starting lower, finish all six.
+  constexpr int m = 400;
+  int converged = 0;
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    RandomQp a = make_random_qp(m, false, seed, -100, 1e-7);
+    Eigen::VectorXd solution(m), gradient = Eigen::VectorXd::Zero(m);
+    for (int i = 0; i < m; ++i) {
+      solution[i] = i % 4 < 2 ? 1.0 + 0.1 * (i % 3) : 0.0;
+      if (i % 4 == 2) gradient[i] = 0.5;
+    }
+    a.qp.h = a.Q * solution - gradient;
+    a.qp.Q = &a.Q;
+    a.qp.q_norm = 1.05 * estimate_norm(a.Q);
+    Eigen::VectorXd lambda;
+    HybridSettings hs;
+    hs.rtol = 1e-12;
+    hs.window = 1;
+    hs.max_iterations = 3000;
+    const QpResult r = solve_hybrid(a.qp, lambda, hs);
+    converged += r.status == QpStatus::Converged;
+    EXPECT_LT((lambda - solution).norm(), 1e-10 * solution.norm()) << "seed " << seed;
+    EXPECT_TRUE(is_feasible(a.qp, lambda)) << "seed " << seed;
+  }
+  EXPECT_EQ(converged, 6);
 }
