@@ -22,7 +22,9 @@ usage: robustness.py --bin build/contact3d [--out results/runs/robustness.md] [-
 --model coulomb solves every law with Coulomb's bound F·λ_n instead of Tresca's F·g (the calibration
 stays a Tresca solve: it only places the laws on the body's slip scale).
 --set adds overrides to every law's solve (e.g. solver.fixed_point=plain, to compare variants on the
-same meshes); --work keeps meshes and runs in DIR (a mesh already there is reused).
+same meshes; boundary.clamped=[] to stand every body free) and, those outside [friction], to the
+calibration, so that s is the slip scale of the problem solved; --work keeps meshes and runs in DIR
+(a mesh already there is reused).
 """
 import argparse
 import csv
@@ -106,7 +108,10 @@ def cells_used(summ):
 def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
     work.mkdir(parents=True, exist_ok=True)
     msh = mesh_for(binary, scene, sets, work)
-    proc, _ = c3d.run.solve(binary, scene, work / "calibrate", ["friction.law=constant", "friction.value=0.25"], mesh=msh)
+    # The problem as the laws' solves state it (extra_sets), its friction the calibration's own.
+    problem_sets = [x for x in extra_sets if not x.startswith("friction.")]
+    proc, _ = c3d.run.solve(binary, scene, work / "calibrate",
+                            problem_sets + ["friction.law=constant", "friction.value=0.25"], mesh=msh)
     if proc.returncode != 0:
         rows.append(dict(body=name, h=" ".join(sets), law="(calibration)", status=f"exit {proc.returncode}"))
         return
