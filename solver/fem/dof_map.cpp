@@ -129,6 +129,33 @@ Eigen::MatrixXd rigid_body_modes(const Mesh& mesh, const DofMap& dofs) {
   return qr.householderQ() * Eigen::MatrixXd::Identity(dofs.n_free, 6);
 }
 
+Eigen::VectorXd prescribed_rigid_motion(const Mesh& mesh, const DofMap& dofs) {
+  Eigen::VectorXd field = Eigen::VectorXd::Zero(3 * dofs.n_nodes);
+  if (!dofs.has_nonzero_prescribed()) return field;
+  const BodyFrame frame = body_frame(mesh, dofs);
+  Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> moment = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    if (!dofs.used[v] || !dofs.fixed[v]) continue;
+    const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
+    for (int c = 0; c < 3; ++c)
+      if (dofs.fixed[v] >> c & 1) {
+        gram += basis.row(c).transpose() * basis.row(c);
+        moment += basis.row(c).transpose() * dofs.prescribed[static_cast<std::size_t>(3 * v + c)];
+      }
+  }
+  // Least squares of minimal norm: nothing along the motions the prescribed components leave free.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram);
+  const double tiny = 1e-10 * std::max(eig.eigenvalues()[5], 1.0);
+  Eigen::Matrix<double, 6, 1> motion = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int j = 0; j < 6; ++j)
+    if (eig.eigenvalues()[j] > tiny)
+      motion += eig.eigenvectors().col(j) * (eig.eigenvectors().col(j).dot(moment) / eig.eigenvalues()[j]);
+  for (int v = 0; v < dofs.n_nodes; ++v)
+    if (dofs.used[v]) field.segment<3>(3 * v) = rigid_motion_basis(frame.scaled(mesh.nodes[v])) * motion;
+  return field;
+}
+
 FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs) {
   // A rigid motion is free iff it vanishes at every prescribed component: with coordinates scaled
   // by the body's size, the Gram matrix of those components' rows is singular exactly along it.

@@ -65,6 +65,12 @@ FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs);
 // Those motions at the free dofs (n_free × k).
 Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free);
 
+// The rigid motion that fits the prescribed values best (least squares over the prescribed
+// components; none along the motions they leave free) as a nodal field (3 · n_nodes, 0 at unused
+// nodes): the part of the displacement a prescribed approach imposes rigidly, e.g. a punch pushed
+// down by u_z = −δ on its top. Zero where every prescribed value is 0 (clamps, symmetry planes).
+Eigen::VectorXd prescribed_rigid_motion(const Mesh& mesh, const DofMap& dofs);
+
 // Throws InputError, before anything is factorized, when the prescribed components leave a rigid
 // motion of the body free (K would be singular), naming the motion: a translation along a
 // direction or a rotation about an axis through a point.

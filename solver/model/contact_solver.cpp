@@ -406,26 +406,36 @@ constexpr double kRefinedCellSize = 1.5;
 
 bool unresolved(const SolveResult& res) { return res.penetration_ratio > kUnresolvedPenetration; }
 
-// The largest nodal displacement of `u_free` expanded to the nodes, less its least-squares fit by the
-// rigid motions `held` (n_free × k, none: nothing removed). A body held by contact alone may approach
-// the foundation rigidly by far more than it deforms (a body hovering over its gaps): its penetration
-// is measured against the deformation, not the approach.
-double largest_deformation(const DofMap& dofs, const Eigen::VectorXd& u_free, const Eigen::MatrixXd& held) {
-  Eigen::VectorXd deformation = u_free;
-  if (held.cols()) deformation -= held * held.colPivHouseholderQr().solve(u_free);
-  const Eigen::VectorXd u = expand_to_nodes(dofs, deformation);
+// The largest nodal displacement of `u_free` expanded to the nodes, less the rigid motion the
+// prescribed values impose (prescribed_rigid_motion) and less its least-squares fit by the rigid
+// motions `held` (n_free × k, none: nothing removed). A body may approach the foundation rigidly by far
+// more than it deforms — held by contact alone and hovering over its gaps, or a punch pushed down
+// across a gap by a prescribed u_z = −δ: its penetration is measured against the deformation, not the
+// approach.
+double largest_deformation(const Mesh& mesh, const DofMap& dofs, const Eigen::VectorXd& u_free,
+                           const Eigen::MatrixXd& held) {
+  Eigen::VectorXd u = expand_to_nodes(dofs, u_free) - prescribed_rigid_motion(mesh, dofs);
+  if (held.cols()) {
+    Eigen::VectorXd free_part(dofs.n_free);
+    for (std::size_t i = 0; i < dofs.free_index.size(); ++i)
+      if (const int d = dofs.free_index[i]; d >= 0) free_part[d] = u[static_cast<Eigen::Index>(i)];
+    free_part = held * held.colPivHouseholderQr().solve(free_part);
+    for (std::size_t i = 0; i < dofs.free_index.size(); ++i)
+      if (const int d = dofs.free_index[i]; d >= 0) u[static_cast<Eigen::Index>(i)] -= free_part[d];
+  }
   double largest = 0;
   for (Eigen::Index p = 0; p + 2 < u.size(); p += 3) largest = std::max(largest, u.segment<3>(p).norm());
   return largest;
 }
 
-// `u_max`: largest_deformation, less the rigid motion where `held_by_contact`.
-void flag_unresolved_contact(const Scene& scene, double u_max, bool held_by_contact, SolveResult& res) {
+// `u_max`: largest_deformation; `rigid_removed`: it is less a rigid motion (held by contact alone, or
+// imposed by prescribed values).
+void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_removed, SolveResult& res) {
   res.penetration_ratio = u_max > 0 ? res.wn_plus_inf / u_max : 0.0;
   if (!unresolved(res)) return;
   res.warnings.push_back("the largest nodal penetration (" + number(res.wn_plus_inf, 3) + ") is " +
                          number(100 * res.wn_plus_inf / u_max, 2) + "% of the body's largest displacement" +
-                         (held_by_contact ? std::string(" less its rigid motion") : std::string()) +
+                         (rigid_removed ? std::string(" less its rigid motion") : std::string()) +
                          ": non-penetration holds as averages over cells of H = " + number(res.cell_size, 3) +
                          " and the body deforms inside a cell (a body about as thin as a cell, or a contact zone a "
                          "few cells wide), so the displacement near Γc is not resolved; refine the mesh (h)" +
@@ -537,7 +547,8 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.forces.contact_at_held_nodes = held_share_of_contact_force(contact_force_in_plane_frame(res), res.forces.contact);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
-  flag_unresolved_contact(scene, largest_deformation(res.dofs, w, disc.held.field), disc.held.count() > 0, res);
+  flag_unresolved_contact(scene, largest_deformation(mesh, res.dofs, w, disc.held.field),
+                          disc.held.count() > 0 || res.dofs.has_nonzero_prescribed(), res);
   flag_possible_nonuniqueness(scene, res);
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError(

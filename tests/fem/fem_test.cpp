@@ -257,6 +257,38 @@ TEST(Assembly, PerComponentConditionsAndMaterials) {
   }
 }
 
+// The rigid part of the prescribed values: none for clamps and rollers at 0; a prescribed translation
+// or rotation of a face exactly; only the prescribed components' share where they leave motions free.
+TEST(DofMapRigidMotions, PrescribedRigidMotionFitsThePrescribedValues) {
+  const Mesh mesh = make_paper_brick({2});
+  const auto at = [&](const Eigen::VectorXd& field, int v) { return Eigen::Vector3d(field.segment<3>(3 * v)); };
+  PrescribedDisplacement roller{"contact", {std::nullopt, std::nullopt, 0.0}};
+  EXPECT_EQ(prescribed_rigid_motion(mesh, make_dof_map(mesh, {"clamped"}, {roller})).norm(), 0.0);
+  // The clamped face pushed down by δ: that translation at every node.
+  const double delta = 2e-5;
+  const DofMap pushed = make_dof_map(mesh, {}, {PrescribedDisplacement{"clamped", {0.0, 0.0, -delta}}});
+  const Eigen::VectorXd translation = prescribed_rigid_motion(mesh, pushed);
+  for (int v = 0; v < static_cast<int>(mesh.nodes.size()); ++v)
+    EXPECT_LT((at(translation, v) - Eigen::Vector3d(0, 0, -delta)).norm(), 1e-12 * delta) << v;
+  // u_z = −δ alone on the bottom: the translation along z, nothing along the motions left free.
+  const DofMap lowered =
+      make_dof_map(mesh, {}, {PrescribedDisplacement{"contact", {std::nullopt, std::nullopt, -delta}}});
+  const Eigen::VectorXd along_z = prescribed_rigid_motion(mesh, lowered);
+  for (int v = 0; v < static_cast<int>(mesh.nodes.size()); ++v)
+    EXPECT_LT((at(along_z, v) - Eigen::Vector3d(0, 0, -delta)).norm(), 1e-12 * delta) << v;
+  // The bottom (z = 0) turned about the y axis through the origin by a small angle θ: (0, 0, −θ x) at
+  // its nodes; the fit is that rotation, (θ z, 0, −θ x) at every node.
+  const double theta = 1e-4;
+  DofMap turned = make_dof_map(mesh, {}, {PrescribedDisplacement{"contact", {0.0, 0.0, 0.0}}});
+  for (int v = 0; v < static_cast<int>(mesh.nodes.size()); ++v)
+    if (turned.fixed[v] & 4) turned.prescribed[static_cast<std::size_t>(3 * v + 2)] = -theta * mesh.nodes[v].x();
+  const Eigen::VectorXd rotation = prescribed_rigid_motion(mesh, turned);
+  for (int v = 0; v < static_cast<int>(mesh.nodes.size()); ++v) {
+    const Eigen::Vector3d& x = mesh.nodes[v];
+    EXPECT_LT((at(rotation, v) - Eigen::Vector3d(theta * x.z(), 0, -theta * x.x())).norm(), 1e-9 * theta) << v;
+  }
+}
+
 // Free rigid motions are found and named before any factorization.
 TEST(Assembly, FreeRigidMotionsAreNamed) {
   const Mesh mesh = make_paper_brick({2});

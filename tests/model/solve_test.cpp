@@ -431,6 +431,10 @@ TEST(SolveContactGeometry, LiftedBrickWithLoweredClampIsThePaperProblemTranslate
   EXPECT_LT(max_difference(translated, paper.u), 1e-6 * paper.u.cwiseAbs().maxCoeff());
   EXPECT_EQ(res.fixed_point.iterations(), paper.fixed_point.iterations());
   EXPECT_NEAR(res.wn_plus_inf, paper.wn_plus_inf, 1e-6 * paper.u.cwiseAbs().maxCoeff());  // w_n − d, not w_n
+  // The unresolved-contact check measures the penetration against the deformation: the clamp's
+  // prescribed translation −d e_z is the approach, not part of it.
+  EXPECT_GT(paper.penetration_ratio, 0.0);
+  EXPECT_NEAR(res.penetration_ratio, paper.penetration_ratio, 1e-5 * paper.penetration_ratio);
 }
 
 // The paper's brick turned and moved together with its foundation plane and its loads gives the
