@@ -105,6 +105,11 @@ def cells_used(summ):
     return "1.5h (auto)" if refinement["kept_finer"] else "2h (1.5h tried)"
 
 
+def exit_status(proc):
+    """A failed run's status: its exit code and the last line of its stderr (the error)."""
+    return f"exit {proc.returncode}: {proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ''}"
+
+
 def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
     work.mkdir(parents=True, exist_ok=True)
     msh = mesh_for(binary, scene, sets, work)
@@ -113,7 +118,7 @@ def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
     proc, _ = c3d.run.solve(binary, scene, work / "calibrate",
                             problem_sets + ["friction.law=constant", "friction.value=0.25"], mesh=msh)
     if proc.returncode != 0:
-        rows.append(dict(body=name, h=" ".join(sets), law="(calibration)", status=f"exit {proc.returncode}"))
+        rows.append(dict(body=name, h=" ".join(sets), law="(calibration)", status=exit_status(proc)))
         return
     s = slip_scale(work / "calibrate")
     for law, law_sets in laws(s):
@@ -136,7 +141,7 @@ def run_body(binary, name, scene, sets, work, rows, extra_sets=()):
                        predicted=fp.get("predicted_steps"),
                        cells=cells_used(summ))
         else:
-            row.update(status=f"exit {proc.returncode}: {proc.stderr.strip().splitlines()[-1] if proc.stderr else ''}")
+            row.update(status=exit_status(proc))
         rows.append(row)
         print(f"{name:30s} {row['h']:8s} {law:10s} {row.get('status'):12s} steps={row.get('steps')} "
               f"n_mult={row.get('n_mult')} {wall:.1f} s", flush=True)
