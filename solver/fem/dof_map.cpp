@@ -129,28 +129,47 @@ Eigen::MatrixXd rigid_body_modes(const Mesh& mesh, const DofMap& dofs) {
   return qr.householderQ() * Eigen::MatrixXd::Identity(dofs.n_free, 6);
 }
 
-Eigen::VectorXd prescribed_rigid_motion(const Mesh& mesh, const DofMap& dofs) {
-  Eigen::VectorXd field = Eigen::VectorXd::Zero(3 * dofs.n_nodes);
-  if (!dofs.has_nonzero_prescribed()) return field;
-  const BodyFrame frame = body_frame(mesh, dofs);
-  Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
+namespace {
+
+// The prescribed components' rows of the rigid motions (t; ω) in `frame`: their Gram matrix, its
+// eigen-decomposition, and which eigenvalues are negligible (the motions those rows leave free), and
+// Σ rowᵀ · prescribed value — shared by free_rigid_motions and prescribed_rigid_motion, so that the fit
+// leaves out exactly the motions reported free.
+struct PrescribedRows {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig;
   Eigen::Matrix<double, 6, 1> moment = Eigen::Matrix<double, 6, 1>::Zero();
+  bool negligible(int j) const { return eig.eigenvalues()[j] <= 1e-10 * std::max(eig.eigenvalues()[5], 1.0); }
+};
+
+PrescribedRows prescribed_rows(const Mesh& mesh, const DofMap& dofs, const BodyFrame& frame) {
+  PrescribedRows rows;
+  Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
   for (int v = 0; v < dofs.n_nodes; ++v) {
     if (!dofs.used[v] || !dofs.fixed[v]) continue;
     const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
     for (int c = 0; c < 3; ++c)
       if (dofs.fixed[v] >> c & 1) {
         gram += basis.row(c).transpose() * basis.row(c);
-        moment += basis.row(c).transpose() * dofs.prescribed[static_cast<std::size_t>(3 * v + c)];
+        rows.moment += basis.row(c).transpose() * dofs.prescribed[static_cast<std::size_t>(3 * v + c)];
       }
   }
+  rows.eig.compute(gram);
+  return rows;
+}
+
+}  // namespace
+
+Eigen::VectorXd prescribed_rigid_motion(const Mesh& mesh, const DofMap& dofs) {
+  Eigen::VectorXd field = Eigen::VectorXd::Zero(3 * dofs.n_nodes);
+  if (!dofs.has_nonzero_prescribed()) return field;
+  const BodyFrame frame = body_frame(mesh, dofs);
+  const PrescribedRows rows = prescribed_rows(mesh, dofs, frame);
   // Least squares of minimal norm: nothing along the motions the prescribed components leave free.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram);
-  const double tiny = 1e-10 * std::max(eig.eigenvalues()[5], 1.0);
   Eigen::Matrix<double, 6, 1> motion = Eigen::Matrix<double, 6, 1>::Zero();
   for (int j = 0; j < 6; ++j)
-    if (eig.eigenvalues()[j] > tiny)
-      motion += eig.eigenvectors().col(j) * (eig.eigenvectors().col(j).dot(moment) / eig.eigenvalues()[j]);
+    if (!rows.negligible(j))
+      motion += rows.eig.eigenvectors().col(j) *
+                (rows.eig.eigenvectors().col(j).dot(rows.moment) / rows.eig.eigenvalues()[j]);
   for (int v = 0; v < dofs.n_nodes; ++v)
     if (dofs.used[v]) field.segment<3>(3 * v) = rigid_motion_basis(frame.scaled(mesh.nodes[v])) * motion;
   return field;
@@ -165,18 +184,10 @@ FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs) {
   free.size = frame.size;
   free.motions.resize(6, 0);
   if (frame.n_used == 0) return free;
-  Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
-  for (int v = 0; v < dofs.n_nodes; ++v) {
-    if (!dofs.used[v] || !dofs.fixed[v]) continue;
-    const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
-    for (int c = 0; c < 3; ++c)
-      if (dofs.fixed[v] >> c & 1) gram += basis.row(c).transpose() * basis.row(c);
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram);
-  const double tiny = 1e-10 * std::max(eig.eigenvalues()[5], 1.0);
+  const PrescribedRows rows = prescribed_rows(mesh, dofs, frame);
   int k = 0;
-  while (k < 6 && eig.eigenvalues()[k] <= tiny) ++k;
-  free.motions = eig.eigenvectors().leftCols(k);
+  while (k < 6 && rows.negligible(k)) ++k;
+  free.motions = rows.eig.eigenvectors().leftCols(k);
   return free;
 }
 
