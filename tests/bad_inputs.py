@@ -411,6 +411,22 @@ def c_mesh_contact_interior_face(c):
     return ["check", c.scene(c.write("interior.msh", m.text()))], ["interior face", eid]
 
 
+def c_mesh_load_interior_face(c):
+    """A face inside the body in a traction group (the cut face of a gmsh BooleanFragments that a
+    bounding-box selection picked up): its load would act inside the body."""
+    m = Msh22(c)
+    count = {}
+    for e in m.tets():
+        v = e[-4:]
+        for skip in range(4):
+            f = tuple(sorted(v[:skip] + v[skip + 1:]))
+            count[f] = count.get(f, 0) + 1
+    face = next(f for f, k in count.items() if k == 2)
+    eid = m.add_element(2, 3, face)  # load_top
+    return ["solve", c.scene(c.write("load_interior.msh", m.text())), "--out", c.path("out"), "--quiet"], \
+        ["load group 'load_top'", "interior face", eid]
+
+
 def c_mesh_contact_not_a_face(c):
     m = Msh22(c)
     eid = m.add_element(2, 4, [m.node_at(0, 0, 0), m.node_at(3, 0, 0), m.node_at(3, 1, 0)])

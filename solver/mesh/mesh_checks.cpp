@@ -114,6 +114,36 @@ void check_contact_is_graph(const Mesh& mesh, const std::map<std::array<int, 3>,
   }
 }
 
+// How many tetrahedra have each of the wanted faces (sorted node triples) as a face, and the fourth
+// node of the last such tetrahedron (it fixes the outward side).
+struct FaceUse {
+  std::map<std::array<int, 3>, int> count, opposite;
+  int tets_on(const std::array<int, 3>& face) const {
+    const auto it = count.find(face);
+    return it == count.end() ? 0 : it->second;
+  }
+};
+template <class Faces>
+FaceUse face_use(const Mesh& mesh, const Faces& wanted) {
+  FaceUse use;
+  std::vector<char> on_face(mesh.nodes.size(), 0);
+  for (const auto& [face, tris] : wanted)
+    for (int v : face) on_face[v] = 1;
+  for (const auto& tet : mesh.tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f{};
+      for (int a = 0, j = 0; a < 4; ++a)
+        if (a != skip) f[j++] = tet[a];
+      if (!on_face[f[0]] || !on_face[f[1]] || !on_face[f[2]]) continue;
+      f = sorted(f);
+      if (wanted.count(f)) {
+        ++use.count[f];
+        use.opposite[f] = tet[skip];
+      }
+    }
+  return use;
+}
+
 // Every contact triangle must be the face of exactly one tetrahedron.
 void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
   std::map<std::array<int, 3>, std::vector<std::size_t>> wanted;
@@ -125,27 +155,11 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
       if (mesh.triangle_group[t] == tag) wanted[sorted(mesh.triangles[t])].push_back(t);
   }
   if (wanted.empty()) return;
-  std::vector<char> on_face(mesh.nodes.size(), 0);
-  for (const auto& [face, tris] : wanted)
-    for (int v : face) on_face[v] = 1;
-  std::map<std::array<int, 3>, int> count;
-  std::map<std::array<int, 3>, int> opposite;  // the tet's fourth node: fixes the outward side
-  for (const auto& tet : mesh.tets)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> f{};
-      for (int a = 0, j = 0; a < 4; ++a)
-        if (a != skip) f[j++] = tet[a];
-      if (!on_face[f[0]] || !on_face[f[1]] || !on_face[f[2]]) continue;
-      f = sorted(f);
-      if (wanted.count(f)) {
-        ++count[f];
-        opposite[f] = tet[skip];
-      }
-    }
-  check_contact_is_graph(mesh, wanted, count, opposite, group_names);
+  FaceUse use = face_use(mesh, wanted);
+  check_contact_is_graph(mesh, wanted, use.count, use.opposite, group_names);
   std::vector<std::size_t> orphans, interior;
   for (const auto& [face, tris] : wanted) {
-    const int n = count.count(face) ? count[face] : 0;
+    const int n = use.tets_on(face);
     for (std::size_t t : tris) {
       if (n == 0) orphans.push_back(mesh.triangle_tags[t]);
       if (n > 1) interior.push_back(mesh.triangle_tags[t]);
@@ -159,6 +173,53 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
                      " contact triangle(s) are interior faces, shared by two "
                      "tetrahedra (tags " +
                      tag_list(interior) + "): Γc must be part of the body's boundary");
+}
+
+double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {
+  return 0.5 * (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).norm();
+}
+
+// Every triangle of a traction or pressure group must be the face of exactly one tetrahedron: a
+// surface load on a face inside the body (typically the cut face of a gmsh BooleanFragments that a
+// "Surface In BoundingBox" selection picked up with the outer surface) would add its load there,
+// silently.
+void check_load_faces(const Mesh& mesh, const MeshRoles& roles) {
+  for (const auto& name : roles.loaded) {
+    const int tag = group_tag(mesh, name);
+    std::map<std::array<int, 3>, std::vector<std::size_t>> wanted;
+    double group_area = 0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (mesh.triangle_group[t] == tag) {
+        wanted[sorted(mesh.triangles[t])].push_back(t);
+        group_area += triangle_area(mesh, mesh.triangles[t]);
+      }
+    if (wanted.empty()) continue;
+    const FaceUse use = face_use(mesh, wanted);
+    std::vector<std::size_t> orphans, interior;
+    double interior_area = 0;
+    for (const auto& [face, tris] : wanted) {
+      const int n = use.tets_on(face);
+      for (std::size_t t : tris) {
+        if (n == 0) orphans.push_back(mesh.triangle_tags[t]);
+        if (n > 1) {
+          interior.push_back(mesh.triangle_tags[t]);
+          interior_area += triangle_area(mesh, mesh.triangles[t]);
+        }
+      }
+    }
+    if (!orphans.empty())
+      throw InputError("load group '" + name + "': " + std::to_string(orphans.size()) +
+                       " triangle(s) are not a face of any tetrahedron (tags " + tag_list(orphans) +
+                       "): a traction or pressure acts on the body's boundary");
+    if (!interior.empty())
+      throw InputError("load group '" + name + "': " + std::to_string(interior.size()) + " of its " +
+                       std::to_string(wanted.size()) +
+                       " triangles are interior faces, shared by two tetrahedra (tags " + tag_list(interior) + "; " +
+                       number(interior_area) + " of the group's area " + number(group_area) +
+                       "): a traction or pressure acts on the body's boundary, so the load there would act "
+                       "inside the body. Remove those faces from the group (a surface cut by gmsh's "
+                       "BooleanFragments stays in the mesh, and a 'Surface In BoundingBox' selection picks it up)");
+  }
 }
 
 // Initial penetration: the body must lie on or above the foundation plane z = 0.
@@ -217,6 +278,7 @@ void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles) {
   check_duplicate_tets(mesh);
   check_duplicate_triangles(mesh, roles);
   check_contact_faces(mesh, roles);
+  check_load_faces(mesh, roles);
   check_above_foundation(mesh, roles);
   check_constraints_hold(mesh, roles);
 }

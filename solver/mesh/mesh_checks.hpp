@@ -5,7 +5,8 @@
 //   - two physical groups with the same name and dimension;
 //   - a tetrahedron listed twice (same four nodes: it would be assembled twice);
 //   - a boundary triangle listed twice in one group, or in two load groups (a doubled load);
-//   - a contact triangle that is not a face of any tetrahedron, or that is an interior face;
+//   - a contact or load (traction, pressure) triangle that is not a face of any tetrahedron, or
+//     that is an interior face (shared by two);
 //   - a body below the foundation plane z = 0 (initial penetration), naming the deepest node;
 //   - constraints whose nodes all lie on one line or at one point (a free rigid rotation).
 #pragma once
