@@ -80,6 +80,26 @@ struct Discretisation {
   }
 };
 
+// Linear tetrahedra lock volumetrically as ν approaches 1/2 (no mixed u–p form here): the
+// displacement comes out too small on any but very fine meshes. Said once, for the largest ν in use.
+constexpr double kNearlyIncompressible = 0.49;  // bulk / shear modulus ≈ 50
+void warn_if_nearly_incompressible(const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
+  double largest = 0;
+  std::size_t count = 0;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const double nu = materials[e].poisson;
+    largest = std::max(largest, nu);
+    if (nu >= kNearlyIncompressible) ++count;
+  }
+  if (count == 0) return;
+  const double bulk_over_shear = 2.0 * (1.0 + largest) / (3.0 * (1.0 - 2.0 * largest));
+  res.warnings.push_back(
+      "nearly incompressible material: ν = " + number(largest) + " on " + std::to_string(count) + " of " +
+      std::to_string(mesh.tets.size()) + " tetrahedra (bulk / shear modulus " + number(bulk_over_shear, 3) +
+      "); linear tetrahedra (P1) lock as ν approaches 1/2, so the displacement comes out too small unless the mesh "
+      "is very fine (contact3d has no mixed u–p formulation): check that the answer changes little when h is halved");
+}
+
 // `assemble_K` false: K is left to the ranks of the distributed backend (K_elsewhere).
 Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res, bool assemble_K) {
   check_coordinates_in_range(mesh);
@@ -88,6 +108,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
+  warn_if_nearly_incompressible(mesh, disc.materials, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane.count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;

@@ -314,6 +314,24 @@ TEST(SolveUserConditions, MaterialRegionsAssignByVolumeGroup) {
   EXPECT_GT(max_difference(solve_text().u, region.u), 0.1 * stiff.u.cwiseAbs().maxCoeff());
 }
 
+// ν near 1/2 locks linear tetrahedra: a region of ν = 0.499 is warned about, with the tetrahedra
+// it covers; the paper's ν = 0.277 (and 0.45) is not.
+TEST(SolveUserConditions, NearlyIncompressibleMaterialIsWarned) {
+  const auto locking_warnings = [](const SolveResult& res) {
+    std::vector<std::string> found;
+    for (const std::string& w : res.warnings)
+      if (w.find("nearly incompressible") != std::string::npos) found.push_back(w);
+    return found;
+  };
+  EXPECT_TRUE(locking_warnings(solve_text()).empty());
+  EXPECT_TRUE(locking_warnings(solve_text({"material.poisson=0.45"})).empty());
+  const SolveResult rubber = solve_with("[[material.region]]\ngroup = \"body\"\nyoung = 1e7\npoisson = 0.499\n");
+  const std::vector<std::string> found = locking_warnings(rubber);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_NE(found[0].find("ν = 0.499"), std::string::npos) << found[0];
+  EXPECT_NE(found[0].find("on 960 of 960 tetrahedra"), std::string::npos) << found[0];
+}
+
 // A pressure p on the top face is the traction (0, 0, −p) there (outward normal +z).
 TEST(SolveUserConditions, PressureIsTheInwardNormalTraction) {
   const std::string scene_without_top = [] {
