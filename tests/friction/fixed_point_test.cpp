@@ -89,6 +89,19 @@ TEST(FixedPoint, AcceleratedKeepsThePlainStepsWhenTheMapContractsFast) {
   for (int k = 0; k < plain.iterations(); ++k) EXPECT_DOUBLE_EQ(fast.history[k].err, plain.history[k].err);
 }
 
+TEST(FixedPoint, AcceleratedLeavesAContractionJustUnderHalfThatHasFarToGo) {
+  // q = 0.45: each step is under half the one before, but from err ≈ 0.2 the paper's steps would
+  // need about ten more to reach tol (the puck with a jump law: 14 plain steps). The accelerated
+  // variant hands over once more than four would remain.
+  const FixedPointResult plain = solve_fixed_point(linear_map(0.45), 4, settings(), 1e-6);
+  const FixedPointResult fast = solve_fixed_point(linear_map(0.45), 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  ASSERT_EQ(plain.status, FixedPointStatus::Converged);
+  ASSERT_EQ(fast.status, FixedPointStatus::Converged);
+  EXPECT_GE(plain.iterations(), 12);
+  EXPECT_GT(steps_made_by(fast, FixedPointUpdate::Relaxed), 0);
+  EXPECT_LE(fast.iterations(), plain.iterations() / 2);
+}
+
 TEST(FixedPoint, InnerNoiseTightensTheQpToleranceInsteadOfStagnating) {
   // Noise of 1e3·rtol in G: at rtol = 1e-6 it is 1e-3, far above tol = 1e-4 (the old noise floor).
   // Without the schedule tied to err, the stall is detected and the tolerance tightened.
@@ -204,6 +217,29 @@ TEST(FixedPoint, ARunThatConvergesAbruptlyRepeatsItsLastStepAtTheFinalQpToleranc
   FixedPointSettings paper = s;
   paper.qp_rtol_per_err = 0;
   EXPECT_EQ(solve_fixed_point(jump, 3, paper, 1e-6).iterations(), 2);
+}
+
+TEST(FixedPoint, TheFinalStepsRepeatIsNotCountedAsAStepOfTheMap) {
+  // Contraction 0.4 until φ is within 0.1 of φ*, then 1e-3 (as after a predicted step): the step
+  // that meets tol follows one of err > 1e-2, so it is repeated at the final QP tolerance. The
+  // repeat evaluates the same φ again; counted as a step of its own its length (equal to the last
+  // one's) gave q = 1 and no a posteriori bound (the puck, steep law: q 1.0002, bound ∞).
+  const Eigen::VectorXd fixed = Eigen::VectorXd::LinSpaced(3, 1.0, 2.0);
+  SlipMap landing = [&fixed](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    const Eigen::VectorXd d = phi - fixed;
+    e.slip = fixed + (d.cwiseAbs().maxCoeff() > 0.1 ? 0.4 : 1e-3) * d;
+    e.qp_iterations = 10;
+    return e;
+  };
+  FixedPointSettings s = settings();
+  s.variant = FixedPointVariant::Plain;
+  const FixedPointResult r = solve_fixed_point(landing, 3, s, 1e-6);
+  ASSERT_EQ(r.status, FixedPointStatus::Converged);
+  ASSERT_EQ(r.history.back().update, FixedPointUpdate::Repeat);
+  EXPECT_LT(r.contraction_factor, 0.7);  // the landing's step against the one before: 0.4 / 0.6
+  EXPECT_TRUE(std::isfinite(r.distance_bound));
+  EXPECT_LT(r.distance_bound, 10 * r.history.back().err);
 }
 
 TEST(FixedPoint, RelaxationTakesPlainStepsWhileTheResidualGrowsAlongTheStep) {
