@@ -398,16 +398,20 @@ def c_mesh_initial_penetration(c):
     return ["check", c.scene(c.write("below.msh", m.text()))], ["below the foundation", f"node {node}", "-0.001"]
 
 
-def c_mesh_contact_interior_face(c):
-    m = Msh22(c)
+def interior_face(m):
+    """Three nodes of a face that two tetrahedra of the mesh share."""
     count = {}
     for e in m.tets():
         v = e[-4:]
         for skip in range(4):
             f = tuple(sorted(v[:skip] + v[skip + 1:]))
             count[f] = count.get(f, 0) + 1
-    face = next(f for f, k in count.items() if k == 2)
-    eid = m.add_element(2, 4, face)
+    return next(f for f, k in count.items() if k == 2)
+
+
+def c_mesh_contact_interior_face(c):
+    m = Msh22(c)
+    eid = m.add_element(2, 4, interior_face(m))
     return ["check", c.scene(c.write("interior.msh", m.text()))], ["interior face", eid]
 
 
@@ -415,14 +419,7 @@ def c_mesh_load_interior_face(c):
     """A face inside the body in a traction group (the cut face of a gmsh BooleanFragments that a
     bounding-box selection picked up): its load would act inside the body."""
     m = Msh22(c)
-    count = {}
-    for e in m.tets():
-        v = e[-4:]
-        for skip in range(4):
-            f = tuple(sorted(v[:skip] + v[skip + 1:]))
-            count[f] = count.get(f, 0) + 1
-    face = next(f for f, k in count.items() if k == 2)
-    eid = m.add_element(2, 3, face)  # load_top
+    eid = m.add_element(2, 3, interior_face(m))  # load_top
     return ["solve", c.scene(c.write("load_interior.msh", m.text())), "--out", c.path("out"), "--quiet"], \
         ["load group 'load_top'", "interior face", eid]
 
