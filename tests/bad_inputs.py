@@ -558,6 +558,37 @@ def c_held_by_contact_pulled_off(c):
     return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["held by contact alone", "pull the body off"]
 
 
+SPHERE_GEO = """SetFactory("OpenCASCADE");
+h = 0.04; R = 0.5; eps = 1e-6;
+Sphere(1) = {0, 0, R, R};
+Box(2) = {-1, -1, -1, 2, 2, 1.3};
+v() = BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; };
+Recursive Delete { Volume{v(#v() - 1)}; }
+Mesh.MeshSizeMin = h; Mesh.MeshSizeMax = h;
+low() = Surface In BoundingBox {-R - eps, -R - eps, -eps, R + eps, R + eps, 0.3 + eps};
+cut() = Surface In BoundingBox {-R - eps, -R - eps, 0.3 - eps, R + eps, R + eps, 0.3 + eps};
+low() -= {cut()};
+Physical Surface("contact") = {low()};
+rest() = Surface{:};
+rest() -= {low(), cut()};
+Physical Surface("upper") = {rest()};
+Physical Volume("body") = {Volume{:}};
+"""
+
+
+def c_held_by_contact_on_one_cell(c):
+    # A steel ball resting on the plane, nothing prescribed, pressed by a pressure on its upper part:
+    # its contact zone (Hertz radius of millimetres) lies inside one cell, whose force cannot balance
+    # the loads' moments. The refusal must say so (not only "the loads pull the body off").
+    c.write("ball.geo", SPHERE_GEO)
+    text = ('[mesh]\ngeo = "ball.geo"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n'
+            'body_force = [0.0, 0.0, -7.7e4]\n[boundary]\nclamped = []\ncontact = ["contact"]\n'
+            '[[boundary.pressure]]\ngroup = "upper"\nvalue = 1e5\n'
+            '[friction]\nslip_bound = 1e6\nlaw = "constant"\nvalue = 0.3\n')
+    return ["solve", c.write("ball.toml", text), "--out", c.path("out"), "--quiet"], \
+        ["held by contact alone", "the body rests on", "cells of the contact partition", "refine the mesh"]
+
+
 def c_displacement_conflicting_values(c):
     text = open(c.scene()).read().replace(
         "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "clamped"\nx = 1e-3\n\n[[boundary.traction]]', 1)

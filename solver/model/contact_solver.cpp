@@ -498,9 +498,23 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
                         "along it (its mean over the body's nodes, in the least-squares sense)");
 }
 
+// Where the last solve pressed fewer than three cells, the contact cannot balance a general moment of
+// the loads (its force acts at the cells' centres): said with the refusal below, with what to change.
+std::string too_few_cells(const ContactOperator& op, const TrescaStep& tresca) {
+  if (tresca.history().empty()) return "";
+  const Eigen::VectorXd& lambda = tresca.history().back().lambda;
+  const long pressed = (lambda.head(op.r).array() > 0).count();
+  if (pressed >= 3) return "";
+  return "; the body rests on " + std::to_string(pressed) + " of the " + std::to_string(op.r) +
+         " cells of the contact partition, too few to balance the loads' moments about it (a contact zone smaller "
+         "than a cell, as under a sphere): refine the mesh where it touches, or use smaller cells "
+         "(contact.cell_size), so that the contact zone spans several cells";
+}
+
 // After the dual solve of a body held by contact alone: an InputError when the contact forces could
 // not balance the loads along the free motions — the loads pull the body off the foundation or tilt
-// it about an edge of the contact face, or push it along the plane harder than friction holds.
+// it about an edge of the contact face, push it along the plane harder than friction holds, or the
+// body touches on too few cells to balance their moments (a sphere whose contact zone is one cell).
 void require_held(const Discretisation& disc, const ContactOperator& op, const DualQpSolver& qp,
                   const TrescaStep& tresca) {
   if (qp.equality_residual() <= 1e-6 && !tresca.history().empty()) return;
@@ -524,12 +538,16 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const D
                        "more than the contact's friction carries (" + unbalanced + ")" +
                        (op.with_friction ? "" : ", the contact being frictionless") +
                        "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
-                       "friction (friction.slip_bound, friction.model) and the loads' directions");
+                       "friction (friction.slip_bound, friction.model) and the loads' directions" +
+                       too_few_cells(op, tresca));
   }
   throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() +
                    "), but no contact forces balance the loads along it (" + unbalanced +
                    "): the loads pull the body off the foundation or tip it over an edge of the "
-                   "contact face; prescribe that motion, or check the loads' directions");
+                   "contact face, or it touches the foundation on too few cells to balance their moments (a "
+                   "contact zone smaller than a few cells, as under a sphere); prescribe that motion, check the "
+                   "loads' directions, or refine the mesh where it touches" +
+                   too_few_cells(op, tresca));
 }
 
 // The displacement at the free dofs after one Tresca solve: w = K⁻¹(f − 𝔹ᵀλ), less the rigid
