@@ -498,13 +498,13 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
                         "along it (its mean over the body's nodes, in the least-squares sense)");
 }
 
-// Where the last solve pressed fewer than three cells, the contact cannot balance a general moment of
+// Where the last solve pressed one or two cells, the contact cannot balance a general moment of
 // the loads (its force acts at the cells' centres): said with the refusal below, with what to change.
 std::string too_few_cells(const ContactOperator& op, const TrescaStep& tresca) {
   if (tresca.history().empty()) return "";
   const Eigen::VectorXd& lambda = tresca.history().back().lambda;
   const long pressed = (lambda.head(op.r).array() > 0).count();
-  if (pressed >= 3) return "";
+  if (pressed == 0 || pressed >= 3) return "";  // none: the loads pull it off, said in the message
   return "; the body rests on " + std::to_string(pressed) + " of the " + std::to_string(op.r) +
          " cells of the contact partition, too few to balance the loads' moments about it (a contact zone smaller "
          "than a cell, as under a sphere): refine the mesh where it touches, or use smaller cells "
