@@ -144,9 +144,33 @@ FaceUse face_use(const Mesh& mesh, const Faces& wanted) {
   return use;
 }
 
+using WantedFaces = std::map<std::array<int, 3>, std::vector<std::size_t>>;  // sorted face -> its triangles
+
+// The triangles (indices) of `wanted` that are a face of no tetrahedron, and those that two share.
+struct MisplacedTriangles {
+  std::vector<std::size_t> orphans, interior;
+};
+MisplacedTriangles misplaced_triangles(const WantedFaces& wanted, const FaceUse& use) {
+  MisplacedTriangles found;
+  for (const auto& [face, tris] : wanted) {
+    const int n = use.tets_on(face);
+    for (std::size_t t : tris) {
+      if (n == 0) found.orphans.push_back(t);
+      if (n > 1) found.interior.push_back(t);
+    }
+  }
+  return found;
+}
+
+std::vector<std::size_t> file_tags(const Mesh& mesh, const std::vector<std::size_t>& triangles) {
+  std::vector<std::size_t> tags;
+  for (std::size_t t : triangles) tags.push_back(mesh.triangle_tags[t]);
+  return tags;
+}
+
 // Every contact triangle must be the face of exactly one tetrahedron.
 void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
-  std::map<std::array<int, 3>, std::vector<std::size_t>> wanted;
+  WantedFaces wanted;
   std::map<int, std::string> group_names;
   for (const auto& name : roles.contact) {
     const int tag = group_tag(mesh, name);
@@ -157,68 +181,63 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
   if (wanted.empty()) return;
   FaceUse use = face_use(mesh, wanted);
   check_contact_is_graph(mesh, wanted, use.count, use.opposite, group_names);
-  std::vector<std::size_t> orphans, interior;
-  for (const auto& [face, tris] : wanted) {
-    const int n = use.tets_on(face);
-    for (std::size_t t : tris) {
-      if (n == 0) orphans.push_back(mesh.triangle_tags[t]);
-      if (n > 1) interior.push_back(mesh.triangle_tags[t]);
-    }
-  }
-  if (!orphans.empty())
-    throw InputError(std::to_string(orphans.size()) + " contact triangle(s) are not a face of any tetrahedron (tags " +
-                     tag_list(orphans) + "): the contact group does not lie on the body's surface");
-  if (!interior.empty())
-    throw InputError(std::to_string(interior.size()) +
+  const MisplacedTriangles found = misplaced_triangles(wanted, use);
+  if (!found.orphans.empty())
+    throw InputError(
+        std::to_string(found.orphans.size()) + " contact triangle(s) are not a face of any tetrahedron (tags " +
+        tag_list(file_tags(mesh, found.orphans)) + "): the contact group does not lie on the body's surface");
+  if (!found.interior.empty())
+    throw InputError(std::to_string(found.interior.size()) +
                      " contact triangle(s) are interior faces, shared by two "
                      "tetrahedra (tags " +
-                     tag_list(interior) + "): Γc must be part of the body's boundary");
+                     tag_list(file_tags(mesh, found.interior)) + "): Γc must be part of the body's boundary");
 }
 
 double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {
   return 0.5 * (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).norm();
 }
 
+double area_of(const Mesh& mesh, const std::vector<std::size_t>& triangles) {
+  double area = 0;
+  for (std::size_t t : triangles) area += triangle_area(mesh, mesh.triangles[t]);
+  return area;
+}
+
 // Every triangle of a traction or pressure group must be the face of exactly one tetrahedron: a
 // surface load on a face inside the body (typically the cut face of a gmsh BooleanFragments that a
 // "Surface In BoundingBox" selection picked up with the outer surface) would add its load there,
-// silently.
+// silently. One pass over the tetrahedra for every load group (a triangle in two of them is refused
+// before, check_duplicate_triangles).
 void check_load_faces(const Mesh& mesh, const MeshRoles& roles) {
+  std::vector<std::pair<std::string, WantedFaces>> groups;
+  WantedFaces all;
   for (const auto& name : roles.loaded) {
     const int tag = group_tag(mesh, name);
-    std::map<std::array<int, 3>, std::vector<std::size_t>> wanted;
-    double group_area = 0;
+    WantedFaces wanted;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-      if (mesh.triangle_group[t] == tag) {
-        wanted[sorted(mesh.triangles[t])].push_back(t);
-        group_area += triangle_area(mesh, mesh.triangles[t]);
-      }
-    if (wanted.empty()) continue;
-    const FaceUse use = face_use(mesh, wanted);
-    std::vector<std::size_t> orphans, interior;
-    double interior_area = 0;
-    for (const auto& [face, tris] : wanted) {
-      const int n = use.tets_on(face);
-      for (std::size_t t : tris) {
-        if (n == 0) orphans.push_back(mesh.triangle_tags[t]);
-        if (n > 1) {
-          interior.push_back(mesh.triangle_tags[t]);
-          interior_area += triangle_area(mesh, mesh.triangles[t]);
-        }
-      }
-    }
-    if (!orphans.empty())
-      throw InputError("load group '" + name + "': " + std::to_string(orphans.size()) +
-                       " triangle(s) are not a face of any tetrahedron (tags " + tag_list(orphans) +
+      if (mesh.triangle_group[t] == tag) wanted[sorted(mesh.triangles[t])].push_back(t);
+    for (const auto& [face, tris] : wanted) all[face].insert(all[face].end(), tris.begin(), tris.end());
+    groups.emplace_back(name, std::move(wanted));
+  }
+  if (all.empty()) return;
+  const FaceUse use = face_use(mesh, all);
+  for (const auto& [name, wanted] : groups) {
+    const MisplacedTriangles found = misplaced_triangles(wanted, use);
+    if (!found.orphans.empty())
+      throw InputError("load group '" + name + "': " + std::to_string(found.orphans.size()) +
+                       " triangle(s) are not a face of any tetrahedron (tags " +
+                       tag_list(file_tags(mesh, found.orphans)) +
                        "): a traction or pressure acts on the body's boundary");
-    if (!interior.empty())
-      throw InputError("load group '" + name + "': " + std::to_string(interior.size()) + " of its " +
-                       std::to_string(wanted.size()) +
-                       " triangles are interior faces, shared by two tetrahedra (tags " + tag_list(interior) + "; " +
-                       number(interior_area) + " of the group's area " + number(group_area) +
-                       "): a traction or pressure acts on the body's boundary, so the load there would act "
-                       "inside the body. Remove those faces from the group (a surface cut by gmsh's "
-                       "BooleanFragments stays in the mesh, and a 'Surface In BoundingBox' selection picks it up)");
+    if (found.interior.empty()) continue;
+    std::vector<std::size_t> group;
+    for (const auto& [face, tris] : wanted) group.insert(group.end(), tris.begin(), tris.end());
+    throw InputError("load group '" + name + "': " + std::to_string(found.interior.size()) + " of its " +
+                     std::to_string(group.size()) + " triangles are interior faces, shared by two tetrahedra (tags " +
+                     tag_list(file_tags(mesh, found.interior)) + "; " + number(area_of(mesh, found.interior)) +
+                     " of the group's area " + number(area_of(mesh, group)) +
+                     "): a traction or pressure acts on the body's boundary, so the load there would act "
+                     "inside the body. Remove those faces from the group (a surface cut by gmsh's "
+                     "BooleanFragments stays in the mesh, and a 'Surface In BoundingBox' selection picks it up)");
   }
 }
 
