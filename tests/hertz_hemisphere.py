@@ -17,7 +17,7 @@ prescribed then holds the body along z, the contact alone does (model/held_by_co
 contact force must also equal the applied load to 1e-8. With --report the pressure profile is written as a markdown table and a figure
 (p against p0 sqrt(1 - r^2/a^2)) when matplotlib is there.
 
-Usage: hertz_hemisphere.py BIN SOURCE_DIR [--h-pole 0.01] [--cell-size 0.02] [--delta 0.01 | --top-pressure 1e8]
+Usage: hertz_hemisphere.py BIN SOURCE_DIR [--h-pole 0.01] [--fine 0.35] [--cell-size 0.02 | "2h"] [--delta 0.01 | --top-pressure 1e8]
                            [--report results/runs/hertz]
 Exit 0 within tolerance, 1 not, 2 when a step fails.
 """
@@ -59,6 +59,14 @@ qp_rtol = 1e-8
 """
 
 
+def cell_size_value(text):
+    """contact.cell_size as TOML: a number, or a string ("2h", "auto")."""
+    try:
+        return repr(float(text))
+    except ValueError:
+        return f'"{text}"'
+
+
 def hertz(P):
     e_star = YOUNG / (1 - POISSON ** 2)
     a = (3 * P * R / (4 * e_star)) ** (1 / 3)
@@ -84,7 +92,8 @@ def main():
     ap.add_argument("bin")
     ap.add_argument("source")
     ap.add_argument("--h-pole", type=float, default=0.01)
-    ap.add_argument("--cell-size", type=float, default=0.02)
+    ap.add_argument("--cell-size", default="0.02", help='H in m, or a multiple of h such as "2h", or "auto"')
+    ap.add_argument("--fine", type=float, help="radius of the refined zone around the pole / R (geo default 0.35)")
     ap.add_argument("--delta", type=float, default=0.01)
     ap.add_argument("--top-pressure", type=float, help="Pa on the top instead of moving it by delta")
     ap.add_argument("--tolerance", type=float, default=0.05)
@@ -94,7 +103,8 @@ def main():
         work = Path(work)
         msh = work / "hertz.msh"
         geo = Path(args.source) / "geo" / "hertz_quarter.geo"
-        gm = subprocess.run(["gmsh", "-3", str(geo), "-setnumber", "h_pole", str(args.h_pole), "-o", str(msh)],
+        fine = ["-setnumber", "fine", str(args.fine)] if args.fine else []
+        gm = subprocess.run(["gmsh", "-3", str(geo), "-setnumber", "h_pole", str(args.h_pole), *fine, "-o", str(msh)],
                             capture_output=True, text=True)
         if gm.returncode != 0 or not msh.exists():
             print(f"error: gmsh failed on {geo}: {gm.stderr[-500:]}", file=sys.stderr)
@@ -103,7 +113,7 @@ def main():
         top_load = (f'[[boundary.pressure]]\ngroup = "top"\nvalue = {args.top_pressure}' if args.top_pressure else
                     f'[[boundary.displacement]]\ngroup = "top"\nz = {-args.delta}')
         scene.write_text(SCENE.format(mesh=msh, young=YOUNG, poisson=POISSON, top_load=top_load,
-                                      cell_size=args.cell_size))
+                                      cell_size=cell_size_value(args.cell_size)))
         proc, seconds = c3d_run.solve(args.bin, scene, work / "out")
         if proc.returncode != 0:
             print(f"error: contact3d failed: {proc.stderr.strip()}", file=sys.stderr)

@@ -174,8 +174,8 @@ void print_dual_plan(const DualPlan& plan) {
     route +=
         " (Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps "
         "the dense Q)";
-  fmt::print("dual: {} cells (H = {:.4g} m), {} multipliers; the dense Q with its working copies {}, {}: {}\n",
-             plan.cells, plan.cell_size, plan.multipliers, bytes_text(plan.dense_bytes), available, route);
+  fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells,
+             plan.cell_sizes, plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }
 
 int run_check(const SolveArgs& args) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <numeric>
@@ -9,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "contact/grid_boxes.hpp"
 
 namespace contact3d {
 namespace {
@@ -113,7 +115,31 @@ std::vector<int> unmatched_rows(const std::vector<std::vector<int>>& adj, int n_
   return unmatched;
 }
 
+// The rectangles: graded where H is k·h and the contact mesh is graded, else the uniform grid of
+// ceil(L/H) rectangles per direction.
+GridBoxes grid_boxes(const ContactFace& face, const std::vector<Box>& triangles, const PartitionOptions& opt) {
+  const Eigen::Vector2d extent = face.hi - face.lo;
+  if (opt.per_element_size > 0 && is_graded(triangles))
+    return GridBoxes::graded(face.lo, extent, triangles, Eigen::Vector2d::Constant(opt.per_element_size));
+  const double max_cells = 4e6;
+  const double size_y = opt.cell_size_y > 0 ? opt.cell_size_y : opt.cell_size;
+  if (!std::isfinite(size_y)) throw InputError("contact.cell_size must be finite");
+  const double nx = std::max(1.0, std::ceil(extent.x() / opt.cell_size - 1e-9));
+  const double ny = std::max(1.0, std::ceil(extent.y() / size_y - 1e-9));
+  if (nx * ny > max_cells)
+    throw InputError("contact.cell_size " + std::to_string(opt.cell_size) + " m gives " + std::to_string(nx * ny) +
+                     " cells; choose a larger H");
+  return GridBoxes::uniform(face.lo, extent, static_cast<int>(nx), static_cast<int>(ny));
+}
+
 }  // namespace
+
+std::string describe_cell_sizes(const Partition& part) {
+  if (!part.graded) return "H = " + number(part.hx) + " x " + number(part.hy) + " m";
+  return "H from " + number(part.smallest_box.x(), 3) + " x " + number(part.smallest_box.y(), 3) + " to " +
+         number(part.largest_box.x(), 3) + " x " + number(part.largest_box.y(), 3) +
+         " m, following the contact mesh's element size";
+}
 
 std::string describe_cell(const Partition& part, int i) {
   const auto& c = part.cells[i];
@@ -129,45 +155,43 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
   if (face.triangles.empty()) throw InputError("the contact face has no triangles");
   Partition part;
   const Eigen::Vector2d extent = face.hi - face.lo;
-  const double max_cells = 4e6;
-  const double size_y = opt.cell_size_y > 0 ? opt.cell_size_y : opt.cell_size;
-  if (!std::isfinite(size_y)) throw InputError("contact.cell_size must be finite");
-  const double nx = std::max(1.0, std::ceil(extent.x() / opt.cell_size - 1e-9));
-  const double ny = std::max(1.0, std::ceil(extent.y() / size_y - 1e-9));
-  if (nx * ny > max_cells)
-    throw InputError("contact.cell_size " + std::to_string(opt.cell_size) + " m gives " + std::to_string(nx * ny) +
-                     " cells; choose a larger H");
-  part.grid_nx = static_cast<int>(nx);
-  part.grid_ny = static_cast<int>(ny);
-  part.hx = extent.x() / nx;
-  part.hy = extent.y() / ny;
+  std::vector<Box> triangle_boxes;
+  std::vector<Polygon> whole_triangles;
+  for (const auto& tri : face.triangles) {
+    whole_triangles.push_back(triangle_polygon(xy(mesh, tri[0]), xy(mesh, tri[1]), xy(mesh, tri[2])));
+    Box b{whole_triangles.back()[0].xy, whole_triangles.back()[0].xy};
+    for (const auto& v : whole_triangles.back()) {
+      b.lo = b.lo.cwiseMin(v.xy);
+      b.hi = b.hi.cwiseMax(v.xy);
+    }
+    triangle_boxes.push_back(b);
+  }
+  const GridBoxes boxes = grid_boxes(face, triangle_boxes, opt);
+  part.grid_nx = boxes.nx();
+  part.grid_ny = boxes.ny();
+  part.hx = boxes.base_size().x();
+  part.hy = boxes.base_size().y();
+  part.graded = boxes.graded();
   if (!(part.hx > 0) || !(part.hy > 0)) throw InputError("the contact face has zero area (it is a line)");
+  part.smallest_box = Eigen::Vector2d::Constant(INFINITY);
+  for (int b = 0; b < boxes.size(); ++b) {
+    part.smallest_box = part.smallest_box.cwiseMin(boxes.box(b).extent());
+    part.largest_box = part.largest_box.cwiseMax(boxes.box(b).extent());
+  }
 
   // 1. Clip every contact triangle to the rectangles its bounding box meets.
   std::vector<CellPiece> pieces;
   std::vector<std::vector<int>> pieces_of_triangle(face.triangles.size());
-  auto cell_lo = [&](int i, int j) { return Eigen::Vector2d(face.lo.x() + i * part.hx, face.lo.y() + j * part.hy); };
   for (std::size_t t = 0; t < face.triangles.size(); ++t) {
-    const auto& tri = face.triangles[t];
-    const Polygon whole = triangle_polygon(xy(mesh, tri[0]), xy(mesh, tri[1]), xy(mesh, tri[2]));
-    Eigen::Vector2d lo = whole[0].xy, hi = whole[0].xy;
-    for (const auto& v : whole) {
-      lo = lo.cwiseMin(v.xy);
-      hi = hi.cwiseMax(v.xy);
-    }
-    const int i0 = std::clamp(static_cast<int>(std::floor((lo.x() - face.lo.x()) / part.hx)), 0, part.grid_nx - 1);
-    const int i1 = std::clamp(static_cast<int>(std::floor((hi.x() - face.lo.x()) / part.hx)), 0, part.grid_nx - 1);
-    const int j0 = std::clamp(static_cast<int>(std::floor((lo.y() - face.lo.y()) / part.hy)), 0, part.grid_ny - 1);
-    const int j1 = std::clamp(static_cast<int>(std::floor((hi.y() - face.lo.y()) / part.hy)), 0, part.grid_ny - 1);
+    const Polygon& whole = whole_triangles[t];
     const double tiny = 1e-12 * polygon_area(whole);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) {
-        const Eigen::Vector2d clo = cell_lo(i, j), chi = clo + Eigen::Vector2d(part.hx, part.hy);
-        Polygon piece = clip_to_box(whole, clo, chi);
-        if (piece.empty() || polygon_area(piece) <= tiny) continue;
-        pieces_of_triangle[t].push_back(static_cast<int>(pieces.size()));
-        pieces.push_back({static_cast<int>(t), std::move(piece), j * part.grid_nx + i});
-      }
+    for (int b : boxes.overlapping(triangle_boxes[t].lo, triangle_boxes[t].hi)) {
+      const Box box = boxes.box(b);
+      Polygon piece = clip_to_box(whole, box.lo, box.hi);
+      if (piece.empty() || polygon_area(piece) <= tiny) continue;
+      pieces_of_triangle[t].push_back(static_cast<int>(pieces.size()));
+      pieces.push_back({static_cast<int>(t), std::move(piece), b});
+    }
   }
   if (pieces.empty()) throw InputError("the contact face has zero area");
 
@@ -242,16 +266,17 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
     return true;
   };
 
-  // 3. Slivers, smallest first; a merged cell that is still small is visited again.
-  const double full = part.hx * part.hy;
+  // 3. Slivers, smallest first; a merged cell that is still small is visited again. A cell's full
+  // rectangle is the one of its first piece (graded rectangles differ in size).
+  auto full = [&](int root) { return part.graded ? boxes.box(pieces[root].box).area() : part.hx * part.hy; };
   for (bool changed = true; changed;) {
     changed = false;
     std::vector<int> small;
     for (int r : roots())
-      if (area[r] < opt.sliver_fraction * full) small.push_back(r);
+      if (area[r] < opt.sliver_fraction * full(r)) small.push_back(r);
     std::sort(small.begin(), small.end(), [&](int a, int b) { return area[a] < area[b]; });
     for (int r : small) {
-      if (uf.find(r) != r || area[r] >= opt.sliver_fraction * full) continue;
+      if (uf.find(r) != r || area[r] >= opt.sliver_fraction * full(r)) continue;
       if (merge_into_largest_neighbour(r)) {
         ++part.merged_slivers;
         changed = true;
@@ -299,11 +324,11 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
       if (!merged) {
         std::string cells;
         for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part, bad[k]);
-        throw InputError("the multiplier partition violates the stability condition (5.1): " +
-                         std::to_string(bad.size()) + " of " + std::to_string(part.cells.size()) +
-                         " cells have no free contact node of their own (rectangles H = " + number(part.hx) + " x " +
-                         number(part.hy) + " m, contact mesh size h = " + number(face.h) + " m), e.g." + cells +
-                         "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
+        throw InputError(
+            "the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) + " of " +
+            std::to_string(part.cells.size()) + " cells have no free contact node of their own (rectangles " +
+            describe_cell_sizes(part) + ", contact mesh size h = " + number(face.h) + " m), e.g." + cells +
+            "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
       }
       root_of_cell = build();
     }
@@ -336,11 +361,46 @@ std::vector<int> cells_without_own_node(const ContactFace& face, const Partition
   return unmatched_rows(adj, static_cast<int>(face.nodes.size()));
 }
 
+namespace {
+
+// Graded rectangles: runs of `size` cells along a Z-order (Morton) curve through the centroids, so
+// each aggregate is a compact patch whatever the cells' sizes.
+std::vector<int> aggregates_along_z_order(const Partition& partition, int size, int& count) {
+  const std::size_t r = partition.cells.size();
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
+  for (const ContactCell& cell : partition.cells) {
+    lo = lo.cwiseMin(cell.centroid);
+    hi = hi.cwiseMax(cell.centroid);
+  }
+  const Eigen::Vector2d span = (hi - lo).cwiseMax(Eigen::Vector2d::Constant(1e-300));
+  auto morton = [&](const Eigen::Vector2d& p) {
+    const auto cx = static_cast<std::uint32_t>(std::min(65535.0, 65535.0 * (p.x() - lo.x()) / span.x()));
+    const auto cy = static_cast<std::uint32_t>(std::min(65535.0, 65535.0 * (p.y() - lo.y()) / span.y()));
+    std::uint64_t key = 0;
+    for (int b = 0; b < 16; ++b)
+      key |= (static_cast<std::uint64_t>((cx >> b) & 1u) << (2 * b)) |
+             (static_cast<std::uint64_t>((cy >> b) & 1u) << (2 * b + 1));
+    return key;
+  };
+  std::vector<int> order(r);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<std::uint64_t> key(r);
+  for (std::size_t i = 0; i < r; ++i) key[i] = morton(partition.cells[i].centroid);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+  std::vector<int> aggregate(r, 0);
+  for (std::size_t k = 0; k < r; ++k) aggregate[order[k]] = static_cast<int>(k) / size;
+  count = static_cast<int>((r + size - 1) / size);
+  return aggregate;
+}
+
+}  // namespace
+
 std::vector<int> cell_aggregates(const Partition& partition, int cells_per_side, int& count) {
   const std::size_t r = partition.cells.size();
   std::vector<int> aggregate(r, 0);
   count = r > 0 ? 1 : 0;
   if (r == 0 || cells_per_side <= 0 || partition.grid_nx <= 0) return aggregate;
+  if (partition.graded) return aggregates_along_z_order(partition, cells_per_side * cells_per_side, count);
   std::map<std::pair<int, int>, int> number;
   for (std::size_t i = 0; i < r; ++i) {
     int box = INT32_MAX;  // the cell's first grid rectangle (a merged cell spans several)

@@ -1,9 +1,10 @@
-// The partition T_H of Γc into cells R_i (§5): a grid of rectangles over the face's bounding
-// box, each intersected with the contact triangles (exact polygon clipping). Then, in order:
+// The partition T_H of Γc into cells R_i (§5): rectangles over the face's bounding box — a uniform
+// grid, or on a graded contact mesh rectangles following its element size (grid_boxes.hpp) — each
+// intersected with the contact triangles (exact polygon clipping). Then, in order:
 //  1. a grid rectangle whose pieces are not connected (a hole, a gap of a non-convex face
 //     between them) is split into one cell per connected component (pieces are connected when
 //     they share a boundary segment of positive length);
-//  2. slivers (area below a fraction of a full rectangle) are merged, smallest first, into the
+//  2. slivers (area below a fraction of their full rectangle) are merged, smallest first, into the
 //     adjacent cell of largest area (adjacent = sharing a boundary segment), repeatedly, so
 //     chains of slivers end up in one cell;
 //  3. the structural part of the stability condition (5.1) is enforced: 𝔹 (one row per cell
@@ -44,6 +45,7 @@ struct ContactCell {
 struct PartitionOptions {
   double cell_size = 0;              // H in m; the grid uses ceil(L/H) cells per direction
   double cell_size_y = 0;            // H in y when it differs (0: same as cell_size)
+  double per_element_size = 0;       // k when H was given as k·h: a graded mesh then gets graded cells
   double sliver_fraction = 0.2;      // cells below this fraction of a full rectangle are merged
   bool split_disconnected = true;    // one cell per connected component of a rectangle ∩ Γc
   bool enforce_stability = true;     // repair or reject partitions failing the matching test
@@ -52,8 +54,10 @@ struct PartitionOptions {
 
 struct Partition {
   std::vector<ContactCell> cells;
-  int grid_nx = 0, grid_ny = 0;
-  double hx = 0, hy = 0;     // actual rectangle sides (<= H)
+  int grid_nx = 0, grid_ny = 0;  // the uniform grid (graded: the coarse grid under the quadtrees)
+  double hx = 0, hy = 0;         // actual rectangle sides (<= H; graded: the coarse grid's)
+  bool graded = false;           // rectangles follow a graded contact mesh (grid_boxes.hpp)
+  Eigen::Vector2d smallest_box = Eigen::Vector2d::Zero(), largest_box = Eigen::Vector2d::Zero();  // sides
   int merged_slivers = 0;    // cells merged into a neighbour because they were small
   int split_cells = 0;       // extra cells created by splitting disconnected rectangles
   int stability_merges = 0;  // cells merged into a neighbour to satisfy the matching test
@@ -62,7 +66,8 @@ struct Partition {
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& options);
 
 // Cells grouped into aggregates of `cells_per_side` × `cells_per_side` grid rectangles (by the
-// first rectangle of each cell) (the coarse space of the matrix-free Newton steps' two-level preconditioner,
+// first rectangle of each cell; graded rectangles: runs of that many cells along a Z-order curve
+// through their centroids) (the coarse space of the matrix-free Newton steps' two-level preconditioner,
 // qp/reduced_cg.hpp): aggregate of each cell, numbered 0 .. count − 1 without gaps.
 std::vector<int> cell_aggregates(const Partition& partition, int cells_per_side, int& count);
 
@@ -74,6 +79,10 @@ std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const Contact
 // (face.contact_index >= 0, positive hat integral over the cell) leaves unmatched. Empty iff
 // Hall's condition holds; non-empty means 𝔹 is rank deficient whatever the weights.
 std::vector<int> cells_without_own_node(const ContactFace& face, const Partition& partition);
+
+// "H = 0.05 x 0.05 m", or for graded cells "H from 0.01 x 0.01 to 0.08 x 0.08 m, following the contact
+// mesh's element size", for messages.
+std::string describe_cell_sizes(const Partition& partition);
 
 // "cell i [x0, x1] x [y0, y1], area a" for messages.
 std::string describe_cell(const Partition& partition, int cell);

@@ -118,6 +118,14 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
         .value("cells_merged", res.partition.merged_slivers);
     j.value("cells_split", res.partition.split_cells)
         .value("cells_merged_for_stability", res.partition.stability_merges);
+    j.value("cells_graded", res.partition.graded);
+    if (res.partition.graded) {  // the rectangles follow the contact mesh (contact/grid_boxes.hpp): their sides
+      j.begin_array("cell_sides_smallest")
+          .element(res.partition.smallest_box.x())
+          .element(res.partition.smallest_box.y());
+      j.end_array().begin_array("cell_sides_largest").element(res.partition.largest_box.x());
+      j.element(res.partition.largest_box.y()).end_array();
+    }
     j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
     j.value("n_mult", res.n_mult)
         .value("qp_iterations", res.qp_iterations)
@@ -158,7 +166,9 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
       j.end_object();
     }
     j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
-    j.value("stability_condition_estimate", res.stability_condition).value("factor_nonzeros", res.factor_nonzeros);
+    j.value("stability_condition_estimate", res.stability_condition);
+    if (res.stability_condition_scaled > 0) j.value("stability_condition_scaled", res.stability_condition_scaled);
+    j.value("factor_nonzeros", res.factor_nonzeros);
     j.begin_array("warnings");
     for (const auto& w : res.warnings) j.element(w);
     j.end_array();

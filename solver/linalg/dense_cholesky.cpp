@@ -98,30 +98,35 @@ namespace {
 
 // Subspace iteration on A⁻¹ (through `factor`), then Rayleigh–Ritz with A.
 template <class Factor>
-double smallest_eigenvalue_with(const Factor& factor, const DenseView& A) {
+double smallest_eigenvalue_with(const Factor& factor, const DenseView& A, const Eigen::VectorXd& scale) {
   const Eigen::Index n = A.rows(), k = std::min<Eigen::Index>(8, n);
   constexpr int kIterations = 12;
+  const bool scaled = scale.size() == n;
   std::mt19937 gen(1);  // fixed: the same estimate on every run
   std::normal_distribution<double> normal;
   Eigen::MatrixXd X(n, k);
   for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = normal(gen);
   for (int it = 0; it < kIterations; ++it) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(factor.solve_columns(X));
+    if (scaled) X = scale.cwiseInverse().asDiagonal() * X;
+    Eigen::MatrixXd Y = factor.solve_columns(X);
+    if (scaled) Y = scale.cwiseInverse().asDiagonal() * Y;
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Y);
     X = qr.householderQ() * Eigen::MatrixXd::Identity(n, k);
   }
-  const Eigen::MatrixXd AX = A.selfadjointView<Eigen::Lower>() * X;
-  const Eigen::MatrixXd T = X.transpose() * AX;
+  const Eigen::MatrixXd SX = scaled ? Eigen::MatrixXd(scale.asDiagonal() * X) : X;
+  const Eigen::MatrixXd AX = A.selfadjointView<Eigen::Lower>() * SX;
+  const Eigen::MatrixXd T = SX.transpose() * AX;
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(T, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
 }
 
 }  // namespace
 
-double smallest_eigenvalue(const DenseCholesky& factor, const DenseView& A) {
-  return smallest_eigenvalue_with(factor, A);
+double smallest_eigenvalue(const DenseCholesky& factor, const DenseView& A, const Eigen::VectorXd& scale) {
+  return smallest_eigenvalue_with(factor, A, scale);
 }
 
-double smallest_eigenvalue(const SingleCholesky& factor, const DenseView& A) {
-  return smallest_eigenvalue_with(factor, A);
+double smallest_eigenvalue(const SingleCholesky& factor, const DenseView& A, const Eigen::VectorXd& scale) {
+  return smallest_eigenvalue_with(factor, A, scale);
 }
 
 }  // namespace contact3d

@@ -77,7 +77,9 @@ struct DualOperatorFactor {
 // the block converges to the same eigenvectors to single's accuracy and the Rayleigh–Ritz values,
 // taken with A in double, are accurate to its square (a unit test checks both against an exact
 // spectrum): half the factorization's time and memory for the same estimate.
-double smallest_eigenvalue(const DenseCholesky& factor, const DenseView& A);
-double smallest_eigenvalue(const SingleCholesky& factor, const DenseView& A);
+// With `scale` (a positive diagonal S, e.g. D^{-1/2} for the Jacobi scaling): the smallest eigenvalue
+// of S A S, through the same factor of A ((S A S)⁻¹ = S⁻¹ A⁻¹ S⁻¹).
+double smallest_eigenvalue(const DenseCholesky& factor, const DenseView& A, const Eigen::VectorXd& scale = {});
+double smallest_eigenvalue(const SingleCholesky& factor, const DenseView& A, const Eigen::VectorXd& scale = {});
 
 }  // namespace contact3d

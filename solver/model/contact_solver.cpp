@@ -147,6 +147,11 @@ void require_free_contact_rows(const ContactOperator& op, const Partition& part)
   }
 }
 
+// "H = 0.05" (the cell size asked for), or the range of a graded partition's rectangles.
+std::string cell_sizes(const SolveResult& res) {
+  return res.partition.graded ? describe_cell_sizes(res.partition) : "H = " + number(res.cell_size, 3);
+}
+
 // Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
 ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult& res) {
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
@@ -156,6 +161,7 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   PartitionOptions cells;
   cells.cell_size = res.cell_size;
   cells.cell_size_y = scene.cell_size_relative ? scene.cell_size * res.face.h_xy.y() : 0.0;
+  cells.per_element_size = scene.cell_size_relative ? scene.cell_size : 0.0;
   res.partition = make_grid_partition(mesh, res.face, cells);
   ContactOperator op = make_contact_operator(res.face, res.partition, res.dofs, !scene.frictionless());
   res.n_cells = op.r;
@@ -265,6 +271,15 @@ struct StabilityCheck {
   double condition = 0;
   std::shared_ptr<DualOperatorFactor> factor;  // Q = scale · L Lᵀ (null: the LDLᵀ path, no factor)
 };
+// Cholesky pivots over Q's diagonal: a pivot is the part of its row's diagonal that the rows before it
+// leave over, so the ratio is near 0 exactly where a row nearly depends on them, whatever the cells'
+// sizes (graded cells make Q's diagonal itself span orders of magnitude).
+Eigen::VectorXd relative_pivots(const Eigen::VectorXd& pivots, const DenseView& Q) {
+  Eigen::VectorXd out = pivots;
+  for (Eigen::Index k = 0; k < out.size(); ++k) out[k] /= Q(k, k);
+  return out;
+}
+
 StabilityCheck check_stability(const DenseView& Q, double lambda_max, const Partition& part, int r,
                                Eigen::MatrixXf single_copy, double single_scale) {
   constexpr double kSinglePivotFloor = 1e-4;
@@ -273,7 +288,7 @@ StabilityCheck check_stability(const DenseView& Q, double lambda_max, const Part
     factor->in_single.emplace(std::move(single_copy));
     factor->scale = single_scale;
     if (factor->in_single->ok()) {
-      const Eigen::VectorXd d = factor->in_single->pivots();
+      const Eigen::VectorXd d = relative_pivots(factor->in_single->pivots(), Q);
       if (d.minCoeff() > kSinglePivotFloor * d.maxCoeff())
         return {lambda_max / smallest_eigenvalue(*factor->in_single, Q), std::move(factor)};
     }
@@ -282,7 +297,7 @@ StabilityCheck check_stability(const DenseView& Q, double lambda_max, const Part
     auto factor = std::make_shared<DualOperatorFactor>();
     factor->in_double.emplace(Q);
     if (factor->in_double->ok()) {
-      const Eigen::VectorXd d = factor->in_double->pivots();
+      const Eigen::VectorXd d = relative_pivots(factor->in_double->pivots(), Q);
       if (d.minCoeff() > 1e-11 * d.maxCoeff()) {
         // cond(Q) = λmax / λmin: λmax by power iterations on Q, λmin with the factor.
         return {lambda_max / smallest_eigenvalue(*factor->in_double, Q), std::move(factor)};
@@ -290,19 +305,32 @@ StabilityCheck check_stability(const DenseView& Q, double lambda_max, const Part
     }
   }
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(Q);
-  const Eigen::VectorXd d = ldlt.vectorD();
+  const auto& perm = ldlt.transpositionsP();
+  Eigen::VectorXi order = Eigen::VectorXi::LinSpaced(Q.rows(), 0, static_cast<int>(Q.rows()) - 1);
+  order = perm * order;  // pivot k of the LDLᵀ sits at row (P·idx)[k] of Q
+  Eigen::VectorXd d = ldlt.vectorD();
+  for (Eigen::Index k = 0; k < d.size(); ++k) d[k] /= Q(order[k], order[k]);  // relative, as above
   const double dmax = d.cwiseAbs().maxCoeff();
   std::vector<int> bad;
   for (int k = 0; k < d.size(); ++k)
     if (!(d[k] > 1e-11 * dmax)) bad.push_back(k);
   if (bad.empty()) return {dmax / d.minCoeff(), nullptr};
   // Map pivots back through the LDLT permutation to rows of 𝔹.
-  const auto& perm = ldlt.transpositionsP();
-  Eigen::VectorXi order = Eigen::VectorXi::LinSpaced(d.size(), 0, static_cast<int>(d.size()) - 1);
-  order = perm * order;  // pivot k of the LDLᵀ sits at row (P·idx)[k] of Q
   std::vector<int> rows;
   for (const int k : bad) rows.push_back(order[k]);
   throw_dependent_rows(rows, static_cast<int>(bad.size()), part, r);
+}
+
+// cond(D^{-1/2} Q D^{-1/2}), D = diag Q: the condition of the problem the Jacobi-scaled QP solves,
+// by power iterations on it and subspace iteration through the stability check's factor of Q.
+double jacobi_scaled_condition(const DenseView& Q, const DualOperatorFactor& factor) {
+  const Eigen::VectorXd scale = Q.diagonal().cwiseSqrt().cwiseInverse();
+  const double largest = estimate_norm(Q.rows(), [&](const Eigen::VectorXd& x) {
+    return Eigen::VectorXd(scale.cwiseProduct(symmetric_product(Q, scale.cwiseProduct(x))));
+  });
+  const double smallest = factor.in_double ? smallest_eigenvalue(*factor.in_double, Q, scale)
+                                           : smallest_eigenvalue(*factor.in_single, Q, scale);
+  return smallest > 0 ? largest / smallest : std::numeric_limits<double>::infinity();
 }
 
 // Lanczos steps of the matrix-free route's stability check (one product by Q each).
@@ -457,7 +485,7 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
   res.warnings.push_back("the largest nodal penetration (" + number(res.wn_plus_inf, 3) + ") is " +
                          number(100 * res.wn_plus_inf / u_max, 2) + "% of the body's largest displacement" +
                          (rigid_removed ? std::string(" less its rigid motion") : std::string()) +
-                         ": non-penetration holds as averages over cells of H = " + number(res.cell_size, 3) +
+                         ": non-penetration holds as averages over cells of " + cell_sizes(res) +
                          " and the body deforms inside a cell (a body about as thin as a cell, or a contact zone a "
                          "few cells wide), so the displacement near Γc is not resolved; refine the mesh (h)" +
                          (scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
@@ -713,6 +741,7 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
   plan.cells = op.r;
   plan.multipliers = op.rows();
   plan.cell_size = res.cell_size;
+  plan.cell_sizes = cell_sizes(res);
   plan.dense_bytes = memory.bytes;
   plan.available_bytes = memory.available;
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
@@ -743,8 +772,8 @@ namespace {
 
 void describe_contact(Progress& report, const SolveResult& res, const ContactOperator& op) {
   report.stage("contact: " + count(res.face.triangles.size()) + " triangles and " + count(res.face.nodes.size()) +
-               " nodes on Γc; " + count(op.r) + " cells of T_H (H = " + number(res.cell_size, 3) + "), " +
-               count(op.rows()) + " multipliers");
+               " nodes on Γc; " + count(op.r) + " cells of T_H (" + cell_sizes(res) + "), " + count(op.rows()) +
+               " multipliers");
 }
 
 std::string describe_dual_solve(const Scene& scene) {
@@ -840,9 +869,17 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
                                                          const ContactOperator& op, const QpSettings& qp,
                                                          Progress& report, SolveResult& res) {
   const auto warn_if_ill_conditioned = [&res] {
-    if (res.stability_condition > kIllConditionedDual)
+    // Where the QP solves the Jacobi-scaled problem its condition is what costs digits: cells of
+    // very different sizes (graded) spread Q's diagonal, which the scaling takes out.
+    const double condition =
+        res.stability_condition_scaled > 0 ? res.stability_condition_scaled : res.stability_condition;
+    if (condition > kIllConditionedDual)
       res.warnings.push_back("the dual operator Q is ill-conditioned (cond(Q) ≈ " + number(res.stability_condition) +
-                             "): some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or "
+                             ")" +
+                             (res.stability_condition_scaled > 0
+                                  ? ", Jacobi-scaled as the QP solves it " + number(res.stability_condition_scaled)
+                                  : std::string()) +
+                             ": some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or "
                              "a body thinner than a cell), so λ and the contact pressure are unreliable although the "
                              "residuals are small; use a larger contact.cell_size (H)");
   };
@@ -865,8 +902,13 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
   }
   StabilityCheck check = check_stability(dual.Q(), q_norm, res.partition, op.r, std::move(single_copy), single_scale);
   res.stability_condition = check.condition;
+  if (res.stability_condition > kIllConditionedDual && qp.scaling == QpScaling::Jacobi && check.factor)
+    res.stability_condition_scaled = jacobi_scaled_condition(dual.Q(), *check.factor);
   warn_if_ill_conditioned();
-  report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3));
+  report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3) +
+               (res.stability_condition_scaled > 0
+                    ? ", Jacobi-scaled (the QP's) ≈ " + number(res.stability_condition_scaled, 3)
+                    : std::string()));
   const bool takes_newton_steps = qp.variant == QpVariant::Auto || qp.variant == QpVariant::Ssn;
   if (!check.factor || qp.newton_systems != NewtonSystems::Auto || !takes_newton_steps) return nullptr;
   const double m = op.rows(), needed = dense_dual_bytes_per_entry(qp, op.rows()) * m * m + check.factor->bytes();
@@ -1003,7 +1045,7 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   refinement.first_penetration_ratio = first.penetration_ratio;
   for (const auto& stage : first.seconds) refinement.first_seconds += stage.second;
   const std::string finer_cells = "cells of " + number(kRefinedCellSize, 2) + "h";
-  const std::string was = "cells of H = " + number(first.cell_size, 3) + " (2h) let nodes penetrate by " +
+  const std::string was = "cells of " + cell_sizes(first) + " (2h) let nodes penetrate by " +
                           number(100 * first.penetration_ratio, 2) + "% of the largest displacement";
   report.stage("contact zone unresolved: " + was + "; solving again with " + finer_cells +
                " (contact.cell_size = \"auto\")");
@@ -1023,7 +1065,7 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
     // A converged answer is never traded for one that did not converge.
     refinement.kept_finer =
         second->penetration_ratio < first.penetration_ratio && (second->converged || !first.converged);
-    refinement.outcome = was + "; with " + finer_cells + " (H = " + number(second->cell_size, 3) +
+    refinement.outcome = was + "; with " + finer_cells + " (" + cell_sizes(*second) +
                          "): " + number(100 * second->penetration_ratio, 2) + "%" +
                          (refinement.kept_finer ? ", the answer given"
                           : second->penetration_ratio < first.penetration_ratio

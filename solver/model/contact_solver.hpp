@@ -90,6 +90,7 @@ struct SolveResult {
   double penetration_ratio = 0;
   PartitionRefinement refinement;
   double stability_condition = 0;            // estimate of cond(Q) from its Cholesky pivots
+  double stability_condition_scaled = 0;     // cond of the Jacobi-scaled Q where cond(Q) > 1e10 (else 0)
   std::vector<std::string> warnings;         // what makes this answer less trustworthy than its residuals say
   std::vector<std::string> notes;            // what the model does that a user may not expect
   double friction_where_separated_area = 0;  // Tresca: area of cells with friction but λ_n = 0
@@ -118,6 +119,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
 struct DualPlan {
   int cells = 0, multipliers = 0;
   double cell_size = 0;                         // H (m; the x extent where cells are anisotropic)
+  std::string cell_sizes;                       // "H = 0.05", or a graded partition's range
   double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
   std::string method;
 };

@@ -297,3 +297,88 @@ TEST(Partition, CellAggregatesGroupNeighbours) {
   EXPECT_EQ(cell_aggregates(partition, 0, one), std::vector<int>(partition.cells.size(), 0));
   EXPECT_EQ(one, 1);
 }
+
+namespace {
+
+// A flat face on the tensor grid xs × xs split along diagonals: squares of 0.05 near the origin
+// growing to 1.6 at the far corner — a contact mesh refined where the body touches.
+Flat graded_flat() {
+  const std::vector<double> xs{0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.6, 1.0, 1.8, 3.4};
+  Flat f;
+  f.mesh.groups.push_back({2, 1, "contact"});
+  const int n = static_cast<int>(xs.size());
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      f.mesh.nodes.emplace_back(xs[i], xs[j], 0.0);
+      f.mesh.node_tags.push_back(f.mesh.nodes.size());
+    }
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+      for (const std::array<int, 3>& t : {std::array<int, 3>{a, b, c}, std::array<int, 3>{a, c, d}}) {
+        f.mesh.triangles.push_back(t);
+        f.mesh.triangle_tags.push_back(f.mesh.triangles.size());
+        f.mesh.triangle_group.push_back(1);
+      }
+    }
+  f.dofs = make_dof_map(f.mesh, {});
+  f.face = make_contact_face(f.mesh, {"contact"}, f.dofs);
+  return f;
+}
+
+}  // namespace
+
+// On a graded contact mesh, cells of "2h" follow the local element size: small where the elements
+// are small, large where they are large, every cell with a node of its own, the face covered. One
+// H for the whole face (twice the median extent) leaves the coarse part's cells without nodes.
+TEST(Partition, GradedMeshGetsCellsFollowingItsElements) {
+  const Flat f = graded_flat();
+  PartitionOptions graded{2 * f.face.h_xy.x()};
+  graded.cell_size_y = 2 * f.face.h_xy.y();
+  graded.per_element_size = 2;
+  const Partition p = make_grid_partition(f.mesh, f.face, graded);
+  EXPECT_TRUE(p.graded);
+  EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
+  expect_row_sums_are_areas(f, p);
+  const ContactCell* near = cell_containing(p, 0.07, 0.07);
+  const ContactCell* far = cell_containing(p, 3.0, 3.0);
+  ASSERT_NE(near, nullptr);
+  ASSERT_NE(far, nullptr);
+  EXPECT_LE(near->hi.x() - near->lo.x(), 0.2);  // 0.75 to 1.5 times 2 × 0.05 (a merged sliver: 2 of them)
+  EXPECT_GE(far->hi.x() - far->lo.x(), 1.2);    // the far elements are 1.6 wide
+  EXPECT_LT(p.smallest_box.x(), 0.11);
+  EXPECT_GT(p.largest_box.x(), 1.0);
+  EXPECT_NE(describe_cell_sizes(p).find("following the contact mesh"), std::string::npos);
+
+  PartitionOptions uniform = graded;
+  uniform.per_element_size = 0;  // H as a length: one H everywhere
+  EXPECT_THROW(make_grid_partition(f.mesh, f.face, uniform), InputError);
+
+  // The coarse space's aggregates on graded cells: runs of 4 cells along a Z-order curve.
+  int count = 0;
+  const std::vector<int> aggregate = cell_aggregates(p, 2, count);
+  EXPECT_EQ(count, static_cast<int>((p.cells.size() + 3) / 4));
+  std::map<int, int> size;
+  for (int a : aggregate) ++size[a];
+  EXPECT_EQ(static_cast<int>(size.size()), count);
+  for (const auto& [a, n] : size) EXPECT_LE(n, 4);
+}
+
+// A mesh that is not graded keeps the uniform grid when H is given per element: the paper's
+// chessboard is the same partition with per_element_size set.
+TEST(Partition, UniformMeshKeepsTheGridWhenCellsArePerElement) {
+  const Mesh mesh = make_paper_brick({8});
+  const DofMap dofs = make_dof_map(mesh, {"clamped"});
+  const ContactFace face = make_contact_face(mesh, {"contact"}, dofs);
+  PartitionOptions o{2 * face.h};
+  const Partition plain = make_grid_partition(mesh, face, o);
+  o.per_element_size = 2;
+  const Partition per_element = make_grid_partition(mesh, face, o);
+  EXPECT_FALSE(per_element.graded);
+  ASSERT_EQ(per_element.cells.size(), plain.cells.size());
+  for (std::size_t i = 0; i < plain.cells.size(); ++i) {
+    EXPECT_EQ(per_element.cells[i].area, plain.cells[i].area);
+    EXPECT_EQ(per_element.cells[i].lo, plain.cells[i].lo);
+    EXPECT_EQ(per_element.cells[i].hi, plain.cells[i].hi);
+  }
+}

@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""A ball on the plane held by contact alone, on a mesh graded towards the contact point.
+
+pipeline/scenes/ball.toml: a steel ball (R = 0.5 m) resting on its pole with nothing prescribed,
+pressed by its weight and a pressure on its upper part, Coulomb friction (F = 0.3). The Hertz contact
+radius (about 5.6 mm) is 7 times smaller than the mesh far from it; geo/ball.geo grades the mesh to
+0.8 mm at the pole. With cell_size = "auto" the cells must follow the mesh (cells_graded, the smallest
+under 2 mm), the solve converge with no warning, the contact force balance the applied load (1e-8),
+the friction carry no net tangential force (the loads are symmetric: under 1e-6 of the normal one),
+the KKT residuals stay under 1e-6,
+and the cells' pressure profile match Hertz's for a sphere on a rigid plane,
+
+    a = (3 P R / (4 E*))^(1/3),   p0 = 3 P / (2 pi a^2),   E* = E / (1 - nu^2),
+
+a and p0 from the least-squares fit of p^2 = p0^2 (1 - r^2/a^2) of tests/hertz_hemisphere.py, within
+--tolerance (10%). Before the graded cells the ball was refused: it rested on one or two uniform cells.
+
+Usage: ball_on_plane.py BIN SOURCE_DIR [--model coulomb|tresca] [--tolerance 0.1]
+Exit 0 when all hold, 1 when one does not, 2 when the run fails.
+"""
+import argparse
+import math
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "pipeline"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from c3d import run as c3d_run  # noqa: E402
+from hertz_hemisphere import fit_profile  # noqa: E402
+
+RADIUS, YOUNG, POISSON = 0.5, 2.1e11, 0.3
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("bin")
+    ap.add_argument("source")
+    ap.add_argument("--model", default="coulomb", choices=["coulomb", "tresca", "frictionless"])
+    ap.add_argument("--tolerance", type=float, default=0.1)
+    ap.add_argument("--h-pole", type=float, default=0.0008, help="mesh size at the contact point (m)")
+    args = ap.parse_args()
+    scene = Path(args.source) / "pipeline" / "scenes" / "ball.toml"
+    sets = [f'friction.model="{args.model}"', f"mesh.parameters.h_pole={args.h_pole}"]
+    if args.model == "frictionless":
+        sets = ['friction.model="tresca"', 'friction.law="none"', f"mesh.parameters.h_pole={args.h_pole}"]
+    if args.model == "tresca":
+        sets.append("friction.slip_bound=1e9")
+    with tempfile.TemporaryDirectory(prefix="c3d_ball_") as work:
+        out = Path(work) / "out"
+        proc, seconds = c3d_run.solve(args.bin, scene, out, sets=sets)
+        if proc.returncode != 0:
+            print(f"error: contact3d failed ({proc.returncode}): {proc.stderr.strip()[-2000:]}", file=sys.stderr)
+            return 2
+        s = c3d_run.summary(out)
+        cells = np.genfromtxt(out / "contact_cells.csv", delimiter=",", names=True)
+    failures = []
+    if s["status"] != "converged":
+        failures.append(f"status {s['status']}")
+    if not s.get("cells_graded"):
+        failures.append("the cells do not follow the graded mesh")
+    elif max(s["cell_sides_smallest"]) > 0.002:
+        failures.append(f"smallest cell {s['cell_sides_smallest']} m, not under 2 mm")
+    if s["warnings"]:
+        failures.append(f"warnings: {s['warnings']}")
+    kkt = {k: v for k, v in s["kkt"].items() if k not in ("projected_gradient", "coulomb_relation")}
+    if max(kkt.values()) > 1e-6:
+        failures.append(f"KKT residuals {kkt}")
+    applied, contact = s["forces"]["applied"][2], s["forces"]["contact"]
+    P = contact[2]
+    if abs(P + applied) > 1e-8 * abs(applied):
+        failures.append(f"contact force {P:.10g} N against the applied {-applied:.10g} N")
+    if math.hypot(contact[0], contact[1]) > 1e-6 * P:
+        failures.append(f"net tangential contact force {contact[0]:.3g}, {contact[1]:.3g} N")
+    e_star = YOUNG / (1 - POISSON ** 2)
+    a_h = (3 * P * RADIUS / (4 * e_star)) ** (1 / 3)
+    p0_h = 3 * P / (2 * math.pi * a_h ** 2)
+    try:
+        a_c, p0_c, _, _ = fit_profile(cells, a_h)
+    except RuntimeError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 1
+    err_a, err_p = abs(a_c / a_h - 1), abs(p0_c / p0_h - 1)
+    print(f"ball ({args.model}): {s['n_cells']} cells from {s['cell_sides_smallest']} to {s['cell_sides_largest']} m, "
+          f"{s['fixed_point_iterations']} steps, n_mult {s['n_mult']}, kkt {s['kkt']}; P = {P:.6g} N; "
+          f"a = {a_c:.5g} m (Hertz {a_h:.5g}, {err_a:.1%}), p0 = {p0_c:.5g} Pa (Hertz {p0_h:.5g}, {err_p:.1%}); "
+          f"{seconds:.1f} s")
+    if err_a > args.tolerance or err_p > args.tolerance:
+        failures.append(f"Hertz: a off by {err_a:.1%}, p0 by {err_p:.1%} (tolerance {args.tolerance:.0%})")
+    for f in failures:
+        print(f"BALL FAILED: {f}")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
