@@ -26,13 +26,15 @@ struct Flat {
   ContactFace face;
 };
 
-Flat flat(const std::vector<std::pair<int, int>>& squares) {
+// With `coordinates`, grid line i lies at coordinates[i] (in x and in y) instead of at i.
+Flat flat(const std::vector<std::pair<int, int>>& squares, const std::vector<double>& coordinates = {}) {
   Flat f;
   std::map<std::pair<int, int>, int> id;
   auto node = [&](int x, int y) {
     auto [it, fresh] = id.emplace(std::make_pair(x, y), static_cast<int>(f.mesh.nodes.size()));
     if (fresh) {
-      f.mesh.nodes.emplace_back(x, y, 0.0);
+      const auto at = [&coordinates](int k) { return coordinates.empty() ? double(k) : coordinates[k]; };
+      f.mesh.nodes.emplace_back(at(x), at(y), 0.0);
       f.mesh.node_tags.push_back(f.mesh.nodes.size());
     }
     return it->second;
@@ -304,26 +306,10 @@ namespace {
 // growing to 1.6 at the far corner — a contact mesh refined where the body touches.
 Flat graded_flat() {
   const std::vector<double> xs{0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.6, 1.0, 1.8, 3.4};
-  Flat f;
-  f.mesh.groups.push_back({2, 1, "contact"});
-  const int n = static_cast<int>(xs.size());
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      f.mesh.nodes.emplace_back(xs[i], xs[j], 0.0);
-      f.mesh.node_tags.push_back(f.mesh.nodes.size());
-    }
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      const int a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
-      for (const std::array<int, 3>& t : {std::array<int, 3>{a, b, c}, std::array<int, 3>{a, c, d}}) {
-        f.mesh.triangles.push_back(t);
-        f.mesh.triangle_tags.push_back(f.mesh.triangles.size());
-        f.mesh.triangle_group.push_back(1);
-      }
-    }
-  f.dofs = make_dof_map(f.mesh, {});
-  f.face = make_contact_face(f.mesh, {"contact"}, f.dofs);
-  return f;
+  std::vector<std::pair<int, int>> squares;
+  for (int j = 0; j + 1 < static_cast<int>(xs.size()); ++j)
+    for (int i = 0; i + 1 < static_cast<int>(xs.size()); ++i) squares.push_back({i, j});
+  return flat(squares, xs);
 }
 
 }  // namespace
