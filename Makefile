@@ -76,6 +76,7 @@ hertz: build
 	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --cell-size 0.01 --report $(REPORTS)/hertz
 	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --cell-size 0.01 --top-pressure 1e8 \
 		--report $(REPORTS)/hertz/pressed
+	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --fine 0.12 --cell-size 2h --report $(REPORTS)/hertz/graded
 
 # Symmetry plane and rotated foundation at n = 4 and 8 ($(REPORTS)/validation.md).
 validation: build

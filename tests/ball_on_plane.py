@@ -8,14 +8,19 @@ radius (about 5.6 mm) is 7 times smaller than the mesh far from it; geo/ball.geo
 under 2 mm), the solve converge with no warning, the contact force balance the applied load (1e-8),
 the friction carry no net tangential force (the loads are symmetric: under 1e-6 of the normal one),
 the KKT residuals stay under 1e-6,
-and the cells' pressure profile match Hertz's for a sphere on a rigid plane,
+and, frictionless (`--model frictionless`), the cells' pressure profile match Hertz's for a sphere
+on a rigid plane,
 
     a = (3 P R / (4 E*))^(1/3),   p0 = 3 P / (2 pi a^2),   E* = E / (1 - nu^2),
 
 a and p0 from the least-squares fit of p^2 = p0^2 (1 - r^2/a^2) of tests/hertz_hemisphere.py, within
---tolerance (10%). Before the graded cells the ball was refused: it rested on one or two uniform cells.
+--tolerance (5%; at --h-pole 0.0004, 7 cells across the contact radius: 0.5% and 0.5%; at 0.0008
+the fit has too few cells inside 0.8 a: 17% and 0.1%). With friction Hertz's formulas do not hold (the
+friction holds back the inward slip of the ball's surface: Coulomb at 0.4 mm gives a 6% smaller radius
+and an 8.7% higher peak pressure) and are only printed. Before the graded cells the ball was refused:
+it rested on one or two uniform cells.
 
-Usage: ball_on_plane.py BIN SOURCE_DIR [--model coulomb|tresca] [--tolerance 0.1]
+Usage: ball_on_plane.py BIN SOURCE_DIR [--model coulomb|tresca|frictionless] [--h-pole 0.0008] [--tolerance 0.05]
 Exit 0 when all hold, 1 when one does not, 2 when the run fails.
 """
 import argparse
@@ -39,7 +44,7 @@ def main():
     ap.add_argument("bin")
     ap.add_argument("source")
     ap.add_argument("--model", default="coulomb", choices=["coulomb", "tresca", "frictionless"])
-    ap.add_argument("--tolerance", type=float, default=0.1)
+    ap.add_argument("--tolerance", type=float, default=0.05, help="Hertz's a and p0, frictionless only")
     ap.add_argument("--h-pole", type=float, default=0.0008, help="mesh size at the contact point (m)")
     args = ap.parse_args()
     scene = Path(args.source) / "pipeline" / "scenes" / "ball.toml"
@@ -87,7 +92,7 @@ def main():
           f"{s['fixed_point_iterations']} steps, n_mult {s['n_mult']}, kkt {s['kkt']}; P = {P:.6g} N; "
           f"a = {a_c:.5g} m (Hertz {a_h:.5g}, {err_a:.1%}), p0 = {p0_c:.5g} Pa (Hertz {p0_h:.5g}, {err_p:.1%}); "
           f"{seconds:.1f} s")
-    if err_a > args.tolerance or err_p > args.tolerance:
+    if args.model == "frictionless" and (err_a > args.tolerance or err_p > args.tolerance):
         failures.append(f"Hertz: a off by {err_a:.1%}, p0 by {err_p:.1%} (tolerance {args.tolerance:.0%})")
     for f in failures:
         print(f"BALL FAILED: {f}")

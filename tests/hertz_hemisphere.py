@@ -134,7 +134,9 @@ def main():
         print(f"error: {e}", file=sys.stderr)
         return 1
     err_a, err_p = abs(a_c / a_h - 1), abs(p0_c / p0_h - 1)
-    row = {"h_pole": args.h_pole, "cell_size": args.cell_size, "delta": None if args.top_pressure else args.delta,
+    row = {"h_pole": args.h_pole, "fine": args.fine, "cell_size": json.loads(cell_size_value(args.cell_size)),
+           "cells_graded": summary.get("cells_graded", False), "cell_sides_smallest": summary.get("cell_sides_smallest"),
+           "cell_sides_largest": summary.get("cell_sides_largest"), "delta": None if args.top_pressure else args.delta,
            "top_pressure": args.top_pressure, "n_primal": summary["n_primal"],
            "n_cells": summary["n_cells"], "force_P": P, "a_hertz": a_h, "a_computed": a_c, "p0_hertz": p0_h,
            "p0_computed": p0_c, "p_max_cell": float(p.max()), "err_a": err_a, "err_p0": err_p,
@@ -150,14 +152,23 @@ def main():
     return 0 if ok else 1
 
 
+def cells_text(row):
+    if not row["cells_graded"]:
+        return f"cells H = {row['cell_size']} m"
+    small, large = row["cell_sides_smallest"], row["cell_sides_largest"]
+    return (f"cells of {row['cell_size']} following the graded mesh (sides {min(small):.3g} to {max(large):.3g} m, "
+            "contact/grid_boxes.hpp)")
+
+
 def write_report(folder, row, r, p):
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "hertz.json").write_text(json.dumps(row, indent=1) + "\n")
     a, p0 = row["a_hertz"], row["p0_hertz"]
     lines = ["# Hertz: a quarter hemisphere (R = 1 m, E = 200 GPa, nu = 0.3) pressed onto the rigid plane", "",
              (f"Top pressed by {row['top_pressure']} Pa (the body held by contact alone)" if row["top_pressure"] else
-              f"Top moved down by {row['delta']} m") + f"; mesh size {row['h_pole']} m at the pole, cells H = {row['cell_size']} m; "
-             f"{row['n_primal']} unknowns, {row['n_cells']} cells, {row['seconds']:.1f} s.", "",
+              f"Top moved down by {row['delta']} m") + f"; mesh size {row['h_pole']} m at the pole" +
+             (f" (refined within {row['fine']} R, coarser away from it)" if row["fine"] else "") + ", " +
+             cells_text(row) + f"; {row['n_primal']} unknowns, {row['n_cells']} cells, {row['seconds']:.1f} s.", "",
              "| | contact3d | Hertz (from the computed force) | difference |", "|---|---|---|---|",
              f"| total force P (N) | {row['force_P']:.4e} | | |",
              f"| contact radius a (m) | {row['a_computed']:.4f} | {a:.4f} | {row['err_a']:.1%} |",

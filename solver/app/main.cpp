@@ -175,7 +175,8 @@ void print_dual_plan(const DualPlan& plan) {
         " (Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps "
         "the dense Q)";
   fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells,
-             plan.cell_sizes, plan.multipliers, bytes_text(plan.dense_bytes), available, route);
+             plan.cell_sizes.empty() ? fmt::format("H = {:.4g} m", plan.cell_size) : plan.cell_sizes, plan.multipliers,
+             bytes_text(plan.dense_bytes), available, route);
 }
 
 int run_check(const SolveArgs& args) {

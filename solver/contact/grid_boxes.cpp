@@ -48,12 +48,23 @@ GridBoxes GridBoxes::graded(const Eigen::Vector2d& lo, const Eigen::Vector2d& ex
   GridBoxes g;
   g.graded_ = true;
   g.origin_ = lo;
-  Eigen::Vector2d largest = Eigen::Vector2d::Zero();
-  for (const Box& t : triangles) largest = largest.cwiseMax(t.extent());
-  const Eigen::Vector2d side = k.cwiseProduct(largest);
+  // The coarse rectangles: the finest target (k times the 10th percentile of the extents) doubled,
+  // in both directions alike (the leaves keep the finest elements' aspect), until it reaches k times
+  // the largest extents, so that halving them lands on the finest target where the mesh is finest.
+  Eigen::Vector2d finest, largest;
+  for (int d = 0; d < 2; ++d) {
+    std::vector<double> e;
+    e.reserve(triangles.size());
+    for (const Box& t : triangles) e.push_back(t.extent()[d]);
+    largest[d] = *std::max_element(e.begin(), e.end());
+    std::nth_element(e.begin(), e.begin() + e.size() / 10, e.end());
+    finest[d] = std::max(e[e.size() / 10], 1e-12 * largest[d]);
+  }
+  Eigen::Vector2d side = k.cwiseProduct(finest);
+  while (side.x() < k.x() * largest.x() || side.y() < k.y() * largest.y()) side *= 2;
   g.nx_ = static_cast<int>(std::max(1.0, std::ceil(extent.x() / side.x() - 1e-9)));
   g.ny_ = static_cast<int>(std::max(1.0, std::ceil(extent.y() / side.y() - 1e-9)));
-  g.base_ = Eigen::Vector2d(extent.x() / g.nx_, extent.y() / g.ny_);
+  g.base_ = side;  // the grid may reach past the face: rectangles there get no pieces
   std::vector<std::vector<int>> of_root(static_cast<std::size_t>(g.nx_) * g.ny_);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto [i0, i1] = g.base_range(triangles[t].lo.x(), triangles[t].hi.x(), lo.x(), g.base_.x(), g.nx_);

@@ -32,7 +32,9 @@ class GridBoxes {
   static GridBoxes uniform(const Eigen::Vector2d& lo, const Eigen::Vector2d& extent, int nx, int ny);
   // Quadtree leaves over [lo, lo + extent]: a rectangle is halved along x while it is at least 1.5 k
   // times the median x-extent of the triangles it meets (along y the same), so a leaf is 0.75 to
-  // 1.5 k of them; the coarse grid under the trees has rectangles k times the largest extents.
+  // 1.5 k of them. The coarse grid under the trees has rectangles of k times the 10th percentile of
+  // the extents doubled until they reach k times the largest extents (it may reach past the face),
+  // so the finest leaves are k times the finest extents.
   static GridBoxes graded(const Eigen::Vector2d& lo, const Eigen::Vector2d& extent, const std::vector<Box>& triangles,
                           const Eigen::Vector2d& k);
 

@@ -741,7 +741,7 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
   plan.cells = op.r;
   plan.multipliers = op.rows();
   plan.cell_size = res.cell_size;
-  plan.cell_sizes = cell_sizes(res);
+  if (res.partition.graded) plan.cell_sizes = describe_cell_sizes(res.partition);
   plan.dense_bytes = memory.bytes;
   plan.available_bytes = memory.available;
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();

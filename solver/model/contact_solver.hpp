@@ -119,7 +119,7 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
 struct DualPlan {
   int cells = 0, multipliers = 0;
   double cell_size = 0;                         // H (m; the x extent where cells are anisotropic)
-  std::string cell_sizes;                       // "H = 0.05", or a graded partition's range
+  std::string cell_sizes;                       // a graded partition's range of sides (else empty)
   double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
   std::string method;
 };
