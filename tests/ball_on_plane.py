@@ -34,7 +34,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "pipeline"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from c3d import run as c3d_run  # noqa: E402
-from hertz_hemisphere import fit_profile  # noqa: E402
+from hertz_hemisphere import against_hertz  # noqa: E402
 
 RADIUS, YOUNG, POISSON = 0.5, 2.1e11, 0.3
 
@@ -79,11 +79,8 @@ def main():
         failures.append(f"contact force {P:.10g} N against the applied {-applied:.10g} N")
     if math.hypot(contact[0], contact[1]) > 1e-6 * P:
         failures.append(f"net tangential contact force {contact[0]:.3g}, {contact[1]:.3g} N")
-    e_star = YOUNG / (1 - POISSON ** 2)
-    a_h = (3 * P * RADIUS / (4 * e_star)) ** (1 / 3)
-    p0_h = 3 * P / (2 * math.pi * a_h ** 2)
     try:
-        a_c, p0_c, _, _ = fit_profile(cells, a_h)
+        a_h, p0_h, a_c, p0_c, _, _ = against_hertz(cells, P, RADIUS, YOUNG, POISSON)
     except RuntimeError as e:
         print(f"error: {e}", file=sys.stderr)
         return 1

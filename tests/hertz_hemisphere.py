@@ -67,9 +67,9 @@ def cell_size_value(text):
         return f'"{text}"'
 
 
-def hertz(P):
-    e_star = YOUNG / (1 - POISSON ** 2)
-    a = (3 * P * R / (4 * e_star)) ** (1 / 3)
+def hertz(P, radius=R, young=YOUNG, poisson=POISSON):
+    e_star = young / (1 - poisson ** 2)
+    a = (3 * P * radius / (4 * e_star)) ** (1 / 3)
     return a, 3 * P / (2 * math.pi * a * a)
 
 
@@ -85,6 +85,12 @@ def fit_profile(cells, a_hertz):
     if not (c0 > 0 and c1 < 0):
         raise RuntimeError(f"the pressure profile is not Hertzian (fit p^2 = {c0:.3g} + {c1:.3g} r^2)")
     return math.sqrt(-c0 / c1), math.sqrt(c0), r, p
+
+
+def against_hertz(cells, P, radius=R, young=YOUNG, poisson=POISSON):
+    """Hertz's (a, p0) for the force P and the fitted (a, p0, r, p) of the cells; RuntimeError if no fit."""
+    a_h, p0_h = hertz(P, radius, young, poisson)
+    return (a_h, p0_h, *fit_profile(cells, a_h))
 
 
 def main():
@@ -127,9 +133,8 @@ def main():
         if abs(P - applied) > 1e-8 * applied:
             print("HERTZ FAILED: the contact force does not balance the applied load")
             return 1
-    a_h, p0_h = hertz(P)
     try:
-        a_c, p0_c, r, p = fit_profile(cells, a_h)
+        a_h, p0_h, a_c, p0_c, r, p = against_hertz(cells, P)
     except RuntimeError as e:
         print(f"error: {e}", file=sys.stderr)
         return 1

@@ -173,11 +173,6 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
   part.hy = boxes.base_size().y();
   part.graded = boxes.graded();
   if (!(part.hx > 0) || !(part.hy > 0)) throw InputError("the contact face has zero area (it is a line)");
-  part.smallest_box = Eigen::Vector2d::Constant(INFINITY);
-  for (int b = 0; b < boxes.size(); ++b) {
-    part.smallest_box = part.smallest_box.cwiseMin(boxes.box(b).extent());
-    part.largest_box = part.largest_box.cwiseMax(boxes.box(b).extent());
-  }
 
   // 1. Clip every contact triangle to the rectangles its bounding box meets.
   std::vector<CellPiece> pieces;
@@ -194,6 +189,11 @@ Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const P
     }
   }
   if (pieces.empty()) throw InputError("the contact face has zero area");
+  part.smallest_box = Eigen::Vector2d::Constant(INFINITY);
+  for (const CellPiece& piece : pieces) {  // the rectangles that cut the face
+    part.smallest_box = part.smallest_box.cwiseMin(boxes.box(piece.box).extent());
+    part.largest_box = part.largest_box.cwiseMax(boxes.box(piece.box).extent());
+  }
 
   // Piece adjacency: a common boundary segment; candidates are pieces of one triangle and of
   // triangles sharing a mesh edge.
