@@ -224,14 +224,20 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     F = F_at(mu_, lambda);
     return true;
   };
+  // The Jacobian is judged blind along a direction in units where every row of G has norm 1 (μ = S μ̂,
+  // Ĵ = S J S), as the rank of G is: a ball's torsion, held by the friction of millimetre cells, would
+  // otherwise look blind next to its lift, held by cells of 0.1 m, and be jumped along.
+  const Eigen::VectorXd row_scale = G_.rowwise().norm().unaryExpr([](double n) { return n > 0 ? 1 / n : 1.0; });
   const auto unseen_shift = [&] {
     const Eigen::VectorXd shift = full_contact.completeOrthogonalDecomposition().solve(P * F);
     if (jacobian_.rows() != k) return shift;
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian_, Eigen::ComputeFullV);
+    const Eigen::MatrixXd scaled = row_scale.asDiagonal() * jacobian_ * row_scale.asDiagonal();
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullV);
     Eigen::Index seen = 0;
     while (seen < k && svd.singularValues()[seen] > 1e-6 * svd.singularValues()[0]) ++seen;
     const Eigen::MatrixXd blind = svd.matrixV().rightCols(k - seen);
-    return Eigen::VectorXd(blind * (blind.transpose() * shift));
+    const Eigen::VectorXd shift_scaled = row_scale.cwiseInverse().cwiseProduct(shift);
+    return Eigen::VectorXd(row_scale.cwiseProduct(blind * (blind.transpose() * shift_scaled)));
   };
   if (reach(F) > 0 && qp_.r > 0 && lambda.head(qp_.r).cwiseAbs().maxCoeff() == 0) jump_to_next_touch(unseen_shift());
   const double F_scale = e_.norm() > 0 ? e_.norm() : std::max(G_.norm() * lambda.norm(), 1e-300);
@@ -241,7 +247,17 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     measure_jacobian();
     fresh_jacobian = true;
   }
-  for (int step = 0; step < kMaxEqualitySteps && reach(F) > target && !inner_failed; ++step) {
+  // The best iterate (least unbalanced) is what a solve that does not converge ends with: jumps to the
+  // next touch may unbalance the loads for a while (the body tips onto another cell) and need not
+  // come back.
+  Eigen::VectorXd best_mu = mu_, best_lambda = lambda, best_F = F;
+  const auto remember_best = [&] {
+    if (reach(F) >= reach(best_F)) return;
+    best_mu = mu_;
+    best_lambda = lambda;
+    best_F = F;
+  };
+  for (int step = 0; step < kMaxEqualitySteps && reach(F) > target && !inner_failed; ++step, remember_best()) {
     if (const Eigen::VectorXd blind = unseen_shift(); qp_.r > 0 && blind.norm() > 0 && jump_to_next_touch(blind)) {
       measure_jacobian();
       fresh_jacobian = true;
@@ -276,6 +292,11 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     }
     if (!accepted) measure_jacobian();
     fresh_jacobian = !accepted;
+  }
+  if (reach(F) > reach(best_F) && !inner_failed) {
+    mu_ = best_mu;
+    lambda = best_lambda;
+    F = best_F;
   }
   set_linear_term(h_ - G_.transpose() * mu_);  // the problem of the answer (for radius_sensitivity)
   equality_residual_ = F.norm() / F_scale;
