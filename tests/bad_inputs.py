@@ -589,6 +589,16 @@ def c_held_by_contact_on_one_cell(c):
         ["held by contact alone", "the body rests on", "cells of the contact partition", "refine the mesh"]
 
 
+def c_graded_cells_far_too_small(c):
+    # Cells of 0.01h on a mesh graded towards the contact point (geo/ball.geo): graded rectangles that
+    # small would be tens of millions; refused before they are built (it ran for minutes and then
+    # ran out of memory).
+    text = open(os.path.join(c.src, "pipeline", "scenes", "ball.toml")).read().replace(
+        '"../../geo/ball.geo"', '"' + os.path.join(c.src, "geo", "ball.geo") + '"')
+    return ["check", c.write("ball.toml", text), "--set", 'contact.cell_size="0.01h"'], \
+        ["contact.cell_size", "0.01h", "graded", "rectangles", "larger multiple of h"]
+
+
 def c_displacement_conflicting_values(c):
     text = open(c.scene()).read().replace(
         "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "clamped"\nx = 1e-3\n\n[[boundary.traction]]', 1)

@@ -16,6 +16,7 @@ set(CONTACT3D_BAD_INPUT_CASES
   scene_is_directory law_value_huge cli_no_scene cli_unknown_option geo_system_call geo_include_outside
   medit_truncated medit_binary_truncated edp_system_call edp_script_fails
   displacement_missing_group displacement_rigid_motion_free held_by_contact_pulled_off held_by_contact_on_one_cell held_by_friction_too_weak
+  graded_cells_far_too_small
   contact_normal_prescribed
   displacement_conflicting_values
   displacement_no_component pressure_on_volume_group material_region_not_volume

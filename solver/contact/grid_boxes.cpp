@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "base/errors.hpp"
+#include "base/format.hpp"
 
 namespace contact3d {
 namespace {
@@ -17,6 +21,12 @@ double median(std::vector<double> v) {
 // Open overlap: boxes that only touch along an edge do not meet.
 bool meet(const Box& a, const Box& b) {
   return a.lo.x() < b.hi.x() && b.lo.x() < a.hi.x() && a.lo.y() < b.hi.y() && b.lo.y() < a.hi.y();
+}
+
+[[noreturn]] void too_many_rectangles(const Eigen::Vector2d& k, std::size_t triangles) {
+  throw InputError("contact.cell_size = \"" + number(k.x()) + "h\" on this graded contact mesh (" +
+                   std::to_string(triangles) + " triangles) asks for more than " + number(kMaxRectangles) +
+                   " rectangles; choose a larger multiple of h, e.g. \"2h\"");
 }
 
 }  // namespace
@@ -64,6 +74,7 @@ GridBoxes GridBoxes::graded(const Eigen::Vector2d& lo, const Eigen::Vector2d& ex
   while (side.x() < k.x() * largest.x() || side.y() < k.y() * largest.y()) side *= 2;
   g.nx_ = static_cast<int>(std::max(1.0, std::ceil(extent.x() / side.x() - 1e-9)));
   g.ny_ = static_cast<int>(std::max(1.0, std::ceil(extent.y() / side.y() - 1e-9)));
+  if (static_cast<double>(g.nx_) * g.ny_ > kMaxRectangles) too_many_rectangles(k, triangles.size());
   g.base_ = side;  // the grid may reach past the face: rectangles there get no pieces
   std::vector<std::vector<int>> of_root(static_cast<std::size_t>(g.nx_) * g.ny_);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
@@ -101,6 +112,7 @@ void GridBoxes::split(int node, const std::vector<int>& triangles, const std::ve
     leaves_.push_back(node);
     return;
   }
+  if (static_cast<double>(nodes_.size()) + 4 > kMaxRectangles) too_many_rectangles(k, all.size());
   const Box parent = nodes_[node].box;
   const Eigen::Vector2d mid = 0.5 * (parent.lo + parent.hi);
   const int first = static_cast<int>(nodes_.size());

@@ -26,6 +26,10 @@ constexpr double kGradedSpread = 3.0;
 
 bool is_graded(const std::vector<Box>& triangles);
 
+// At most this many rectangles, uniform or graded: a finer T_H has no use and would not fit (a graded
+// one asked for with a tiny k, e.g. "0.01h", is refused before it is built, and while it is built).
+constexpr double kMaxRectangles = 4e6;
+
 class GridBoxes {
  public:
   // nx × ny rectangles over [lo, lo + extent]; box j·nx + i.

@@ -121,12 +121,11 @@ GridBoxes grid_boxes(const ContactFace& face, const std::vector<Box>& triangles,
   const Eigen::Vector2d extent = face.hi - face.lo;
   if (opt.per_element_size > 0 && is_graded(triangles))
     return GridBoxes::graded(face.lo, extent, triangles, Eigen::Vector2d::Constant(opt.per_element_size));
-  const double max_cells = 4e6;
   const double size_y = opt.cell_size_y > 0 ? opt.cell_size_y : opt.cell_size;
   if (!std::isfinite(size_y)) throw InputError("contact.cell_size must be finite");
   const double nx = std::max(1.0, std::ceil(extent.x() / opt.cell_size - 1e-9));
   const double ny = std::max(1.0, std::ceil(extent.y() / size_y - 1e-9));
-  if (nx * ny > max_cells)
+  if (nx * ny > kMaxRectangles)
     throw InputError("contact.cell_size " + std::to_string(opt.cell_size) + " m gives " + std::to_string(nx * ny) +
                      " cells; choose a larger H");
   return GridBoxes::uniform(face.lo, extent, static_cast<int>(nx), static_cast<int>(ny));

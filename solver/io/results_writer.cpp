@@ -120,11 +120,9 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
         .value("cells_merged_for_stability", res.partition.stability_merges);
     j.value("cells_graded", res.partition.graded);
     if (res.partition.graded) {  // the rectangles follow the contact mesh (contact/grid_boxes.hpp): their sides
-      j.begin_array("cell_sides_smallest")
-          .element(res.partition.smallest_box.x())
-          .element(res.partition.smallest_box.y());
-      j.end_array().begin_array("cell_sides_largest").element(res.partition.largest_box.x());
-      j.element(res.partition.largest_box.y()).end_array();
+      for (const auto& [key, sides] : {std::pair{"cell_sides_smallest", res.partition.smallest_box},
+                                       std::pair{"cell_sides_largest", res.partition.largest_box}})
+        j.begin_array(key).element(sides.x()).element(sides.y()).end_array();
     }
     j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
     j.value("n_mult", res.n_mult)

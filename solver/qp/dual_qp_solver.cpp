@@ -121,15 +121,18 @@ constexpr double kEqualityNoiseFloor = 1e-7;
 // stay unbalanced above kEqualityNoiseFloor (the double-precision floor of a projected gradient).
 constexpr double kTightestInnerRtol = 1e-12;
 
-// The orthogonal projector onto the range of `G` (k × k): the part of Gλ − e that λ can move. The
-// rank is decided with each row scaled to unit norm: the rows are forces and moments, and a motion
-// held only by small cells (a ball's torsion, held by the friction of millimetre cells at its pole)
-// would otherwise look unreachable next to the translations of large cells far from the contact.
+// 1 / ‖row‖ of each row of G (1 for a zero row): G's rows are forces and moments, and a motion held
+// only by small cells (a ball's torsion, held by the friction of millimetre cells at its pole) has a
+// row orders of magnitude below the translations held by large cells far from the contact. The rank
+// of G and the blindness of the equalities' Jacobian are judged in these units.
+Eigen::VectorXd unit_row_scale(const Eigen::MatrixXd& G) {
+  return G.rowwise().norm().unaryExpr([](double n) { return n > 0 ? 1 / n : 1.0; });
+}
+
+// The orthogonal projector onto the range of `G` (k × k): the part of Gλ − e that λ can move, its
+// rank decided on S G with unit rows (range(G) = S⁻¹ range(S G)).
 Eigen::MatrixXd range_projector(const Eigen::MatrixXd& G) {
-  const Eigen::VectorXd row_norm = G.rowwise().norm();
-  Eigen::VectorXd scale = Eigen::VectorXd::Zero(G.rows());
-  for (Eigen::Index i = 0; i < G.rows(); ++i)
-    if (row_norm[i] > 0) scale[i] = 1 / row_norm[i];
+  const Eigen::VectorXd scale = unit_row_scale(G);
   const Eigen::MatrixXd scaled = scale.asDiagonal() * G;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled * scaled.transpose());
   const double largest = eig.eigenvalues().size() ? eig.eigenvalues().maxCoeff() : 0.0;
@@ -137,11 +140,7 @@ Eigen::MatrixXd range_projector(const Eigen::MatrixXd& G) {
   for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j)
     if (largest > 0 && eig.eigenvalues()[j] > 1e-12 * largest) kept.push_back(j);
   if (kept.empty()) return Eigen::MatrixXd::Zero(G.rows(), G.rows());
-  // range(G) = S⁻¹ range(S G): the kept eigenvectors mapped back, made orthonormal.
-  Eigen::MatrixXd basis(G.rows(), static_cast<Eigen::Index>(kept.size()));
-  for (std::size_t c = 0; c < kept.size(); ++c)
-    for (Eigen::Index i = 0; i < G.rows(); ++i)
-      basis(i, static_cast<Eigen::Index>(c)) = scale[i] > 0 ? eig.eigenvectors()(i, kept[c]) / scale[i] : 0.0;
+  const Eigen::MatrixXd basis = scale.cwiseInverse().asDiagonal() * eig.eigenvectors()(Eigen::all, kept);
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(basis);
   const Eigen::MatrixXd U = qr.householderQ() * Eigen::MatrixXd::Identity(G.rows(), basis.cols());
   return U * U.transpose();
@@ -224,10 +223,9 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     F = F_at(mu_, lambda);
     return true;
   };
-  // The Jacobian is judged blind along a direction in units where every row of G has norm 1 (μ = S μ̂,
-  // Ĵ = S J S), as the rank of G is: a ball's torsion, held by the friction of millimetre cells, would
-  // otherwise look blind next to its lift, held by cells of 0.1 m, and be jumped along.
-  const Eigen::VectorXd row_scale = G_.rowwise().norm().unaryExpr([](double n) { return n > 0 ? 1 / n : 1.0; });
+  // The Jacobian is judged blind along a direction in unit-row units (μ = S μ̂, Ĵ = S J S), as the rank
+  // of G is: judged unscaled, a ball's torsion looked blind next to its lift and was jumped along.
+  const Eigen::VectorXd row_scale = unit_row_scale(G_);
   const auto unseen_shift = [&] {
     const Eigen::VectorXd shift = full_contact.completeOrthogonalDecomposition().solve(P * F);
     if (jacobian_.rows() != k) return shift;
