@@ -20,7 +20,12 @@ friction holds back the inward slip of the ball's surface: Coulomb at 0.4 mm giv
 and an 8.7% higher peak pressure) and are only printed. Before the graded cells the ball was refused:
 it rested on one or two uniform cells.
 
-Usage: ball_on_plane.py BIN SOURCE_DIR [--model coulomb|tresca|frictionless] [--h-pole 0.0008] [--tolerance 0.05]
+`--cell-size 1.5h` asks for cells of 1.5h instead of "auto" (2h here): the ball held by more,
+smaller cells, which the equalities' Newton once lost by jumping along a direction only Broyden's
+updates had made look blind.
+
+Usage: ball_on_plane.py BIN SOURCE_DIR [--model coulomb|tresca|frictionless] [--h-pole 0.0008]
+       [--cell-size auto] [--tolerance 0.05]
 Exit 0 when all hold, 1 when one does not, 2 when the run fails.
 """
 import argparse
@@ -46,6 +51,7 @@ def main():
     ap.add_argument("--model", default="coulomb", choices=["coulomb", "tresca", "frictionless"])
     ap.add_argument("--tolerance", type=float, default=0.05, help="Hertz's a and p0, frictionless only")
     ap.add_argument("--h-pole", type=float, default=0.0008, help="mesh size at the contact point (m)")
+    ap.add_argument("--cell-size", default="auto", help="contact.cell_size, a multiple of h (graded cells)")
     args = ap.parse_args()
     scene = Path(args.source) / "pipeline" / "scenes" / "ball.toml"
     sets = [f'friction.model="{args.model}"', f"mesh.parameters.h_pole={args.h_pole}"]
@@ -53,6 +59,7 @@ def main():
         sets = ['friction.model="tresca"', 'friction.law="none"', f"mesh.parameters.h_pole={args.h_pole}"]
     if args.model == "tresca":
         sets.append("friction.slip_bound=1e9")
+    sets.append(f'contact.cell_size="{args.cell_size}"')
     with tempfile.TemporaryDirectory(prefix="c3d_ball_") as work:
         out = Path(work) / "out"
         proc, seconds = c3d_run.solve(args.bin, scene, out, sets=sets)

@@ -256,6 +256,12 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     best_F = F;
   };
   for (int step = 0; step < kMaxEqualitySteps && reach(F) > target && !inner_failed; ++step, remember_best()) {
+    // Blindness is judged on a measured Jacobian only: Broyden's updates can flatten a direction the
+    // contact does hold, and a jump along it throws away the balance reached.
+    if (qp_.r > 0 && !fresh_jacobian && unseen_shift().norm() > 0) {
+      measure_jacobian();
+      fresh_jacobian = true;
+    }
     if (const Eigen::VectorXd blind = unseen_shift(); qp_.r > 0 && blind.norm() > 0 && jump_to_next_touch(blind)) {
       measure_jacobian();
       fresh_jacobian = true;
