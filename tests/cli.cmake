@@ -40,6 +40,13 @@ add_test(NAME ball_on_plane_frictionless_hertz
 # Cells of 1.5h (783 cells, 2 349 multipliers): the second Coulomb solve had balanced the loads to
 # 1e-4 when a jump along a direction that only Broyden's updates made look blind unbalanced them
 # 2e6 times over; refused with two BLAS threads, converged by rounding with one. Both thread counts.
+# A lateral load of 1% of the vertical one (body force 2e3 N/m³ along x): friction holds the ball, which
+# rolls until its centre of pressure is R·F_x/P beside the pole (measured 4.926 mm, expected 4.923 mm).
+# Refused before the equalities' Newton searched the concave dual's maximum along steps that
+# overshoot it (the loads flipped between the two saturated slides; 41.8% left unbalanced).
+add_test(NAME ball_on_plane_lateral_load_held_by_friction
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/ball_on_plane.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
+                 --lateral 2000)
 add_test(NAME ball_on_plane_coulomb_cells_1_5h
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/ball_on_plane.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
                  --cell-size 1.5h)

@@ -526,12 +526,23 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
                         "along it (its mean over the body's nodes, in the least-squares sense)");
 }
 
+// The cells that carry the last solve's normal force: those with more than 1e-3 of the largest
+// cell force (λ_n · area). A balance found by leaning on cells that barely touch, or (Tresca) on the
+// friction of cells out of contact, does not count them.
+long pressed_cells(const ContactOperator& op, const Partition& partition, const TrescaStep& tresca) {
+  if (tresca.history().empty()) return 0;
+  const Eigen::VectorXd& lambda = tresca.history().back().lambda;
+  Eigen::VectorXd force(op.r);
+  for (int i = 0; i < op.r; ++i)
+    force[i] = std::max(lambda[i], 0.0) * partition.cells[static_cast<std::size_t>(i)].area;
+  const double largest = force.size() ? force.maxCoeff() : 0.0;
+  return largest > 0 ? (force.array() > 1e-3 * largest).count() : 0;
+}
+
 // Where the last solve pressed one or two cells, the contact cannot balance a general moment of
 // the loads (its force acts at the cells' centres): said with the refusal below, with what to change.
-std::string too_few_cells(const ContactOperator& op, const TrescaStep& tresca) {
-  if (tresca.history().empty()) return "";
-  const Eigen::VectorXd& lambda = tresca.history().back().lambda;
-  const long pressed = (lambda.head(op.r).array() > 0).count();
+std::string too_few_cells(const ContactOperator& op, const Partition& partition, const TrescaStep& tresca) {
+  const long pressed = pressed_cells(op, partition, tresca);
   if (pressed == 0 || pressed >= 3) return "";  // none: the loads pull it off, said in the message
   return "; the body rests on " + std::to_string(pressed) + " of the " + std::to_string(op.r) +
          " cells of the contact partition, too few to balance the loads' moments about it (a contact zone smaller "
@@ -543,13 +554,20 @@ std::string too_few_cells(const ContactOperator& op, const TrescaStep& tresca) {
 // not balance the loads along the free motions — the loads pull the body off the foundation or tilt
 // it about an edge of the contact face, push it along the plane harder than friction holds, or the
 // body touches on too few cells to balance their moments (a sphere whose contact zone is one cell).
-void require_held(const Discretisation& disc, const ContactOperator& op, const DualQpSolver& qp,
-                  const TrescaStep& tresca) {
-  if (qp.equality_residual() <= 1e-6 && !tresca.history().empty()) return;
+void require_held(const Discretisation& disc, const ContactOperator& op, const Partition& partition,
+                  const DualQpSolver& qp, const TrescaStep& tresca) {
+  const ContactHeldMotions& held = disc.held;
   // An inner QP that did not converge leaves the loads unbalanced whatever the friction: the run then
   // ends as the dual QP's failure (FixedPointStatus::InnerSolverFailed), not as this input error.
-  if (!tresca.history().empty() && tresca.last_qp().status == QpStatus::Breakdown) return;
-  const ContactHeldMotions& held = disc.held;
+  const bool balanced = qp.equality_residual() <= 1e-6 && !tresca.history().empty();
+  if (balanced || (!tresca.history().empty() && tresca.last_qp().status == QpStatus::Breakdown)) {
+    // Balanced on one or two cells, the loads' moments lean on forces under 1e-3 of the contact's at
+    // cells that barely touch, or on the friction of cells out of contact (Tresca): no answer either,
+    // the nodes penetrating by many times the deformation.
+    if (const std::string few = too_few_cells(op, partition, tresca); !few.empty())
+      throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() + ")" + few);
+    return;
+  }
   const std::size_t solves = tresca.history().size();
   const std::string unbalanced = number(100 * qp.equality_residual(), 3) + "% of them left unbalanced" +
                                  (solves > 1 ? " in solve " + std::to_string(solves) +
@@ -567,7 +585,7 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const D
                        (op.with_friction ? "" : ", the contact being frictionless") +
                        "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
                        "friction (friction.slip_bound, friction.model) and the loads' directions" +
-                       too_few_cells(op, tresca));
+                       too_few_cells(op, partition, tresca));
   }
   throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() +
                    "), but no contact forces balance the loads along it (" + unbalanced +
@@ -575,7 +593,7 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const D
                    "contact face, or it touches the foundation on too few cells to balance their moments (a "
                    "contact zone smaller than a few cells, as under a sphere); prescribe that motion, check the "
                    "loads' directions, or refine the mesh where it touches" +
-                   too_few_cells(op, tresca));
+                   too_few_cells(op, partition, tresca));
 }
 
 // The displacement at the free dofs after one Tresca solve: w = K⁻¹(f − 𝔹ᵀλ), less the rigid
@@ -987,7 +1005,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
-  if (disc.held.count()) require_held(disc, op, qp, tresca);
+  if (disc.held.count()) require_held(disc, op, res.partition, qp, tresca);
   clock.lap("dual_solve");
 
   stage.enter("recovery",

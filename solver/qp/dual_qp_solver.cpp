@@ -115,6 +115,8 @@ void DualQpSolver::set_linear_term(const Eigen::VectorXd& h) {
 namespace {
 
 constexpr int kMaxEqualitySteps = 50;
+// Inner solves a search for the concave dual's maximum along one step may take.
+constexpr int kMaxLineSearchSteps = 30;
 // Below this ‖F‖/‖e‖ a step that finds no descent is the inner solves' rounding, not a failure.
 constexpr double kEqualityNoiseFloor = 1e-7;
 // The tightest tolerance the inner solves of the equality constraints are taken to when the loads
@@ -182,6 +184,40 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     jacobian_.resize(0, 0);  // other columns: measure again
   reach_projector_ = P;
   Eigen::VectorXd F = F_at(mu_, lambda);
+  // F = ∇φ of the concave dual φ(μ) = min over λ of ½λᵀQλ − λᵀh + μᵀ(Gλ − e), so along a step s
+  // g(t) = (P F(μ + t s))ᵀ s decreases. Where a step overshoots — g > 0 at its start, < 0 at its end,
+  // as when friction is saturated on both sides of a stick state whose window in μ is narrow, and the
+  // loads flip from one side to the other — φ's maximum along it lies inside: found by false position
+  // (Illinois) on g, to 1% of g(0), and taken (φ rises). Returns false where s does not overshoot.
+  const auto maximize_along = [&](const Eigen::VectorXd& step, const Eigen::VectorXd& F_end,
+                                  const Eigen::VectorXd& lambda_end) {
+    const double g0 = (P * F).dot(step), g1 = (P * F_end).dot(step);
+    if (!(g0 > 0 && g1 < 0)) return false;
+    double t_lo = 0, g_lo = g0, t_hi = 1, g_hi = g1;
+    Eigen::VectorXd mu_best = mu_ + step, lam_best = lambda_end, F_best = F_end;
+    double g_best = g1;
+    int side = 0;
+    for (int it = 0; it < kMaxLineSearchSteps && std::abs(g_best) > 1e-2 * g0 && !inner_failed; ++it) {
+      const double t = (t_lo * g_hi - t_hi * g_lo) / (g_hi - g_lo);
+      Eigen::VectorXd mu_t = mu_ + t * step, lam_t = g_lo > -g_hi ? lambda_end : lambda;
+      const Eigen::VectorXd F_t = F_at(mu_t, lam_t);
+      const double g = (P * F_t).dot(step);
+      if (std::abs(g) < std::abs(g_best)) mu_best = mu_t, lam_best = lam_t, F_best = F_t, g_best = g;
+      if (g > 0) {
+        t_lo = t, g_lo = g;
+        if (side == 1) g_hi /= 2;
+        side = 1;
+      } else {
+        t_hi = t, g_hi = g;
+        if (side == -1) g_lo /= 2;
+        side = -1;
+      }
+    }
+    mu_ = std::move(mu_best);
+    lambda = std::move(lam_best);
+    F = std::move(F_best);
+    return true;
+  };
   // The difference quotients' step: 1e-3 of μ, or of a rigid shift whose 𝔹Rμ is the size of h.
   const double G_max = G_.lpNorm<Eigen::Infinity>();
   const double mu_unit = G_max > 0 && h_.lpNorm<Eigen::Infinity>() > 0 ? h_.lpNorm<Eigen::Infinity>() / G_max : 1.0;
@@ -219,8 +255,10 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     for (int i = 0; i < qp_.r; ++i)
       if (lambda[i] == 0 && slope[i] < 0) touch = std::min(touch, std::max(-gradient[i] / slope[i], 0.0));
     if (!std::isfinite(touch)) return false;
-    mu_ += (1.05 * touch + 0.05) * d;
-    F = F_at(mu_, lambda);
+    const Eigen::VectorXd step = (1.05 * touch + 0.05) * d;
+    Eigen::VectorXd lambda_end = lambda;
+    const Eigen::VectorXd F_end = F_at(mu_ + step, lambda_end);
+    if (!maximize_along(step, F_end, lambda_end)) mu_ += step, lambda = std::move(lambda_end), F = F_end;
     return true;
   };
   // The Jacobian is judged blind along a direction in unit-row units (μ = S μ̂, Ĵ = S J S), as the rank
@@ -270,9 +308,11 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     // J ≈ −G·dλ/dh·Gᵀ is singular where the contact does not hold a motion: least squares there.
     const Eigen::VectorXd newton = jacobian_.completeOrthogonalDecomposition().solve(-P * F);
     bool accepted = false;
+    Eigen::VectorXd F_full, lambda_full;  // at the full step
     for (double t = 1; t >= 1.0 / 256 && !accepted && !inner_failed; t /= 2) {
       Eigen::VectorXd mu_t = mu_ + t * newton, lam_t = lambda;
       const Eigen::VectorXd F_t = F_at(mu_t, lam_t);
+      if (t == 1) F_full = F_t, lambda_full = lam_t;
       if (reach(F_t) >= (1 - 1e-4 * t) * reach(F)) continue;
       const Eigen::VectorXd s = t * newton, y = F_t - F;  // Broyden's update along the step taken
       jacobian_ += (y - jacobian_ * s) * s.transpose() / s.squaredNorm();
@@ -280,6 +320,13 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
       lambda = std::move(lam_t);
       F = F_t;
       accepted = true;
+    }
+    // No step along it lowers ‖P F‖, but the full step overshoots φ's maximum along it: go there
+    // (where the contact holds the motion again) and measure the Jacobian.
+    if (!accepted && !inner_failed && maximize_along(newton, F_full, lambda_full)) {
+      measure_jacobian();
+      fresh_jacobian = true;
+      continue;
     }
     if (!accepted && fresh_jacobian) {
       // Even a measured Jacobian gives no descent: F has no root, or the inner solves' rounding hides

@@ -101,8 +101,10 @@ class DualQpSolver {
   // reduced system of λ's active sets (difference quotients where it cannot be solved; kept from
   // solve to solve, Broyden-updated, measured again when a step fails or the reachable rows change:
   // rows no multiplier can move under these radii, a slide without friction, are left to the caller
-  // in equality_residual()) and halving;
-  // along motions no contact force responds to yet (a body above its gaps) μ jumps to the next touch,
+  // in equality_residual()) and halving; where no halving lowers ‖F‖ but the step overshoots the
+  // maximum of the concave dual φ (F = ∇φ) along it, that maximum is searched for (false position on
+  // Fᵀs) and taken; along motions no contact force responds to yet (a body above its gaps) μ jumps to
+  // the next touch, or to φ's maximum along the jump where it lies before,
   // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (1e-7 where the inner solves' rounding stops the descent), the
   // inner solves to min(rtol/100, 1e-8). μ is warm-started too.
   void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);
