@@ -293,6 +293,7 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     best_lambda = lambda;
     best_F = F;
   };
+  bool searched_since_descent = false;
   for (int step = 0; step < kMaxEqualitySteps && reach(F) > target && !inner_failed; ++step, remember_best()) {
     // Blindness is judged on a measured Jacobian only: Broyden's updates can flatten a direction the
     // contact does hold, and a jump along it throws away the balance reached.
@@ -322,12 +323,15 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
       accepted = true;
     }
     // No step along it lowers ‖P F‖, but the full step overshoots φ's maximum along it: go there
-    // (where the contact holds the motion again) and measure the Jacobian.
-    if (!accepted && !inner_failed && maximize_along(newton, F_full, lambda_full)) {
+    // (where the contact holds the motion again) and measure the Jacobian — once between two accepted
+    // steps: where the Newton step from there fails too, the inner solves' rounding is the suspect.
+    if (!accepted && !inner_failed && !searched_since_descent && maximize_along(newton, F_full, lambda_full)) {
+      searched_since_descent = true;
       measure_jacobian();
       fresh_jacobian = true;
       continue;
     }
+    if (accepted) searched_since_descent = false;
     if (!accepted && fresh_jacobian) {
       // Even a measured Jacobian gives no descent: F has no root, or the inner solves' rounding hides
       // it (an ill-conditioned Q: a ball on graded cells stalled at 1e-5 of the loads with inner
