@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab bench-matrix-free robustness robustness-coulomb stress fuzz sanitize clean
+.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab bench-matrix-free robustness robustness-coulomb ball-sweep stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -100,6 +100,11 @@ robustness: build
 # The same bodies and laws with Coulomb's bound F·λ_n ($(REPORTS)/robustness_coulomb.md).
 robustness-coulomb: build
 	$(PY) pipeline/robustness.py --bin $(BIN) --model coulomb --out $(REPORTS)/robustness_coulomb.md
+
+# The ball held by contact alone over mesh size, cells, F and a lateral load, one and two BLAS threads
+# ($(REPORTS)/ball_sweep.md; about 4 minutes).
+ball-sweep: build
+	$(PY) pipeline/ball_sweep.py --bin $(BIN) --threads 2 1 --out $(REPORTS)/ball_sweep.md
 
 stress: build
 	$(PY) pipeline/stress.py --bin $(BIN) --out $(REPORTS)/stress
