@@ -117,6 +117,13 @@ namespace {
 constexpr int kMaxEqualitySteps = 50;
 // Inner solves a search for the concave dual's maximum along one step may take.
 constexpr int kMaxLineSearchSteps = 30;
+// Outer steps of the augmented Lagrangian, the fallback of the equalities' Newton steps.
+constexpr int kMaxAugmentedSteps = 40;
+// It stops where ρ has grown 1e8 times without balancing the loads (a body the contact cannot hold),
+// or past max(20 × the products of the Newton steps before it, 20 000) products.
+constexpr double kAugmentedRhoGrowth = 1e8;
+constexpr long kAugmentedBudgetFactor = 20;
+constexpr long kAugmentedMinBudget = 20000;
 // Below this ‖F‖/‖e‖ a step that finds no descent is the inner solves' rounding, not a failure.
 constexpr double kEqualityNoiseFloor = 1e-7;
 // The tightest tolerance the inner solves of the equality constraints are taken to when the loads
@@ -146,6 +153,26 @@ Eigen::MatrixXd range_projector(const Eigen::MatrixXd& G) {
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(basis);
   const Eigen::MatrixXd U = qr.householderQ() * Eigen::MatrixXd::Identity(G.rows(), basis.cols());
   return U * U.transpose();
+}
+
+// The problem with ½‖A x‖² added to its objective (A: k × m, k <= 6): its operator becomes Q + AᵀA,
+// applied as a product (Q's factor, single copy and coarse space know nothing of AᵀA), so the Newton
+// steps solve their reduced systems by CG with the diagonal. The augmented Lagrangian's inner problem.
+BoxDiscQP with_penalty(const BoxDiscQP& problem, const Eigen::MatrixXd& A) {
+  auto base = std::make_shared<const BoxDiscQP>(problem);
+  BoxDiscQP penalized;
+  penalized.product = [base, A](const Eigen::VectorXd& v) {
+    return Eigen::VectorXd(base->apply(v) + A.transpose() * (A * v));
+  };
+  penalized.q_diagonal = base->diagonal() + A.colwise().squaredNorm().transpose();
+  penalized.h = problem.h;
+  penalized.r = problem.r;
+  penalized.with_friction = problem.with_friction;
+  penalized.radius = problem.radius;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A);
+  const double a = svd.singularValues().size() ? svd.singularValues()[0] : 0.0;
+  penalized.q_norm = problem.q_norm + a * a;
+  return penalized;
 }
 
 }  // namespace
@@ -353,6 +380,22 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
     lambda = best_lambda;
     F = best_F;
   }
+  // Newton's steps on μ left the loads unbalanced: the augmented Lagrangian from the best iterate,
+  // slower but sure for a convex QP (its answer replaces the best iterate only where it is better).
+  if (!inner_failed && reach(F) > std::max(target, kEqualityNoiseFloor * F_scale)) {
+    Eigen::VectorXd augmented = lambda;
+    const Eigen::VectorXd mu_before = mu_;
+    const long budget =
+        std::max(kAugmentedBudgetFactor * static_cast<long>(total.hessian_products), kAugmentedMinBudget);
+    add_work(total, solve_with_augmented_lagrangian(radius, augmented, rtol, P,
+                                                    std::max(target, kEqualityNoiseFloor * F_scale), budget));
+    if (const Eigen::VectorXd F_augmented = G_ * augmented - e_; reach(F_augmented) < reach(F)) {
+      lambda = std::move(augmented);
+      F = F_augmented;
+    } else {
+      mu_ = mu_before;
+    }
+  }
   set_linear_term(h_ - G_.transpose() * mu_);  // the problem of the answer (for radius_sensitivity)
   equality_residual_ = F.norm() / F_scale;
   if (inner_failed)
@@ -362,10 +405,54 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
   return total;
 }
 
-QpResult DualQpSolver::solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
+// The method of multipliers on L(λ, μ) = ½λᵀQλ − λᵀh + μᵀ(Gλ − e) + (ρ/2)‖Ĝλ − ê‖², Ĝλ = ê the
+// reachable equalities with orthonormal rows in the solved (Jacobi-scaled) variables (P G S = U Σ Vᵀ,
+// Ĝ = Σ⁻¹UᵀPGS = Vᵀ: G's rows are forces and moments of scales orders apart). Each outer step
+// minimises L over the half-lines and discs for the current μ (the inner operator Q + ρĜᵀĜ,
+// with_penalty), then μ += ρ U Σ⁻² Uᵀ (Gλ − e); λ then solves the QP without equalities for the new
+// μ exactly, whatever Gλ − e. ρ starts at ‖Q‖ in the solved variables and grows ×10 whenever an
+// outer step cuts ‖P(Gλ − e)‖ by less than 4.
+QpResult DualQpSolver::solve_with_augmented_lagrangian(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda,
+                                                       double rtol, const Eigen::MatrixXd& P, double target,
+                                                       long budget) {
+  QpResult total;
+  total.status = QpStatus::IterationLimit;
+  const Eigen::MatrixXd PG = P * (jacobi_ ? Eigen::MatrixXd(G_ * jacobi_->scale().asDiagonal()) : G_);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(PG, Eigen::ComputeThinU);
+  Eigen::Index rank = 0;
+  while (rank < svd.singularValues().size() && svd.singularValues()[rank] > 1e-12 * svd.singularValues()[0]) ++rank;
+  if (rank == 0) return total;
+  const Eigen::VectorXd sigma = svd.singularValues().head(rank);
+  const Eigen::MatrixXd U = svd.matrixU().leftCols(rank);
+  const Eigen::MatrixXd G_hat = sigma.cwiseInverse().asDiagonal() * U.transpose() * PG;  // orthonormal rows
+  const Eigen::MatrixXd W = U * sigma.cwiseAbs2().cwiseInverse().asDiagonal() * U.transpose();
+  double rho = solved_problem().q_norm;
+  const double inner_rtol = std::max(std::min(1e-2 * rtol, 1e-10), kTightestInnerRtol);
+  Eigen::VectorXd F = G_ * lambda - e_;
+  const double rho_limit = kAugmentedRhoGrowth * rho;
+  for (int step = 0;
+       step < kMaxAugmentedSteps && (P * F).norm() > target && rho <= rho_limit && total.hessian_products < budget;
+       ++step) {
+    const double before = (P * F).norm();
+    const Eigen::MatrixXd A = std::sqrt(rho) * G_hat;
+    set_linear_term(h_ - G_.transpose() * mu_ + rho * G_.transpose() * (W * e_));
+    const QpResult inner = solve_for_linear_term(radius, lambda, inner_rtol, &A);
+    add_work(total, inner);
+    if (inner.status != QpStatus::Converged) return total;
+    F = G_ * lambda - e_;
+    mu_ += rho * (W * F);
+    if ((P * F).norm() > 0.25 * before) rho *= 10;
+  }
+  jacobian_.resize(0, 0);  // measured again by the next solve
+  if ((P * F).norm() <= target) total.status = QpStatus::Converged;
+  return total;
+}
+
+QpResult DualQpSolver::solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol,
+                                             const Eigen::MatrixXd* penalty) {
   if (qp_.with_friction) qp_.radius = radius;
   if (lambda.size() != qp_.size()) lambda = Eigen::VectorXd::Zero(qp_.size());  // no warm start
-  const BoxDiscQP problem = solved_problem();
+  const BoxDiscQP problem = penalty ? with_penalty(solved_problem(), *penalty) : solved_problem();
   Eigen::VectorXd x = jacobi_ ? jacobi_->to_scaled(lambda) : lambda;
   QpResult result;
   if (progress_) progress_->restart();

@@ -106,7 +106,8 @@ class DualQpSolver {
   // Fᵀs) and taken; along motions no contact force responds to yet (a body above its gaps) μ jumps to
   // the next touch, or to φ's maximum along the jump where it lies before,
   // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (1e-7 where the inner solves' rounding stops the descent), the
-  // inner solves to min(rtol/100, 1e-8). μ is warm-started too.
+  // inner solves to min(rtol/100, 1e-8). Where these steps leave the loads unbalanced, the augmented
+  // Lagrangian takes over from their best iterate (solve_with_augmented_lagrangian). μ is warm-started too.
   void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);
   bool has_equality() const { return G_.rows() > 0; }
   const Eigen::VectorXd& equality_multiplier() const { return mu_; }  // μ of the last solve
@@ -123,7 +124,14 @@ class DualQpSolver {
   // The problem the solvers work on for the current radii: Jacobi-scaled or not, with the single
   // copy of Q and the bordered Newton solver attached.
   BoxDiscQP solved_problem();
-  QpResult solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
+  // `penalty` A (k × m, in the solved problem's variables): ½‖A x‖² is added to the objective.
+  QpResult solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol,
+                                 const Eigen::MatrixXd* penalty = nullptr);
+  // The equalities by the augmented Lagrangian (the method of multipliers), from mu_ and `lambda`, to
+  // ‖P(Gλ − e)‖ <= target within `budget` products: the fallback where the Newton steps on μ do not
+  // balance the loads.
+  QpResult solve_with_augmented_lagrangian(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol,
+                                           const Eigen::MatrixXd& P, double target, long budget);
   QpResult solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
   void set_linear_term(const Eigen::VectorXd& h);
   Eigen::MatrixXd reachable_columns(const Eigen::VectorXd& radius) const;  // G where λ can be nonzero
