@@ -33,9 +33,9 @@ SCENE = HERE / "scenes" / "ball.toml"
 RADIUS = 0.5
 
 
-def centre_of_pressure(out):
-    """x of the contact's centre of pressure (cell forces λ_n·area at their rectangles' centres)."""
-    cells = np.genfromtxt(Path(out) / "contact_cells.csv", delimiter=",", names=True)
+def centre_of_pressure(cells):
+    """x of the contact's centre of pressure from contact_cells.csv's rows (cell forces λ_n·area at
+    their rectangles' centres)."""
     force = cells["lambda_n"] * cells["area"]
     return float((force * (cells["xmin"] + cells["xmax"]) / 2).sum() / force.sum())
 
@@ -67,7 +67,7 @@ def run_case(binary, work, threads, h_pole, cells, friction, lateral):
                seconds=s["time_s"].get("total", float("nan")),
                balance=float(np.linalg.norm(contact + applied) / np.linalg.norm(applied)))
     if lateral:
-        row.update(ft=-contact[0], fx=applied[0], x_p=centre_of_pressure(out), x_expected=-RADIUS * contact[0] / contact[2])
+        row.update(ft=-contact[0], fx=applied[0], x_p=centre_of_pressure(np.genfromtxt(out / "contact_cells.csv", delimiter=",", names=True)), x_expected=-RADIUS * contact[0] / contact[2])
     return row
 
 

@@ -47,6 +47,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "pipeline"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from c3d import run as c3d_run  # noqa: E402
 from hertz_hemisphere import against_hertz  # noqa: E402
+from ball_sweep import centre_of_pressure  # noqa: E402
 
 RADIUS, YOUNG, POISSON = 0.5, 2.1e11, 0.3
 
@@ -105,8 +106,7 @@ def main():
         # Every load acts through the ball's centre (weight, pressure normal to the sphere), so about
         # the centre the friction's moment R·F_x is the normal force's, P·x_p: the centre of pressure
         # lies x_p = R·F_x / P beside the pole.
-        force = cells["lambda_n"] * cells["area"]
-        x_p = float((force * (cells["xmin"] + cells["xmax"]) / 2).sum() / force.sum())
+        x_p = centre_of_pressure(cells)
         expected = -RADIUS * contact[0] / P
         print(f"{summary}; centre of pressure at x = {x_p * 1e3:.4g} mm (R F_x / P = {expected * 1e3:.4g} mm); "
               f"{seconds:.1f} s")
