@@ -76,21 +76,6 @@ inline void keep_freed_memory() {
 #endif
 }
 
-// The opposite policy, for processes whose peak is one factorization that others share (the ranks
-// of the distributed route): blocks from 128 KiB up come from mmap and go back to the system when
-// freed, at a fixed threshold (glibc raises it to the size of any such block freed, up to 32 MiB,
-// after which freed assembly arrays and MUMPS's analysis stay resident beside its factor). n = 16
-// brick on 2 ranks, peak 151 / 129 -> 145 / 125 MiB; n = 24: 578 / 543 -> 545 / 539 MiB.
-inline void return_freed_memory() {
-#ifdef __GLIBC__
-  constexpr int kBlock = 128 * 1024;
-  mallopt(M_MMAP_MAX, 65536);  // glibc's default, which keep_freed_memory() set to 0
-  mallopt(M_MMAP_THRESHOLD, kBlock);
-  mallopt(M_TRIM_THRESHOLD, kBlock);
-  malloc_trim(0);
-#endif
-}
-
 inline void release_freed_memory() {
 #ifdef __GLIBC__
   malloc_trim(0);

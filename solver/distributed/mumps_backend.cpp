@@ -29,7 +29,6 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
-#include "base/memory.hpp"
 #include "distributed/backend.hpp"
 #include "distributed/petsc_route.hpp"
 #include "fem/assembly.hpp"
@@ -561,7 +560,6 @@ class MumpsDualProblem final : public DualProblem {
     const MumpsRoute route = options.route;
     method = route == MumpsRoute::Direct ? "mumps" : "mumps_petsc";
     backend = route == MumpsRoute::Direct ? "mumps" : "petsc-mumps";
-    return_freed_memory();  // its peak is its share of MUMPS's factorization, as on the other ranks
     if (route == MumpsRoute::Direct) {
       // No K on this process: the ranks assemble their columns; the order comes from the node graph.
       if (!in.stiffness_source)
@@ -646,7 +644,6 @@ Session::~Session() {
 }
 
 void Session::serve() {
-  return_freed_memory();  // this rank only holds its share of the factorization (base/memory.hpp)
   std::unique_ptr<Factorization> fz;
   for (;;) {
     const int code = receive_command();
