@@ -175,6 +175,13 @@ BoxDiscQP with_penalty(const BoxDiscQP& problem, const Eigen::MatrixXd& A) {
   return penalized;
 }
 
+// G D⁻¹ Gᵀ (D = diag Q): how the equalities' residual responds to a rigid shift when every cell is
+// in full contact (the step along motions the Jacobian is blind to).
+Eigen::MatrixXd full_contact_response(const Eigen::MatrixXd& G, const Eigen::VectorXd& q_diagonal) {
+  const Eigen::MatrixXd response = G * q_diagonal.cwiseInverse().asDiagonal() * G.transpose();
+  return response;
+}
+
 }  // namespace
 
 // The multipliers that can carry force in a solve with these radii: every normal one, a cell's
@@ -187,48 +194,119 @@ Eigen::MatrixXd DualQpSolver::reachable_columns(const Eigen::VectorXd& radius) c
   return G;
 }
 
-QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
-  const Eigen::Index k = G_.rows();
-  double inner_rtol = std::min(1e-2 * rtol, 1e-8);
-  QpResult total;
-  total.status = QpStatus::Converged;
-  bool inner_failed = false;
-  // F(μ) = Gλ(μ) − e, λ(μ) warm-started from what `lam` holds.
-  const auto F_at = [&](const Eigen::VectorXd& mu, Eigen::VectorXd& lam) {
-    set_linear_term(h_ - G_.transpose() * mu);
-    const QpResult r = solve_for_linear_term(radius, lam, inner_rtol);
-    add_work(total, r);
-    if (r.status != QpStatus::Converged) inner_failed = true;
-    return Eigen::VectorXd(G_ * lam - e_);
+// One solve() with equality constraints (set_equality): Newton steps on μ, their state and each kind
+// of step a method; run() reads as the algorithm. F(μ) = Gλ(μ) − e is the gradient of the concave
+// dual φ(μ) = min over λ of ½λᵀQλ − λᵀh + μᵀ(Gλ − e); only its part P F in the range of the columns
+// that can carry force is driven to 0 (the rest — a slide's loads where no disc has a radius — stays
+// in equality_residual() for the caller).
+class DualQpSolver::EqualitySolve {
+ public:
+  EqualitySolve(DualQpSolver& solver, const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol)
+      : s_(solver), radius_(radius), lambda_(lambda), rtol_(rtol), k_(solver.G_.rows()) {
+    inner_rtol_ = std::min(1e-2 * rtol, 1e-8);
+    total_.status = QpStatus::Converged;
+    if (lambda_.size() != s_.qp_.size()) lambda_ = Eigen::VectorXd::Zero(s_.qp_.size());
+    G_reach_ = s_.qp_.with_friction ? s_.reachable_columns(radius) : s_.G_;
+    P_ = range_projector(G_reach_);
+    if (s_.reach_projector_.rows() != k_ || !s_.reach_projector_.isApprox(P_))
+      s_.jacobian_.resize(0, 0);  // other columns: measure again
+    s_.reach_projector_ = P_;
+    // The difference quotients' step: 1e-3 of μ, or of a rigid shift whose 𝔹Rμ is the size of h.
+    const double G_max = s_.G_.lpNorm<Eigen::Infinity>();
+    const double h_max = s_.h_.lpNorm<Eigen::Infinity>();
+    mu_unit_ = G_max > 0 && h_max > 0 ? h_max / G_max : 1.0;
+    full_contact_ = full_contact_response(G_reach_, s_.qp_.diagonal());
+    row_scale_ = unit_row_scale(s_.G_);
+  }
+
+  QpResult run() {
+    F_ = balance_at(s_.mu_, lambda_);
+    if (reach(F_) > 0 && s_.qp_.r > 0 && lambda_.head(s_.qp_.r).cwiseAbs().maxCoeff() == 0)
+      jump_to_next_touch(unseen_shift());  // nothing touches yet
+    F_scale_ = s_.e_.norm() > 0 ? s_.e_.norm() : std::max(s_.G_.norm() * lambda_.norm(), 1e-300);
+    target_ = std::max(rtol_, 1e-9) * F_scale_;
+    if (s_.jacobian_.rows() != k_ && reach(F_) > target_) measure_jacobian();
+    best_mu_ = s_.mu_, best_lambda_ = lambda_, best_F_ = F_;
+    for (int step = 0; step < kMaxEqualitySteps && reach(F_) > target_ && !inner_failed_; ++step, remember_best()) {
+      if (jumped_along_blind_motion()) continue;
+      // J ≈ −G·dλ/dh·Gᵀ is singular where the contact does not hold a motion: least squares there.
+      const Eigen::VectorXd newton = s_.jacobian_.completeOrthogonalDecomposition().solve(-P_ * F_);
+      const HalvedStep halved = take_halved_step(newton);
+      if (halved.accepted) {
+        searched_since_descent_ = fresh_jacobian_ = false;
+        continue;
+      }
+      // No step along it lowers ‖P F‖, but the full step overshoots φ's maximum along it: go there
+      // (where the contact holds the motion again) and measure the Jacobian — once between two
+      // accepted steps: where the Newton step from there fails too, the inner solves' rounding is the suspect.
+      if (!inner_failed_ && !searched_since_descent_ && maximize_along(newton, halved.F_full, halved.lambda_full)) {
+        searched_since_descent_ = true;
+        measure_jacobian();
+        continue;
+      }
+      if (!fresh_jacobian_) {
+        measure_jacobian();
+        continue;
+      }
+      if (!tighten_inner_solves()) break;
+    }
+    if (reach(F_) > reach(best_F_) && !inner_failed_) s_.mu_ = best_mu_, lambda_ = best_lambda_, F_ = best_F_;
+    if (!inner_failed_ && reach(F_) > settled()) fall_back_to_augmented_lagrangian();
+    s_.set_linear_term(s_.h_ - s_.G_.transpose() * s_.mu_);  // the problem of the answer (for radius_sensitivity)
+    s_.equality_residual_ = F_.norm() / F_scale_;
+    if (inner_failed_)
+      total_.status = QpStatus::Breakdown;
+    else if (reach(F_) > settled())
+      total_.status = QpStatus::IterationLimit;
+    return total_;
+  }
+
+ private:
+  struct HalvedStep {
+    bool accepted = false;
+    Eigen::VectorXd F_full, lambda_full;  // at the full step
   };
-  if (lambda.size() != qp_.size()) lambda = Eigen::VectorXd::Zero(qp_.size());
-  // Only the part of F in the range of the columns that can carry force is driven to 0 (P F); the
-  // rest — a slide's loads where no disc has a radius — stays in equality_residual() for the caller.
-  const Eigen::MatrixXd G_reach = qp_.with_friction ? reachable_columns(radius) : G_;
-  const Eigen::MatrixXd P = range_projector(G_reach);
-  const auto reach = [&P](const Eigen::VectorXd& F) { return (P * F).norm(); };
-  if (reach_projector_.rows() != k || !reach_projector_.isApprox(P))
-    jacobian_.resize(0, 0);  // other columns: measure again
-  reach_projector_ = P;
-  Eigen::VectorXd F = F_at(mu_, lambda);
-  // F = ∇φ of the concave dual φ(μ) = min over λ of ½λᵀQλ − λᵀh + μᵀ(Gλ − e), so along a step s
-  // g(t) = (P F(μ + t s))ᵀ s decreases. Where a step overshoots — g > 0 at its start, < 0 at its end,
-  // as when friction is saturated on both sides of a stick state whose window in μ is narrow, and the
-  // loads flip from one side to the other — φ's maximum along it lies inside: found by false position
-  // (Illinois) on g, to 1% of g(0), and taken (φ rises). Returns false where s does not overshoot.
-  const auto maximize_along = [&](const Eigen::VectorXd& step, const Eigen::VectorXd& F_end,
-                                  const Eigen::VectorXd& lambda_end) {
-    const double g0 = (P * F).dot(step), g1 = (P * F_end).dot(step);
+
+  double reach(const Eigen::VectorXd& F) const { return (P_ * F).norm(); }
+  // The level below which the loads count as balanced: the target, or the inner solves' noise floor.
+  double settled() const { return std::max(target_, kEqualityNoiseFloor * F_scale_); }
+
+  // F(μ) = Gλ(μ) − e, λ(μ) warm-started from what `lam` holds (and left there).
+  Eigen::VectorXd balance_at(const Eigen::VectorXd& mu, Eigen::VectorXd& lam) {
+    s_.set_linear_term(s_.h_ - s_.G_.transpose() * mu);
+    const QpResult r = s_.solve_for_linear_term(radius_, lam, inner_rtol_);
+    add_work(total_, r);
+    if (r.status != QpStatus::Converged) inner_failed_ = true;
+    return s_.G_ * lam - s_.e_;
+  }
+
+  void take(Eigen::VectorXd mu, Eigen::VectorXd lambda, Eigen::VectorXd F) {
+    s_.mu_ = std::move(mu);
+    lambda_ = std::move(lambda);
+    F_ = std::move(F);
+  }
+
+  void remember_best() {
+    if (reach(F_) < reach(best_F_)) best_mu_ = s_.mu_, best_lambda_ = lambda_, best_F_ = F_;
+  }
+
+  // Along a step s, g(t) = (P F(μ + t s))ᵀ s decreases (φ is concave). Where the step overshoots — g > 0
+  // at its start, < 0 at its end, as when friction is saturated on both sides of a stick state whose
+  // window in μ is narrow, and the loads flip from one side to the other — φ's maximum along it lies
+  // inside: found by false position (Illinois) on g, to 1% of g(0), and taken (φ rises). Returns false
+  // where s does not overshoot.
+  bool maximize_along(const Eigen::VectorXd& step, const Eigen::VectorXd& F_end, const Eigen::VectorXd& lambda_end) {
+    const double g0 = (P_ * F_).dot(step), g1 = (P_ * F_end).dot(step);
     if (!(g0 > 0 && g1 < 0)) return false;
     double t_lo = 0, g_lo = g0, t_hi = 1, g_hi = g1;
-    Eigen::VectorXd mu_best = mu_ + step, lam_best = lambda_end, F_best = F_end;
+    Eigen::VectorXd mu_best = s_.mu_ + step, lam_best = lambda_end, F_best = F_end;
     double g_best = g1;
     int side = 0;
-    for (int it = 0; it < kMaxLineSearchSteps && std::abs(g_best) > 1e-2 * g0 && !inner_failed; ++it) {
+    for (int it = 0; it < kMaxLineSearchSteps && std::abs(g_best) > 1e-2 * g0 && !inner_failed_; ++it) {
       const double t = (t_lo * g_hi - t_hi * g_lo) / (g_hi - g_lo);
-      Eigen::VectorXd mu_t = mu_ + t * step, lam_t = g_lo > -g_hi ? lambda_end : lambda;
-      const Eigen::VectorXd F_t = F_at(mu_t, lam_t);
-      const double g = (P * F_t).dot(step);
+      Eigen::VectorXd mu_t = s_.mu_ + t * step, lam_t = g_lo > -g_hi ? lambda_end : lambda_;
+      const Eigen::VectorXd F_t = balance_at(mu_t, lam_t);
+      const double g = (P_ * F_t).dot(step);
       if (std::abs(g) < std::abs(g_best)) mu_best = mu_t, lam_best = lam_t, F_best = F_t, g_best = g;
       if (g > 0) {
         t_lo = t, g_lo = g;
@@ -240,169 +318,147 @@ QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen:
         side = -1;
       }
     }
-    mu_ = std::move(mu_best);
-    lambda = std::move(lam_best);
-    F = std::move(F_best);
+    take(std::move(mu_best), std::move(lam_best), std::move(F_best));
     return true;
-  };
-  // The difference quotients' step: 1e-3 of μ, or of a rigid shift whose 𝔹Rμ is the size of h.
-  const double G_max = G_.lpNorm<Eigen::Infinity>();
-  const double mu_unit = G_max > 0 && h_.lpNorm<Eigen::Infinity>() > 0 ? h_.lpNorm<Eigen::Infinity>() / G_max : 1.0;
+  }
+
   // The Jacobian −G D A⁻¹ DᵀGᵀ from the reduced system at λ, its active sets held
   // (radius_sensitivity.hpp: k reduced solves instead of k QP solves); by difference quotients where
   // that system cannot be solved.
-  const auto measure_jacobian = [&] {
-    set_linear_term(h_ - G_.transpose() * mu_);
-    RadiusSensitivity at_lambda = radius_sensitivity(lambda);
+  void measure_jacobian() {
+    fresh_jacobian_ = true;
+    s_.set_linear_term(s_.h_ - s_.G_.transpose() * s_.mu_);
+    RadiusSensitivity at_lambda = s_.radius_sensitivity(lambda_);
     const std::optional<Eigen::MatrixXd> response = at_lambda.equality_response();
-    total.hessian_products += at_lambda.products();
+    total_.hessian_products += at_lambda.products();
     if (response) {
-      jacobian_ = -*response;
+      s_.jacobian_ = -*response;
       return;
     }
-    jacobian_.resize(k, k);
-    for (Eigen::Index j = 0; j < k; ++j) {
-      Eigen::VectorXd mu_j = mu_, lam = lambda;
-      const double step = 1e-3 * std::max(std::abs(mu_[j]), mu_unit);
+    s_.jacobian_.resize(k_, k_);
+    for (Eigen::Index j = 0; j < k_; ++j) {
+      Eigen::VectorXd mu_j = s_.mu_, lam = lambda_;
+      const double step = 1e-3 * std::max(std::abs(s_.mu_[j]), mu_unit_);
       mu_j[j] += step;
-      jacobian_.col(j) = (F_at(mu_j, lam) - F) / step;
+      s_.jacobian_.col(j) = (balance_at(mu_j, lam) - F_) / step;
     }
-  };
+  }
+
   // Where no contact force responds to a change of μ (the body hovers over its gaps, or touches at
   // too few cells to hold a tilt), F is flat along it and the Jacobian blind: μ then moves along the
   // rigid shift that full contact would take (dμ = (G D⁻¹ Gᵀ)⁻¹ F, D = diag Q), as far as the Jacobian
-  // does not see it, to just past the next touch of a cell (where its gradient (Qλ − h + Gᵀμ)_i reaches
-  // 0 with λ held), and the Jacobian is measured again there.
-  const Eigen::VectorXd q_diagonal = qp_.diagonal();
-  const Eigen::MatrixXd full_contact = G_reach * q_diagonal.cwiseInverse().asDiagonal() * G_reach.transpose();
-  const auto jump_to_next_touch = [&](const Eigen::VectorXd& d) {
-    // The QP's gradient at λ, Qλ − h + Gᵀμ, moves by Gᵀd per unit of the shift (λ held).
-    const Eigen::VectorXd gradient = qp_.apply(lambda) - h_ + G_.transpose() * mu_, slope = G_.transpose() * d;
-    double touch = INFINITY;
-    for (int i = 0; i < qp_.r; ++i)
-      if (lambda[i] == 0 && slope[i] < 0) touch = std::min(touch, std::max(-gradient[i] / slope[i], 0.0));
-    if (!std::isfinite(touch)) return false;
-    const Eigen::VectorXd step = (1.05 * touch + 0.05) * d;
-    Eigen::VectorXd lambda_end = lambda;
-    const Eigen::VectorXd F_end = F_at(mu_ + step, lambda_end);
-    if (!maximize_along(step, F_end, lambda_end)) mu_ += step, lambda = std::move(lambda_end), F = F_end;
-    return true;
-  };
-  // The Jacobian is judged blind along a direction in unit-row units (μ = S μ̂, Ĵ = S J S), as the rank
-  // of G is: judged unscaled, a ball's torsion looked blind next to its lift and was jumped along.
-  const Eigen::VectorXd row_scale = unit_row_scale(G_);
-  const auto unseen_shift = [&] {
-    const Eigen::VectorXd shift = full_contact.completeOrthogonalDecomposition().solve(P * F);
-    if (jacobian_.rows() != k) return shift;
-    const Eigen::MatrixXd scaled = row_scale.asDiagonal() * jacobian_ * row_scale.asDiagonal();
+  // does not see it. The Jacobian is judged blind along a direction in unit-row units (μ = S μ̂,
+  // Ĵ = S J S), as the rank of G is: judged unscaled, a ball's torsion looked blind next to its lift.
+  Eigen::VectorXd unseen_shift() const {
+    const Eigen::VectorXd shift = full_contact_.completeOrthogonalDecomposition().solve(P_ * F_);
+    if (s_.jacobian_.rows() != k_) return shift;
+    const Eigen::MatrixXd scaled = row_scale_.asDiagonal() * s_.jacobian_ * row_scale_.asDiagonal();
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullV);
     Eigen::Index seen = 0;
-    while (seen < k && svd.singularValues()[seen] > 1e-6 * svd.singularValues()[0]) ++seen;
-    const Eigen::MatrixXd blind = svd.matrixV().rightCols(k - seen);
-    const Eigen::VectorXd shift_scaled = row_scale.cwiseInverse().cwiseProduct(shift);
-    return Eigen::VectorXd(row_scale.cwiseProduct(blind * (blind.transpose() * shift_scaled)));
-  };
-  if (reach(F) > 0 && qp_.r > 0 && lambda.head(qp_.r).cwiseAbs().maxCoeff() == 0) jump_to_next_touch(unseen_shift());
-  const double F_scale = e_.norm() > 0 ? e_.norm() : std::max(G_.norm() * lambda.norm(), 1e-300);
-  const double target = std::max(rtol, 1e-9) * F_scale;
-  bool fresh_jacobian = false;
-  if (jacobian_.rows() != k && reach(F) > target) {
+    while (seen < k_ && svd.singularValues()[seen] > 1e-6 * svd.singularValues()[0]) ++seen;
+    const Eigen::MatrixXd blind = svd.matrixV().rightCols(k_ - seen);
+    const Eigen::VectorXd shift_scaled = row_scale_.cwiseInverse().cwiseProduct(shift);
+    return row_scale_.cwiseProduct(blind * (blind.transpose() * shift_scaled));
+  }
+
+  // μ along `d` to just past the next touch of a cell (where its gradient (Qλ − h + Gᵀμ)_i reaches 0
+  // with λ held), or to φ's maximum along the way where it lies before. False where no cell touches.
+  bool jump_to_next_touch(const Eigen::VectorXd& d) {
+    // The QP's gradient at λ, Qλ − h + Gᵀμ, moves by Gᵀd per unit of the shift (λ held).
+    const Eigen::VectorXd gradient = s_.qp_.apply(lambda_) - s_.h_ + s_.G_.transpose() * s_.mu_;
+    const Eigen::VectorXd slope = s_.G_.transpose() * d;
+    double touch = INFINITY;
+    for (int i = 0; i < s_.qp_.r; ++i)
+      if (lambda_[i] == 0 && slope[i] < 0) touch = std::min(touch, std::max(-gradient[i] / slope[i], 0.0));
+    if (!std::isfinite(touch)) return false;
+    const Eigen::VectorXd step = (1.05 * touch + 0.05) * d;
+    Eigen::VectorXd lambda_end = lambda_;
+    const Eigen::VectorXd F_end = balance_at(s_.mu_ + step, lambda_end);
+    if (!maximize_along(step, F_end, lambda_end)) take(s_.mu_ + step, std::move(lambda_end), F_end);
+    return true;
+  }
+
+  // Blindness is judged on a measured Jacobian only (Broyden's updates can flatten a direction the
+  // contact does hold, and a jump along it throws away the balance reached); where it is blind, the
+  // jump to the next touch, and the Jacobian measured there. True where μ jumped.
+  bool jumped_along_blind_motion() {
+    if (s_.qp_.r == 0) return false;
+    if (!fresh_jacobian_ && unseen_shift().norm() > 0) measure_jacobian();
+    const Eigen::VectorXd blind = unseen_shift();
+    if (blind.norm() == 0 || !jump_to_next_touch(blind)) return false;
     measure_jacobian();
-    fresh_jacobian = true;
+    return true;
   }
-  // The best iterate (least unbalanced) is what a solve that does not converge ends with: jumps to the
-  // next touch may unbalance the loads for a while (the body tips onto another cell) and need not
-  // come back.
-  Eigen::VectorXd best_mu = mu_, best_lambda = lambda, best_F = F;
-  const auto remember_best = [&] {
-    if (reach(F) >= reach(best_F)) return;
-    best_mu = mu_;
-    best_lambda = lambda;
-    best_F = F;
-  };
-  bool searched_since_descent = false;
-  for (int step = 0; step < kMaxEqualitySteps && reach(F) > target && !inner_failed; ++step, remember_best()) {
-    // Blindness is judged on a measured Jacobian only: Broyden's updates can flatten a direction the
-    // contact does hold, and a jump along it throws away the balance reached.
-    if (qp_.r > 0 && !fresh_jacobian && unseen_shift().norm() > 0) {
-      measure_jacobian();
-      fresh_jacobian = true;
+
+  // The Newton step, halved until ‖P F‖ falls (Armijo-like, down to 1/256), the Jacobian
+  // Broyden-updated along the step taken.
+  HalvedStep take_halved_step(const Eigen::VectorXd& newton) {
+    HalvedStep result;
+    for (double t = 1; t >= 1.0 / 256 && !result.accepted && !inner_failed_; t /= 2) {
+      Eigen::VectorXd mu_t = s_.mu_ + t * newton, lam_t = lambda_;
+      const Eigen::VectorXd F_t = balance_at(mu_t, lam_t);
+      if (t == 1) result.F_full = F_t, result.lambda_full = lam_t;
+      if (reach(F_t) >= (1 - 1e-4 * t) * reach(F_)) continue;
+      const Eigen::VectorXd s = t * newton, y = F_t - F_;
+      s_.jacobian_ += (y - s_.jacobian_ * s) * s.transpose() / s.squaredNorm();
+      take(std::move(mu_t), std::move(lam_t), F_t);
+      result.accepted = true;
     }
-    if (const Eigen::VectorXd blind = unseen_shift(); qp_.r > 0 && blind.norm() > 0 && jump_to_next_touch(blind)) {
-      measure_jacobian();
-      fresh_jacobian = true;
-      continue;
-    }
-    // J ≈ −G·dλ/dh·Gᵀ is singular where the contact does not hold a motion: least squares there.
-    const Eigen::VectorXd newton = jacobian_.completeOrthogonalDecomposition().solve(-P * F);
-    bool accepted = false;
-    Eigen::VectorXd F_full, lambda_full;  // at the full step
-    for (double t = 1; t >= 1.0 / 256 && !accepted && !inner_failed; t /= 2) {
-      Eigen::VectorXd mu_t = mu_ + t * newton, lam_t = lambda;
-      const Eigen::VectorXd F_t = F_at(mu_t, lam_t);
-      if (t == 1) F_full = F_t, lambda_full = lam_t;
-      if (reach(F_t) >= (1 - 1e-4 * t) * reach(F)) continue;
-      const Eigen::VectorXd s = t * newton, y = F_t - F;  // Broyden's update along the step taken
-      jacobian_ += (y - jacobian_ * s) * s.transpose() / s.squaredNorm();
-      mu_ = std::move(mu_t);
-      lambda = std::move(lam_t);
-      F = F_t;
-      accepted = true;
-    }
-    // No step along it lowers ‖P F‖, but the full step overshoots φ's maximum along it: go there
-    // (where the contact holds the motion again) and measure the Jacobian — once between two accepted
-    // steps: where the Newton step from there fails too, the inner solves' rounding is the suspect.
-    if (!accepted && !inner_failed && !searched_since_descent && maximize_along(newton, F_full, lambda_full)) {
-      searched_since_descent = true;
-      measure_jacobian();
-      fresh_jacobian = true;
-      continue;
-    }
-    if (accepted) searched_since_descent = false;
-    if (!accepted && fresh_jacobian) {
-      // Even a measured Jacobian gives no descent: F has no root, or the inner solves' rounding hides
-      // it (an ill-conditioned Q: a ball on graded cells stalled at 1e-5 of the loads with inner
-      // solves to 1e-8 and balanced them with 1e-12). Where the loads are not yet balanced to the
-      // noise floor, solve tighter before concluding.
-      if (inner_rtol > kTightestInnerRtol && reach(F) > kEqualityNoiseFloor * F_scale) {
-        inner_rtol = std::max(1e-2 * inner_rtol, kTightestInnerRtol);
-        F = F_at(mu_, lambda);
-        measure_jacobian();
-        continue;
-      }
-      break;
-    }
-    if (!accepted) measure_jacobian();
-    fresh_jacobian = !accepted;
+    return result;
   }
-  if (reach(F) > reach(best_F) && !inner_failed) {
-    mu_ = best_mu;
-    lambda = best_lambda;
-    F = best_F;
+
+  // Even a measured Jacobian gives no descent: F has no root, or the inner solves' rounding hides it
+  // (an ill-conditioned Q: a ball on graded cells stalled at 1e-5 of the loads with inner solves to
+  // 1e-8 and balanced them with 1e-12). Where the loads are not yet balanced to the noise floor, the
+  // inner solves are tightened (×1e-2, down to kTightestInnerRtol) and F and J taken again; false
+  // where there is nothing left to tighten.
+  bool tighten_inner_solves() {
+    if (inner_rtol_ <= kTightestInnerRtol || reach(F_) <= kEqualityNoiseFloor * F_scale_) return false;
+    inner_rtol_ = std::max(1e-2 * inner_rtol_, kTightestInnerRtol);
+    F_ = balance_at(s_.mu_, lambda_);
+    measure_jacobian();
+    return true;
   }
+
   // Newton's steps on μ left the loads unbalanced: the augmented Lagrangian from the best iterate,
   // slower but sure for a convex QP (its answer replaces the best iterate only where it is better).
-  if (!inner_failed && reach(F) > std::max(target, kEqualityNoiseFloor * F_scale)) {
-    Eigen::VectorXd augmented = lambda;
-    const Eigen::VectorXd mu_before = mu_;
+  void fall_back_to_augmented_lagrangian() {
+    Eigen::VectorXd augmented = lambda_;
+    const Eigen::VectorXd mu_before = s_.mu_;
     const long budget =
-        std::max(kAugmentedBudgetFactor * static_cast<long>(total.hessian_products), kAugmentedMinBudget);
-    add_work(total, solve_with_augmented_lagrangian(radius, augmented, rtol, P,
-                                                    std::max(target, kEqualityNoiseFloor * F_scale), budget));
-    if (const Eigen::VectorXd F_augmented = G_ * augmented - e_; reach(F_augmented) < reach(F)) {
-      lambda = std::move(augmented);
-      F = F_augmented;
+        std::max(kAugmentedBudgetFactor * static_cast<long>(total_.hessian_products), kAugmentedMinBudget);
+    add_work(total_, s_.solve_with_augmented_lagrangian(radius_, augmented, rtol_, P_, settled(), budget));
+    if (const Eigen::VectorXd F_augmented = s_.G_ * augmented - s_.e_; reach(F_augmented) < reach(F_)) {
+      lambda_ = std::move(augmented);
+      F_ = F_augmented;
     } else {
-      mu_ = mu_before;
+      s_.mu_ = mu_before;
     }
   }
-  set_linear_term(h_ - G_.transpose() * mu_);  // the problem of the answer (for radius_sensitivity)
-  equality_residual_ = F.norm() / F_scale;
-  if (inner_failed)
-    total.status = QpStatus::Breakdown;
-  else if (reach(F) > std::max(target, kEqualityNoiseFloor * F_scale))
-    total.status = QpStatus::IterationLimit;
-  return total;
+
+  DualQpSolver& s_;
+  const Eigen::VectorXd& radius_;
+  Eigen::VectorXd& lambda_;  // the caller's warm start, and the answer
+  const double rtol_;
+  const Eigen::Index k_;  // equality rows
+  double inner_rtol_;     // the inner QPs' tolerance, tightened where rounding hides the descent
+  QpResult total_;
+  bool inner_failed_ = false;
+  Eigen::MatrixXd G_reach_, P_;  // G's reachable columns, the projector onto their range
+  Eigen::VectorXd F_;            // F at (mu_, lambda_)
+  double mu_unit_ = 1;
+  Eigen::MatrixXd full_contact_;  // G D⁻¹ Gᵀ over the reachable columns
+  Eigen::VectorXd row_scale_;     // unit_row_scale(G)
+  double F_scale_ = 1, target_ = 0;
+  bool fresh_jacobian_ = false;          // the Jacobian was measured since the last accepted step
+  bool searched_since_descent_ = false;  // maximize_along taken since the last accepted step
+  // The best iterate (least unbalanced) is what a solve that does not converge ends with: jumps to
+  // the next touch may unbalance the loads for a while (the body tips onto another cell).
+  Eigen::VectorXd best_mu_, best_lambda_, best_F_;
+};
+
+QpResult DualQpSolver::solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol) {
+  return EqualitySolve(*this, radius, lambda, rtol).run();
 }
 
 // The method of multipliers on L(λ, μ) = ½λᵀQλ − λᵀh + μᵀ(Gλ − e) + (ρ/2)‖Ĝλ − ê‖², Ĝλ = ê the

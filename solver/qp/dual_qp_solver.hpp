@@ -132,6 +132,8 @@ class DualQpSolver {
   // balance the loads.
   QpResult solve_with_augmented_lagrangian(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol,
                                            const Eigen::MatrixXd& P, double target, long budget);
+  // solve() with the equality constraints (set_equality): the steps on μ, one EqualitySolve per call.
+  class EqualitySolve;
   QpResult solve_with_equality(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol);
   void set_linear_term(const Eigen::VectorXd& h);
   Eigen::MatrixXd reachable_columns(const Eigen::VectorXd& radius) const;  // G where λ can be nonzero
