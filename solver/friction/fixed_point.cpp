@@ -426,236 +426,324 @@ double final_step_qp_rtol(const FixedPointSettings& settings, double qp_rtol) {
   return std::min(qp_rtol, std::max(settings.qp_rtol_floor, settings.qp_rtol_per_err * settings.tol));
 }
 
-FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPointSettings& settings, double qp_rtol,
-                                   const StepObserver& observe) {
-  FixedPointResult result;
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n_phi);
-  AndersonMixer mixer(settings.anderson_depth, settings.blocks);
-  AitkenRelaxation relaxation(settings.blocks);
-  bool relaxing = settings.variant == FixedPointVariant::Aitken;  // accelerated: from the first slow step on
-  // Newton steps must cut err by 30% (near a fixed point they do far better; where the relaxation
-  // creeps, it cuts 10-20% a step); mixed steps must not raise it. Until 2026-11-27 Newton steps had to
-  // halve err: a step from 0.061 to 0.033 then counted as failed and the next was a plain one, and the
-  // robustness tables (336 cases) took 1233 -> 1229 (Tresca) and 1251 -> 1246 (Coulomb) steps with 0.7.
-  GuardedUpdate newton(FixedPointUpdate::Newton, 0.7), tail_mixing(FixedPointUpdate::Mixed, 1.0);
-  PredictionGuard prediction;
-  double newton_trust = INFINITY, last_newton_ratio = 0;  // ‖δ‖ / ‖G(x) − x‖ allowed, and of the last step
-  Eigen::VectorXd previous_x, previous_gx;                // the step before the current one: x, G(x)
-  // Newton, mixed and predicted steps contract far faster than the map itself, so their step lengths
-  // say nothing of its Lipschitz constant: the a posteriori bound takes the larger of the steps' q, the
-  // q observed before the first of them (relaxed or plain steps) and ‖G′‖ of the last Newton step.
-  // Predicted steps add the rate of the last prediction's own iterations (the split ring with a jump
-  // law: they end at err 7.5e-5, 1.0e-3 from the fixed point, where the steps' lengths alone gave
-  // q = 0.12 and a bound of 1e-5).
-  double tail_start_q = 0, newton_map_norm = 0, prediction_rate = 0;
-  std::vector<double> step_lengths;
-  std::deque<Eigen::VectorXd> residuals;  // the last three G(x) − x
-  bool travelling = false;                // still_travelling(residuals) after the latest step
-  auto note_tail_start = [&] {            // before the first Newton, mixed or predicted step
-    if (result.newton_steps + result.mixed_steps + result.predicted_steps == 0) {
-      const double q = contraction_factor(step_lengths);
-      tail_start_q = std::isnan(q) ? 0.0 : q;
+namespace {
+
+// One run of the successive approximations (5.7), with the accelerations FixedPointSettings asks
+// for: the state carried from step to step, and each kind of update as a method. run() reads as
+// the algorithm: evaluate G at x (one QP, its tolerance tied to the progress), record the step,
+// stop where err meets the tolerance (repeating a step solved looser than a final one), tighten the
+// QPs against their own noise, judge stagnation, and make the next x.
+class FixedPointRun {
+ public:
+  FixedPointRun(const SlipMap& G, int n_phi, const FixedPointSettings& settings, double qp_rtol,
+                const StepObserver& observe)
+      : G_(G),
+        settings_(settings),
+        observe_(observe),
+        x_(Eigen::VectorXd::Zero(n_phi)),
+        mixer_(settings.anderson_depth, settings.blocks),
+        relaxation_(settings.blocks),
+        relaxing_(settings.variant == FixedPointVariant::Aitken),
+        rtol_(qp_rtol),
+        eta_(settings.adaptive_qp_tolerance ? settings.qp_rtol_per_err : 0.0) {}
+
+  FixedPointResult run() {
+    for (int k = 1; k <= settings_.max_iterations; ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const double exact_k = exact_tolerance(k);
+      const double rtol_k = step_tolerance(k, exact_k);
+      const SlipEvaluation eval = G_(x_, rtol_k);
+      const FixedPointStep step = record(k, eval, rtol_k, t0);
+      if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
+      if (step.err <= settings_.tol) {
+        if (accepted_as_converged(rtol_k, exact_k)) return finish(FixedPointStatus::Converged);
+        made_by_ = FixedPointUpdate::Repeat;  // the same x again, with a tighter QP
+        continue;
+      }
+      force_final_ = false;
+      // Noise shows as a stall in which the warm-started QP hardly moved (a few iterations against
+      // the first step's); a stall with a busy QP is the map's own slow contraction.
+      const bool qp_idle = eval.qp_iterations <= std::max(5, history()[0].qp_iterations / 20);
+      tighten_against_noise(k, step, qp_idle, rtol_k);
+      if (stagnates(k, step, qp_idle)) return finish(FixedPointStatus::Stagnation);
+      Eigen::VectorXd next = next_iterate(x_, eval, k > 1 && step.err > 2 * history()[k - 2].err);
+      previous_x_ = std::move(x_);
+      previous_gx_ = eval.slip;
+      x_ = std::move(next);
     }
-  };
-  int derivative_products = 0;                         // K⁻¹ applications of the Newton steps' derivative products
-  FixedPointUpdate made_by = FixedPointUpdate::Start;  // how the next input x is made (next_iterate sets it)
-  auto next_iterate = [&](const Eigen::VectorXd& xk, const SlipEvaluation& eval, const std::vector<double>& lengths,
-                          bool err_grew) -> Eigen::VectorXd {
+    return finish(FixedPointStatus::IterationLimit);
+  }
+
+ private:
+  const std::vector<FixedPointStep>& history() const { return result_.history; }
+
+  // This step's exact QP tolerance: rtol, and eta·err(k−1) below it once err has fallen (or the
+  // final step's, for a repeated step).
+  double exact_tolerance(int k) const {
+    if (force_final_) return final_step_qp_rtol(settings_, rtol_);
+    if (eta_ > 0 && k > 1)
+      return std::clamp(eta_ * history()[k - 2].err, std::min(settings_.qp_rtol_floor, rtol_), rtol_);
+    return rtol_;
+  }
+
+  // The tolerance the QP is asked for: the exact one, or looser for the inexact variant's early steps.
+  double step_tolerance(int k, double exact_k) const {
+    if (!settings_.inexact || force_exact_) return exact_k;
+    return std::max(exact_k, k == 1 ? 1e-3 : std::min(1e-3, 1e-2 * history()[k - 2].err));
+  }
+
+  // The step into the history, its residual G(x) − x into the rate and travel estimates.
+  FixedPointStep record(int k, const SlipEvaluation& eval, double rtol_k, std::chrono::steady_clock::time_point t0) {
+    n_mult_ += eval.hessian_products + derivative_products_;
+    derivative_products_ = 0;
+    FixedPointStep step;
+    step.k = k;
+    step.err = relative_change(eval.slip, x_, settings_.blocks);
+    step.qp_iterations = eval.qp_iterations;
+    step.n_mult = n_mult_;
+    step.qp_rtol = rtol_k;
+    step.update = made_by_;
+    step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result_.history.push_back(step);
+    result_.phi = x_;
+    if (made_by_ == FixedPointUpdate::Repeat) {  // the same x evaluated more exactly: it refines the last
+      residuals_.back() = eval.slip - x_;        // step, not a new one whose length would say q = 1
+      step_lengths_.back() = residuals_.back().norm();
+    } else {
+      residuals_.push_back(eval.slip - x_);
+      step_lengths_.push_back(residuals_.back().norm());
+    }
+    if (residuals_.size() > 3) residuals_.pop_front();
+    travelling_ = still_travelling(residuals_, block_weights(settings_.blocks, eval.slip));
+    if (observe_) observe_(step);
+    return step;
+  }
+
+  // err met the tolerance. A run that converges abruptly (err(k−1) large: e.g. Coulomb with every
+  // cell sticking, err 1 then 0) met it with its QP at up to qp_rtol, far looser than the last step
+  // of a run that converges gradually: the answer would be that loose (the slab with a strong law:
+  // u on Γc 0.3% off). Such a step, or one of the inexact variant, is repeated (false) at the exact
+  // or the final step's tolerance.
+  bool accepted_as_converged(double rtol_k, double exact_k) {
+    const bool loose = eta_ > 0 && rtol_k > kFinalStepSlack * final_step_qp_rtol(settings_, rtol_);
+    if (rtol_k <= exact_k && !loose) return true;
+    if (rtol_k > exact_k)
+      force_exact_ = true;  // same φ again (x unchanged), now with the exact QP tolerance
+    else
+      force_final_ = true;  // same φ again, with the final step's tolerance
+    return false;
+  }
+
+  // A step that barely moves err may be the QP's noise: the inner tolerance is tightened first.
+  void tighten_against_noise(int k, const FixedPointStep& step, bool qp_idle, double rtol_k) {
+    const bool stalled = k > 1 && step.err > 0.7 * history()[k - 2].err && qp_idle;
+    if (!settings_.adaptive_qp_tolerance || !stalled || rtol_ <= settings_.qp_rtol_floor) return;
+    rtol_ = std::max(settings_.qp_rtol_floor, 1e-2 * rtol_k);
+    eta_ *= 1e-2;
+    ++result_.qp_tolerance_tightenings;
+    best_err_ = INFINITY;  // stagnation is judged afresh at the new tolerance
+  }
+
+  // No new minimum of err for a window of steps, the iterates not moving steadily one way nor err
+  // falling step by step (the minimum may date from before a slip front spread), and not for inner
+  // noise: the QP is at its floor, or it is busy (the radii keep changing it). An accelerated
+  // variant first falls back to the paper's plain steps, which travel with a slow front that the
+  // mixing breaks up; only then is the map itself taken not to contract (true).
+  bool stagnates(int k, const FixedPointStep& step, bool qp_idle) {
+    if (step.err < best_err_) {
+      best_err_ = step.err;
+      best_k_ = k;
+      return false;
+    }
+    if (k - best_k_ < settings_.stagnation_window || travelling_ || still_falling(history()) ||
+        (settings_.adaptive_qp_tolerance && rtol_ > settings_.qp_rtol_floor && qp_idle))
+      return false;
+    if (settings_.variant == FixedPointVariant::Plain || result_.plain_fallback_step > 0) return true;
+    result_.plain_fallback_step = k;
+    best_err_ = INFINITY;
+    return false;
+  }
+
+  // The next input x from x_k and G(x_k), by the variant's update; made_by_ says which.
+  Eigen::VectorXd next_iterate(const Eigen::VectorXd& xk, const SlipEvaluation& eval, bool err_grew) {
     const Eigen::VectorXd& gx = eval.slip;
-    made_by = FixedPointUpdate::Plain;
-    if (result.plain_fallback_step > 0) return gx;  // the mixing stalled: the paper's steps from here on
-    switch (settings.variant) {
+    made_by_ = FixedPointUpdate::Plain;
+    if (result_.plain_fallback_step > 0) return gx;  // the mixing stalled: the paper's steps from here on
+    switch (settings_.variant) {
       case FixedPointVariant::Plain:
         return gx;
-      case FixedPointVariant::Anderson: {
-        if (err_grew) mixer.reset();  // safeguard
-        Eigen::VectorXd next = mixer.next(xk, gx);
-        made_by = mixer.mixed() ? FixedPointUpdate::Mixed : FixedPointUpdate::Plain;
-        return next;
-      }
+      case FixedPointVariant::Anderson:
+        return anderson_step(xk, gx, err_grew);
       case FixedPointVariant::Aitken:
       case FixedPointVariant::Accelerated:
         break;
     }
-    if (!relaxing && !contracts_fast(lengths, result.history.back().err, settings.tol)) relaxing = true;
-    const bool accelerated = relaxing && settings.variant == FixedPointVariant::Accelerated;
+    if (!relaxing_ && !contracts_fast(step_lengths_, history().back().err, settings_.tol)) relaxing_ = true;
+    const bool accelerated = relaxing_ && settings_.variant == FixedPointVariant::Accelerated;
     // The tail: err < tail_err, and the iterates no longer travel one way — the front of slipping
     // nodes has settled and the map is close to its linearization about the fixed point. There a
     // Newton step (where G has a derivative) or Anderson's multisecant fit replaces the relaxation's
     // scalar ω, which cannot fit different rates and an oscillation at once. Before the tail the
     // linearization misleads: Newton steps from the start overshot the front (slab h = 0.08, jump
     // law: 24 steps against 21 relaxed, 14 with Newton in the tail).
-    const bool in_tail = result.history.back().err < settings.tail_err && !travelling;
-    newton.judge(result.history);
-    tail_mixing.judge(result.history);
-    prediction.observe(result.history.back());
-    const bool tail_allowed = newton.raises() + tail_mixing.raises() < kMaxTailRaises;
+    const bool in_tail = history().back().err < settings_.tail_err && !travelling_;
+    newton_.judge(history());
+    tail_mixing_.judge(history());
+    prediction_.observe(history().back());
+    const bool tail_allowed = newton_.raises() + tail_mixing_.raises() < kMaxTailRaises;
     // A predicted step first, wherever the run relaxes (not only in the tail: a front's cascade is
     // what it carries), unless a Newton or mixed step was just rejected.
-    if (accelerated && settings.predicted_steps && eval.predict && !newton.rejected() && !tail_mixing.rejected() &&
-        prediction.take()) {
-      int predictions = 0;
-      const double target = std::max(0.1 * settings.tol, 1e-2 * result.history.back().err);
-      double rate = 0;
-      const int products_before = products_so_far(eval);
-      std::optional<Eigen::VectorXd> y =
-          predicted_fixed_point(eval.predict, gx, target, settings.blocks, predictions, rate);
-      derivative_products += products_so_far(eval) - products_before;
-      if (y) {
-        note_tail_start();
-        prediction_rate = std::isnan(rate) ? 0.0 : rate;
-        relaxation.plain(xk, gx);  // the relaxation's secant starts afresh should the predictions stop
-        mixer.reset();
-        ++result.predicted_steps;
-        made_by = FixedPointUpdate::Predicted;
-        return y->cwiseMax(0.0);
-      }
-      prediction.fail();
+    if (accelerated && settings_.predicted_steps && eval.predict && !newton_.rejected() && !tail_mixing_.rejected() &&
+        prediction_.take()) {
+      if (std::optional<Eigen::VectorXd> y = predicted_step(xk, eval)) return *y;
+      prediction_.fail();
     }
-    const bool use_newton = accelerated && settings.newton && newton.use(in_tail && eval.derivative, tail_allowed);
-    const bool use_mixing = accelerated && !use_newton && tail_mixing.use(in_tail, tail_allowed);
+    const bool use_newton = accelerated && settings_.newton && newton_.use(in_tail && eval.derivative, tail_allowed);
+    const bool use_mixing = accelerated && !use_newton && tail_mixing_.use(in_tail, tail_allowed);
     // A Newton or mixed step that raised err is rejected: the update that follows starts again from
     // the step before it (x, G(x) of the previous step), not from where the bad step led (the U-shaped
     // footprint with Coulomb and a steep law: a Newton step to err 0.6 left the relaxation drifting
     // for 20 steps). A rejected Newton step also shrinks the trust region: later ones are cut to half
     // its length relative to the plain step (as ω <= 4 bounds the relaxation's).
-    const bool rejected = newton.rejected() || tail_mixing.rejected();
-    if (newton.rejected()) newton_trust = 0.5 * last_newton_ratio;
-    const Eigen::VectorXd& x0 = rejected ? previous_x : xk;
-    const Eigen::VectorXd& g0 = rejected ? previous_gx : gx;
-    if (use_newton) {
-      const Eigen::VectorXd residual = gx - xk;
-      note_tail_start();
-      const int products_before = products_so_far(eval);
-      Eigen::VectorXd delta = newton_direction(eval.derivative, residual, newton_map_norm);
-      if (delta.norm() > newton_trust * residual.norm()) delta *= newton_trust * residual.norm() / delta.norm();
-      last_newton_ratio = delta.norm() / residual.norm();
-      derivative_products += products_so_far(eval) - products_before;
-      relaxation.plain(xk, gx);  // the relaxation's secant starts afresh should Newton stop
-      mixer.reset();
-      ++result.newton_steps;
-      made_by = FixedPointUpdate::Newton;
-      return (xk + delta).cwiseMax(0.0);
-    }
-    if (use_mixing) {
-      note_tail_start();
-      if (rejected) mixer.reset();
-      relaxation.plain(x0, g0);
-      Eigen::VectorXd next = mixer.next(x0, g0);
-      made_by = mixer.mixed() ? FixedPointUpdate::Mixed
-                : rejected    ? FixedPointUpdate::Restart
-                              : FixedPointUpdate::Plain;
-      if (mixer.mixed()) ++result.mixed_steps;
-      return next;
-    }
-    mixer.reset();
-    if (rejected) {
-      made_by = FixedPointUpdate::Restart;
-      return relaxation.plain(x0, g0);
-    }
-    made_by = relaxing ? FixedPointUpdate::Relaxed : FixedPointUpdate::Plain;
-    return relaxing ? relaxation.next(x0, g0) : relaxation.plain(x0, g0);
-  };
-  int n_mult = 0;
-  double best_err = INFINITY;
-  int best_k = 0;
-  double rtol = qp_rtol;  // the exact-step QP tolerance; tightened against inner noise
-  double eta = settings.adaptive_qp_tolerance ? settings.qp_rtol_per_err : 0.0;  // rtol_k <= eta·err(k−1)
-  bool force_exact = false;  // an inexact step met tol: repeat it with the exact QP tolerance
-  bool force_final = false;  // a step met tol with its QP far looser than a final step's: repeat it
-  auto finish = [&](FixedPointStatus status) {
-    result.status = status;
-    result.contraction_factor = contraction_factor(step_lengths);
-    // Both are 0 without a tail; a q not observed yet (NaN, fewer than three steps) stays NaN.
-    result.contraction_factor = std::max({result.contraction_factor, tail_start_q, newton_map_norm, prediction_rate});
-    const double q = result.contraction_factor, err = result.history.back().err;
-    result.distance_bound = status == FixedPointStatus::Converged && result.history.size() == 1 ? err
-                            : q < 1                                                             ? q / (1 - q) * err
-                                    : std::numeric_limits<double>::infinity();
-    result.hint = hint_for(status, q, rtol);
-    return result;
-  };
-  for (int k = 1; k <= settings.max_iterations; ++k) {
-    const auto t0 = std::chrono::steady_clock::now();
-    // This step's exact tolerance: rtol, and eta·err(k−1) below it once err has fallen.
-    const double exact_k =
-        force_final        ? final_step_qp_rtol(settings, rtol)
-        : eta > 0 && k > 1 ? std::clamp(eta * result.history[k - 2].err, std::min(settings.qp_rtol_floor, rtol), rtol)
-                           : rtol;
-    double rtol_k = exact_k;
-    if (settings.inexact && !force_exact)
-      rtol_k = std::max(exact_k, k == 1 ? 1e-3 : std::min(1e-3, 1e-2 * result.history[k - 2].err));
-    const SlipEvaluation eval = G(x, rtol_k);
-    n_mult += eval.hessian_products + derivative_products;
-    derivative_products = 0;
-    FixedPointStep step;
-    step.k = k;
-    step.err = relative_change(eval.slip, x, settings.blocks);
-    step.qp_iterations = eval.qp_iterations;
-    step.n_mult = n_mult;
-    step.qp_rtol = rtol_k;
-    step.update = made_by;
-    step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    result.history.push_back(step);
-    result.phi = x;
-    if (made_by == FixedPointUpdate::Repeat) {  // the same x evaluated more exactly: it refines the last
-      residuals.back() = eval.slip - x;         // step, not a new one whose length would say q = 1
-      step_lengths.back() = residuals.back().norm();
-    } else {
-      residuals.push_back(eval.slip - x);
-      step_lengths.push_back(residuals.back().norm());
-    }
-    if (residuals.size() > 3) residuals.pop_front();
-    travelling = still_travelling(residuals, block_weights(settings.blocks, eval.slip));
-    if (observe) observe(step);
-    if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
-    if (step.err <= settings.tol) {
-      // A run that converges abruptly (err(k−1) large: e.g. Coulomb with every cell sticking, err 1
-      // then 0) met tol with its QP at up to qp_rtol, far looser than the last step of a run that
-      // converges gradually: the answer would be that loose (the slab with a strong law: u on Γc
-      // 0.3% off). Its last step is repeated at final_step_qp_rtol.
-      const bool loose = eta > 0 && rtol_k > kFinalStepSlack * final_step_qp_rtol(settings, rtol);
-      if (rtol_k <= exact_k && !loose) return finish(FixedPointStatus::Converged);
-      if (rtol_k > exact_k)
-        force_exact = true;  // same φ again (x unchanged), now with the exact QP tolerance
-      else
-        force_final = true;  // same φ again, with the final step's tolerance
-      made_by = FixedPointUpdate::Repeat;
-      continue;
-    }
-    force_final = false;
-    // A step that barely moves err may be the QP's noise: tighten the inner tolerance first.
-    // Noise shows as a stall in which the warm-started QP hardly moved (a few iterations against
-    // the first step's); a stall with a busy QP is the map's own slow contraction.
-    const bool qp_idle = eval.qp_iterations <= std::max(5, result.history[0].qp_iterations / 20);
-    const bool stalled = k > 1 && step.err > 0.7 * result.history[k - 2].err && qp_idle;
-    if (settings.adaptive_qp_tolerance && stalled && rtol > settings.qp_rtol_floor) {
-      rtol = std::max(settings.qp_rtol_floor, 1e-2 * rtol_k);
-      eta *= 1e-2;
-      ++result.qp_tolerance_tightenings;
-      best_err = INFINITY;  // stagnation is judged afresh at the new tolerance
-    }
-    if (step.err < best_err) {
-      best_err = step.err;
-      best_k = k;
-    } else if (k - best_k >= settings.stagnation_window && !travelling && !still_falling(result.history) &&
-               (!settings.adaptive_qp_tolerance || rtol <= settings.qp_rtol_floor || !qp_idle)) {
-      // No new minimum for a window of steps, the iterates not moving steadily one way nor err
-      // falling step by step (the minimum may date from before a slip front spread), and not
-      // for inner noise: the QP is at its floor, or it is busy (the radii keep changing it). An
-      // accelerated variant first falls back to the paper's plain steps, which travel with a slow
-      // front that the mixing breaks up; only then is the map itself taken not to contract.
-      if (settings.variant == FixedPointVariant::Plain || result.plain_fallback_step > 0)
-        return finish(FixedPointStatus::Stagnation);
-      result.plain_fallback_step = k;
-      best_err = INFINITY;
-    }
-    Eigen::VectorXd next = next_iterate(x, eval, step_lengths, k > 1 && step.err > 2 * result.history[k - 2].err);
-    previous_x = std::move(x);
-    previous_gx = eval.slip;
-    x = std::move(next);
+    const bool rejected = newton_.rejected() || tail_mixing_.rejected();
+    if (newton_.rejected()) newton_trust_ = 0.5 * last_newton_ratio_;
+    const Eigen::VectorXd& x0 = rejected ? previous_x_ : xk;
+    const Eigen::VectorXd& g0 = rejected ? previous_gx_ : gx;
+    if (use_newton) return newton_step(xk, eval);
+    if (use_mixing) return mixed_step(x0, g0, rejected);
+    return relaxed_step(x0, g0, rejected);
   }
-  return finish(FixedPointStatus::IterationLimit);
+
+  Eigen::VectorXd anderson_step(const Eigen::VectorXd& xk, const Eigen::VectorXd& gx, bool err_grew) {
+    if (err_grew) mixer_.reset();  // safeguard
+    Eigen::VectorXd next = mixer_.next(xk, gx);
+    made_by_ = mixer_.mixed() ? FixedPointUpdate::Mixed : FixedPointUpdate::Plain;
+    return next;
+  }
+
+  // The fixed point of G's prediction from the QP's sensitivity to the radii (the law exact), to
+  // 1e-2 of err or a tenth of the tolerance; none where the prediction does not converge.
+  std::optional<Eigen::VectorXd> predicted_step(const Eigen::VectorXd& xk, const SlipEvaluation& eval) {
+    int predictions = 0;
+    const double target = std::max(0.1 * settings_.tol, 1e-2 * history().back().err);
+    double rate = 0;
+    const int products_before = products_so_far(eval);
+    std::optional<Eigen::VectorXd> y =
+        predicted_fixed_point(eval.predict, eval.slip, target, settings_.blocks, predictions, rate);
+    derivative_products_ += products_so_far(eval) - products_before;
+    if (!y) return std::nullopt;
+    note_tail_start();
+    prediction_rate_ = std::isnan(rate) ? 0.0 : rate;
+    relaxation_.plain(xk, eval.slip);  // the relaxation's secant starts afresh should the predictions stop
+    mixer_.reset();
+    ++result_.predicted_steps;
+    made_by_ = FixedPointUpdate::Predicted;
+    return y->cwiseMax(0.0);
+  }
+
+  // A Newton step on x − G(x) = 0 from G's derivative, within the trust region.
+  Eigen::VectorXd newton_step(const Eigen::VectorXd& xk, const SlipEvaluation& eval) {
+    const Eigen::VectorXd residual = eval.slip - xk;
+    note_tail_start();
+    const int products_before = products_so_far(eval);
+    Eigen::VectorXd delta = newton_direction(eval.derivative, residual, newton_map_norm_);
+    if (delta.norm() > newton_trust_ * residual.norm()) delta *= newton_trust_ * residual.norm() / delta.norm();
+    last_newton_ratio_ = delta.norm() / residual.norm();
+    derivative_products_ += products_so_far(eval) - products_before;
+    relaxation_.plain(xk, eval.slip);  // the relaxation's secant starts afresh should Newton stop
+    mixer_.reset();
+    ++result_.newton_steps;
+    made_by_ = FixedPointUpdate::Newton;
+    return (xk + delta).cwiseMax(0.0);
+  }
+
+  // Anderson mixing in the tail, from (x0, g0): the step before a rejected one, else this one.
+  Eigen::VectorXd mixed_step(const Eigen::VectorXd& x0, const Eigen::VectorXd& g0, bool rejected) {
+    note_tail_start();
+    if (rejected) mixer_.reset();
+    relaxation_.plain(x0, g0);
+    Eigen::VectorXd next = mixer_.next(x0, g0);
+    made_by_ = mixer_.mixed() ? FixedPointUpdate::Mixed
+               : rejected     ? FixedPointUpdate::Restart
+                              : FixedPointUpdate::Plain;
+    if (mixer_.mixed()) ++result_.mixed_steps;
+    return next;
+  }
+
+  // Aitken's relaxation once the plain steps contract slowly, else the plain step, from (x0, g0).
+  Eigen::VectorXd relaxed_step(const Eigen::VectorXd& x0, const Eigen::VectorXd& g0, bool rejected) {
+    mixer_.reset();
+    if (rejected) {
+      made_by_ = FixedPointUpdate::Restart;
+      return relaxation_.plain(x0, g0);
+    }
+    made_by_ = relaxing_ ? FixedPointUpdate::Relaxed : FixedPointUpdate::Plain;
+    return relaxing_ ? relaxation_.next(x0, g0) : relaxation_.plain(x0, g0);
+  }
+
+  // Before the first Newton, mixed or predicted step: the rate the map showed until then.
+  void note_tail_start() {
+    if (result_.newton_steps + result_.mixed_steps + result_.predicted_steps > 0) return;
+    const double q = contraction_factor(step_lengths_);
+    tail_start_q_ = std::isnan(q) ? 0.0 : q;
+  }
+
+  FixedPointResult finish(FixedPointStatus status) {
+    result_.status = status;
+    result_.contraction_factor = contraction_factor(step_lengths_);
+    // Both are 0 without a tail; a q not observed yet (NaN, fewer than three steps) stays NaN.
+    result_.contraction_factor =
+        std::max({result_.contraction_factor, tail_start_q_, newton_map_norm_, prediction_rate_});
+    const double q = result_.contraction_factor, err = result_.history.back().err;
+    result_.distance_bound = status == FixedPointStatus::Converged && result_.history.size() == 1 ? err
+                             : q < 1                                                              ? q / (1 - q) * err
+                                     : std::numeric_limits<double>::infinity();
+    result_.hint = hint_for(status, q, rtol_);
+    return result_;
+  }
+
+  const SlipMap& G_;
+  const FixedPointSettings& settings_;
+  const StepObserver& observe_;
+  FixedPointResult result_;
+  Eigen::VectorXd x_;                         // the current input φ
+  Eigen::VectorXd previous_x_, previous_gx_;  // the step before the current one: x, G(x)
+  AndersonMixer mixer_;
+  AitkenRelaxation relaxation_;
+  bool relaxing_;  // accelerated: from the first slow step on
+  // Newton steps must cut err by 30% (near a fixed point they do far better; where the relaxation
+  // creeps, it cuts 10-20% a step); mixed steps must not raise it. Until 2026-11-27 Newton steps had to
+  // halve err: a step from 0.061 to 0.033 then counted as failed and the next was a plain one, and the
+  // robustness tables (336 cases) took 1233 -> 1229 (Tresca) and 1251 -> 1246 (Coulomb) steps with 0.7.
+  GuardedUpdate newton_{FixedPointUpdate::Newton, 0.7}, tail_mixing_{FixedPointUpdate::Mixed, 1.0};
+  PredictionGuard prediction_;
+  double newton_trust_ = INFINITY, last_newton_ratio_ = 0;  // ‖δ‖ / ‖G(x) − x‖ allowed, and of the last step
+  // Newton, mixed and predicted steps contract far faster than the map itself, so their step lengths
+  // say nothing of its Lipschitz constant: the a posteriori bound takes the larger of the steps' q, the
+  // q observed before the first of them (relaxed or plain steps) and ‖G′‖ of the last Newton step.
+  // Predicted steps add the rate of the last prediction's own iterations (the split ring with a jump
+  // law: they end at err 7.5e-5, 1.0e-3 from the fixed point, where the steps' lengths alone gave
+  // q = 0.12 and a bound of 1e-5).
+  double tail_start_q_ = 0, newton_map_norm_ = 0, prediction_rate_ = 0;
+  std::vector<double> step_lengths_;
+  std::deque<Eigen::VectorXd> residuals_;               // the last three G(x) − x
+  bool travelling_ = false;                             // still_travelling(residuals_) after the latest step
+  int derivative_products_ = 0;                         // K⁻¹ applications of the Newton steps' derivative products
+  FixedPointUpdate made_by_ = FixedPointUpdate::Start;  // how the next input x is made (next_iterate sets it)
+  int n_mult_ = 0;
+  double best_err_ = INFINITY;
+  int best_k_ = 0;
+  double rtol_;               // the exact-step QP tolerance; tightened against inner noise
+  double eta_;                // rtol_k <= eta·err(k−1)
+  bool force_exact_ = false;  // an inexact step met tol: repeat it with the exact QP tolerance
+  bool force_final_ = false;  // a step met tol with its QP far looser than a final step's: repeat it
+};
+
+}  // namespace
+
+FixedPointResult solve_fixed_point(const SlipMap& G, int n_phi, const FixedPointSettings& settings, double qp_rtol,
+                                   const StepObserver& observe) {
+  return FixedPointRun(G, n_phi, settings, qp_rtol, observe).run();
 }
 
 }  // namespace contact3d
