@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "base/errors.hpp"
@@ -148,191 +149,238 @@ std::string describe_cell(const Partition& part, int i) {
   return s.str();
 }
 
-Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt) {
-  if (!(opt.cell_size > 0) || !std::isfinite(opt.cell_size))
-    throw InputError("contact.cell_size must be a positive length, got " + std::to_string(opt.cell_size));
-  if (face.triangles.empty()) throw InputError("the contact face has no triangles");
-  Partition part;
-  const Eigen::Vector2d extent = face.hi - face.lo;
-  std::vector<Box> triangle_boxes;
-  std::vector<Polygon> whole_triangles;
-  for (const auto& tri : face.triangles) {
-    whole_triangles.push_back(triangle_polygon(xy(mesh, tri[0]), xy(mesh, tri[1]), xy(mesh, tri[2])));
-    Box b{whole_triangles.back()[0].xy, whole_triangles.back()[0].xy};
-    for (const auto& v : whole_triangles.back()) {
-      b.lo = b.lo.cwiseMin(v.xy);
-      b.hi = b.hi.cwiseMax(v.xy);
-    }
-    triangle_boxes.push_back(b);
-  }
-  const GridBoxes boxes = grid_boxes(face, triangle_boxes, opt);
-  part.grid_nx = boxes.nx();
-  part.grid_ny = boxes.ny();
-  part.hx = boxes.base_size().x();
-  part.hy = boxes.base_size().y();
-  part.graded = boxes.graded();
-  if (!(part.hx > 0) || !(part.hy > 0)) throw InputError("the contact face has zero area (it is a line)");
+namespace {
 
-  // 1. Clip every contact triangle to the rectangles its bounding box meets.
-  std::vector<CellPiece> pieces;
-  std::vector<std::vector<int>> pieces_of_triangle(face.triangles.size());
-  for (std::size_t t = 0; t < face.triangles.size(); ++t) {
-    const Polygon& whole = whole_triangles[t];
-    const double tiny = 1e-12 * polygon_area(whole);
-    for (int b : boxes.overlapping(triangle_boxes[t].lo, triangle_boxes[t].hi)) {
-      const Box box = boxes.box(b);
-      Polygon piece = clip_to_box(whole, box.lo, box.hi);
-      if (piece.empty() || polygon_area(piece) <= tiny) continue;
-      pieces_of_triangle[t].push_back(static_cast<int>(pieces.size()));
-      pieces.push_back({static_cast<int>(t), std::move(piece), b});
-    }
+// make_grid_partition's steps on the state they share: the clipped pieces, their adjacency, and the
+// union-find of pieces into cells. build() reads as the algorithm.
+class GridPartitionBuilder {
+ public:
+  GridPartitionBuilder(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt)
+      : mesh_(mesh), face_(face), opt_(opt) {}
+
+  Partition build() {
+    if (!(opt_.cell_size > 0) || !std::isfinite(opt_.cell_size))
+      throw InputError("contact.cell_size must be a positive length, got " + std::to_string(opt_.cell_size));
+    if (face_.triangles.empty()) throw InputError("the contact face has no triangles");
+    lay_out_rectangles();
+    clip_triangles_to_rectangles();
+    link_adjacent_pieces();
+    form_initial_cells();
+    merge_slivers();
+    std::vector<int> root_of_cell = collect_cells();
+    if (opt_.enforce_stability) enforce_stability(root_of_cell);
+    return std::move(part_);
   }
-  if (pieces.empty()) throw InputError("the contact face has zero area");
-  part.smallest_box = Eigen::Vector2d::Constant(INFINITY);
-  for (const CellPiece& piece : pieces) {  // the rectangles that cut the face
-    part.smallest_box = part.smallest_box.cwiseMin(boxes.box(piece.box).extent());
-    part.largest_box = part.largest_box.cwiseMax(boxes.box(piece.box).extent());
+
+ private:
+  // The rectangles (one grid, or quadtree leaves on a graded mesh) over the triangles' bounding boxes.
+  void lay_out_rectangles() {
+    for (const auto& tri : face_.triangles) {
+      whole_triangles_.push_back(triangle_polygon(xy(mesh_, tri[0]), xy(mesh_, tri[1]), xy(mesh_, tri[2])));
+      Box b{whole_triangles_.back()[0].xy, whole_triangles_.back()[0].xy};
+      for (const auto& v : whole_triangles_.back()) {
+        b.lo = b.lo.cwiseMin(v.xy);
+        b.hi = b.hi.cwiseMax(v.xy);
+      }
+      triangle_boxes_.push_back(b);
+    }
+    boxes_.emplace(grid_boxes(face_, triangle_boxes_, opt_));
+    part_.grid_nx = boxes_->nx();
+    part_.grid_ny = boxes_->ny();
+    part_.hx = boxes_->base_size().x();
+    part_.hy = boxes_->base_size().y();
+    part_.graded = boxes_->graded();
+    if (!(part_.hx > 0) || !(part_.hy > 0)) throw InputError("the contact face has zero area (it is a line)");
+  }
+
+  // 1. Every contact triangle clipped to the rectangles its bounding box meets.
+  void clip_triangles_to_rectangles() {
+    pieces_of_triangle_.resize(face_.triangles.size());
+    for (std::size_t t = 0; t < face_.triangles.size(); ++t) {
+      const Polygon& whole = whole_triangles_[t];
+      const double tiny = 1e-12 * polygon_area(whole);
+      for (int b : boxes_->overlapping(triangle_boxes_[t].lo, triangle_boxes_[t].hi)) {
+        const Box box = boxes_->box(b);
+        Polygon piece = clip_to_box(whole, box.lo, box.hi);
+        if (piece.empty() || polygon_area(piece) <= tiny) continue;
+        pieces_of_triangle_[t].push_back(static_cast<int>(pieces_.size()));
+        pieces_.push_back({static_cast<int>(t), std::move(piece), b});
+      }
+    }
+    if (pieces_.empty()) throw InputError("the contact face has zero area");
+    part_.smallest_box = Eigen::Vector2d::Constant(INFINITY);
+    for (const CellPiece& piece : pieces_) {  // the rectangles that cut the face
+      part_.smallest_box = part_.smallest_box.cwiseMin(boxes_->box(piece.box).extent());
+      part_.largest_box = part_.largest_box.cwiseMax(boxes_->box(piece.box).extent());
+    }
   }
 
   // Piece adjacency: a common boundary segment; candidates are pieces of one triangle and of
   // triangles sharing a mesh edge.
-  const double tol = 1e-9 * std::max(face.h, 1e-12 * extent.norm());
-  std::vector<std::vector<int>> adj(pieces.size());
-  auto link = [&](int a, int b) {
-    if (a == b || !share_segment(pieces[a].polygon, pieces[b].polygon, tol)) return;
-    adj[a].push_back(b);
-    adj[b].push_back(a);
-  };
-  std::map<std::pair<int, int>, std::vector<int>> triangles_of_edge;
-  for (std::size_t t = 0; t < face.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = face.triangles[t][k], b = face.triangles[t][(k + 1) % 3];
-      triangles_of_edge[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
-    }
-  for (const auto& list : pieces_of_triangle)
-    for (std::size_t x = 0; x < list.size(); ++x)
-      for (std::size_t y = x + 1; y < list.size(); ++y) link(list[x], list[y]);
-  for (const auto& [edge, tris] : triangles_of_edge)
-    for (std::size_t x = 0; x < tris.size(); ++x)
-      for (std::size_t y = x + 1; y < tris.size(); ++y)
-        for (int a : pieces_of_triangle[tris[x]])
-          for (int b : pieces_of_triangle[tris[y]]) link(a, b);
+  void link_adjacent_pieces() {
+    const Eigen::Vector2d extent = face_.hi - face_.lo;
+    const double tol = 1e-9 * std::max(face_.h, 1e-12 * extent.norm());
+    adj_.resize(pieces_.size());
+    const auto link = [&](int a, int b) {
+      if (a == b || !share_segment(pieces_[a].polygon, pieces_[b].polygon, tol)) return;
+      adj_[a].push_back(b);
+      adj_[b].push_back(a);
+    };
+    std::map<std::pair<int, int>, std::vector<int>> triangles_of_edge;
+    for (std::size_t t = 0; t < face_.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int a = face_.triangles[t][k], b = face_.triangles[t][(k + 1) % 3];
+        triangles_of_edge[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
+      }
+    for (const auto& list : pieces_of_triangle_)
+      for (std::size_t x = 0; x < list.size(); ++x)
+        for (std::size_t y = x + 1; y < list.size(); ++y) link(list[x], list[y]);
+    for (const auto& [edge, tris] : triangles_of_edge)
+      for (std::size_t x = 0; x < tris.size(); ++x)
+        for (std::size_t y = x + 1; y < tris.size(); ++y)
+          for (int a : pieces_of_triangle_[tris[x]])
+            for (int b : pieces_of_triangle_[tris[y]]) link(a, b);
+  }
 
   // 2. Initial cells: the pieces of one rectangle, split into connected components.
-  UnionFind uf(pieces.size());
-  {
+  void form_initial_cells() {
+    uf_ = UnionFind(pieces_.size());
     std::map<int, int> first_of_box;
-    for (std::size_t p = 0; p < pieces.size(); ++p)
-      if (!opt.split_disconnected) {
-        auto [it, fresh] = first_of_box.emplace(pieces[p].box, static_cast<int>(p));
-        if (!fresh) uf.parent[uf.find(static_cast<int>(p))] = uf.find(it->second);
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (!opt_.split_disconnected) {
+        auto [it, fresh] = first_of_box.emplace(pieces_[p].box, static_cast<int>(p));
+        if (!fresh) uf_.parent[uf_.find(static_cast<int>(p))] = uf_.find(it->second);
       } else {
-        for (int q : adj[p])
-          if (pieces[q].box == pieces[p].box) uf.parent[uf.find(static_cast<int>(p))] = uf.find(q);
+        for (int q : adj_[p])
+          if (pieces_[q].box == pieces_[p].box) uf_.parent[uf_.find(static_cast<int>(p))] = uf_.find(q);
       }
     std::map<int, std::vector<int>> roots_of_box;
-    for (std::size_t p = 0; p < pieces.size(); ++p) {
-      auto& roots = roots_of_box[pieces[p].box];
-      const int r = uf.find(static_cast<int>(p));
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      auto& roots = roots_of_box[pieces_[p].box];
+      const int r = uf_.find(static_cast<int>(p));
       if (std::find(roots.begin(), roots.end(), r) == roots.end()) roots.push_back(r);
     }
-    for (const auto& [box, roots] : roots_of_box) part.split_cells += static_cast<int>(roots.size()) - 1;
+    for (const auto& [box, roots] : roots_of_box) part_.split_cells += static_cast<int>(roots.size()) - 1;
+    area_.assign(pieces_.size(), 0.0);  // by root
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      area_[uf_.find(static_cast<int>(p))] += polygon_area(pieces_[p].polygon);
   }
-  std::vector<double> piece_area(pieces.size());
-  for (std::size_t p = 0; p < pieces.size(); ++p) piece_area[p] = polygon_area(pieces[p].polygon);
-  std::vector<double> area(pieces.size(), 0.0);  // by root
-  for (std::size_t p = 0; p < pieces.size(); ++p) area[uf.find(static_cast<int>(p))] += piece_area[p];
 
-  auto roots = [&] {
+  std::vector<int> roots() {
     std::vector<int> out;
-    for (std::size_t p = 0; p < pieces.size(); ++p)
-      if (uf.find(static_cast<int>(p)) == static_cast<int>(p)) out.push_back(static_cast<int>(p));
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (uf_.find(static_cast<int>(p)) == static_cast<int>(p)) out.push_back(static_cast<int>(p));
     return out;
-  };
-  // Merge cell `root` into its adjacent cell of largest area; false if it has none.
-  auto merge_into_largest_neighbour = [&](int root) {
+  }
+
+  // Merges cell `root` into its adjacent cell of largest area; false if it has none.
+  bool merge_into_largest_neighbour(int root) {
     int best = -1;
-    for (std::size_t p = 0; p < pieces.size(); ++p) {
-      if (uf.find(static_cast<int>(p)) != root) continue;
-      for (int q : adj[p]) {
-        const int rq = uf.find(q);
-        if (rq != root && (best < 0 || area[rq] > area[best])) best = rq;
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      if (uf_.find(static_cast<int>(p)) != root) continue;
+      for (int q : adj_[p]) {
+        const int rq = uf_.find(q);
+        if (rq != root && (best < 0 || area_[rq] > area_[best])) best = rq;
       }
     }
     if (best < 0) return false;
-    uf.parent[root] = best;
-    area[best] += area[root];
+    uf_.parent[root] = best;
+    area_[best] += area_[root];
     return true;
-  };
+  }
 
   // 3. Slivers, smallest first; a merged cell that is still small is visited again. A cell's full
   // rectangle is the one of its first piece (graded rectangles differ in size).
-  auto full = [&](int root) { return part.graded ? boxes.box(pieces[root].box).area() : part.hx * part.hy; };
-  for (bool changed = true; changed;) {
-    changed = false;
-    std::vector<int> small;
-    for (int r : roots())
-      if (area[r] < opt.sliver_fraction * full(r)) small.push_back(r);
-    std::sort(small.begin(), small.end(), [&](int a, int b) { return area[a] < area[b]; });
-    for (int r : small) {
-      if (uf.find(r) != r || area[r] >= opt.sliver_fraction * full(r)) continue;
-      if (merge_into_largest_neighbour(r)) {
-        ++part.merged_slivers;
-        changed = true;
+  void merge_slivers() {
+    const auto full = [&](int root) {
+      return part_.graded ? boxes_->box(pieces_[root].box).area() : part_.hx * part_.hy;
+    };
+    for (bool changed = true; changed;) {
+      changed = false;
+      std::vector<int> small;
+      for (int r : roots())
+        if (area_[r] < opt_.sliver_fraction * full(r)) small.push_back(r);
+      std::sort(small.begin(), small.end(), [&](int a, int b) { return area_[a] < area_[b]; });
+      for (int r : small) {
+        if (uf_.find(r) != r || area_[r] >= opt_.sliver_fraction * full(r)) continue;
+        if (merge_into_largest_neighbour(r)) {
+          ++part_.merged_slivers;
+          changed = true;
+        }
       }
     }
   }
 
-  // Build cells, ordered by their first rectangle (grid order), then by first piece.
-  auto build = [&] {
-    part.cells.clear();
+  // The cells from the union-find, ordered by their first rectangle (grid order), then by first
+  // piece; returns the root of each cell.
+  std::vector<int> collect_cells() {
+    part_.cells.clear();
     std::map<int, int> cell_of_root;
     std::vector<int> order = roots();
-    std::vector<int> first_box(pieces.size(), INT32_MAX);
-    for (std::size_t p = 0; p < pieces.size(); ++p) {
-      const int r = uf.find(static_cast<int>(p));
-      first_box[r] = std::min(first_box[r], pieces[p].box);
+    std::vector<int> first_box(pieces_.size(), INT32_MAX);
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      const int r = uf_.find(static_cast<int>(p));
+      first_box[r] = std::min(first_box[r], pieces_[p].box);
     }
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return first_box[a] < first_box[b]; });
     for (int r : order) {
-      cell_of_root[r] = static_cast<int>(part.cells.size());
-      part.cells.emplace_back();
+      cell_of_root[r] = static_cast<int>(part_.cells.size());
+      part_.cells.emplace_back();
     }
-    for (std::size_t p = 0; p < pieces.size(); ++p)
-      part.cells[cell_of_root[uf.find(static_cast<int>(p))]].pieces.push_back(pieces[p]);
-    for (auto& cell : part.cells) finish_cell(cell);
-    return order;  // root of each cell
-  };
-  std::vector<int> root_of_cell = build();
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      part_.cells[cell_of_root[uf_.find(static_cast<int>(p))]].pieces.push_back(pieces_[p]);
+    for (auto& cell : part_.cells) finish_cell(cell);
+    return order;
+  }
 
-  // 4. Structural (5.1): every cell needs a free contact node of its own.
-  if (opt.enforce_stability) {
+  // 4. Structural (5.1): every cell needs a free contact node of its own. Cells without one are
+  // merged into a neighbour, one at a time (one merge may fix several); where that cannot be done,
+  // the partition is refused.
+  void enforce_stability(std::vector<int>& root_of_cell) {
     for (int round = 0;; ++round) {
-      const std::vector<int> bad = cells_without_own_node(face, part);
-      if (bad.empty()) break;
-      const bool repairable =
-          round < 1000 && static_cast<double>(bad.size()) <= std::max(1.0, opt.max_repair_fraction * part.cells.size());
+      const std::vector<int> bad = cells_without_own_node(face_, part_);
+      if (bad.empty()) return;
+      const bool repairable = round < 1000 && static_cast<double>(bad.size()) <=
+                                                  std::max(1.0, opt_.max_repair_fraction * part_.cells.size());
       bool merged = false;
       if (repairable)
         for (int c : bad)
-          if (uf.find(root_of_cell[c]) == root_of_cell[c] && merge_into_largest_neighbour(root_of_cell[c])) {
-            ++part.stability_merges;
+          if (uf_.find(root_of_cell[c]) == root_of_cell[c] && merge_into_largest_neighbour(root_of_cell[c])) {
+            ++part_.stability_merges;
             merged = true;
             break;  // re-match after each merge: one merge may fix several cells
           }
       if (!merged) {
         std::string cells;
-        for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part, bad[k]);
+        for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part_, bad[k]);
         throw InputError(
             "the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) + " of " +
-            std::to_string(part.cells.size()) + " cells have no free contact node of their own (rectangles " +
-            describe_cell_sizes(part) + ", contact mesh size h = " + number(face.h) + " m), e.g." + cells +
+            std::to_string(part_.cells.size()) + " cells have no free contact node of their own (rectangles " +
+            describe_cell_sizes(part_) + ", contact mesh size h = " + number(face_.h) + " m), e.g." + cells +
             "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
       }
-      root_of_cell = build();
+      root_of_cell = collect_cells();
     }
   }
-  return part;
+
+  const Mesh& mesh_;
+  const ContactFace& face_;
+  const PartitionOptions& opt_;
+  Partition part_;
+  std::vector<Polygon> whole_triangles_;  // the contact triangles in the plane
+  std::vector<Box> triangle_boxes_;       // and their bounding boxes
+  std::optional<GridBoxes> boxes_;
+  std::vector<CellPiece> pieces_;                     // a triangle clipped to one rectangle
+  std::vector<std::vector<int>> pieces_of_triangle_;  // indices into pieces_
+  std::vector<std::vector<int>> adj_;                 // pieces sharing a boundary segment
+  UnionFind uf_{0};                                   // pieces into cells
+  std::vector<double> area_;                          // a cell's area, at its root piece
+};
+
+}  // namespace
+
+Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt) {
+  return GridPartitionBuilder(mesh, face, opt).build();
 }
 
 std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face,
