@@ -273,6 +273,129 @@ FrictionLaw parse_law(const toml::table& fr) {
   return law;
 }
 
+// [mesh]: exactly one source (a file, a gmsh .geo, a FreeFEM .edp or the built-in paper brick).
+void parse_mesh(const toml::table& mesh, const std::filesystem::path& base, Scene& s) {
+  check_keys(mesh, "mesh", {"file", "geo", "edp", "parameters", "generator", "n", "trusted"});
+  if (mesh.contains("trusted")) {
+    const auto v = mesh["trusted"].value<bool>();
+    if (!v || !mesh["trusted"].is_boolean()) throw InputError("mesh.trusted must be true or false");
+    s.mesh.trusted = *v;
+  }
+  const int sources = mesh.contains("file") + mesh.contains("geo") + mesh.contains("edp") + mesh.contains("generator");
+  if (sources != 1) throw InputError("[mesh] needs exactly one of: file, geo, edp, generator");
+  if (mesh.contains("file")) s.mesh.file = resolve(base, get_string(mesh, "mesh", "file", ""));
+  if (mesh.contains("geo")) s.mesh.geo = resolve(base, get_string(mesh, "mesh", "geo", ""));
+  if (mesh.contains("edp")) s.mesh.edp = resolve(base, get_string(mesh, "mesh", "edp", ""));
+  s.mesh.generator = get_string(mesh, "mesh", "generator", "");
+  if (!s.mesh.generator.empty() && s.mesh.generator != "paper_brick")
+    throw InputError("mesh.generator must be 'paper_brick', got '" + s.mesh.generator + "'");
+  s.mesh.n = get_int(mesh, "mesh", "n", 4, 1, 64);  // n = 64: 3.9M tets, ~2.4M dofs
+  if (const toml::table* params = table_at(mesh, "parameters"))
+    for (const auto& [k, v] : *params)
+      s.mesh.parameters[std::string(k.str())] = get_number(*params, "mesh.parameters", std::string(k.str()), 0);
+}
+
+// [friction] (optional: none given is frictionless): the law of F, Tresca's bound g or Coulomb's.
+void parse_friction(const toml::table* fr, Scene& s) {
+  static const toml::table empty;
+  s.law = parse_law(fr ? *fr : empty);
+  const std::string model = fr ? get_string(*fr, "friction", "model", "tresca") : "tresca";
+  if (!value_of(model, kFrictionModelNames, s.friction_model))
+    throw InputError("friction.model must be " + names_list(kFrictionModelNames) + ", got '" + model + "'");
+  s.slip_bound = fr ? get_number(*fr, "friction", "slip_bound", 0) : 0;
+  if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + number(s.slip_bound));
+  if (s.friction_model == FrictionModel::Coulomb && s.slip_bound != 0)
+    throw InputError(
+        "friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
+        "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
+  if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
+      !fr->contains("slip_bound"))
+    throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() +
+                     "' (or model = \"coulomb\", whose bound is the normal pressure)");
+}
+
+// [contact]: the foundation plane and the cells' size H (a length, a multiple of h, or "auto").
+void parse_contact(const toml::table& ct, Scene& s) {
+  check_keys(ct, "contact", {"cell_size", "plane_point", "plane_normal"});
+  const Eigen::Vector3d plane_point =
+      ct.contains("plane_point") ? get_vector(ct.get("plane_point"), "contact.plane_point") : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d plane_normal = ct.contains("plane_normal")
+                                           ? get_vector(ct.get("plane_normal"), "contact.plane_normal")
+                                           : Eigen::Vector3d::UnitZ();
+  s.foundation = FoundationFrame::from_plane(plane_point, plane_normal);
+  if (const toml::node* n = ct.get("cell_size")) {
+    s.cell_size_auto = n->is_string() && *n->value<std::string>() == "auto";
+    if (s.cell_size_auto) {
+      s.cell_size = 2;
+      s.cell_size_relative = true;
+    } else if (n->is_string()) {
+      std::string v = *n->value<std::string>();
+      if (v.empty() || v.back() != 'h')
+        throw InputError("contact.cell_size must be a length (m), a multiple of h like \"2h\" or \"auto\", got '" + v +
+                         "'");
+      v.pop_back();
+      try {
+        std::size_t used = 0;
+        s.cell_size = v.empty() ? 1.0 : std::stod(v, &used);
+        if (!v.empty() && used != v.size()) throw std::invalid_argument(v);
+      } catch (const std::exception&) { throw InputError("contact.cell_size: cannot read '" + v + "h'"); }
+      s.cell_size_relative = true;
+    } else {
+      s.cell_size = get_number(ct, "contact", "cell_size", 0);
+      s.cell_size_relative = false;
+    }
+    if (!(s.cell_size > 0) || !std::isfinite(s.cell_size)) throw InputError("contact.cell_size must be positive");
+  }
+}
+
+// [solver]: every key a field of SolverSettings (scene.hpp), with its default there.
+void parse_solver(const toml::table& sv, const std::filesystem::path& base, Scene& s) {
+  check_keys(sv, "solver",
+             {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
+              "qp_precision", "fixed_point", "anderson_depth", "fixed_point_tail_err", "fixed_point_newton",
+              "fixed_point_prediction", "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization",
+              "out_of_core_dir", "qp_newton_systems", "qp_cg_preconditioner"});
+  auto& o = s.solver;
+  o.qp_rtol = get_number(sv, "solver", "qp_rtol", o.qp_rtol);
+  o.qp.max_iterations = get_int(sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
+  o.fixed_point_tol = get_number(sv, "solver", "fixed_point_tol", o.fixed_point_tol);
+  o.fixed_point_max_iter = get_int(sv, "solver", "fixed_point_max_iter", o.fixed_point_max_iter, 1, 100000);
+  o.anderson_depth = get_int(sv, "solver", "anderson_depth", o.anderson_depth, 1, 50);
+  o.qp_rtol_per_err = get_number(sv, "solver", "qp_rtol_per_err", o.qp_rtol_per_err);
+  o.fixed_point_tail_err = get_number(sv, "solver", "fixed_point_tail_err", o.fixed_point_tail_err);
+  if (!(o.fixed_point_tail_err >= 0 && o.fixed_point_tail_err < 1))
+    throw InputError("solver.fixed_point_tail_err must lie in [0, 1) (0: no tail, the relaxation to the end)");
+  if (!(o.qp_rtol > 0 && o.qp_rtol < 1)) throw InputError("solver.qp_rtol must lie in (0, 1)");
+  if (!(o.qp_rtol_per_err >= 0 && o.qp_rtol_per_err < 1))
+    throw InputError("solver.qp_rtol_per_err must lie in [0, 1) (0: every step at qp_rtol)");
+  if (!(o.fixed_point_tol > 0 && o.fixed_point_tol < 1)) throw InputError("solver.fixed_point_tol must lie in (0, 1)");
+  get_enum(sv, "solver", "qp", kQpVariantNames, o.qp.variant);
+  get_enum(sv, "solver", "qp_scaling", kQpScalingNames, o.qp.scaling);
+  get_enum(sv, "solver", "qp_precision", kQpPrecisionNames, o.qp.precision);
+  get_enum(sv, "solver", "qp_newton_systems", kNewtonSystemsNames, o.qp.newton_systems);
+  get_enum(sv, "solver", "qp_cg_preconditioner", kCgPreconditionerNames, o.qp.cg_preconditioner);
+  get_enum(sv, "solver", "schur", kDualMethodNames, o.dual_method);
+  get_enum(sv, "solver", "fixed_point", kFixedPointVariantNames, o.fixed_point);
+  for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},
+                                    {"fixed_point_newton", &o.fixed_point_newton},
+                                    {"fixed_point_prediction", &o.fixed_point_prediction},
+                                    {"reference_factorization", &o.reference_factorization}}) {
+    if (!sv.contains(key)) continue;
+    const auto v = sv[key].value<bool>();
+    if (!v || !sv[key].is_boolean()) throw InputError(std::string("solver.") + key + " must be true or false");
+    *target = *v;
+  }
+  if (sv.contains("out_of_core_dir")) o.out_of_core_dir = out_of_core_dir(base, sv);
+}
+
+// [output]: the folder, the steps written and the units of the reports.
+void parse_output(const toml::table& out, const std::filesystem::path& base, Scene& s) {
+  check_keys(out, "output", {"dir", "steps", "units"});
+  if (out.contains("dir")) s.output.dir = resolve(base, get_string(out, "output", "dir", ""));
+  get_enum(out, "output", "steps", kStepOutputNames, s.output.steps);
+  get_enum(out, "output", "units", kUnitSystemNames, s.output.units);
+}
+
 }  // namespace
 
 Scene parse_scene_text(const std::string& text, const std::filesystem::path& base,
@@ -292,132 +415,19 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
   std::ostringstream echo;
   echo << root;
   s.echo = echo.str();
-
-  static const toml::table empty;
   const toml::table* mesh = table_at(root, "mesh");
   if (!mesh) throw InputError("the scene has no [mesh] table");
-  check_keys(*mesh, "mesh", {"file", "geo", "edp", "parameters", "generator", "n", "trusted"});
-  if (mesh->contains("trusted")) {
-    const auto v = (*mesh)["trusted"].value<bool>();
-    if (!v || !(*mesh)["trusted"].is_boolean()) throw InputError("mesh.trusted must be true or false");
-    s.mesh.trusted = *v;
-  }
-  const int sources =
-      mesh->contains("file") + mesh->contains("geo") + mesh->contains("edp") + mesh->contains("generator");
-  if (sources != 1) throw InputError("[mesh] needs exactly one of: file, geo, edp, generator");
-  if (mesh->contains("file")) s.mesh.file = resolve(base, get_string(*mesh, "mesh", "file", ""));
-  if (mesh->contains("geo")) s.mesh.geo = resolve(base, get_string(*mesh, "mesh", "geo", ""));
-  if (mesh->contains("edp")) s.mesh.edp = resolve(base, get_string(*mesh, "mesh", "edp", ""));
-  s.mesh.generator = get_string(*mesh, "mesh", "generator", "");
-  if (!s.mesh.generator.empty() && s.mesh.generator != "paper_brick")
-    throw InputError("mesh.generator must be 'paper_brick', got '" + s.mesh.generator + "'");
-  s.mesh.n = get_int(*mesh, "mesh", "n", 4, 1, 64);  // n = 64: 3.9M tets, ~2.4M dofs
-  if (const toml::table* params = table_at(*mesh, "parameters"))
-    for (const auto& [k, v] : *params)
-      s.mesh.parameters[std::string(k.str())] = get_number(*params, "mesh.parameters", std::string(k.str()), 0);
-
+  parse_mesh(*mesh, base, s);
   const toml::table* mat = table_at(root, "material");
   if (!mat) throw InputError("the scene has no [material] table");
   parse_material(*mat, s);
   const toml::table* bnd = table_at(root, "boundary");
   if (!bnd) throw InputError("the scene has no [boundary] table");
   parse_boundary(*bnd, s);
-
-  const toml::table* fr = table_at(root, "friction");
-  s.law = parse_law(fr ? *fr : empty);
-  const std::string model = fr ? get_string(*fr, "friction", "model", "tresca") : "tresca";
-  if (!value_of(model, kFrictionModelNames, s.friction_model))
-    throw InputError("friction.model must be " + names_list(kFrictionModelNames) + ", got '" + model + "'");
-  s.slip_bound = fr ? get_number(*fr, "friction", "slip_bound", 0) : 0;
-  if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + number(s.slip_bound));
-  if (s.friction_model == FrictionModel::Coulomb && s.slip_bound != 0)
-    throw InputError(
-        "friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
-        "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
-  if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
-      !fr->contains("slip_bound"))
-    throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() +
-                     "' (or model = \"coulomb\", whose bound is the normal pressure)");
-
-  if (const toml::table* ct = table_at(root, "contact")) {
-    check_keys(*ct, "contact", {"cell_size", "plane_point", "plane_normal"});
-    const Eigen::Vector3d plane_point = ct->contains("plane_point")
-                                            ? get_vector(ct->get("plane_point"), "contact.plane_point")
-                                            : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d plane_normal = ct->contains("plane_normal")
-                                             ? get_vector(ct->get("plane_normal"), "contact.plane_normal")
-                                             : Eigen::Vector3d::UnitZ();
-    s.foundation = FoundationFrame::from_plane(plane_point, plane_normal);
-    if (const toml::node* n = ct->get("cell_size")) {
-      s.cell_size_auto = n->is_string() && *n->value<std::string>() == "auto";
-      if (s.cell_size_auto) {
-        s.cell_size = 2;
-        s.cell_size_relative = true;
-      } else if (n->is_string()) {
-        std::string v = *n->value<std::string>();
-        if (v.empty() || v.back() != 'h')
-          throw InputError("contact.cell_size must be a length (m), a multiple of h like \"2h\" or \"auto\", got '" +
-                           v + "'");
-        v.pop_back();
-        try {
-          std::size_t used = 0;
-          s.cell_size = v.empty() ? 1.0 : std::stod(v, &used);
-          if (!v.empty() && used != v.size()) throw std::invalid_argument(v);
-        } catch (const std::exception&) { throw InputError("contact.cell_size: cannot read '" + v + "h'"); }
-        s.cell_size_relative = true;
-      } else {
-        s.cell_size = get_number(*ct, "contact", "cell_size", 0);
-        s.cell_size_relative = false;
-      }
-      if (!(s.cell_size > 0) || !std::isfinite(s.cell_size)) throw InputError("contact.cell_size must be positive");
-    }
-  }
-
-  if (const toml::table* sv = table_at(root, "solver")) {
-    check_keys(*sv, "solver",
-               {"qp_rtol", "qp_max_iterations", "fixed_point_tol", "fixed_point_max_iter", "qp", "qp_scaling",
-                "qp_precision", "fixed_point", "anderson_depth", "fixed_point_tail_err", "fixed_point_newton",
-                "fixed_point_prediction", "qp_rtol_per_err", "schur", "inexact_fixed_point", "reference_factorization",
-                "out_of_core_dir", "qp_newton_systems", "qp_cg_preconditioner"});
-    auto& o = s.solver;
-    o.qp_rtol = get_number(*sv, "solver", "qp_rtol", o.qp_rtol);
-    o.qp.max_iterations = get_int(*sv, "solver", "qp_max_iterations", o.qp.max_iterations, 1, 100000000);
-    o.fixed_point_tol = get_number(*sv, "solver", "fixed_point_tol", o.fixed_point_tol);
-    o.fixed_point_max_iter = get_int(*sv, "solver", "fixed_point_max_iter", o.fixed_point_max_iter, 1, 100000);
-    o.anderson_depth = get_int(*sv, "solver", "anderson_depth", o.anderson_depth, 1, 50);
-    o.qp_rtol_per_err = get_number(*sv, "solver", "qp_rtol_per_err", o.qp_rtol_per_err);
-    o.fixed_point_tail_err = get_number(*sv, "solver", "fixed_point_tail_err", o.fixed_point_tail_err);
-    if (!(o.fixed_point_tail_err >= 0 && o.fixed_point_tail_err < 1))
-      throw InputError("solver.fixed_point_tail_err must lie in [0, 1) (0: no tail, the relaxation to the end)");
-    if (!(o.qp_rtol > 0 && o.qp_rtol < 1)) throw InputError("solver.qp_rtol must lie in (0, 1)");
-    if (!(o.qp_rtol_per_err >= 0 && o.qp_rtol_per_err < 1))
-      throw InputError("solver.qp_rtol_per_err must lie in [0, 1) (0: every step at qp_rtol)");
-    if (!(o.fixed_point_tol > 0 && o.fixed_point_tol < 1))
-      throw InputError("solver.fixed_point_tol must lie in (0, 1)");
-    get_enum(*sv, "solver", "qp", kQpVariantNames, o.qp.variant);
-    get_enum(*sv, "solver", "qp_scaling", kQpScalingNames, o.qp.scaling);
-    get_enum(*sv, "solver", "qp_precision", kQpPrecisionNames, o.qp.precision);
-    get_enum(*sv, "solver", "qp_newton_systems", kNewtonSystemsNames, o.qp.newton_systems);
-    get_enum(*sv, "solver", "qp_cg_preconditioner", kCgPreconditionerNames, o.qp.cg_preconditioner);
-    get_enum(*sv, "solver", "schur", kDualMethodNames, o.dual_method);
-    get_enum(*sv, "solver", "fixed_point", kFixedPointVariantNames, o.fixed_point);
-    for (const auto& [key, target] : {std::pair<const char*, bool*>{"inexact_fixed_point", &o.inexact_fixed_point},
-                                      {"fixed_point_newton", &o.fixed_point_newton},
-                                      {"fixed_point_prediction", &o.fixed_point_prediction},
-                                      {"reference_factorization", &o.reference_factorization}}) {
-      if (!sv->contains(key)) continue;
-      const auto v = (*sv)[key].value<bool>();
-      if (!v || !(*sv)[key].is_boolean()) throw InputError(std::string("solver.") + key + " must be true or false");
-      *target = *v;
-    }
-    if (sv->contains("out_of_core_dir")) o.out_of_core_dir = out_of_core_dir(base, *sv);
-  }
-  if (const toml::table* out = table_at(root, "output")) {
-    check_keys(*out, "output", {"dir", "steps", "units"});
-    if (out->contains("dir")) s.output.dir = resolve(base, get_string(*out, "output", "dir", ""));
-    get_enum(*out, "output", "steps", kStepOutputNames, s.output.steps);
-    get_enum(*out, "output", "units", kUnitSystemNames, s.output.units);
-  }
+  parse_friction(table_at(root, "friction"), s);
+  if (const toml::table* ct = table_at(root, "contact")) parse_contact(*ct, s);
+  if (const toml::table* sv = table_at(root, "solver")) parse_solver(*sv, base, s);
+  if (const toml::table* out = table_at(root, "output")) parse_output(*out, base, s);
   return s;
 }
 
