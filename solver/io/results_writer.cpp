@@ -79,8 +79,6 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
   });
 }
 
-}  // namespace
-
 void write_vector(JsonWriter& j, const char* key, const Eigen::Vector3d& v) {
   j.begin_array(key).element(v.x()).element(v.y()).element(v.z()).end_array();
 }
@@ -102,118 +100,151 @@ void write_forces(JsonWriter& j, const ResultantForces& f) {
   j.end_object();
 }
 
+// The problem's sizes: mesh, unknowns, contact face and its cells.
+void write_sizes(JsonWriter& j, const Mesh& mesh, const SolveResult& res, const RunInfo& info) {
+  j.value("mesh", info.mesh_description);
+  j.value("n_nodes", static_cast<long long>(mesh.nodes.size()))
+      .value("n_tets", static_cast<long long>(mesh.tets.size()));
+  j.value("n_primal", res.n_primal).value("n_dual", res.n_dual);
+  j.value("n_contact_nodes", static_cast<long long>(res.face.nodes.size())).value("n_cells", res.n_cells);
+  j.value("contact_h", res.face.h)
+      .value("cell_size", res.cell_size)
+      .value("cells_merged", res.partition.merged_slivers);
+  j.value("cells_split", res.partition.split_cells).value("cells_merged_for_stability", res.partition.stability_merges);
+  j.value("cells_graded", res.partition.graded);
+  if (res.partition.graded) {  // the rectangles follow the contact mesh (contact/grid_boxes.hpp): their sides
+    for (const auto& [key, sides] : {std::pair{"cell_sides_smallest", res.partition.smallest_box},
+                                     std::pair{"cell_sides_largest", res.partition.largest_box}})
+      j.begin_array(key).element(sides.x()).element(sides.y()).end_array();
+  }
+}
+
+// What the solve cost: fixed-point steps, the paper's n_mult and the QP's own counts.
+void write_work(JsonWriter& j, const SolveResult& res) {
+  j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
+  j.value("n_mult", res.n_mult)
+      .value("qp_iterations", res.qp_iterations)
+      .value("qp_newton_steps", res.qp_newton_steps)
+      .value("qp_newton_steps_bordered", res.qp_bordered_newton_steps)
+      .value("qp_single_products", res.qp_single_products)
+      .value("qp_coarse_products", res.qp_coarse_products);
+  j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
+}
+
+// Where the factorization ran: the backend, its ranks and their peak memory, the BLAS threads.
+void write_backend(JsonWriter& j, const SolveResult& res, const RunInfo& info) {
+  j.begin_object("backend").value("name", res.backend);
+  j.value("ranks", res.ranks).value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");
+  for (double mib : res.peak_memory_per_rank_mib) j.element(mib);
+  j.end_array();
+  // OpenBLAS's threads (blas_threads.hpp): fitted to the cores other processes left idle
+  j.begin_object("blas_threads").value("threads", info.blas.threads).value("before", info.blas.before);
+  j.value("cores", info.blas.cores).value("user_set", info.blas.user_set);
+  if (info.blas.busy_elsewhere >= 0) j.value("busy_cores_elsewhere", info.blas.busy_elsewhere);
+  j.end_object().end_object();
+}
+
+// How the solve ended: the friction model, the last QP, err per step and the fixed point's bound.
+void write_convergence(JsonWriter& j, const Scene& scene, const SolveResult& res) {
+  j.value("friction_model",
+          scene.frictionless() ? std::string("none") : name_of(scene.friction_model, kFrictionModelNames));
+  j.value("qp_last_status", to_string(res.last_qp.status))
+      .value("qp_last_projected_gradient", res.last_qp.projected_gradient);
+  j.begin_array("err_history");
+  for (const auto& s : solve_history(res)) j.element(s.err);
+  j.end_array();
+  if (!res.fixed_point.history.empty()) {  // how far the answer may be from the fixed point of (5.7)
+    const FixedPointResult& fp = res.fixed_point;
+    j.begin_object("fixed_point");
+    j.value("contraction_factor", fp.contraction_factor);  // null before three steps
+    j.value("contracted", fp.contraction_factor < 1);      // q < 1 observed over the last steps
+    j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err, an estimate; null when q >= 1
+    j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
+    j.value("plain_fallback_step", fp.plain_fallback_step);  // 0: the variant never fell back to plain steps
+    j.value("mixed_steps", fp.mixed_steps);                  // iterates from the accelerated variant's tail mixing
+    j.value("newton_steps", fp.newton_steps);                // iterates from its Newton steps on the slip
+    j.value("predicted_steps", fp.predicted_steps);          // iterates from the fixed point of G's prediction
+    j.value("final_qp_rtol", fp.history.back().qp_rtol);
+    j.value("hint", fp.hint);
+    j.end_object();
+  }
+}
+
+// The answer on the contact face: penetration, conditioning, warnings and notes, forces and areas.
+void write_contact(JsonWriter& j, const SolveResult& res) {
+  j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
+  j.value("stability_condition_estimate", res.stability_condition);
+  if (res.stability_condition_scaled > 0) j.value("stability_condition_scaled", res.stability_condition_scaled);
+  j.value("factor_nonzeros", res.factor_nonzeros);
+  j.begin_array("warnings");
+  for (const auto& w : res.warnings) j.element(w);
+  j.end_array();
+  j.begin_array("notes");
+  for (const auto& n : res.notes) j.element(n);
+  j.end_array();
+  j.value("step_solve_fraction", res.step_solve_fraction);
+  const ContactResultants cr = contact_resultants(res, final_state(res));
+  // ∫λ over the cells in the plane's frame: the normal force on the body, and (t1, t2) = ∫λ_t,
+  // minus the friction force on the body (forces.contact has the whole force on the body, user axes).
+  j.begin_object("contact_force").value("normal", cr.normal).value("t1", cr.t1).value("t2", cr.t2);
+  j.value("tangential", std::hypot(cr.t1, cr.t2)).end_object();
+  if (has_friction(res))
+    j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
+  j.value("max_penetration", res.wn_plus_inf);       // max nodal (w_n − d)⁺ on Γc
+  j.value("penetration_ratio", res.penetration_ratio);             // max_penetration / the largest nodal displacement
+  if (const PartitionRefinement& pr = res.refinement; pr.tried) {  // contact.cell_size = "auto" solved twice
+    j.begin_object("partition_refinement").value("first_cell_size", pr.first_cell_size);
+    j.value("first_penetration_ratio", pr.first_penetration_ratio).value("first_seconds", pr.first_seconds);
+    j.value("kept_finer", pr.kept_finer).value("outcome", pr.outcome).end_object();
+  }
+  j.value("friction_where_separated_area", res.friction_where_separated_area);  // Tresca's bound where λ_n = 0
+  {  // areas of the cells by status (in the plane; the cells' own areas)
+    const double no_friction = std::numeric_limits<double>::quiet_NaN();  // null: no stick/slip without friction
+    j.begin_object("contact_area").value("in_contact", cr.area[kStick] + cr.area[kSlip]);
+    j.value("stick", has_friction(res) ? cr.area[kStick] : no_friction);
+    j.value("slip", has_friction(res) ? cr.area[kSlip] : no_friction);
+    j.value("separated", cr.area[kSeparated]).end_object();
+  }
+}
+
+// The units of the reports and the steps written.
+void write_units(JsonWriter& j, const Scene& scene, const Mesh& mesh) {
+  const UnitLabels units = unit_labels(scene.output.units);
+  j.begin_object("units").value("system", name_of(scene.output.units, kUnitSystemNames)).value("length", units.length);
+  j.value("force", units.force).value("stress", units.stress).end_object();
+  j.value("output_steps", name_of(resolved(scene.output.steps, mesh.nodes.size()), kStepOutputNames));  // as resolved
+}
+
+// The KKT residuals of the answer (every run writes them).
+void write_kkt(JsonWriter& j, const Scene& scene, const SolveResult& res) {
+  j.begin_object("kkt");
+  j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
+  j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
+  j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
+  if (scene.coulomb()) j.value("coulomb_relation", res.coulomb_relation);  // max |c − F̄λ_n| / max c
+  j.end_object();
+}
+
+}  // namespace
+
 void write_summary_json(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
                         const RunInfo& info) {
   write_file(file, [&](std::ostream& out) {
     JsonWriter j(out);
     j.begin_object();
     j.value("status", res.status).value("converged", res.converged);
-    j.value("mesh", info.mesh_description);
-    j.value("n_nodes", static_cast<long long>(mesh.nodes.size()))
-        .value("n_tets", static_cast<long long>(mesh.tets.size()));
-    j.value("n_primal", res.n_primal).value("n_dual", res.n_dual);
-    j.value("n_contact_nodes", static_cast<long long>(res.face.nodes.size())).value("n_cells", res.n_cells);
-    j.value("contact_h", res.face.h)
-        .value("cell_size", res.cell_size)
-        .value("cells_merged", res.partition.merged_slivers);
-    j.value("cells_split", res.partition.split_cells)
-        .value("cells_merged_for_stability", res.partition.stability_merges);
-    j.value("cells_graded", res.partition.graded);
-    if (res.partition.graded) {  // the rectangles follow the contact mesh (contact/grid_boxes.hpp): their sides
-      for (const auto& [key, sides] : {std::pair{"cell_sides_smallest", res.partition.smallest_box},
-                                       std::pair{"cell_sides_largest", res.partition.largest_box}})
-        j.begin_array(key).element(sides.x()).element(sides.y()).end_array();
-    }
-    j.value("fixed_point_iterations", std::max(1, res.fixed_point.iterations()));
-    j.value("n_mult", res.n_mult)
-        .value("qp_iterations", res.qp_iterations)
-        .value("qp_newton_steps", res.qp_newton_steps)
-        .value("qp_newton_steps_bordered", res.qp_bordered_newton_steps)
-        .value("qp_single_products", res.qp_single_products)
-        .value("qp_coarse_products", res.qp_coarse_products);
-    j.value("schur_method", res.schur_method).value("qp_method", res.qp_method);
-    j.begin_object("backend").value("name", res.backend);
-    j.value("ranks", res.ranks).value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");
-    for (double mib : res.peak_memory_per_rank_mib) j.element(mib);
-    j.end_array();
-    // OpenBLAS's threads (blas_threads.hpp): fitted to the cores other processes left idle
-    j.begin_object("blas_threads").value("threads", info.blas.threads).value("before", info.blas.before);
-    j.value("cores", info.blas.cores).value("user_set", info.blas.user_set);
-    if (info.blas.busy_elsewhere >= 0) j.value("busy_cores_elsewhere", info.blas.busy_elsewhere);
-    j.end_object().end_object();
-    j.value("friction_model",
-            scene.frictionless() ? std::string("none") : name_of(scene.friction_model, kFrictionModelNames));
-    j.value("qp_last_status", to_string(res.last_qp.status))
-        .value("qp_last_projected_gradient", res.last_qp.projected_gradient);
-    j.begin_array("err_history");
-    for (const auto& s : solve_history(res)) j.element(s.err);
-    j.end_array();
-    if (!res.fixed_point.history.empty()) {  // how far the answer may be from the fixed point of (5.7)
-      const FixedPointResult& fp = res.fixed_point;
-      j.begin_object("fixed_point");
-      j.value("contraction_factor", fp.contraction_factor);  // null before three steps
-      j.value("contracted", fp.contraction_factor < 1);      // q < 1 observed over the last steps
-      j.value("distance_bound", fp.distance_bound);          // q/(1 − q)·err, an estimate; null when q >= 1
-      j.value("qp_tolerance_tightenings", fp.qp_tolerance_tightenings);
-      j.value("plain_fallback_step", fp.plain_fallback_step);  // 0: the variant never fell back to plain steps
-      j.value("mixed_steps", fp.mixed_steps);                  // iterates from the accelerated variant's tail mixing
-      j.value("newton_steps", fp.newton_steps);                // iterates from its Newton steps on the slip
-      j.value("predicted_steps", fp.predicted_steps);          // iterates from the fixed point of G's prediction
-      j.value("final_qp_rtol", fp.history.back().qp_rtol);
-      j.value("hint", fp.hint);
-      j.end_object();
-    }
-    j.value("wn_plus_L2", res.wn_plus_L2).value("wn_plus_inf", res.wn_plus_inf);
-    j.value("stability_condition_estimate", res.stability_condition);
-    if (res.stability_condition_scaled > 0) j.value("stability_condition_scaled", res.stability_condition_scaled);
-    j.value("factor_nonzeros", res.factor_nonzeros);
-    j.begin_array("warnings");
-    for (const auto& w : res.warnings) j.element(w);
-    j.end_array();
-    j.begin_array("notes");
-    for (const auto& n : res.notes) j.element(n);
-    j.end_array();
-    j.value("step_solve_fraction", res.step_solve_fraction);
-    const ContactResultants cr = contact_resultants(res, final_state(res));
-    // ∫λ over the cells in the plane's frame: the normal force on the body, and (t1, t2) = ∫λ_t,
-    // minus the friction force on the body (forces.contact has the whole force on the body, user axes).
-    j.begin_object("contact_force").value("normal", cr.normal).value("t1", cr.t1).value("t2", cr.t2);
-    j.value("tangential", std::hypot(cr.t1, cr.t2)).end_object();
-    if (has_friction(res))
-      j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
-    j.value("max_penetration", res.wn_plus_inf);       // max nodal (w_n − d)⁺ on Γc
-    j.value("penetration_ratio", res.penetration_ratio);             // max_penetration / the largest nodal displacement
-    if (const PartitionRefinement& pr = res.refinement; pr.tried) {  // contact.cell_size = "auto" solved twice
-      j.begin_object("partition_refinement").value("first_cell_size", pr.first_cell_size);
-      j.value("first_penetration_ratio", pr.first_penetration_ratio).value("first_seconds", pr.first_seconds);
-      j.value("kept_finer", pr.kept_finer).value("outcome", pr.outcome).end_object();
-    }
-    j.value("friction_where_separated_area", res.friction_where_separated_area);  // Tresca's bound where λ_n = 0
-    {  // areas of the cells by status (in the plane; the cells' own areas)
-      const double no_friction = std::numeric_limits<double>::quiet_NaN();  // null: no stick/slip without friction
-      j.begin_object("contact_area").value("in_contact", cr.area[kStick] + cr.area[kSlip]);
-      j.value("stick", has_friction(res) ? cr.area[kStick] : no_friction);
-      j.value("slip", has_friction(res) ? cr.area[kSlip] : no_friction);
-      j.value("separated", cr.area[kSeparated]).end_object();
-    }
-    const UnitLabels units = unit_labels(scene.output.units);
-    j.begin_object("units")
-        .value("system", name_of(scene.output.units, kUnitSystemNames))
-        .value("length", units.length);
-    j.value("force", units.force).value("stress", units.stress).end_object();
-    j.value("output_steps", name_of(resolved(scene.output.steps, mesh.nodes.size()), kStepOutputNames));  // as resolved
+    write_sizes(j, mesh, res, info);
+    write_work(j, res);
+    write_backend(j, res, info);
+    write_convergence(j, scene, res);
+    write_contact(j, res);
+    write_units(j, scene, mesh);
     write_forces(j, res.forces);
     j.begin_object("time_s");
     j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);
     for (const auto& [stage, sec] : res.seconds) j.value(stage, sec);
     j.end_object();
-    j.begin_object("kkt");
-    j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
-    j.value("normal_complementarity", res.kkt.normal_complementarity)
-        .value("disc_feasibility", res.kkt.disc_feasibility);
-    j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
-    if (scene.coulomb()) j.value("coulomb_relation", res.coulomb_relation);  // max |c − F̄λ_n| / max c
-    j.end_object();
+    write_kkt(j, scene, res);
     write_solver_settings(j, scene.solver);
     j.value("scene", scene.echo);
     j.end_object();
