@@ -40,6 +40,17 @@ def centre_of_pressure(cells):
     return float((force * (cells["xmin"] + cells["xmax"]) / 2).sum() / force.sum())
 
 
+def refusal_reason(stderr):
+    """The reason in a refusal's last line: the unbalanced share, or the few cells it rests on."""
+    lines = stderr.strip().splitlines()
+    last = lines[-1] if lines else ""
+    unbalanced = re.search(r"\(([^()]*left unbalanced[^()]*)\)", last)
+    if unbalanced:
+        return unbalanced.group(1)
+    few_cells = re.search(r"rests on \d+ of the \d+ cells", last)
+    return few_cells.group(0) if few_cells else last[:160]
+
+
 def run_case(binary, work, threads, h_pole, cells, friction, lateral):
     out = Path(work) / f"t{threads}_{h_pole}_{cells}_{friction}_{lateral}"
     sets = [f"mesh.parameters.h_pole={h_pole}", f'contact.cell_size="{cells}"', f"friction.value={friction}",
@@ -56,10 +67,7 @@ def run_case(binary, work, threads, h_pole, cells, friction, lateral):
     if proc.returncode not in (0, 1, 2):
         return dict(row, status=f"exit {proc.returncode}", crashed=True)
     if proc.returncode == 2:
-        last = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ""
-        why = re.search(r"\(([^()]*left unbalanced[^()]*)\)", last) or re.search(r"rests on \d+ of the \d+ cells", last)
-        return dict(row, status="refused: " + (why.group(1) if why and why.groups() else why.group(0) if why
-                                               else last[:160]), crashed=False)
+        return dict(row, status="refused: " + refusal_reason(proc.stderr), crashed=False)
     s = c3d_run.summary(out)
     applied, contact = np.array(s["forces"]["applied"]), np.array(s["forces"]["contact"])
     kkt = max(v for k, v in s["kkt"].items() if k not in ("projected_gradient", "coulomb_relation"))
@@ -67,7 +75,9 @@ def run_case(binary, work, threads, h_pole, cells, friction, lateral):
                seconds=s["time_s"].get("total", float("nan")),
                balance=float(np.linalg.norm(contact + applied) / np.linalg.norm(applied)))
     if lateral:
-        row.update(ft=-contact[0], fx=applied[0], x_p=centre_of_pressure(np.genfromtxt(out / "contact_cells.csv", delimiter=",", names=True)), x_expected=-RADIUS * contact[0] / contact[2])
+        cells = np.genfromtxt(out / "contact_cells.csv", delimiter=",", names=True)
+        row.update(ft=-contact[0], fx=applied[0], x_p=centre_of_pressure(cells),
+                   x_expected=-RADIUS * contact[0] / contact[2])
     return row
 
 

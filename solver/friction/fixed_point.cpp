@@ -699,7 +699,7 @@ class FixedPointRun {
                              : q < 1                                                              ? q / (1 - q) * err
                                      : std::numeric_limits<double>::infinity();
     result_.hint = hint_for(status, q, rtol_);
-    return result_;
+    return std::move(result_);  // the run ends here
   }
 
   const SlipMap& G_;
