@@ -12,16 +12,25 @@ namespace {
 constexpr double kActiveRelTol = 1e-12;
 }
 
+namespace {
+// out += AᵀA V: the operator's low-rank term (none when A has no rows), in double.
+template <class Dense>
+Dense with_low_rank(Dense out, const Eigen::MatrixXd& A, const Dense& V) {
+  if (A.rows() > 0) out.noalias() += A.transpose() * (A * V);
+  return out;
+}
+}  // namespace
+
 Eigen::VectorXd BoxDiscQP::apply(const Eigen::VectorXd& v) const {
   const auto Q_times = [this](const Eigen::VectorXd& x) { return Q ? symmetric_product(*Q, x) : product(x); };
-  if (scale.size() == 0) return Q_times(v);
-  return scale.cwiseProduct(Q_times(scale.cwiseProduct(v)));
+  if (scale.size() == 0) return with_low_rank(Q_times(v), low_rank, v);
+  return with_low_rank(Eigen::VectorXd(scale.cwiseProduct(Q_times(scale.cwiseProduct(v)))), low_rank, v);
 }
 
 Eigen::MatrixXd BoxDiscQP::apply_block(const Eigen::MatrixXd& V) const {
   if (!Q && block_product) {
-    if (scale.size() == 0) return block_product(V);
-    return scale.asDiagonal() * block_product(scale.asDiagonal() * V);
+    if (scale.size() == 0) return with_low_rank(block_product(V), low_rank, V);
+    return with_low_rank(Eigen::MatrixXd(scale.asDiagonal() * block_product(scale.asDiagonal() * V)), low_rank, V);
   }
   Eigen::MatrixXd out(V.rows(), V.cols());
   for (Eigen::Index j = 0; j < V.cols(); ++j) out.col(j) = apply(V.col(j));
@@ -30,20 +39,22 @@ Eigen::MatrixXd BoxDiscQP::apply_block(const Eigen::MatrixXd& V) const {
 
 Eigen::VectorXd BoxDiscQP::diagonal() const {
   const Eigen::VectorXd d = Q ? Eigen::VectorXd((*Q).diagonal()) : q_diagonal;
-  return scale.size() ? Eigen::VectorXd(d.cwiseProduct(scale.cwiseAbs2())) : d;
+  Eigen::VectorXd scaled = scale.size() ? Eigen::VectorXd(d.cwiseProduct(scale.cwiseAbs2())) : d;
+  if (has_low_rank()) scaled += low_rank.colwise().squaredNorm().transpose();
+  return scaled;
 }
 
 Eigen::VectorXd BoxDiscQP::apply_single(const Eigen::VectorXd& v) const {
-  if (Q_single) return symmetric_product(Q_single, single_scale, v);
+  if (Q_single) return with_low_rank(symmetric_product(Q_single, single_scale, v), low_rank, v);
   if (!single_product) return apply(v);
-  if (scale.size() == 0) return single_product(v);
-  return scale.cwiseProduct(single_product(scale.cwiseProduct(v)));
+  if (scale.size() == 0) return with_low_rank(single_product(v), low_rank, v);
+  return with_low_rank(Eigen::VectorXd(scale.cwiseProduct(single_product(scale.cwiseProduct(v)))), low_rank, v);
 }
 
 Eigen::MatrixXd BoxDiscQP::apply_block_single(const Eigen::MatrixXd& V) const {
   if (Q || !single_block_product) return apply_block(V);
-  if (scale.size() == 0) return single_block_product(V);
-  return scale.asDiagonal() * single_block_product(scale.asDiagonal() * V);
+  if (scale.size() == 0) return with_low_rank(single_block_product(V), low_rank, V);
+  return with_low_rank(Eigen::MatrixXd(scale.asDiagonal() * single_block_product(scale.asDiagonal() * V)), low_rank, V);
 }
 
 double BoxDiscQP::value(const Eigen::VectorXd& lambda) const { return 0.5 * lambda.dot(apply(lambda)) - h.dot(lambda); }

@@ -56,6 +56,11 @@ struct BoxDiscQP {
   // Optional solver of the Newton steps' reduced systems through a factor of the whole Q, kept for
   // the scene (bordered_newton.hpp); Newton steps try it before factoring the reduced matrix.
   BorderedNewton* bordered = nullptr;
+  // Optional low-rank term: the operator becomes (S) Q (S) + AᵀA, A = low_rank (k × m, k <= 6, in the
+  // problem's own variables). The augmented Lagrangian's penalty (dual_qp_solver.cpp): every product,
+  // the diagonal and the Newton steps' reduced systems take it in, so its inner problems keep Q's
+  // single copy and the bordered factor (ssn.cpp adds AᵀA to the latter by a Woodbury update).
+  Eigen::MatrixXd low_rank;
   Eigen::VectorXd h;
   int r = 0;
   bool with_friction = true;
@@ -63,6 +68,7 @@ struct BoxDiscQP {
   double q_norm = 0;       // ‖Q‖, or an estimate of it with a small safety margin (see estimate_norm)
 
   MultiplierLayout layout() const { return {r, with_friction}; }
+  bool has_low_rank() const { return low_rank.rows() > 0; }
   bool matrix_free() const { return Q == nullptr; }
   int size() const { return layout().size(); }
   // Q v from the lower triangle only (linalg/symmetric_product.hpp), scaled when `scale` is set.

@@ -156,19 +156,13 @@ Eigen::MatrixXd range_projector(const Eigen::MatrixXd& G) {
 }
 
 // The problem with ½‖A x‖² added to its objective (A: k × m, k <= 6): its operator becomes Q + AᵀA,
-// applied as a product (Q's factor, single copy and coarse space know nothing of AᵀA), so the Newton
-// steps solve their reduced systems by CG with the diagonal. The augmented Lagrangian's inner problem.
+// A as the problem's low-rank term (BoxDiscQP::low_rank), so Q's single copy and the bordered factor
+// still serve (the Newton steps add AᵀA by a Woodbury update). The augmented Lagrangian's inner problem.
 BoxDiscQP with_penalty(const BoxDiscQP& problem, const Eigen::MatrixXd& A) {
-  auto base = std::make_shared<const BoxDiscQP>(problem);
-  BoxDiscQP penalized;
-  penalized.product = [base, A](const Eigen::VectorXd& v) {
-    return Eigen::VectorXd(base->apply(v) + A.transpose() * (A * v));
-  };
-  penalized.q_diagonal = base->diagonal() + A.colwise().squaredNorm().transpose();
-  penalized.h = problem.h;
-  penalized.r = problem.r;
-  penalized.with_friction = problem.with_friction;
-  penalized.radius = problem.radius;
+  BoxDiscQP penalized = problem;
+  penalized.low_rank = A;
+  // The coarse space's products are of Q alone: the penalized problem keeps a cache of its own.
+  if (penalized.coarse_products) penalized.coarse_products = std::make_shared<CoarseProducts>();
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A);
   const double a = svd.singularValues().size() ? svd.singularValues()[0] : 0.0;
   penalized.q_norm = problem.q_norm + a * a;

@@ -31,6 +31,16 @@ ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, dou
   return step;
 }
 
+Eigen::MatrixXd reduced_low_rank(const BoxDiscQP& qp, const std::vector<Direction>& d) {
+  Eigen::MatrixXd C(qp.low_rank.rows(), static_cast<Eigen::Index>(d.size()));
+  for (std::size_t j = 0; j < d.size(); ++j) {
+    const Eigen::Index col = static_cast<Eigen::Index>(j);
+    C.col(col) = d[j].w_a * qp.low_rank.col(d[j].a);
+    if (d[j].b >= 0) C.col(col) += d[j].w_b * qp.low_rank.col(d[j].b);
+  }
+  return C;
+}
+
 Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y,
                                 bool single) {
   const Eigen::VectorXd v = prolong(d, y, qp.size());

@@ -37,8 +37,12 @@ double projection_scale(const BoxDiscQP& qp);
 // The active sets of z = λ − ρ g and the reduced system's unknowns.
 ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho);
 
-// Dᵀ Q D + diag(shift), lower triangle (column-major, k x k), in double or in single precision, for
-// the problem's operator (qp.scale taken into the directions' weights).
+// A D (k_A × k) for the problem's low-rank term A (BoxDiscQP::low_rank): the reduced system's
+// operator is Dᵀ Q D + diag(shift) + (A D)ᵀ(A D).
+Eigen::MatrixXd reduced_low_rank(const BoxDiscQP& qp, const std::vector<Direction>& d);
+
+// Dᵀ Q D + diag(shift) (+ the low-rank term's share), lower triangle (column-major, k x k), in double or in single
+// precision, for the problem's operator (qp.scale taken into the directions' weights).
 template <typename Matrix>
 void reduced_matrix(const BoxDiscQP& qp, const std::vector<Direction>& d, Matrix& A) {
   using Scalar = typename Matrix::Scalar;
@@ -62,6 +66,9 @@ void reduced_matrix(const BoxDiscQP& qp, const std::vector<Direction>& d, Matrix
       A(row, col) = static_cast<Scalar>(row == col ? v + c.shift : v);
     }
   }
+  if (!qp.has_low_rank()) return;
+  const Eigen::MatrixXd C = reduced_low_rank(qp, d);  // (A D)ᵀ(A D), the low-rank term's share
+  A.template triangularView<Eigen::Lower>() += (C.transpose() * C).template cast<Scalar>();
 }
 
 // (Dᵀ Q D + diag(shift)) y with one product by Q in double, or through BoxDiscQP::apply_single

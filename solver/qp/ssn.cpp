@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Cholesky>
+
 #include "linalg/dense_cholesky.hpp"
 #include "qp/bordered_newton.hpp"
 #include "qp/newton_system.hpp"
@@ -56,17 +58,43 @@ bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, cons
   return false;
 }
 
+// M⁻¹ for M = M₀ + CᵀC, given M₀⁻¹ (the bordered factor's solve) and C = A D (the problem's low-rank
+// term, reduced_low_rank): Woodbury's M⁻¹b = M₀⁻¹b − Z (I + C Z)⁻¹ C M₀⁻¹b, Z = M₀⁻¹Cᵀ (k_A solves
+// once per Newton step). Without a low-rank term, M₀⁻¹ itself.
+class LowRankUpdatedSolve {
+ public:
+  LowRankUpdatedSolve(const BoxDiscQP& qp, const std::vector<Direction>& d, const BorderedNewton& base) : base_(base) {
+    if (!qp.has_low_rank()) return;
+    C_ = reduced_low_rank(qp, d);
+    Z_.resize(C_.cols(), C_.rows());
+    for (Eigen::Index j = 0; j < C_.rows(); ++j) Z_.col(j) = base_.solve(C_.row(j).transpose());
+    capacitance_.compute(Eigen::MatrixXd::Identity(C_.rows(), C_.rows()) + C_ * Z_);
+  }
+  bool ok() const { return C_.rows() == 0 || (Z_.allFinite() && capacitance_.info() == Eigen::Success); }
+  Eigen::VectorXd operator()(const Eigen::VectorXd& b) const {
+    Eigen::VectorXd x = base_.solve(b);
+    if (C_.rows() > 0) x -= Z_ * capacitance_.solve(C_ * x);
+    return x;
+  }
+
+ private:
+  const BorderedNewton& base_;
+  Eigen::MatrixXd C_, Z_;
+  Eigen::LDLT<Eigen::MatrixXd> capacitance_;
+};
+
 // The reduced system through the factor of the whole Q (bordered_newton.hpp), where that is cheaper
 // than factoring it (refined in double when the factor is single).
 bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d, double target, Eigen::VectorXd& y,
                             int& products) {
   if (!qp.bordered || !qp.bordered->prepare(d)) return false;
+  const LowRankUpdatedSolve solve(qp, d, *qp.bordered);
+  if (!solve.ok()) return false;
   if (qp.bordered->exact()) {  // as accurate as a factorization of the reduced matrix in double
-    const Eigen::VectorXd x = qp.bordered->solve(y);
+    const Eigen::VectorXd x = solve(y);
     if (!x.allFinite()) return false;
     y = x;
-  } else if (!refine_in_double(
-                 qp, d, [&](const Eigen::VectorXd& v) { return qp.bordered->solve(v); }, target, y, products)) {
+  } else if (!refine_in_double(qp, d, solve, target, y, products)) {
     return false;
   }
   return true;
