@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -173,110 +174,160 @@ double newton_step_cost(int free_directions, int m) {
   return flops_in_products(k * k * k / 3.0, m);
 }
 
-QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings) {
-  QpResult result;
-  if (!prepare_start(qp, lambda)) {
-    result.status = QpStatus::Converged;
-    return result;
-  }
-  const double h_norm = qp.h.norm();
-  const double tol = settings.rtol * h_norm;
-  const double rho = projection_scale(qp);
-  Eigen::VectorXd g = qp.apply(lambda) - qp.h;
-  ++result.hessian_products;
-  auto residual = [&](const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z) {
-    z = lam - rho * grad;
-    Eigen::VectorXd pz = z;
-    project(qp, pz);
-    return (lam - pz).norm();
-  };
-  Eigen::VectorXd z;
-  double F_norm = residual(lambda, g, z);
-  Eigen::VectorXd target;
-  SlowNewtonSteps slow_steps{settings.damped_step_budget};
-  for (int it = 0; it < settings.max_newton; ++it) {
-    // Stopping test at the feasible point P(λ) (λ itself may sit slightly off a circle).
-    Eigen::VectorXd lam_f = lambda;
-    project(qp, lam_f);
-    const bool moved = !(lam_f - lambda).isZero(0);
-    const Eigen::VectorXd g_f = moved ? Eigen::VectorXd(qp.apply(lam_f) - qp.h) : g;
-    if (moved) ++result.hessian_products;
-    const double pg = projected_gradient_norm(qp, lam_f, g_f);
-    result.projected_gradient = pg / h_norm;
-    if (!std::isfinite(pg)) {
-      result.status = QpStatus::Breakdown;
-      return result;
+namespace {
+
+// One solve_ssn() call: the iterate, its gradient and ‖F‖, and each part of a Newton step a method;
+// run() reads as the algorithm.
+class SemismoothNewton {
+ public:
+  SemismoothNewton(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings)
+      : qp_(qp),
+        lambda_(lambda),
+        settings_(settings),
+        h_norm_(qp.h.norm()),
+        tol_(settings.rtol * h_norm_),
+        rho_(projection_scale(qp)),
+        slow_steps_{settings.damped_step_budget} {}
+
+  QpResult run() {
+    if (!prepare_start(qp_, lambda_)) {
+      result_.status = QpStatus::Converged;
+      return result_;
     }
-    if (pg <= tol) {
-      lambda = lam_f;
-      result.status = QpStatus::Converged;
-      return result;
-    }
-    if (settings.progress)
-      settings.progress->beat([&] { return qp_heartbeat_line("ssn", result, settings.rtol, *settings.progress); });
-    const double F_before = F_norm;
-    const ReducedStep step = split_active_sets(qp, z, rho);
-    ++result.hessian_products;  // Q λ_fixed
-    double cost = 0;
-    bool bordered = false;
-    if (qp.matrix_free()) {
-      // Forcing term: the free gradient CG leaves is a fraction of ‖gᴾ‖ that shrinks with it
-      // (superlinear near the solution), never asked below what the stopping test needs.
-      const double forcing = std::min(kMaxForcing, std::sqrt(pg / h_norm));
-      if (!newton_target_by_cg(qp, step, lambda, std::max(forcing * pg, 0.1 * tol), target, result, cost)) break;
-    } else if (!newton_target(qp, step, settings.rtol, target, result.hessian_products, cost, bordered)) {
-      break;  // hand over to MPGP
-    }
-    result.bordered_steps += bordered;
-    ++result.iterations;
-    ++result.newton_steps;
-    const Eigen::VectorXd delta = target - lambda;
-    // Backtracking on ‖F‖ (full steps near the solution: local superlinear convergence).
-    double t = 1;
-    bool accepted = false;
-    const Eigen::VectorXd Qd = qp.apply(delta);
-    ++result.hessian_products;
-    Eigen::VectorXd z_try;
-    for (int ls = 0; ls < 12; ++ls, t *= 0.5) {
-      const Eigen::VectorXd lam_try = lambda + t * delta;
-      const Eigen::VectorXd g_try = g + t * Qd;
-      const double F_try = residual(lam_try, g_try, z_try);
-      if (F_try <= (1 - 1e-4 * t) * F_norm) {
-        lambda = lam_try;
-        g = g_try;
-        z = z_try;
-        F_norm = F_try;
-        accepted = true;
-        break;
+    g_ = qp_.apply(lambda_) - qp_.h;
+    ++result_.hessian_products;
+    F_norm_ = residual(lambda_, g_, z_);
+    for (int it = 0; it < settings_.max_newton; ++it) {
+      if (const std::optional<QpStatus> done = stopping_test()) {
+        result_.status = *done;
+        return result_;
+      }
+      heartbeat();
+      const double F_before = F_norm_;
+      Eigen::VectorXd target;
+      double cost = 0;
+      if (!newton_target_from_active_sets(target, cost)) break;
+      ++result_.iterations;
+      ++result_.newton_steps;
+      double step_length = 1;
+      if (!backtrack_towards(target, step_length)) break;
+      if (settings_.stop_when_linear && slow_steps_.record(step_length, F_before, F_norm_, cost)) {
+        project(qp_, lambda_);  // a damped step may leave λ just off a circle
+        result_.status = QpStatus::IterationLimit;
+        return result_;
       }
     }
-    if (!accepted) break;
-    const bool slow = slow_steps.record(t, F_before, F_norm, cost);
-    if (settings.stop_when_linear && slow) {
-      project(qp, lambda);  // a damped step may leave λ just off a circle
-      result.status = QpStatus::IterationLimit;
-      return result;
-    }
+    return newton_did_not_finish();
   }
-  // Newton did not finish: MPGP from the current point (same criterion, same answer).
-  if (!settings.fallback_to_mpgp) {
-    project(qp, lambda);
-    result.status = QpStatus::IterationLimit;
+
+ private:
+  // ‖F(λ)‖ = ‖λ − P(z)‖, z = λ − ρ g (kept for the next step's active sets).
+  double residual(const Eigen::VectorXd& lam, const Eigen::VectorXd& grad, Eigen::VectorXd& z) const {
+    z = lam - rho_ * grad;
+    Eigen::VectorXd pz = z;
+    project(qp_, pz);
+    return (lam - pz).norm();
+  }
+
+  // MPGP's test at the feasible point P(λ) (λ itself may sit slightly off a circle): converged
+  // (λ set to P(λ)), a breakdown (not finite), or nothing (go on).
+  std::optional<QpStatus> stopping_test() {
+    Eigen::VectorXd lam_f = lambda_;
+    project(qp_, lam_f);
+    const bool moved = !(lam_f - lambda_).isZero(0);
+    const Eigen::VectorXd g_f = moved ? Eigen::VectorXd(qp_.apply(lam_f) - qp_.h) : g_;
+    if (moved) ++result_.hessian_products;
+    const double pg = projected_gradient_norm(qp_, lam_f, g_f);
+    result_.projected_gradient = pg / h_norm_;
+    pg_ = pg;
+    if (!std::isfinite(pg)) return QpStatus::Breakdown;
+    if (pg > tol_) return std::nullopt;
+    lambda_ = lam_f;
+    return QpStatus::Converged;
+  }
+
+  void heartbeat() const {
+    if (settings_.progress)
+      settings_.progress->beat([&] { return qp_heartbeat_line("ssn", result_, settings_.rtol, *settings_.progress); });
+  }
+
+  // The minimiser over the directions the active sets of z leave free (`target`), and the step's
+  // cost in products; false where its reduced system cannot be solved (MPGP takes over).
+  bool newton_target_from_active_sets(Eigen::VectorXd& target, double& cost) {
+    const ReducedStep step = split_active_sets(qp_, z_, rho_);
+    ++result_.hessian_products;  // Q λ_fixed
+    if (qp_.matrix_free()) {
+      // Forcing term: the free gradient CG leaves is a fraction of ‖gᴾ‖ that shrinks with it
+      // (superlinear near the solution), never asked below what the stopping test needs.
+      const double forcing = std::min(kMaxForcing, std::sqrt(pg_ / h_norm_));
+      return newton_target_by_cg(qp_, step, lambda_, std::max(forcing * pg_, 0.1 * tol_), target, result_, cost);
+    }
+    bool bordered = false;
+    if (!newton_target(qp_, step, settings_.rtol, target, result_.hessian_products, cost, bordered)) return false;
+    result_.bordered_steps += bordered;
+    return true;
+  }
+
+  // Backtracking on ‖F‖ from λ towards `target` (full steps near the solution: local superlinear
+  // convergence); the step taken in `step_length`, false when no halving lowers ‖F‖.
+  bool backtrack_towards(const Eigen::VectorXd& target, double& step_length) {
+    const Eigen::VectorXd delta = target - lambda_;
+    const Eigen::VectorXd Qd = qp_.apply(delta);
+    ++result_.hessian_products;
+    Eigen::VectorXd z_try;
+    double t = 1;
+    for (int ls = 0; ls < 12; ++ls, t *= 0.5) {
+      const Eigen::VectorXd lam_try = lambda_ + t * delta;
+      const Eigen::VectorXd g_try = g_ + t * Qd;
+      const double F_try = residual(lam_try, g_try, z_try);
+      if (F_try <= (1 - 1e-4 * t) * F_norm_) {
+        lambda_ = lam_try;
+        g_ = g_try;
+        z_ = z_try;
+        F_norm_ = F_try;
+        step_length = t;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Newton did not finish: MPGP from the current point (same criterion, same answer), or the
+  // iterate handed back to the caller (the hybrid solver) without it.
+  QpResult newton_did_not_finish() {
+    if (!settings_.fallback_to_mpgp) {
+      project(qp_, lambda_);
+      result_.status = QpStatus::IterationLimit;
+      return result_;
+    }
+    MpgpSettings fallback;
+    fallback.rtol = settings_.rtol;
+    fallback.max_iterations = settings_.max_iterations;
+    fallback.progress = settings_.progress;
+    QpResult result = solve_mpgp(qp_, lambda_, fallback);  // its status, with the Newton steps' work added
+    result.iterations += result_.iterations;
+    result.newton_steps += result_.newton_steps;
+    result.bordered_steps += result_.bordered_steps;
+    result.coarse_products += result_.coarse_products;
+    result.single_products += result_.single_products;
+    result.hessian_products += result_.hessian_products;
     return result;
   }
-  MpgpSettings fallback;
-  fallback.rtol = settings.rtol;
-  fallback.max_iterations = settings.max_iterations;
-  fallback.progress = settings.progress;
-  const int newton = result.iterations, products = result.hessian_products, bordered_steps = result.bordered_steps;
-  const int coarse_products = result.coarse_products;
-  result = solve_mpgp(qp, lambda, fallback);
-  result.iterations += newton;
-  result.newton_steps = newton;
-  result.bordered_steps = bordered_steps;
-  result.coarse_products = coarse_products;
-  result.hessian_products += products;
-  return result;
+
+  const BoxDiscQP& qp_;
+  Eigen::VectorXd& lambda_;  // the warm start, and the answer
+  const SsnSettings& settings_;
+  const double h_norm_, tol_, rho_;
+  SlowNewtonSteps slow_steps_;
+  QpResult result_;
+  Eigen::VectorXd g_, z_;  // Qλ − h and z = λ − ρ g at the iterate
+  double F_norm_ = 0, pg_ = 0;
+};
+
+}  // namespace
+
+QpResult solve_ssn(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const SsnSettings& settings) {
+  return SemismoothNewton(qp, lambda, settings).run();
 }
 
 }  // namespace contact3d
