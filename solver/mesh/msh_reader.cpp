@@ -431,8 +431,16 @@ class Parser {
   void read_entities();
   void read_nodes41();
   void read_elements41();
+  std::size_t read_element_block41(std::size_t announced, std::size_t so_far);
+  void store_element(int type, std::uint64_t tag, int group, const std::array<int, kMaxElementNodes>& idx);
+  void repeat_for_extra_physicals(const char* block_pos, int entity, std::size_t first_triangle,
+                                  const std::vector<int>& phys);
   void read_nodes22();
   void read_elements22();
+  std::size_t read_binary_element_block22(std::size_t announced, std::size_t so_far);
+  void read_ascii_element22();
+  void keep_element22(int type, std::uint64_t tag, int physical, int elementary,
+                      const std::array<int, kMaxElementNodes>& idx);
   void skip_section(const char* header_pos, std::string_view name);
   void finish_nodes(const char* section_pos);
   void note_used_group(int dim, int tag) {
@@ -510,6 +518,10 @@ class Parser {
   std::array<std::map<int, std::vector<int>>, 4> entities_;  // physical tags per entity
   std::vector<int> no_physicals_;
   bool second_order_ = false;  // the file holds second-order elements (kLine3, kTri6, kTet10)
+  // MSH 2.2: whether the last element kept was a tetrahedron, and its elementary entity (gmsh
+  // writes a tetrahedron once per physical group, as consecutive records).
+  bool prev_tet22_ = false;
+  int prev_elementary22_ = 0;
 };
 
 Mesh Parser::parse() {
@@ -892,90 +904,103 @@ void Parser::read_elements41() {
     end_record("the $Elements header");
   }
   std::size_t total = 0;
-  for (std::size_t b = 0; b < num_blocks; ++b) {
-    int dim, etag, type;
-    std::size_t n;
-    const char* bpos = p_;
-    if (binary_) {
-      dim = raw_int("an entity dimension");
-      etag = raw_int("an entity tag");
-      type = raw_int("an element type");
-    } else {
-      next_record();
-      bpos = p_;
-      dim = int_value("the entity dimension of an element block");
-      etag = int_value("the entity tag of an element block");
-      type = int_value("the element type of an element block");
-    }
-    if (dim < 0 || dim > 3) fail(bpos, "entity dimension " + std::to_string(dim) + " in an element block");
-    const int nn = accepted_type_nodes(type);
-    if (nn == 0) fail(bpos, unsupported_type_message(type));
-    const std::size_t min_bytes =
-        binary_ ? (1 + static_cast<std::size_t>(nn)) * size_bytes_ : 2 * (1 + static_cast<std::size_t>(nn));
-    if (binary_) {
-      n = raw_count("the number of elements in the block", min_bytes);
-    } else {
-      n = count_value("the number of elements in the block", min_bytes);
-      end_record("the element block header");
-    }
-    if (n > num_elements - total)
-      fail(bpos, "the element blocks hold more elements than the " + std::to_string(num_elements) +
-                     " announced in the $Elements header");
-    const std::vector<int>& phys = entity_physicals(dim, etag, bpos);
-    const int group = phys.empty() ? 0 : phys[0];
-
-    if (is_tet(type)) reserve_more_tets(n);
-    if (is_triangle(type)) reserve_more_triangles(n);
-    const std::size_t first_tri = mesh_.triangles.size();
-    std::array<int, kMaxElementNodes> idx{};
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint64_t tag;
-      const char* epos;
-      if (binary_) {
-        epos = p_;
-        tag = raw_size("an element tag");
-        for (int k = 0; k < nn; ++k) {
-          const char* npos = p_;
-          idx[k] = node_ref(static_cast<std::size_t>(raw_size("a node tag")), npos, tag);
-        }
-      } else {
-        next_record();
-        epos = p_;
-        tag = unsigned_value("an element tag");
-        read_ascii_element_nodes(nn, idx, tag);
-      }
-      if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
-      if (is_tet(type)) {
-        mesh_.tets.push_back({idx[0], idx[1], idx[2], idx[3]});
-        mesh_.tet_tags.push_back(static_cast<std::size_t>(tag));
-        mesh_.tet_group.push_back(group);
-      } else if (is_triangle(type)) {
-        mesh_.triangles.push_back({idx[0], idx[1], idx[2]});
-        mesh_.triangle_tags.push_back(static_cast<std::size_t>(tag));
-        mesh_.triangle_group.push_back(group);
-      }
-    }
-    if (is_second_order(type)) second_order_ = true;
-    if (is_triangle(type) && phys.size() > 1) {
-      // Each extra physical tag stores the block again; bound the total by the file size so
-      // that a small crafted file cannot demand a huge allocation.
-      const std::size_t block = mesh_.triangles.size() - first_tri;
-      const std::size_t limit = static_cast<std::size_t>(end_ - begin_) + (std::size_t{1} << 20);
-      const std::size_t room = limit - std::min(limit, mesh_.triangles.size());
-      if (block > 0 && phys.size() - 1 > room / block)
-        fail(bpos, "surface entity " + std::to_string(etag) + " has " + std::to_string(phys.size()) +
-                       " physical tags; storing its " + std::to_string(block) +
-                       " triangles once per tag is more than this "
-                       "reader allows for a file of this size");
-      duplicate_triangles(first_tri, mesh_.triangles.size(), phys);
-    }
-    total += n;
-  }
+  for (std::size_t b = 0; b < num_blocks; ++b) { total += read_element_block41(num_elements, total); }
   if (total != num_elements)
     fail(p_, "the $Elements header announces " + std::to_string(num_elements) + " elements but its blocks hold " +
                  std::to_string(total));
   expect_section_end("$EndElements");
   section_ = {};
+}
+
+// One MSH 4.1 element block (its header, then its elements), `so_far` of the `announced` elements
+// read before it; returns its element count.
+std::size_t Parser::read_element_block41(std::size_t announced, std::size_t so_far) {
+  int dim, etag, type;
+  const char* bpos = p_;
+  if (binary_) {
+    dim = raw_int("an entity dimension");
+    etag = raw_int("an entity tag");
+    type = raw_int("an element type");
+  } else {
+    next_record();
+    bpos = p_;
+    dim = int_value("the entity dimension of an element block");
+    etag = int_value("the entity tag of an element block");
+    type = int_value("the element type of an element block");
+  }
+  if (dim < 0 || dim > 3) fail(bpos, "entity dimension " + std::to_string(dim) + " in an element block");
+  const int nn = accepted_type_nodes(type);
+  if (nn == 0) fail(bpos, unsupported_type_message(type));
+  const std::size_t min_bytes =
+      binary_ ? (1 + static_cast<std::size_t>(nn)) * size_bytes_ : 2 * (1 + static_cast<std::size_t>(nn));
+  std::size_t n;
+  if (binary_) {
+    n = raw_count("the number of elements in the block", min_bytes);
+  } else {
+    n = count_value("the number of elements in the block", min_bytes);
+    end_record("the element block header");
+  }
+  if (n > announced - so_far)
+    fail(bpos, "the element blocks hold more elements than the " + std::to_string(announced) +
+                   " announced in the $Elements header");
+  const std::vector<int>& phys = entity_physicals(dim, etag, bpos);
+  const int group = phys.empty() ? 0 : phys[0];
+
+  if (is_tet(type)) reserve_more_tets(n);
+  if (is_triangle(type)) reserve_more_triangles(n);
+  const std::size_t first_tri = mesh_.triangles.size();
+  std::array<int, kMaxElementNodes> idx{};
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t tag;
+    const char* epos;
+    if (binary_) {
+      epos = p_;
+      tag = raw_size("an element tag");
+      for (int k = 0; k < nn; ++k) {
+        const char* npos = p_;
+        idx[k] = node_ref(static_cast<std::size_t>(raw_size("a node tag")), npos, tag);
+      }
+    } else {
+      next_record();
+      epos = p_;
+      tag = unsigned_value("an element tag");
+      read_ascii_element_nodes(nn, idx, tag);
+    }
+    if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
+    store_element(type, tag, group, idx);
+  }
+  if (is_second_order(type)) second_order_ = true;
+  if (is_triangle(type) && phys.size() > 1) repeat_for_extra_physicals(bpos, etag, first_tri, phys);
+  return n;
+}
+
+// A tetrahedron or a triangle with its nodes idx (other accepted types are read and dropped).
+void Parser::store_element(int type, std::uint64_t tag, int group, const std::array<int, kMaxElementNodes>& idx) {
+  if (is_tet(type)) {
+    mesh_.tets.push_back({idx[0], idx[1], idx[2], idx[3]});
+    mesh_.tet_tags.push_back(static_cast<std::size_t>(tag));
+    mesh_.tet_group.push_back(group);
+  } else if (is_triangle(type)) {
+    mesh_.triangles.push_back({idx[0], idx[1], idx[2]});
+    mesh_.triangle_tags.push_back(static_cast<std::size_t>(tag));
+    mesh_.triangle_group.push_back(group);
+  }
+}
+
+// A surface entity with several physical tags: its triangles (from first_triangle on) stored again
+// once per extra tag. Each copy stores the block again, so the total is bounded by the file size:
+// a small crafted file cannot demand a huge allocation.
+void Parser::repeat_for_extra_physicals(const char* block_pos, int entity, std::size_t first_triangle,
+                                        const std::vector<int>& phys) {
+  const std::size_t block = mesh_.triangles.size() - first_triangle;
+  const std::size_t limit = static_cast<std::size_t>(end_ - begin_) + (std::size_t{1} << 20);
+  const std::size_t room = limit - std::min(limit, mesh_.triangles.size());
+  if (block > 0 && phys.size() - 1 > room / block)
+    fail(block_pos, "surface entity " + std::to_string(entity) + " has " + std::to_string(phys.size()) +
+                        " physical tags; storing its " + std::to_string(block) +
+                        " triangles once per tag is more than this "
+                        "reader allows for a file of this size");
+  duplicate_triangles(first_triangle, mesh_.triangles.size(), phys);
 }
 
 void Parser::read_elements22() {
@@ -985,114 +1010,119 @@ void Parser::read_elements22() {
   // An element takes at least 8 characters in ASCII, 8 bytes in binary (a point without tags).
   const std::size_t n = count_value("the number of elements", 8);
   end_record("the number of elements");
-  bool prev_tet = false;
-  int prev_elementary = 0;
-  std::array<int, kMaxElementNodes> idx{};
-  // Stores one element of an accepted type whose nodes are in idx.
-  const auto keep = [&](int type, std::uint64_t tag, int physical, int elementary) {
-    const int dim = is_tet(type) ? 3 : is_triangle(type) ? 2 : is_line(type) ? 1 : 0;
-    note_used_group(dim, physical);
-    if (is_second_order(type)) second_order_ = true;
-    if (is_tet(type)) {
-      const std::array<int, 4> tet{idx[0], idx[1], idx[2], idx[3]};
-      // gmsh writes a tetrahedron once per physical group, as consecutive records.
-      if (prev_tet && elementary == prev_elementary && mesh_.tets.back() == tet) return;
-      mesh_.tets.push_back(tet);
-      mesh_.tet_tags.push_back(static_cast<std::size_t>(tag));
-      mesh_.tet_group.push_back(physical);
-      prev_tet = true;
-      prev_elementary = elementary;
-    } else {
-      prev_tet = false;
-      if (is_triangle(type)) {
-        mesh_.triangles.push_back({idx[0], idx[1], idx[2]});
-        mesh_.triangle_tags.push_back(static_cast<std::size_t>(tag));
-        mesh_.triangle_group.push_back(physical);
-      }
-    }
-  };
-
+  prev_tet22_ = false;
+  prev_elementary22_ = 0;
   if (binary_) {
-    // Blocks: a header of 3 ints (element type, number of elements in the block, number of
-    // tags per element), then per element: int element number, the tags, the node numbers.
-    // gmsh 4 writes one block per element; older writers group elements of a type.
+    // Blocks: gmsh 4 writes one block per element; older writers group elements of a type.
     std::size_t total = 0;
     while (total < n) {
-      const char* bpos = p_;
+      const char* block_pos = p_;
       if (at_section_end("$EndElements"))
-        fail(bpos, "the $Elements header announces " + std::to_string(n) + " elements but its blocks hold " +
-                       std::to_string(total));
-      const int type = raw_int("the element type of an element block");
-      const int nn = accepted_type_nodes(type);
-      if (nn == 0) fail(bpos, unsupported_type_message(type));
-      const char* cpos = p_;
-      const int count = raw_int("the number of elements in the block");
-      const char* tpos = p_;
-      const int ntags = raw_int("the number of tags per element of the block");
-      if (count < 0) fail(cpos, "the number of elements in the block is negative (" + std::to_string(count) + ")");
-      if (ntags < 0) fail(tpos, "the number of tags per element is negative (" + std::to_string(ntags) + ")");
-      // The block must fit in the rest of the file: first without tags (else the file is
-      // truncated or the count corrupt), then with them (else the tag count is corrupt).
-      const std::size_t bare = 4 * (1 + static_cast<std::size_t>(nn));
-      check_count(cpos, static_cast<std::uint64_t>(count), bare, "the number of elements in the block");
-      if (count > 0) {
-        const std::size_t room = static_cast<std::size_t>(end_ - p_) / static_cast<std::size_t>(count) - bare;
-        if (static_cast<std::size_t>(ntags) > room / 4)
-          fail(tpos, "the number of tags per element " + std::to_string(ntags) +
-                         " is larger than the rest of the file can hold (truncated file or corrupt "
-                         "count)");
-      }
-      if (static_cast<std::size_t>(count) > n - total)
-        fail(cpos, "the element blocks hold more elements than the " + std::to_string(n) +
-                       " announced in the $Elements header");
-      if (is_tet(type)) reserve_more_tets(static_cast<std::size_t>(count));
-      if (is_triangle(type)) reserve_more_triangles(static_cast<std::size_t>(count));
-      for (int i = 0; i < count; ++i) {
-        const char* epos = p_;
-        const int tag = raw_int("an element tag");
-        if (tag <= 0) fail(epos, "element tag " + std::to_string(tag) + " is not valid (tags start at 1)");
-        int physical = 0, elementary = 0;
-        for (int k = 0; k < ntags; ++k) {
-          const int t = raw_int("an element tag (physical or elementary)");
-          if (k == 0) physical = t;
-          if (k == 1) elementary = t;
-        }
-        for (int k = 0; k < nn; ++k) {
-          const char* npos = p_;
-          const int v = raw_int("a node tag of an element");
-          if (v < 0)
-            fail(npos, "element " + std::to_string(tag) + " refers to node " + std::to_string(v) +
-                           ", which $Nodes does not define");
-          idx[k] = node_ref(static_cast<std::size_t>(v), npos, static_cast<std::size_t>(tag));
-        }
-        keep(type, static_cast<std::uint64_t>(tag), physical, elementary);
-      }
-      total += static_cast<std::size_t>(count);
+        fail(block_pos, "the $Elements header announces " + std::to_string(n) + " elements but its blocks hold " +
+                            std::to_string(total));
+      total += read_binary_element_block22(n, total);
     }
   } else {
-    for (std::size_t i = 0; i < n; ++i) {
-      next_record();
-      const char* epos = p_;
-      const std::uint64_t tag = unsigned_value("an element tag");
-      if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
-      skip_blank();
-      const char* tpos = p_;
-      const int type = int_value("an element type");
-      const int nn = accepted_type_nodes(type);
-      if (nn == 0) fail(tpos, unsupported_type_message(type));
-      const std::size_t ntags = count_value("the number of tags of an element", 2);
-      int physical = 0, elementary = 0;
-      for (std::size_t k = 0; k < ntags; ++k) {
-        const int t = int_value("an element tag (physical or elementary)");
-        if (k == 0) physical = t;
-        if (k == 1) elementary = t;
-      }
-      read_ascii_element_nodes(nn, idx, tag);
-      keep(type, tag, physical, elementary);
-    }
+    for (std::size_t i = 0; i < n; ++i) read_ascii_element22();
   }
   expect_section_end("$EndElements");
   section_ = {};
+}
+
+// One binary MSH 2.2 block (`so_far` of the `announced` elements read before it): a header of 3 ints (element type,
+// number of elements in the block, number of tags per element), then per element: int element number, the tags, the
+// node numbers. Returns its element count.
+std::size_t Parser::read_binary_element_block22(std::size_t announced, std::size_t so_far) {
+  const char* bpos = p_;
+  const int type = raw_int("the element type of an element block");
+  const int nn = accepted_type_nodes(type);
+  if (nn == 0) fail(bpos, unsupported_type_message(type));
+  const char* cpos = p_;
+  const int count = raw_int("the number of elements in the block");
+  const char* tpos = p_;
+  const int ntags = raw_int("the number of tags per element of the block");
+  if (count < 0) fail(cpos, "the number of elements in the block is negative (" + std::to_string(count) + ")");
+  if (ntags < 0) fail(tpos, "the number of tags per element is negative (" + std::to_string(ntags) + ")");
+  // The block must fit in the rest of the file: first without tags (else the file is
+  // truncated or the count corrupt), then with them (else the tag count is corrupt).
+  const std::size_t bare = 4 * (1 + static_cast<std::size_t>(nn));
+  check_count(cpos, static_cast<std::uint64_t>(count), bare, "the number of elements in the block");
+  if (count > 0) {
+    const std::size_t left = static_cast<std::size_t>(end_ - p_) / static_cast<std::size_t>(count) - bare;
+    if (static_cast<std::size_t>(ntags) > left / 4)
+      fail(tpos, "the number of tags per element " + std::to_string(ntags) +
+                     " is larger than the rest of the file can hold (truncated file or corrupt "
+                     "count)");
+  }
+  if (static_cast<std::size_t>(count) > announced - so_far)
+    fail(cpos, "the element blocks hold more elements than the " + std::to_string(announced) +
+                   " announced in the $Elements header");
+  if (is_tet(type)) reserve_more_tets(static_cast<std::size_t>(count));
+  if (is_triangle(type)) reserve_more_triangles(static_cast<std::size_t>(count));
+  std::array<int, kMaxElementNodes> idx{};
+  for (int i = 0; i < count; ++i) {
+    const char* epos = p_;
+    const int tag = raw_int("an element tag");
+    if (tag <= 0) fail(epos, "element tag " + std::to_string(tag) + " is not valid (tags start at 1)");
+    int physical = 0, elementary = 0;
+    for (int k = 0; k < ntags; ++k) {
+      const int t = raw_int("an element tag (physical or elementary)");
+      if (k == 0) physical = t;
+      if (k == 1) elementary = t;
+    }
+    for (int k = 0; k < nn; ++k) {
+      const char* npos = p_;
+      const int v = raw_int("a node tag of an element");
+      if (v < 0)
+        fail(npos, "element " + std::to_string(tag) + " refers to node " + std::to_string(v) +
+                       ", which $Nodes does not define");
+      idx[k] = node_ref(static_cast<std::size_t>(v), npos, static_cast<std::size_t>(tag));
+    }
+    keep_element22(type, static_cast<std::uint64_t>(tag), physical, elementary, idx);
+  }
+  return static_cast<std::size_t>(count);
+}
+
+// One ASCII MSH 2.2 element record: tag, type, number of tags, the tags, the node tags.
+void Parser::read_ascii_element22() {
+  next_record();
+  const char* epos = p_;
+  const std::uint64_t tag = unsigned_value("an element tag");
+  if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
+  skip_blank();
+  const char* tpos = p_;
+  const int type = int_value("an element type");
+  const int nn = accepted_type_nodes(type);
+  if (nn == 0) fail(tpos, unsupported_type_message(type));
+  const std::size_t ntags = count_value("the number of tags of an element", 2);
+  int physical = 0, elementary = 0;
+  for (std::size_t k = 0; k < ntags; ++k) {
+    const int t = int_value("an element tag (physical or elementary)");
+    if (k == 0) physical = t;
+    if (k == 1) elementary = t;
+  }
+  std::array<int, kMaxElementNodes> idx{};
+  read_ascii_element_nodes(nn, idx, tag);
+  keep_element22(type, tag, physical, elementary, idx);
+}
+
+// Stores one MSH 2.2 element of an accepted type whose nodes are in idx; a tetrahedron repeated
+// for another physical group (the same nodes, the same elementary entity, right after) once.
+void Parser::keep_element22(int type, std::uint64_t tag, int physical, int elementary,
+                            const std::array<int, kMaxElementNodes>& idx) {
+  const int dim = is_tet(type) ? 3 : is_triangle(type) ? 2 : is_line(type) ? 1 : 0;
+  note_used_group(dim, physical);
+  if (is_second_order(type)) second_order_ = true;
+  if (is_tet(type)) {
+    const std::array<int, 4> tet{idx[0], idx[1], idx[2], idx[3]};
+    if (prev_tet22_ && elementary == prev_elementary22_ && mesh_.tets.back() == tet) return;
+    store_element(type, tag, physical, idx);
+    prev_tet22_ = true;
+    prev_elementary22_ = elementary;
+  } else {
+    prev_tet22_ = false;
+    store_element(type, tag, physical, idx);
+  }
 }
 
 void Parser::skip_section(const char* header_pos, std::string_view name) {
