@@ -430,6 +430,7 @@ class Parser {
   void read_physical_names();
   void read_entities();
   void read_nodes41();
+  std::size_t read_node_block41(std::size_t announced, std::size_t so_far);
   void read_elements41();
   std::size_t read_element_block41(std::size_t announced, std::size_t so_far);
   void store_element(int type, std::uint64_t tag, int group, const std::array<int, kMaxElementNodes>& idx);
@@ -761,77 +762,81 @@ void Parser::read_nodes41() {
   mesh_.nodes.reserve(num_nodes);
   mesh_.node_tags.reserve(num_nodes);
   std::size_t total = 0;
-  for (std::size_t b = 0; b < num_blocks; ++b) {
-    int dim, parametric;
-    std::size_t n;
-    const char* bpos;
-    if (binary_) {
-      bpos = p_;
-      dim = raw_int("an entity dimension");
-      (void)raw_int("an entity tag");
-      parametric = raw_int("the parametric flag");
-      if (dim < 0 || dim > 3) fail(bpos, "entity dimension " + std::to_string(dim) + " in a node block");
-      if (parametric != 0 && parametric != 1)
-        fail(bpos, "parametric flag " + std::to_string(parametric) + " in a node block");
-      const std::size_t per_node = size_bytes_ + 8 * (3 + (parametric ? dim : 0));
-      n = raw_count("the number of nodes in the block", per_node);
-    } else {
-      next_record();
-      bpos = p_;
-      const char* dpos = p_;
-      dim = int_value("the entity dimension of a node block");
-      if (dim < 0 || dim > 3) fail(dpos, "entity dimension " + std::to_string(dim) + " in a node block");
-      (void)int_value("the entity tag of a node block");
-      const char* ppos = p_;
-      parametric = int_value("the parametric flag of a node block");
-      if (parametric != 0 && parametric != 1)
-        fail(ppos, "parametric flag " + std::to_string(parametric) + " (expected 0 or 1)");
-      n = count_value("the number of nodes in the block", 8);
-      end_record("the node block header");
-    }
-    if (n > num_nodes - total)
-      fail(bpos,
-           "the node blocks hold more nodes than the " + std::to_string(num_nodes) + " announced in the $Nodes header");
-    const int params = parametric ? dim : 0;
-    const std::size_t first = mesh_.node_tags.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const char* tpos;
-      std::uint64_t tag;
-      if (binary_) {
-        tpos = p_;
-        tag = raw_size("a node tag");
-      } else {
-        next_record();
-        tpos = p_;
-        tag = unsigned_value("a node tag");
-        end_record("a node tag (one tag per line)");
-      }
-      if (tag == 0) fail(tpos, "node tag 0 is not valid (tags start at 1)");
-      mesh_.node_tags.push_back(static_cast<std::size_t>(tag));
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t tag = mesh_.node_tags[first + i];
-      Eigen::Vector3d x;
-      if (binary_) {
-        const char* cpos = p_;
-        for (int k = 0; k < 3; ++k) x[k] = raw<double>("a node coordinate");
-        if (!x.allFinite()) fail(cpos, "node " + std::to_string(tag) + " has a non-finite coordinate");
-        p_ += 8 * static_cast<std::size_t>(params);  // guarded by raw_count
-      } else {
-        next_record();
-        for (int k = 0; k < 3; ++k) x[k] = real_value(kCoordinateNames[k]);
-        for (int k = 0; k < params; ++k) (void)real_value("a parametric coordinate", false);
-        end_record("the coordinates of a node");
-      }
-      mesh_.nodes.push_back(x);
-    }
-    total += n;
-  }
+  for (std::size_t b = 0; b < num_blocks; ++b) total += read_node_block41(num_nodes, total);
   if (total != num_nodes)
     fail(p_, "the $Nodes header announces " + std::to_string(num_nodes) + " nodes but its blocks hold " +
                  std::to_string(total));
   expect_section_end("$EndNodes");
   section_ = {};
+}
+
+// One MSH 4.1 node block (its header, its node tags, then their coordinates), `so_far` of the
+// `announced` nodes read before it; returns its node count.
+std::size_t Parser::read_node_block41(std::size_t announced, std::size_t so_far) {
+  int dim, parametric;
+  std::size_t n;
+  const char* bpos;
+  if (binary_) {
+    bpos = p_;
+    dim = raw_int("an entity dimension");
+    (void)raw_int("an entity tag");
+    parametric = raw_int("the parametric flag");
+    if (dim < 0 || dim > 3) fail(bpos, "entity dimension " + std::to_string(dim) + " in a node block");
+    if (parametric != 0 && parametric != 1)
+      fail(bpos, "parametric flag " + std::to_string(parametric) + " in a node block");
+    const std::size_t per_node = size_bytes_ + 8 * (3 + (parametric ? dim : 0));
+    n = raw_count("the number of nodes in the block", per_node);
+  } else {
+    next_record();
+    bpos = p_;
+    const char* dpos = p_;
+    dim = int_value("the entity dimension of a node block");
+    if (dim < 0 || dim > 3) fail(dpos, "entity dimension " + std::to_string(dim) + " in a node block");
+    (void)int_value("the entity tag of a node block");
+    const char* ppos = p_;
+    parametric = int_value("the parametric flag of a node block");
+    if (parametric != 0 && parametric != 1)
+      fail(ppos, "parametric flag " + std::to_string(parametric) + " (expected 0 or 1)");
+    n = count_value("the number of nodes in the block", 8);
+    end_record("the node block header");
+  }
+  if (n > announced - so_far)
+    fail(bpos,
+         "the node blocks hold more nodes than the " + std::to_string(announced) + " announced in the $Nodes header");
+  const int params = parametric ? dim : 0;
+  const std::size_t first = mesh_.node_tags.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const char* tpos;
+    std::uint64_t tag;
+    if (binary_) {
+      tpos = p_;
+      tag = raw_size("a node tag");
+    } else {
+      next_record();
+      tpos = p_;
+      tag = unsigned_value("a node tag");
+      end_record("a node tag (one tag per line)");
+    }
+    if (tag == 0) fail(tpos, "node tag 0 is not valid (tags start at 1)");
+    mesh_.node_tags.push_back(static_cast<std::size_t>(tag));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t tag = mesh_.node_tags[first + i];
+    Eigen::Vector3d x;
+    if (binary_) {
+      const char* cpos = p_;
+      for (int k = 0; k < 3; ++k) x[k] = raw<double>("a node coordinate");
+      if (!x.allFinite()) fail(cpos, "node " + std::to_string(tag) + " has a non-finite coordinate");
+      p_ += 8 * static_cast<std::size_t>(params);  // guarded by raw_count
+    } else {
+      next_record();
+      for (int k = 0; k < 3; ++k) x[k] = real_value(kCoordinateNames[k]);
+      for (int k = 0; k < params; ++k) (void)real_value("a parametric coordinate", false);
+      end_record("the coordinates of a node");
+    }
+    mesh_.nodes.push_back(x);
+  }
+  return n;
 }
 
 void Parser::read_nodes22() {
