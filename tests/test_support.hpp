@@ -2,12 +2,14 @@
 // (5.5) with both constraint kinds (also as matrix-free ones), and a grid Laplacian to factor.
 #pragma once
 
+#include <memory>
 #include <random>
 #include <vector>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
+#include "linalg/dense_cholesky.hpp"
 #include "linalg/dual_operator.hpp"
 #include "qp/box_disc_qp.hpp"
 
@@ -104,6 +106,22 @@ inline RandomQp make_random_qp(int r, bool friction, unsigned seed, int extra_ro
   out.qp.radius.resize(r);
   for (int i = 0; i < r; ++i) out.qp.radius[i] = i % 5 == 4 ? 0.0 : 2 * uniform(gen);
   return out;
+}
+
+// A vector of n standard normal entries.
+inline Eigen::VectorXd random_vector(Eigen::Index n, unsigned seed) {
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd v(n);
+  for (Eigen::Index i = 0; i < n; ++i) v[i] = normal(gen);
+  return v;
+}
+
+// The stability check's factor of Q in double (for make_bordered_newton).
+inline std::shared_ptr<DualOperatorFactor> double_factor(const Eigen::MatrixXd& Q) {
+  auto f = std::make_shared<DualOperatorFactor>();
+  f->in_double.emplace(Q);
+  return f;
 }
 
 }  // namespace contact3d::testing

@@ -188,6 +188,12 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
 }
 
 void add_work(QpResult& total, const QpResult& part) {
+  add_counts(total, part);
+  total.status = part.status;
+  total.projected_gradient = part.projected_gradient;
+}
+
+void add_counts(QpResult& total, const QpResult& part) {
   total.iterations += part.iterations;
   total.hessian_products += part.hessian_products;
   total.single_products += part.single_products;
@@ -197,8 +203,6 @@ void add_work(QpResult& total, const QpResult& part) {
   total.newton_steps += part.newton_steps;
   total.bordered_steps += part.bordered_steps;
   total.coarse_products += part.coarse_products;
-  total.status = part.status;
-  total.projected_gradient = part.projected_gradient;
 }
 
 }  // namespace contact3d

@@ -57,6 +57,8 @@ struct QpResult {
 
 // For a solve made of several: adds `part`'s counts to `total` and takes its status and final gradient.
 void add_work(QpResult& total, const QpResult& part);
+// `part`'s counts added to `total`, whose status and final gradient stay.
+void add_counts(QpResult& total, const QpResult& part);
 
 // The heartbeat line of an inner QP solve: "qp (mpgp): iteration 1200, ‖gᴾ‖/‖h‖ = 3.2e-04 → 1e-06, 4.1 s".
 std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress);

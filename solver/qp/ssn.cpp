@@ -304,13 +304,8 @@ class SemismoothNewton {
     fallback.rtol = settings_.rtol;
     fallback.max_iterations = settings_.max_iterations;
     fallback.progress = settings_.progress;
-    QpResult result = solve_mpgp(qp_, lambda_, fallback);  // its status, with the Newton steps' work added
-    result.iterations += result_.iterations;
-    result.newton_steps += result_.newton_steps;
-    result.bordered_steps += result_.bordered_steps;
-    result.coarse_products += result_.coarse_products;
-    result.single_products += result_.single_products;
-    result.hessian_products += result_.hessian_products;
+    QpResult result = solve_mpgp(qp_, lambda_, fallback);
+    add_counts(result, result_);  // its status, with the Newton steps' work added
     return result;
   }
 

@@ -23,7 +23,9 @@ using namespace contact3d;
 
 namespace {
 
+using contact3d::testing::double_factor;
 using contact3d::testing::make_random_qp;
+using contact3d::testing::random_vector;
 using contact3d::testing::RandomQp;
 
 // z = λ − ρg whose active sets have most cells in contact and inside their discs, and some of each
@@ -60,20 +62,6 @@ Eigen::VectorXd reduced_solve(const BoxDiscQP& qp, const std::vector<Direction>&
   const DenseCholesky chol(A);
   EXPECT_TRUE(chol.ok());
   return chol.solve(b);
-}
-
-Eigen::VectorXd random_vector(Eigen::Index n, unsigned seed) {
-  std::mt19937 gen(seed);
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd v(n);
-  for (Eigen::Index i = 0; i < n; ++i) v[i] = normal(gen);
-  return v;
-}
-
-std::shared_ptr<DualOperatorFactor> double_factor(const Eigen::MatrixXd& Q) {
-  auto f = std::make_shared<DualOperatorFactor>();
-  f->in_double.emplace(Q);
-  return f;
 }
 
 // As the stability check makes it for large Q: the lower triangle of Q / scale in single.

@@ -20,7 +20,9 @@ using namespace contact3d;
 
 namespace {
 
+using contact3d::testing::double_factor;
 using contact3d::testing::make_random_qp;
+using contact3d::testing::random_vector;
 using contact3d::testing::RandomQp;
 
 // A k × m penalty of rows of very different size, as √ρ Ĝ is late in the augmented Lagrangian.
@@ -54,20 +56,6 @@ struct TwoForms {
   }
   TwoForms(const TwoForms&) = delete;
 };
-
-Eigen::VectorXd random_vector(Eigen::Index n, unsigned seed) {
-  std::mt19937 gen(seed);
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd v(n);
-  for (Eigen::Index i = 0; i < n; ++i) v[i] = normal(gen);
-  return v;
-}
-
-std::shared_ptr<DualOperatorFactor> double_factor(const Eigen::MatrixXd& Q) {
-  auto f = std::make_shared<DualOperatorFactor>();
-  f->in_double.emplace(Q);
-  return f;
-}
 
 }  // namespace
 
