@@ -53,6 +53,12 @@ add_test(NAME ball_on_plane_lateral_load_held_by_friction
 add_test(NAME ball_on_plane_lateral_load_augmented_lagrangian
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/ball_on_plane.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
                  --lateral 3000 --h-pole 0.0012 --friction 0.5 --cell-size 2h)
+# The same with one BLAS thread (another summation order): the augmented Lagrangian's inner solve at
+# ρ = 1e4‖Q‖ ran out of its iterations there while the hybrid capped its Newton rounds (hybrid_qp.hpp).
+add_test(NAME ball_on_plane_lateral_load_augmented_lagrangian_one_thread
+         COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1
+                 ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/ball_on_plane.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
+                 --lateral 3000 --h-pole 0.0012 --friction 0.5 --cell-size 2h)
 add_test(NAME ball_on_plane_coulomb_cells_1_5h
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/ball_on_plane.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR}
                  --cell-size 1.5h)

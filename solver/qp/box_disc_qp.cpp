@@ -10,9 +10,7 @@
 namespace contact3d {
 namespace {
 constexpr double kActiveRelTol = 1e-12;
-}
 
-namespace {
 // out += AᵀA V: the operator's low-rank term (none when A has no rows), in double.
 template <class Dense>
 Dense with_low_rank(Dense out, const Eigen::MatrixXd& A, const Dense& V) {

@@ -38,7 +38,8 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
   const int window = settings.window > 0 ? settings.window : default_window(qp);
   double pg_before = relative_projected_gradient(qp, lambda, h_norm);
   ++total.hessian_products;
-  NewtonRoundGate newton_rounds(qp.matrix_free() ? std::numeric_limits<int>::max() : settings.max_newton_rounds);
+  NewtonRoundGate newton_rounds(qp.matrix_free() || qp.has_low_rank() ? std::numeric_limits<int>::max()
+                                                                      : settings.max_newton_rounds);
   while (total.iterations < settings.max_iterations) {
     MpgpSettings mpgp;
     mpgp.rtol = settings.rtol;

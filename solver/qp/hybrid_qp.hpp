@@ -24,7 +24,11 @@
 //      uncapped 3 739). Until 2026-11-29 a dense Q stopped after three rounds, and MPGP alone crawled
 //      where the equality loop of a body held by contact alone asks 1e-12 (the free slab with 4 800
 //      multipliers, cond(Q) 1.5e7: ‖gᴾ‖ 1.5e-10 after 20 000 iterations; with the gate five rounds,
-//      1 018 products).
+//      1 018 products). No limit either with a low-rank term (the augmented Lagrangian's penalty
+//      ρĜᵀĜ, BoxDiscQP::low_rank): MPGP's step 1/‖Q + ρĜᵀĜ‖ barely moves λ along Q's own directions,
+//      so the Newton steps carry the solve (the ball of ctest
+//      ball_on_plane_lateral_load_augmented_lagrangian with one BLAS thread: at ρ = 1e4‖Q‖ the gate
+//      stopped the rounds and MPGP ran out of its 1e5 iterations; uncapped, 5 296 iterations).
 // On a matrix-free Q the window stays at its floor of 25: a Newton step costs CG products there, not
 // a factorization that grows with m, and the longer windows only let MPGP crawl (the slab with
 // 37 632 multipliers: windows of 147 iterations, 0.5 s a product, cutting ‖gᴾ‖ by 10-15% each).

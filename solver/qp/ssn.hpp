@@ -10,7 +10,9 @@
 // reference), so the stopping test and the answer are those of MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a
 // feasible λ. With a single-precision copy of Q (BoxDiscQP::Q_single) the reduced system is factored
 // in single precision (spotrf, about half the time of dpotrf) and refined in double, one product by Q
-// per refinement, until its residual is 1e-10 of the right-hand side; otherwise in double. On a
+// per refinement, until its residual is 1e-10 of the right-hand side; otherwise in double. Through
+// the bordered factor of Q (bordered_newton.hpp) where that is cheaper, with a Woodbury update for
+// the problem's low-rank term (BoxDiscQP::low_rank, the augmented Lagrangian's penalty). On a
 // matrix-free Q (no entries to factor) the steps are inexact: the reduced system by CG
 // (reduced_cg.hpp) from the current iterate, to a forcing term of min(0.01, √(‖gᴾ‖/‖h‖)) · ‖gᴾ‖.
 #pragma once
