@@ -909,7 +909,7 @@ void Parser::read_elements41() {
     end_record("the $Elements header");
   }
   std::size_t total = 0;
-  for (std::size_t b = 0; b < num_blocks; ++b) { total += read_element_block41(num_elements, total); }
+  for (std::size_t b = 0; b < num_blocks; ++b) total += read_element_block41(num_elements, total);
   if (total != num_elements)
     fail(p_, "the $Elements header announces " + std::to_string(num_elements) + " elements but its blocks hold " +
                  std::to_string(total));
