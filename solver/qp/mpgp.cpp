@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace contact3d {
 
@@ -79,6 +80,136 @@ struct State {
   }
 };
 
+// One MPGP solve: each iteration is a stopping test, then one step of the paper's three kinds — a
+// conjugate-gradient step on the free set, an expansion where that step would leave the feasible
+// set, or a proportioning step where the chopped gradient dominates the free one.
+class Mpgp {
+ public:
+  Mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSettings& settings, QpResult& result)
+      : qp_(qp),
+        lambda_(lambda),
+        settings_(settings),
+        result_(result),
+        h_norm_(qp.h.norm()),
+        alpha_(settings.alpha_scale / qp.q_norm),
+        tol_(settings.rtol * h_norm_),
+        s_{qp, lambda, {}, {}, result} {
+    s_.refresh_gradient();
+    p_ = s_.split.free;
+  }
+
+  QpStatus run() {
+    for (result_.iterations = 0; result_.iterations < settings_.max_iterations; ++result_.iterations) {
+      if (const std::optional<QpStatus> stop = stopping_test()) return *stop;
+      if (settings_.progress)
+        settings_.progress->beat(
+            [&] { return qp_heartbeat_line("mpgp", result_, settings_.rtol, *settings_.progress); });
+      const Eigen::VectorXd before = lambda_;  // g is valid here
+      const bool proportional = chopped_sq_ <= settings_.gamma * settings_.gamma * free_sq_;
+      if (!(proportional ? conjugate_gradient_or_expansion(before) : proportioning(before))) return QpStatus::Breakdown;
+    }
+    return QpStatus::IterationLimit;
+  }
+
+ private:
+  // Converged on an exact gradient, broken down on a non-finite one, or nothing: go on.
+  std::optional<QpStatus> stopping_test() {
+    const bool converged = s_.meets(tol_, p_);
+    free_sq_ = s_.split.free.squaredNorm();
+    chopped_sq_ = s_.split.chopped.squaredNorm();
+    result_.projected_gradient = std::sqrt(free_sq_ + chopped_sq_) / h_norm_;
+    if (!std::isfinite(result_.projected_gradient)) return QpStatus::Breakdown;
+    if (converged) return QpStatus::Converged;
+    return std::nullopt;
+  }
+
+  // A proportional iterate: the conjugate-gradient step along p where it stays feasible, else an
+  // expansion. False on a breakdown (pᵀQp ≤ 0).
+  bool conjugate_gradient_or_expansion(const Eigen::VectorXd& before) {
+    const Eigen::VectorXd Qp = s_.apply(p_);
+    const double pQp = p_.dot(Qp);
+    if (!(pQp > 0)) return false;
+    const double a_cg = s_.g.dot(p_) / pQp;
+    const double a_f = max_feasible_step(qp_, lambda_, p_);
+    if (a_cg > a_f) {
+      expand(a_cg, a_f, Qp, before);
+      return true;
+    }
+    ++result_.cg_steps;
+    lambda_ -= a_cg * p_;
+    s_.g -= a_cg * Qp;
+    s_.resplit();
+    const double beta = s_.split.free.dot(Qp) / pQp;
+    p_ = s_.split.free - beta * p_;
+    return true;
+  }
+
+  // The expansion of settings.expansion: to the boundary along p, then a projected step of fixed
+  // length ᾱ (or the projected full conjugate-gradient step); conjugate directions restart.
+  void expand(double a_cg, double a_f, const Eigen::VectorXd& Qp, const Eigen::VectorXd& before) {
+    ++result_.expansion_steps;
+    if (settings_.expansion == ExpansionKind::ProjectedCG) {
+      lambda_ -= a_cg * p_;
+      project(qp_, lambda_);
+      s_.move_gradient_from(before);
+    } else {
+      lambda_ -= a_f * p_;
+      s_.g -= a_f * Qp;
+      project(qp_, lambda_);
+      const Eigen::VectorXd on_boundary = lambda_;
+      lambda_ -= alpha_ *
+                 (settings_.expansion == ExpansionKind::FullGradient ? s_.g : split_gradient(qp_, lambda_, s_.g).free);
+      project(qp_, lambda_);
+      s_.move_gradient_from(on_boundary);
+    }
+    p_ = s_.split.free;
+  }
+
+  // Not proportional: along the chopped gradient with an exact line search when that stays
+  // feasible (always on the half-lines); otherwise — and always in the FullGradient variant, the
+  // paper's "proportioning and expansion performed simultaneously" — one gradient-projection step
+  // of fixed length ᾱ, which decreases S for ᾱ < 2/‖Q‖ (a projected line-search step on the discs
+  // can cycle). False on a breakdown (dᵀQd ≤ 0).
+  bool proportioning(const Eigen::VectorXd& before) {
+    ++result_.proportioning_steps;
+    bool moved = false;
+    if (settings_.expansion != ExpansionKind::FullGradient && !line_search_along_chopped(moved)) return false;
+    if (!moved) {
+      lambda_ -= alpha_ * s_.g;
+      project(qp_, lambda_);
+      s_.move_gradient_from(before);
+    }
+    p_ = s_.split.free;
+    return true;
+  }
+
+  // The exact minimiser along the chopped gradient, taken (`moved`) only where it is feasible
+  // (strictly: a tangential step along a circle never is). False on a breakdown.
+  bool line_search_along_chopped(bool& moved) {
+    const Eigen::VectorXd d = s_.split.chopped;
+    const Eigen::VectorXd Qd = s_.apply(d);
+    const double dQd = d.dot(Qd);
+    if (!(dQd > 0)) return false;
+    const double a = s_.g.dot(d) / dQd;
+    const Eigen::VectorXd trial = lambda_ - a * d;
+    if (!is_feasible(qp_, trial, 0.0)) return true;
+    lambda_ = trial;
+    s_.g -= a * Qd;
+    s_.resplit();
+    moved = true;
+    return true;
+  }
+
+  const BoxDiscQP& qp_;
+  Eigen::VectorXd& lambda_;
+  const MpgpSettings& settings_;
+  QpResult& result_;
+  const double h_norm_, alpha_, tol_;
+  State s_;
+  Eigen::VectorXd p_;                    // the conjugate direction on the free set
+  double free_sq_ = 0, chopped_sq_ = 0;  // ‖φ‖², ‖β‖² of the last stopping test
+};
+
 }  // namespace
 
 QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSettings& settings) {
@@ -87,103 +218,7 @@ QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSett
     result.status = QpStatus::Converged;
     return result;
   }
-  const double h_norm = qp.h.norm();
-  const double alpha = settings.alpha_scale / qp.q_norm;
-  const double tol = settings.rtol * h_norm;
-  State s{qp, lambda, {}, {}, result};
-  s.refresh_gradient();
-  Eigen::VectorXd p = s.split.free;
-
-  for (result.iterations = 0; result.iterations < settings.max_iterations; ++result.iterations) {
-    const bool converged = s.meets(tol, p);
-    const double free_sq = s.split.free.squaredNorm(), chopped_sq = s.split.chopped.squaredNorm();
-    result.projected_gradient = std::sqrt(free_sq + chopped_sq) / h_norm;
-    if (!std::isfinite(result.projected_gradient)) {
-      result.status = QpStatus::Breakdown;
-      return result;
-    }
-    if (converged) {
-      result.status = QpStatus::Converged;
-      return result;
-    }
-    if (settings.progress)
-      settings.progress->beat([&] { return qp_heartbeat_line("mpgp", result, settings.rtol, *settings.progress); });
-
-    const Eigen::VectorXd before = lambda;  // g is valid here
-    if (chopped_sq <= settings.gamma * settings.gamma * free_sq) {
-      // Proportional iterate: conjugate-gradient step on the free set, or expansion.
-      const Eigen::VectorXd Qp = s.apply(p);
-      const double pQp = p.dot(Qp);
-      if (!(pQp > 0)) {
-        result.status = QpStatus::Breakdown;
-        return result;
-      }
-      const double a_cg = s.g.dot(p) / pQp;
-      const double a_f = max_feasible_step(qp, lambda, p);
-      if (a_cg <= a_f) {
-        ++result.cg_steps;
-        lambda -= a_cg * p;
-        s.g -= a_cg * Qp;
-        s.resplit();
-        const double beta = s.split.free.dot(Qp) / pQp;
-        p = s.split.free - beta * p;
-        continue;
-      }
-      ++result.expansion_steps;
-      switch (settings.expansion) {
-        case ExpansionKind::ProjectedCG:
-          lambda -= a_cg * p;
-          project(qp, lambda);
-          s.move_gradient_from(before);
-          break;
-        case ExpansionKind::FreeGradient:
-        case ExpansionKind::FullGradient: {
-          lambda -= a_f * p;
-          s.g -= a_f * Qp;
-          project(qp, lambda);
-          const Eigen::VectorXd on_boundary = lambda;
-          lambda -=
-              alpha * (settings.expansion == ExpansionKind::FullGradient ? s.g : split_gradient(qp, lambda, s.g).free);
-          project(qp, lambda);
-          s.move_gradient_from(on_boundary);
-          break;
-        }
-      }
-      p = s.split.free;
-      continue;
-    }
-    // Not proportional: proportioning step. Along the chopped gradient with an exact line
-    // search when that stays feasible (always on the half-lines); otherwise — and always in
-    // the FullGradient variant, the paper's "proportioning and expansion performed
-    // simultaneously" — one gradient-projection step of fixed length ᾱ, which decreases S for
-    // ᾱ < 2/‖Q‖ (a projected line-search step on the discs can cycle).
-    ++result.proportioning_steps;
-    bool done = false;
-    if (settings.expansion != ExpansionKind::FullGradient) {
-      const Eigen::VectorXd d = s.split.chopped;
-      const Eigen::VectorXd Qd = s.apply(d);
-      const double dQd = d.dot(Qd);
-      if (!(dQd > 0)) {
-        result.status = QpStatus::Breakdown;
-        return result;
-      }
-      const double a = s.g.dot(d) / dQd;
-      const Eigen::VectorXd trial = lambda - a * d;
-      if (is_feasible(qp, trial, 0.0)) {  // strict: a tangential step along a circle never is
-        lambda = trial;
-        s.g -= a * Qd;
-        s.resplit();
-        done = true;
-      }
-    }
-    if (!done) {
-      lambda -= alpha * s.g;
-      project(qp, lambda);
-      s.move_gradient_from(before);
-    }
-    p = s.split.free;
-  }
-  result.status = QpStatus::IterationLimit;
+  result.status = Mpgp(qp, lambda, settings, result).run();
   return result;
 }
 
