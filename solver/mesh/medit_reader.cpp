@@ -31,7 +31,9 @@ struct MeditData {
 };
 
 // Sections that carry nothing a P1 tetrahedral solve uses, skipped in both encodings, with the
-// number of integers and reals per entry (ASCII) and their binary keyword codes.
+// number of integers and reals per entry (ASCII; a 3D mesh: a normal or tangent is 3 reals) and
+// their binary keyword codes (libMeshb's): the edges, the surface mesher's geometry (corners,
+// ridges, required entities) and the normals and tangents that MMG and other remeshers write.
 struct Skipped {
   const char* name;
   int code, ints, reals;
@@ -43,7 +45,14 @@ constexpr Skipped kSkipped[] = {{"Edges", 5, 3, 0},
                                 {"RequiredVertices", 15, 1, 0},
                                 {"RequiredEdges", 16, 1, 0},
                                 {"RequiredTriangles", 17, 1, 0},
-                                {"NormalAtVertices", 20, 2, 0}};
+                                {"RequiredQuadrilaterals", 18, 1, 0},
+                                {"TangentAtEdgeVertices", 19, 3, 0},
+                                {"NormalAtVertices", 20, 2, 0},
+                                {"NormalAtTriangleVertices", 21, 3, 0},
+                                {"NormalAtQuadrilateralVertices", 22, 3, 0},
+                                {"Tangents", 59, 0, 3},
+                                {"Normals", 60, 0, 3},
+                                {"TangentAtVertices", 61, 2, 0}};
 // Element sections contact3d cannot use: named in the error.
 struct Rejected {
   const char* name;

@@ -3,6 +3,7 @@
 // InputError naming the file and where (line or byte offset) and the section.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -194,6 +195,75 @@ TEST(MeditReader, EdgesCornersAndRequiredEntitiesAreSkipped) {
   const Mesh m = parse_medit(t, "extra.mesh");
   EXPECT_EQ(m.tets.size(), 2u);
   EXPECT_EQ(m.triangles.size(), 1u);
+}
+
+// What MMG and other remeshers add to a mesh: normals and tangents with their links to vertices
+// and triangles, in ASCII (reals and integers counted per entry) and in binary (skipped by the
+// keyword's next-position pointer).
+TEST(MeditReader, NormalsAndTangentsAreSkipped) {
+  const std::string t = replaced(kTwoTets, "End",
+                                 "Normals\n2\n0 0 -1\n0.6 0.8 0\nNormalAtVertices\n1\n1 1\n"
+                                 "NormalAtTriangleVertices\n1\n1 2 2\nTangents\n1\n1 0 0\n"
+                                 "TangentAtVertices\n1\n2 1\nTangentAtEdgeVertices\n1\n1 1 1\n"
+                                 "RequiredQuadrilaterals\n0\nEnd");
+  const Mesh m = parse_medit(t, "remeshed.mesh");
+  EXPECT_EQ(m.tets.size(), 2u);
+  EXPECT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(m.nodes[4], Eigen::Vector3d(0, 0, -1));
+  // One real too few in Normals: the next keyword is read as a number, and the error says where.
+  const std::string short_normal = replaced(t, "0.6 0.8 0\n", "0.6 0.8\n");
+  EXPECT_NE(error_of(short_normal).find("bad.mesh"), std::string::npos);
+}
+
+TEST(MeditReader, NormalsAndTangentsAreSkippedInBinary) {
+  std::string data;
+  const auto put_int = [&](std::int32_t v) { data.append(reinterpret_cast<const char*>(&v), 4); };
+  const auto put_real = [&](double v) { data.append(reinterpret_cast<const char*>(&v), 8); };
+  const auto keyword = [&](std::int32_t code, const std::function<void()>& body) {
+    put_int(code);
+    const std::size_t next = data.size();
+    put_int(0);
+    body();
+    const std::int32_t end = static_cast<std::int32_t>(data.size());
+    std::memcpy(data.data() + next, &end, 4);
+  };
+  put_int(1);
+  put_int(2);
+  keyword(3, [&] { put_int(3); });
+  keyword(4, [&] {
+    put_int(4);
+    for (const auto& x : {std::array<double, 3>{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}) {
+      for (double c : x) put_real(c);
+      put_int(0);
+    }
+  });
+  keyword(60, [&] {  // Normals
+    put_int(1);
+    for (double c : {0.0, 0.0, -1.0}) put_real(c);
+  });
+  keyword(20, [&] {  // NormalAtVertices
+    put_int(1);
+    put_int(1);
+    put_int(1);
+  });
+  keyword(59, [&] {  // Tangents
+    put_int(1);
+    for (double c : {1.0, 0.0, 0.0}) put_real(c);
+  });
+  keyword(61, [&] {  // TangentAtVertices
+    put_int(1);
+    put_int(2);
+    put_int(1);
+  });
+  keyword(8, [&] {  // Tetrahedra
+    put_int(1);
+    for (std::int32_t v : {1, 2, 3, 4, 1}) put_int(v);
+  });
+  put_int(54);
+  put_int(0);
+  const Mesh m = parse_medit(data, "remeshed.meshb");
+  EXPECT_EQ(m.nodes.size(), 4u);
+  EXPECT_EQ(m.tets.size(), 1u);
 }
 
 TEST(MeditReader, BinaryPrefixesAndOverwritesNeverCrash) {
