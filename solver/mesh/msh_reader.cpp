@@ -429,6 +429,9 @@ class Parser {
   void read_mesh_format();
   void read_physical_names();
   void read_entities();
+  void read_partitioned_entities();
+  std::vector<int> read_entity_ints(const char* what, std::size_t count);
+  void check_every_partition_present() const;
   void read_nodes41();
   std::size_t read_node_block41(std::size_t announced, std::size_t so_far);
   void read_elements41();
@@ -517,6 +520,12 @@ class Parser {
   std::vector<std::pair<int, int>> used_order_;
   std::pair<int, int> last_used_{-1, 0};
   std::array<std::map<int, std::vector<int>>, 4> entities_;  // physical tags per entity
+  // A partitioned file (gmsh -part N): the partitions, and those of each volume entity and of the
+  // volumes whose blocks held tetrahedra (a file of gmsh -part_split holds one partition's only).
+  std::size_t partitions_ = 0;
+  std::map<int, std::vector<int>> volume_partitions_;
+  std::set<int> partitions_with_tets_;
+  std::array<std::set<int>, 4> partition_interfaces_;  // pieces of a volume between two partitions
   std::vector<int> no_physicals_;
   bool second_order_ = false;  // the file holds second-order elements (kLine3, kTri6, kTet10)
   // MSH 2.2: whether the last element kept was a tetrahedron, and its elementary entity (gmsh
@@ -557,7 +566,11 @@ Mesh Parser::parse() {
       if (have_elements_) fail(header, "$Entities must come before $Elements");
       read_entities();
     } else if (name == "PartitionedEntities") {
-      fail(header, "partitioned meshes are not supported; save the mesh without partitions");
+      if (version_ != 41) fail(header, "$PartitionedEntities in an MSH 2.2 file");
+      if (!have_entities_) fail(header, "$PartitionedEntities must come after $Entities");
+      if (have_nodes_ || have_elements_) fail(header, "$PartitionedEntities must come before $Nodes and $Elements");
+      if (partitions_ > 0) fail(header, "second $PartitionedEntities section");
+      read_partitioned_entities();
     } else if (name == "Nodes") {
       if (have_nodes_) fail(header, "second $Nodes section");
       if (version_ == 41)
@@ -580,6 +593,7 @@ Mesh Parser::parse() {
   }
   if (!have_nodes_) fail(end_, "the file has no $Nodes section");
   if (!have_elements_) fail(end_, "the file has no $Elements section");
+  check_every_partition_present();
 
   mesh_.groups = named_;
   for (const auto& [dim, tag] : used_order_)
@@ -736,6 +750,89 @@ void Parser::read_entities() {
   }
   expect_section_end("$EndEntities");
   section_ = {};
+}
+
+// A partitioned MSH 4.1 file (gmsh -part N): the mesh's blocks refer to the partitioned entities,
+// each a piece of a model entity (its parent) in one or more partitions, with the parent's physical
+// tags. They replace $Entities' entities for the blocks. The interfaces between partitions (pieces
+// of a volume that are surfaces, curves or points: parentDim > dim) take no physical group, and
+// their triangles, inside the body, are read and dropped.
+void Parser::read_partitioned_entities() {
+  section_ = "PartitionedEntities";
+  static const char* kinds[] = {"points", "curves", "surfaces", "volumes"};
+  if (!binary_) next_record();
+  partitions_ = binary_ ? raw_count("the number of partitions", 1) : count_value("the number of partitions", 1);
+  if (partitions_ == 0) fail(p_, "a partitioned mesh with 0 partitions");
+  if (!binary_) end_record("the number of partitions");
+  if (!binary_) next_record();
+  const std::size_t ghosts =
+      binary_ ? raw_count("the number of ghost entities", 8) : count_value("the number of ghost entities", 4);
+  if (!binary_) end_record("the number of ghost entities");
+  for (std::size_t g = 0; g < ghosts; ++g) {
+    if (!binary_) next_record();
+    (void)read_entity_ints("a ghost entity", 2);
+    if (!binary_) end_record("a ghost entity");
+  }
+  std::array<std::size_t, 4> counts{};
+  if (!binary_) next_record();
+  for (int d = 0; d < 4; ++d) {
+    const std::string what = std::string("the number of partitioned ") + kinds[d];
+    counts[d] = binary_ ? raw_count(what.c_str(), 40) : count_value(what, 14);
+  }
+  if (!binary_) end_record("the partitioned entity counts");
+  std::array<std::map<int, std::vector<int>>, 4> pieces;
+  for (int d = 0; d < 4; ++d) {
+    for (std::size_t i = 0; i < counts[d]; ++i) {
+      if (!binary_) next_record();
+      const char* rec = p_;
+      const std::vector<int> head = read_entity_ints("the tag and parent of a partitioned entity", 3);
+      const std::size_t np = binary_ ? raw_count("the number of partitions of an entity", 4)
+                                     : count_value("the number of partitions of an entity", 2);
+      std::vector<int> parts = read_entity_ints("a partition tag", np);
+      for (int k = 0; k < (d == 0 ? 3 : 6); ++k)
+        binary_ ? (void)raw<double>("entity coordinates") : (void)real_value("a bounding-box coordinate", false);
+      const std::size_t nphys =
+          binary_ ? raw_count("the number of physical tags", 4) : count_value("the number of physical tags", 2);
+      std::vector<int> phys = read_entity_ints("a physical tag", nphys);
+      if (d > 0) {
+        const std::size_t nb = binary_ ? raw_count("the number of bounding entities", 4)
+                                       : count_value("the number of bounding entities", 2);
+        (void)read_entity_ints("a bounding entity tag", nb);
+      }
+      if (!binary_) end_record("a partitioned entity");
+      if (head[1] != d) {  // an interface between partitions: inside the body, no group
+        phys.clear();
+        partition_interfaces_[d].insert(head[0]);
+      }
+      for (int t : phys) note_used_group(d, t);
+      if (d == 3) volume_partitions_[head[0]] = std::move(parts);
+      if (!pieces[d].emplace(head[0], std::move(phys)).second)
+        fail(rec,
+             std::string("partitioned entity ") + std::to_string(head[0]) + " is defined twice among the " + kinds[d]);
+    }
+  }
+  entities_ = std::move(pieces);
+  expect_section_end("$EndPartitionedEntities");
+  section_ = {};
+}
+
+// `count` integers of an entity record (4 bytes each in binary).
+std::vector<int> Parser::read_entity_ints(const char* what, std::size_t count) {
+  std::vector<int> values(count);
+  for (std::size_t k = 0; k < count; ++k) values[k] = binary_ ? raw_int(what) : int_value(what);
+  return values;
+}
+
+// A file of one partition out of several (gmsh -part_split writes one per partition) is a piece of
+// the body: refused, not solved as if it were the whole.
+void Parser::check_every_partition_present() const {
+  if (partitions_ <= 1 || partitions_with_tets_.size() >= partitions_) return;
+  std::string held;
+  for (int p : partitions_with_tets_) held += (held.empty() ? "" : ", ") + std::to_string(p);
+  throw InputError(name_ + ": the mesh is partitioned into " + std::to_string(partitions_) +
+                   " parts but its tetrahedra lie in partition(s) " + (held.empty() ? "none" : held) +
+                   " only: a file of one partition (gmsh -part_split) is a piece of the body; save the whole mesh " +
+                   "in one file (gmsh -part N without -part_split, or no partitions)");
 }
 
 void Parser::read_nodes41() {
@@ -950,6 +1047,10 @@ std::size_t Parser::read_element_block41(std::size_t announced, std::size_t so_f
                    " announced in the $Elements header");
   const std::vector<int>& phys = entity_physicals(dim, etag, bpos);
   const int group = phys.empty() ? 0 : phys[0];
+  const bool partition_interface = partitions_ > 0 && partition_interfaces_[dim].count(etag) > 0;
+  if (partitions_ > 0 && is_tet(type) && n > 0)
+    if (const auto it = volume_partitions_.find(etag); it != volume_partitions_.end())
+      partitions_with_tets_.insert(it->second.begin(), it->second.end());
 
   if (is_tet(type)) reserve_more_tets(n);
   if (is_triangle(type)) reserve_more_triangles(n);
@@ -972,7 +1073,7 @@ std::size_t Parser::read_element_block41(std::size_t announced, std::size_t so_f
       read_ascii_element_nodes(nn, idx, tag);
     }
     if (tag == 0) fail(epos, "element tag 0 is not valid (tags start at 1)");
-    store_element(type, tag, group, idx);
+    if (!partition_interface) store_element(type, tag, group, idx);
   }
   if (is_second_order(type)) second_order_ = true;
   if (is_triangle(type) && phys.size() > 1) repeat_for_extra_physicals(bpos, etag, first_tri, phys);

@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,7 +20,9 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +41,8 @@ using Tet = std::array<int, 4>;
 const std::string kFixtures = std::string(CONTACT3D_SOURCE_DIR) + "/meshes/fixtures/";
 const std::string kAscii41 = kFixtures + "brick_n2_msh41.msh";
 const std::string kBinary41 = kFixtures + "brick_n2_msh41_bin.msh";
+const std::string kPartitioned41 = kFixtures + "brick_n2_msh41_part2.msh";
+const std::string kPartitionedGhosts41 = kFixtures + "brick_n2_msh41_part3_ghosts_bin.msh";
 const std::string kAscii22 = kFixtures + "brick_n2_msh22.msh";
 const std::string kBinary22 = kFixtures + "brick_n2_msh22_bin.msh";
 const std::string kHoledAscii22 = kFixtures + "holed_h05_msh22.msh";
@@ -187,6 +192,47 @@ TEST(MshReader, Gmsh22MatchesAscii) {
   const Mesh m = read_msh(kAscii22);
   check_brick(m, kN);
   expect_same_mesh(m, read_msh(kAscii41));
+}
+
+// A mesh as sets of node tags: tets, and triangles per group name (file order aside).
+std::map<std::string, std::multiset<std::vector<std::size_t>>> elements_by_tags(const Mesh& m) {
+  std::map<std::string, std::multiset<std::vector<std::size_t>>> out;
+  const auto tags = [&](const auto& element) {
+    std::vector<std::size_t> t;
+    for (int v : element) t.push_back(m.node_tags[static_cast<std::size_t>(v)]);
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  for (const auto& tet : m.tets) out["tets"].insert(tags(tet));
+  for (const PhysicalGroup& g : m.groups)
+    if (g.dim == 2)
+      for (int i : m.triangles_of_group(g.name)) out[g.name].insert(tags(m.triangles[static_cast<std::size_t>(i)]));
+  return out;
+}
+
+// gmsh -part N: the blocks refer to $PartitionedEntities' pieces, whose physical tags are the
+// parent's; the interfaces between partitions (surfaces inside the body) are dropped. The same
+// brick as unpartitioned: node coordinates by tag, tets and each group's triangles.
+TEST(MshReader, Gmsh41PartitionedMatchesUnpartitioned) {
+  const Mesh plain = read_msh(kAscii41);
+  std::map<std::size_t, Eigen::Vector3d> plain_nodes;
+  for (std::size_t i = 0; i < plain.nodes.size(); ++i) plain_nodes[plain.node_tags[i]] = plain.nodes[i];
+  for (const std::string& file : {kPartitioned41, kPartitionedGhosts41}) {
+    SCOPED_TRACE(file);
+    const Mesh m = read_msh(file);
+    check_brick(m, kN);
+    EXPECT_EQ(m.triangles.size(), plain.triangles.size());  // no interface triangle kept
+    for (std::size_t i = 0; i < m.nodes.size(); ++i) EXPECT_EQ(m.nodes[i], plain_nodes.at(m.node_tags[i]));
+    EXPECT_EQ(elements_by_tags(m), elements_by_tags(plain));
+  }
+}
+
+// gmsh -part 2 -part_split: a file holds one partition, a piece of the body: refused.
+TEST(MshReader, OnePartitionOfSeveralIsRefused) {
+  const std::string msg = input_error([] { read_msh(kFixtures + "brick_n2_msh41_part2_split_1.msh"); });
+  EXPECT_NE(msg.find("partitioned into 2 parts"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("partition(s) 1 only"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("-part_split"), std::string::npos) << msg;
 }
 
 TEST(MshReader, ParseFromMemoryMatchesFile) {
@@ -564,9 +610,17 @@ TEST(MshBroken, AsciiFilesNameFileAndLine) {
       {"unclosed section", join(kBase41) + "$Comments\nhello\n", {"line 33", "not closed by $EndComments"}},
       {"garbage between sections", base41_with(26, "garbage\n$Elements"), {"line 26", "expected a section header"}},
       {"missing section end", base41_with(25, ""), {"line 25", "expected $EndNodes, found '$Elements'"}},
-      {"partitioned",
+      {"partitioned, empty",
        base41_with(13, "$EndEntities\n$PartitionedEntities\n$EndPartitionedEntities"),
-       {"line 14", "partitioned"}},
+       {"line 15", "the number of partitions"}},
+      {"partitioned before $Entities",
+       base41_with(9, "$PartitionedEntities\n1\n0\n0 0 0 0\n$EndPartitionedEntities\n$Entities"),
+       {"line 9", "must come after $Entities"}},
+      {"partitioned, truncated record",
+       base41_with(13,
+                   "$EndEntities\n$PartitionedEntities\n1\n0\n0 0 0 1\n7 3 1 1 1 0 0 0 1 1 1\n"
+                   "$EndPartitionedEntities"),
+       {"line 18", "physical tags"}},
       {"2.2 truncated", base22, {"line 13", "unexpected end of file"}},
       {"2.2 truncated mid-line", base22 + "2 4 2 1 1 1 2", {"line 13", "unexpected end of file"}},
       {"2.2 undefined node",
@@ -685,7 +739,7 @@ TEST(MshBroken, BinaryFilesNameByteOffset) {
 
 // Every proper prefix of a valid file is an error (never a crash, hang or other exception).
 TEST(MshBroken, EveryTruncationIsAnInputError) {
-  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22, kBinary22}) {
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22, kBinary22, kPartitioned41}) {
     SCOPED_TRACE(fixture);
     const std::string data = slurp(fixture);
     ASSERT_EQ(data.back(), '\n');
@@ -704,7 +758,7 @@ TEST(MshBroken, EveryTruncationIsAnInputError) {
 TEST(MshBroken, RandomCorruptionIsAcceptedOrInputError) {
   std::mt19937 rng(12345);
   const char alphabet[] = "0123456789 \n-.e$\"xnaif";
-  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22, kBinary22}) {
+  for (const std::string& fixture : {kAscii41, kBinary41, kAscii22, kBinary22, kPartitioned41, kPartitionedGhosts41}) {
     SCOPED_TRACE(fixture);
     const std::string good = slurp(fixture);
     int accepted = 0;
