@@ -287,6 +287,17 @@ def c_inf_cell_size(c):
     return ["check", c.scene(cell="inf")], ["cell_size"]
 
 
+def c_cell_size_far_too_small(c):
+    # The message gives the numbers as they are (it printed "0.000000 m gives 3000000000000000000.000000").
+    return ["check", c.scene(cell="1e-9")], ["contact.cell_size", "1e-09 m", "3e+18 cells", "larger H"]
+
+
+def c_msh_one_partition_of_two(c):
+    # gmsh -part 2 -part_split writes one file per partition: a piece of the body, not the body.
+    return ["check", c.scene(os.path.join(c.fix, "brick_n2_msh41_part2_split_1.msh"))], \
+        ["brick_n2_msh41_part2_split_1.msh", "partitioned into 2 parts", "partition(s) 1 only", "-part_split"]
+
+
 def c_nan_table_point(c):
     s = c.scene()
     text = open(s).read().replace('law = "ramp"\nparam = 6e4', 'law = "table"\npoints = [[0.0, 0.3], [nan, 0.2]]')

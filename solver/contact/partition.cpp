@@ -127,8 +127,8 @@ GridBoxes grid_boxes(const ContactFace& face, const std::vector<Box>& triangles,
   const double nx = std::max(1.0, std::ceil(extent.x() / opt.cell_size - 1e-9));
   const double ny = std::max(1.0, std::ceil(extent.y() / size_y - 1e-9));
   if (nx * ny > kMaxRectangles)
-    throw InputError("contact.cell_size " + std::to_string(opt.cell_size) + " m gives " + std::to_string(nx * ny) +
-                     " cells; choose a larger H");
+    throw InputError("contact.cell_size " + number(opt.cell_size) + " m gives " + number(nx * ny, 3) +
+                     " cells (at most " + number(kMaxRectangles, 3) + "); choose a larger H");
   return GridBoxes::uniform(face.lo, extent, static_cast<int>(nx), static_cast<int>(ny));
 }
 
