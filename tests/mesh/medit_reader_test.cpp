@@ -146,23 +146,39 @@ TEST(MeditReader, SecondOrderElementsAreReadByTheirCorners) {
   EXPECT_FALSE(parse_medit(kTwoTets, "p1.mesh").read_by_corner_nodes);
 }
 
-// The same in binary (.meshb, version 2: 32-bit integers, 64-bit reals), written here keyword by
-// keyword: code, position of the next keyword, data.
-TEST(MeditReader, SecondOrderElementsAreReadByTheirCornersInBinary) {
+// A binary Medit file (.meshb, version 2: 32-bit integers, 64-bit reals) written keyword by
+// keyword: code, position of the next keyword, data; the header and the dimension first.
+struct MeditBinary {
   std::string data;
-  const auto put_int = [&](std::int32_t v) { data.append(reinterpret_cast<const char*>(&v), 4); };
-  const auto put_real = [&](double v) { data.append(reinterpret_cast<const char*>(&v), 8); };
-  const auto keyword = [&](std::int32_t code, const std::function<void()>& body) {
+  MeditBinary() {
+    put_int(1);  // endianness
+    put_int(2);  // version
+    keyword(3, [&] { put_int(3); });
+  }
+  void put_int(std::int32_t v) { data.append(reinterpret_cast<const char*>(&v), 4); }
+  void put_real(double v) { data.append(reinterpret_cast<const char*>(&v), 8); }
+  void keyword(std::int32_t code, const std::function<void()>& body) {
     put_int(code);
     const std::size_t next = data.size();
     put_int(0);
     body();
     const std::int32_t end = static_cast<std::int32_t>(data.size());
     std::memcpy(data.data() + next, &end, 4);
-  };
-  put_int(1);
-  put_int(2);
-  keyword(3, [&] { put_int(3); });
+  }
+  // The End keyword; the file's bytes.
+  const std::string& finish() {
+    put_int(54);
+    put_int(0);
+    return data;
+  }
+};
+
+// The same in binary.
+TEST(MeditReader, SecondOrderElementsAreReadByTheirCornersInBinary) {
+  MeditBinary b;
+  const auto put_int = [&](std::int32_t v) { b.put_int(v); };
+  const auto put_real = [&](double v) { b.put_real(v); };
+  const auto keyword = [&](std::int32_t code, const std::function<void()>& body) { b.keyword(code, body); };
   const double xyz[10][3] = {{0, 0, 0},   {0.5, 0, 0}, {1, 0, 0},     {0, 0.5, 0},   {0, 1, 0},
                              {0, 0, 0.5}, {0, 0, 1},   {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
   keyword(4, [&] {
@@ -180,9 +196,7 @@ TEST(MeditReader, SecondOrderElementsAreReadByTheirCornersInBinary) {
     put_int(1);
     for (std::int32_t v : {1, 3, 5, 7, 2, 8, 4, 6, 10, 9, 1}) put_int(v);
   });
-  put_int(54);
-  put_int(0);
-  const Mesh m = parse_medit(data, "p2.meshb");
+  const Mesh m = parse_medit(b.finish(), "p2.meshb");
   EXPECT_TRUE(m.read_by_corner_nodes);
   ASSERT_EQ(m.nodes.size(), 4u);
   EXPECT_EQ(m.nodes[3], Eigen::Vector3d(0, 0, 1));
@@ -216,20 +230,10 @@ TEST(MeditReader, NormalsAndTangentsAreSkipped) {
 }
 
 TEST(MeditReader, NormalsAndTangentsAreSkippedInBinary) {
-  std::string data;
-  const auto put_int = [&](std::int32_t v) { data.append(reinterpret_cast<const char*>(&v), 4); };
-  const auto put_real = [&](double v) { data.append(reinterpret_cast<const char*>(&v), 8); };
-  const auto keyword = [&](std::int32_t code, const std::function<void()>& body) {
-    put_int(code);
-    const std::size_t next = data.size();
-    put_int(0);
-    body();
-    const std::int32_t end = static_cast<std::int32_t>(data.size());
-    std::memcpy(data.data() + next, &end, 4);
-  };
-  put_int(1);
-  put_int(2);
-  keyword(3, [&] { put_int(3); });
+  MeditBinary b;
+  const auto put_int = [&](std::int32_t v) { b.put_int(v); };
+  const auto put_real = [&](double v) { b.put_real(v); };
+  const auto keyword = [&](std::int32_t code, const std::function<void()>& body) { b.keyword(code, body); };
   keyword(4, [&] {
     put_int(4);
     for (const auto& x : {std::array<double, 3>{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}) {
@@ -259,9 +263,7 @@ TEST(MeditReader, NormalsAndTangentsAreSkippedInBinary) {
     put_int(1);
     for (std::int32_t v : {1, 2, 3, 4, 1}) put_int(v);
   });
-  put_int(54);
-  put_int(0);
-  const Mesh m = parse_medit(data, "remeshed.meshb");
+  const Mesh m = parse_medit(b.finish(), "remeshed.meshb");
   EXPECT_EQ(m.nodes.size(), 4u);
   EXPECT_EQ(m.tets.size(), 1u);
 }
