@@ -694,8 +694,8 @@ const std::vector<int>& Parser::entity_physicals(int dim, int tag, const char* p
   const auto it = entities_[dim].find(tag);
   if (it == entities_[dim].end()) {
     static const char* kinds[] = {"point", "curve", "surface", "volume"};
-    fail(pos, "the block refers to " + std::string(kinds[dim]) + " entity " + std::to_string(tag) +
-                  ", which $Entities does not define");
+    fail(pos, "the block refers to " + std::string(kinds[dim]) + " entity " + std::to_string(tag) + ", which " +
+                  (partitions_ > 0 ? "$PartitionedEntities" : "$Entities") + " does not define");
   }
   return it->second;
 }
