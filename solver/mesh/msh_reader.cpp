@@ -826,11 +826,12 @@ std::vector<int> Parser::read_entity_ints(const char* what, std::size_t count) {
 // A file of one partition out of several (gmsh -part_split writes one per partition) is a piece of
 // the body: refused, not solved as if it were the whole.
 void Parser::check_every_partition_present() const {
-  if (partitions_ <= 1 || partitions_with_tets_.size() >= partitions_) return;
+  // No tetrahedra at all: the mesh checks say so.
+  if (partitions_ <= 1 || partitions_with_tets_.empty() || partitions_with_tets_.size() >= partitions_) return;
   std::string held;
   for (int p : partitions_with_tets_) held += (held.empty() ? "" : ", ") + std::to_string(p);
   throw InputError(name_ + ": the mesh is partitioned into " + std::to_string(partitions_) +
-                   " parts but its tetrahedra lie in partition(s) " + (held.empty() ? "none" : held) +
+                   " parts but its tetrahedra lie in partition(s) " + held +
                    " only: a file of one partition (gmsh -part_split) is a piece of the body; save the whole mesh " +
                    "in one file (gmsh -part N without -part_split, or no partitions)");
 }
