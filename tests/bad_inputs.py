@@ -298,6 +298,18 @@ def c_msh_one_partition_of_two(c):
         ["brick_n2_msh41_part2_split_1.msh", "partitioned into 2 parts", "partition(s) 1 only", "-part_split"]
 
 
+def c_serial_build_under_mpirun(c):
+    # `mpirun -np 2 build/contact3d ...` (the serial build, or build-mpi/contact3d overwritten by a
+    # build of every target there) would solve twice into one folder: refused before anything runs.
+    # Open MPI's variables, and a parent process named mpirun (a script that runs the solver as its
+    # child): a script started by mpirun that runs serial solves itself is not refused.
+    launcher = c.write("mpirun", '#!/bin/sh\n"$@"\nexit $?\n')
+    os.chmod(launcher, 0o755)
+    return ((["solve", c.scene(), "--quiet", "--out", c.path("out")],
+             ["serial build", "MPI launcher with 2 processes", "make build-mpi"]),
+            {"env": {"OMPI_COMM_WORLD_SIZE": "2", "OMPI_COMM_WORLD_RANK": "0"}, "launcher": [launcher]})
+
+
 def c_nan_table_point(c):
     s = c.scene()
     text = open(s).read().replace('law = "ramp"\nparam = 6e4', 'law = "table"\npoints = [[0.0, 0.3], [nan, 0.2]]')
@@ -710,12 +722,15 @@ def run(binary, source, name, verbose=True):
     work = tempfile.mkdtemp(prefix="c3d_bad_")
     try:
         spec = CASES[name](Ctx(binary, source, work))
-        # A case gives (argv, facts), or ((argv, facts), resource limits of the solver process).
+        # A case gives (argv, facts), or ((argv, facts), resource limits of the solver process,
+        # "env": variables added to its environment, "launcher": a command that starts it).
         (argv, facts), limits = spec if isinstance(spec[0], tuple) else (spec, {})
         def apply_limits():
             if "address_space_bytes" in limits:
                 resource.setrlimit(resource.RLIMIT_AS, (limits["address_space_bytes"],) * 2)
-        p = subprocess.run([binary] + argv, capture_output=True, text=True, timeout=120, preexec_fn=apply_limits)
+        env = dict(os.environ, **limits.get("env", {}))
+        p = subprocess.run(limits.get("launcher", []) + [binary] + argv, capture_output=True, text=True, timeout=120,
+                           preexec_fn=apply_limits, env=env)
         err = p.stderr
         problems = []
         if p.returncode != 2:

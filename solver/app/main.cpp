@@ -3,13 +3,18 @@
 //   contact3d mesh brick --n N [-o FILE.msh]      (the paper's five-tet brick, MSH 4.1)
 //   contact3d check SCENE.toml [--mesh FILE.msh]  (validate scene and mesh without solving)
 // Exit codes: 0 solved and converged, 1 solved but not converged, 2 bad input or failure.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include <unistd.h>
 
@@ -242,9 +247,44 @@ int run_check(const SolveArgs& args) {
   return 0;
 }
 
+// The processes an MPI launcher started this one among (Open MPI's mpirun, MPICH's and Intel's
+// Hydra), and this one's rank; 1 and 0 without a launcher.
+std::pair<long, long> launched_processes() {
+  for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, {"PMI_SIZE", "PMI_RANK"}})
+    if (const char* n = std::getenv(size)) {
+      const char* r = std::getenv(rank);
+      return {std::max(1L, std::atol(n)), r ? std::atol(r) : 0L};
+    }
+  return {1, 0};
+}
+
+// Whether the parent process is an MPI launcher's (not a script it started, which may run serial
+// solves of its own: the launcher's variables reach those too).
+bool started_by_launcher() {
+  std::ifstream in("/proc/" + std::to_string(getppid()) + "/comm");
+  std::string parent;
+  std::getline(in, parent);
+  for (const char* launcher : {"mpirun", "mpiexec", "orterun", "orted", "prterun", "prted", "hydra_pmi_proxy"})
+    if (parent == launcher) return true;
+  return false;
+}
+
+// The serial build started by mpirun with several processes would run the whole solve once per
+// process, all writing the same folder: refused (exit 2), said once, by the first process.
+bool serial_build_under_mpirun() {
+  const auto [processes, rank] = launched_processes();
+  if (distributed::available() || processes <= 1 || !started_by_launcher()) return false;
+  if (rank == 0)
+    std::cerr << "error: this contact3d is the serial build, started by an MPI launcher with " << processes
+              << " processes: each would solve the whole scene alone. Run it without mpirun, or build the "
+                 "distributed one (`make build-mpi`) and run `mpirun -np P build-mpi/contact3d solve SCENE`\n";
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (serial_build_under_mpirun()) return 2;
   keep_freed_memory();  // stages reuse the pages earlier stages freed (base/memory.hpp)
   // The distributed build: every rank but 0 only serves rank 0's factorization and solves.
   distributed::Session session(argc, argv);
