@@ -1048,8 +1048,8 @@ std::size_t Parser::read_element_block41(std::size_t announced, std::size_t so_f
                    " announced in the $Elements header");
   const std::vector<int>& phys = entity_physicals(dim, etag, bpos);
   const int group = phys.empty() ? 0 : phys[0];
-  const bool partition_interface = partitions_ > 0 && partition_interfaces_[dim].count(etag) > 0;
-  if (partitions_ > 0 && is_tet(type) && n > 0)
+  const bool partition_interface = partition_interfaces_[dim].count(etag) > 0;  // none unless partitioned
+  if (is_tet(type) && n > 0)
     if (const auto it = volume_partitions_.find(etag); it != volume_partitions_.end())
       partitions_with_tets_.insert(it->second.begin(), it->second.end());
 
