@@ -99,7 +99,8 @@ class DualQpSolver {
   // their multiplier μ: λ(μ) solves the QP with the linear term h − Gᵀμ, and μ is the root of
   // F(μ) = Gλ(μ) − e, piecewise affine and monotone, found by Newton steps with a Jacobian from the
   // reduced system of λ's active sets (difference quotients where it cannot be solved; kept from
-  // solve to solve, Broyden-updated, measured again when a step fails or the reachable rows change:
+  // solve to solve, Broyden-updated, measured again when a step fails, when a full step cut ‖F‖ less
+  // than tenfold (the active sets moved under Broyden's secant) or when the reachable rows change:
   // rows no multiplier can move under these radii, a slide without friction, are left to the caller
   // in equality_residual()) and halving; where no halving lowers ‖F‖ but the step overshoots the
   // maximum of the concave dual φ (F = ∇φ) along it, that maximum is searched for (false position on
