@@ -897,9 +897,11 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
                              (res.stability_condition_scaled > 0
                                   ? ", Jacobi-scaled as the QP solves it " + number(res.stability_condition_scaled)
                                   : std::string()) +
-                             ": some multiplier cells are nearly dependent (e.g. cells smaller than the elements, or "
-                             "a body thinner than a cell), so λ and the contact pressure are unreliable although the "
-                             "residuals are small; use a larger contact.cell_size (H)");
+                             ": λ and the contact pressure may be inaccurate although the residuals are small. Either "
+                             "some multiplier cells are nearly dependent (cells smaller than the elements, or a body "
+                             "thinner than a cell): use a larger contact.cell_size (H); or the body bends freely "
+                             "between its supports and the contact (a slender or soft part): hold it nearer the "
+                             "contact, or check λ against a run with a tighter solver.qp_rtol");
   };
   if (!dual.forms_Q()) {
     res.stability_condition = check_stability_without_Q(dual, op, res.partition, q_norm);
