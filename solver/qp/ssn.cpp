@@ -27,36 +27,78 @@ double flops_in_products(double flops, int m) { return m > 0 ? flops / (2.0 * m 
 
 // Iterative refinement in double (each refinement one product by Q) of `approximate`, a solver of
 // the reduced system in single precision or through the bordered factor, until the residual is
-// `target` of the right-hand side, or stops falling once below kRefinedResidual (rounding). False
-// when it does not get below kRefinedResidual: the caller then takes a more accurate route.
+// `target` of the right-hand side, or stops falling once below kRefinedResidual (rounding). Where
+// the refinement stalls above that (`approximate` too inaccurate: a single factor of an
+// ill-conditioned Q cuts the error by only about cond(Q) · ε_single per refinement), conjugate
+// gradients preconditioned by `approximate` take over from the best iterate (refine_by_pcg). False
+// when neither gets below kRefinedResidual: the caller then takes a more accurate route.
 // The target follows the QP's tolerance (newton_refinement_target): on the free thin slab, whose
 // equality loop solves its QPs to 1e-12, one fixed 1e-10 left every Newton step short and MPGP
 // crawled the rest (h = 0.035: 128 340 products, 42 s; with the target 1 174 products, 2.3 s).
 constexpr int kMaxRefinements = 8;
 constexpr double kRefinedResidual = 1e-10;
+// Preconditioned CG's iterations after a stalled refinement: each costs a product by Q and an
+// approximate solve, so 40 stay far below the reduced factorization they spare where the bordered
+// route was chosen (its flops were lower by 100 times on the free slab).
+constexpr int kMaxPcgIterations = 40;
 double newton_refinement_target(double rtol) { return std::min(kRefinedResidual, rtol); }
+
+// Flexible preconditioned CG (Polak-Ribière β: `approximate` in single precision is not exactly
+// symmetric) on the reduced system from x, whose residual is r, to `target` of ‖b‖; true when the
+// residual, recomputed in double at the end, gets there (or below kRefinedResidual when CG stalls).
+template <class ApproximateSolve>
+bool refine_by_pcg(const BoxDiscQP& qp, const std::vector<Direction>& d, const ApproximateSolve& approximate,
+                   double target, double b_norm, const Eigen::VectorXd& b, Eigen::VectorXd& x, Eigen::VectorXd r,
+                   int& products) {
+  Eigen::VectorXd z = approximate(r), p = z;
+  double rz = r.dot(z);
+  for (int it = 0; it < kMaxPcgIterations && r.norm() > target * b_norm; ++it) {
+    const Eigen::VectorXd Ap = reduced_product(qp, d, p);
+    ++products;
+    const double pAp = p.dot(Ap);
+    if (!(pAp > 0) || !(rz > 0)) break;
+    const double alpha = rz / pAp;
+    x += alpha * p;
+    const Eigen::VectorXd r_old = r;
+    r -= alpha * Ap;
+    z = approximate(r);
+    const double rz_new = r.dot(z);
+    const double beta = std::max(0.0, (rz_new - r_old.dot(z)) / rz);
+    p = z + beta * p;
+    rz = rz_new;
+  }
+  const Eigen::VectorXd true_r = b - reduced_product(qp, d, x);  // CG's recursive residual drifts
+  ++products;
+  return true_r.allFinite() && true_r.norm() <= std::max(target, kRefinedResidual) * b_norm;
+}
+
 template <class ApproximateSolve>
 bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, const ApproximateSolve& approximate,
                       double target, Eigen::VectorXd& y, int& products) {
   const Eigen::VectorXd b = y;
   const double b_norm = b.norm();
   Eigen::VectorXd x = approximate(b);
+  Eigen::VectorXd best_x, best_r;
   double before = INFINITY;
   for (int it = 0; it <= kMaxRefinements; ++it) {
     const Eigen::VectorXd r = b - reduced_product(qp, d, x);
     ++products;
     if (!r.allFinite()) return false;
     const double left = r.norm();
+    if (left < before) best_x = x, best_r = r;
     const bool stalled = left > 0.5 * before || it == kMaxRefinements;
     if (left <= target * b_norm || (stalled && left <= kRefinedResidual * b_norm)) {
       y = x;
       return true;
     }
-    if (stalled) return false;
+    if (stalled) break;
     before = left;
     x += approximate(r);
   }
-  return false;
+  if (best_x.size() == 0 || !refine_by_pcg(qp, d, approximate, target, b_norm, b, best_x, best_r, products))
+    return false;
+  y = best_x;
+  return true;
 }
 
 // M⁻¹ for M = M₀ + CᵀC, given M₀⁻¹ (the bordered factor's solve) and C = A D (the problem's low-rank
