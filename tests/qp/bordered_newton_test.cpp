@@ -2,8 +2,8 @@
 // y as factoring Dᵀ Q D + diag(shift), for every kind of direction (normals in and off contact,
 // discs inside, sliding and points), on the plain and the Jacobi-scaled problem, with the factor in
 // double and in single precision; the cache of L⁻¹ e_i carried from one active set to the next; the
-// route declined where the reduced matrix is cheaper; and the semismooth Newton solver's answer
-// unchanged by it.
+// route declined where the reduced matrix is cheaper; the semismooth Newton solver's answer
+// unchanged by it; and a factor too inaccurate to refine, whose steps preconditioned CG finishes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -159,5 +159,30 @@ TEST(BorderedNewton, SemismoothNewtonGivesTheSameAnswerThroughIt) {
   const QpResult through = solve_ssn(rq.qp, bordered, settings);
   ASSERT_EQ(through.status, QpStatus::Converged);
   EXPECT_GT(solver->cached_units(), 0);  // the route was taken
+  EXPECT_LT((bordered - reference).norm(), 1e-8 * reference.norm());
+}
+
+// A factor too inaccurate for iterative refinement, as a single factor of an ill-conditioned Q is
+// (the free thin slab asked to 1e-12): here the factor of 3Q, so that each refinement cuts the error
+// by only about 2/3 and the refinement stalls. Conjugate gradients preconditioned by it finish the
+// steps through the factor, with the same answer; before, every such step fell back to factoring its
+// reduced system (no bordered step).
+TEST(BorderedNewton, StalledRefinementIsFinishedByPreconditionedCg) {
+  RandomQp rq = few_point_discs(200, 12, 0.5);
+  const Eigen::MatrixXf q_single = lower_triangle_in_single(rq.Q, rq.qp.q_norm);
+  rq.qp.Q_single = &q_single;
+  rq.qp.single_scale = rq.qp.q_norm;
+  SsnSettings settings;
+  settings.rtol = 1e-10;
+  Eigen::VectorXd reference, bordered;
+  const QpResult plain = solve_ssn(rq.qp, reference, settings);
+  ASSERT_EQ(plain.status, QpStatus::Converged);
+  EXPECT_EQ(plain.bordered_steps, 0);
+  const Eigen::MatrixXd three_Q = 3 * rq.Q;
+  auto solver = make_bordered_newton(single_factor(three_Q, 3 * rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()));
+  rq.qp.bordered = solver.get();
+  const QpResult through = solve_ssn(rq.qp, bordered, settings);
+  ASSERT_EQ(through.status, QpStatus::Converged);
+  EXPECT_GT(through.bordered_steps, 0);
   EXPECT_LT((bordered - reference).norm(), 1e-8 * reference.norm());
 }
