@@ -144,16 +144,35 @@ TEST(BorderedNewton, DeclinesWhereFactoringTheReducedMatrixIsCheaper) {
   EXPECT_FALSE(make_bordered_newton(nullptr, Eigen::VectorXd::Ones(rq.qp.size())));
 }
 
-TEST(BorderedNewton, SemismoothNewtonGivesTheSameAnswerThroughIt) {
+namespace {
+
+// few_point_discs(200, 12, 0.5) with Q's single copy attached, as the QP of a large Q has it, and the
+// semismooth Newton answer to 1e-10 from its reduced systems (no bordered route) as the reference.
+struct WithSingleCopy {
   RandomQp rq = few_point_discs(200, 12, 0.5);
-  const Eigen::MatrixXf q_single = lower_triangle_in_single(rq.Q, rq.qp.q_norm);
-  rq.qp.Q_single = &q_single;
-  rq.qp.single_scale = rq.qp.q_norm;
+  Eigen::MatrixXf q_single = lower_triangle_in_single(rq.Q, rq.qp.q_norm);
   SsnSettings settings;
-  settings.rtol = 1e-10;
-  Eigen::VectorXd reference, bordered;
-  const QpResult plain = solve_ssn(rq.qp, reference, settings);
-  ASSERT_EQ(plain.status, QpStatus::Converged);
+  Eigen::VectorXd reference;
+  QpResult plain;
+  WithSingleCopy() {
+    rq.qp.Q_single = &q_single;
+    rq.qp.single_scale = rq.qp.q_norm;
+    settings.rtol = 1e-10;
+    plain = solve_ssn(rq.qp, reference, settings);
+  }
+  WithSingleCopy(const WithSingleCopy&) = delete;
+  WithSingleCopy& operator=(const WithSingleCopy&) = delete;
+};
+
+}  // namespace
+
+TEST(BorderedNewton, SemismoothNewtonGivesTheSameAnswerThroughIt) {
+  WithSingleCopy c;
+  RandomQp& rq = c.rq;
+  const SsnSettings& settings = c.settings;
+  const Eigen::VectorXd& reference = c.reference;
+  ASSERT_EQ(c.plain.status, QpStatus::Converged);
+  Eigen::VectorXd bordered;
   auto solver = make_bordered_newton(single_factor(rq.Q, rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()));
   rq.qp.bordered = solver.get();
   const QpResult through = solve_ssn(rq.qp, bordered, settings);
@@ -168,16 +187,13 @@ TEST(BorderedNewton, SemismoothNewtonGivesTheSameAnswerThroughIt) {
 // steps through the factor, with the same answer; before, every such step fell back to factoring its
 // reduced system (no bordered step).
 TEST(BorderedNewton, StalledRefinementIsFinishedByPreconditionedCg) {
-  RandomQp rq = few_point_discs(200, 12, 0.5);
-  const Eigen::MatrixXf q_single = lower_triangle_in_single(rq.Q, rq.qp.q_norm);
-  rq.qp.Q_single = &q_single;
-  rq.qp.single_scale = rq.qp.q_norm;
-  SsnSettings settings;
-  settings.rtol = 1e-10;
-  Eigen::VectorXd reference, bordered;
-  const QpResult plain = solve_ssn(rq.qp, reference, settings);
-  ASSERT_EQ(plain.status, QpStatus::Converged);
-  EXPECT_EQ(plain.bordered_steps, 0);
+  WithSingleCopy c;
+  RandomQp& rq = c.rq;
+  const SsnSettings& settings = c.settings;
+  const Eigen::VectorXd& reference = c.reference;
+  ASSERT_EQ(c.plain.status, QpStatus::Converged);
+  EXPECT_EQ(c.plain.bordered_steps, 0);
+  Eigen::VectorXd bordered;
   const Eigen::MatrixXd three_Q = 3 * rq.Q;
   auto solver = make_bordered_newton(single_factor(three_Q, 3 * rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()));
   rq.qp.bordered = solver.get();
