@@ -113,16 +113,56 @@ class TwoLevel {
 
 }  // namespace
 
+namespace {
+
+// b − A y from the start `y` (empty: y = 0, the residual b), the product counted in `result`.
+Eigen::VectorXd start_residual(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
+                               Eigen::VectorXd& y, ReducedCgResult& result) {
+  if (y.size() != b.size()) {
+    y = Eigen::VectorXd::Zero(b.size());
+    return b;
+  }
+  ++result.iterations;
+  return b - reduced_product(qp, d, y);
+}
+
+// The CG iterations from y with residual r (both updated), preconditioned by `precondition`;
+// `flexible`: β of Polak-Ribière, for a preconditioner symmetric only up to rounding.
+void iterate_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const ReducedPreconditioner& precondition,
+                bool single, bool flexible, double tolerance, int max_iterations, Eigen::VectorXd& y, Eigen::VectorXd r,
+                ReducedCgResult& result) {
+  Eigen::VectorXd z = precondition(r);
+  Eigen::VectorXd p = z;
+  double rz = r.dot(z);
+  while (result.iterations < max_iterations) {
+    const Eigen::VectorXd Ap = reduced_product(qp, d, p, single);
+    ++result.iterations;
+    if (single) ++result.single_products;
+    const double curvature = p.dot(Ap);
+    if (!(curvature > 0)) break;  // not positive definite in this direction (rounding): stop here
+    const double alpha = rz / curvature;
+    y += alpha * p;
+    const Eigen::VectorXd r_before = flexible ? r : Eigen::VectorXd();
+    r -= alpha * Ap;
+    result.residual = r.norm();
+    if (result.residual <= tolerance) {
+      result.converged = true;
+      break;
+    }
+    z = precondition(r);
+    const double rz_next = r.dot(z);
+    const double beta = flexible ? std::max(0.0, (rz_next - r_before.dot(z)) / rz) : rz_next / rz;
+    p = z + beta * p;
+    rz = rz_next;
+  }
+}
+
+}  // namespace
+
 ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
                                  double tolerance, int max_iterations, Eigen::VectorXd& y) {
   ReducedCgResult result;
-  Eigen::VectorXd r = b;
-  if (y.size() == b.size()) {
-    r -= reduced_product(qp, d, y);
-    ++result.iterations;
-  } else {
-    y = Eigen::VectorXd::Zero(b.size());
-  }
+  const Eigen::VectorXd r = start_residual(qp, d, b, y, result);
   result.residual = r.norm();
   if (result.residual <= tolerance) {
     result.converged = true;
@@ -151,29 +191,24 @@ ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Directio
     result.iterations += result.coarse_products;
   }
   const bool single = qp.has_single_products() && tolerance >= kSingleCgReduction * result.residual;
-  const auto precondition = [&](const Eigen::VectorXd& v) { return two_level ? two_level->apply(v) : fine(v); };
-  Eigen::VectorXd z = precondition(r);
-  Eigen::VectorXd p = z;
-  double rz = r.dot(z);
-  while (result.iterations < max_iterations) {
-    const Eigen::VectorXd Ap = reduced_product(qp, d, p, single);
-    ++result.iterations;
-    if (single) ++result.single_products;
-    const double curvature = p.dot(Ap);
-    if (!(curvature > 0)) break;  // not positive definite in this direction (rounding): stop here
-    const double alpha = rz / curvature;
-    y += alpha * p;
-    r -= alpha * Ap;
-    result.residual = r.norm();
-    if (result.residual <= tolerance) {
-      result.converged = true;
-      break;
-    }
-    z = precondition(r);
-    const double rz_next = r.dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
+  const ReducedPreconditioner precondition = [&](const Eigen::VectorXd& v) {
+    return two_level ? two_level->apply(v) : fine(v);
+  };
+  iterate_cg(qp, d, precondition, single, false, tolerance, max_iterations, y, r, result);
+  return result;
+}
+
+ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
+                                 double tolerance, int max_iterations, Eigen::VectorXd& y,
+                                 const ReducedPreconditioner& preconditioner) {
+  ReducedCgResult result;
+  const Eigen::VectorXd r = start_residual(qp, d, b, y, result);
+  result.residual = r.norm();
+  if (result.residual <= tolerance) {
+    result.converged = true;
+    return result;
   }
+  iterate_cg(qp, d, preconditioner, false, true, tolerance, max_iterations, y, r, result);
   return result;
 }
 

@@ -8,6 +8,7 @@
 // systems solved to a tolerance the caller sets from the current residual (ssn.hpp).
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -43,5 +44,13 @@ struct ReducedCgResult {
 inline constexpr double kSingleCgReduction = 1e-4;
 ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
                                  double tolerance, int max_iterations, Eigen::VectorXd& y);
+
+// The same preconditioned by the caller's approximate solve M⁻¹ instead (a Newton step's solve
+// through a single factor that its refinement could not converge, ssn.cpp): products in double, and
+// flexible CG's β (Polak-Ribière), as such an M⁻¹ is symmetric only up to its rounding.
+using ReducedPreconditioner = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
+ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
+                                 double tolerance, int max_iterations, Eigen::VectorXd& y,
+                                 const ReducedPreconditioner& preconditioner);
 
 }  // namespace contact3d

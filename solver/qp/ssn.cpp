@@ -43,33 +43,20 @@ constexpr double kRefinedResidual = 1e-10;
 constexpr int kMaxPcgIterations = 40;
 double newton_refinement_target(double rtol) { return std::min(kRefinedResidual, rtol); }
 
-// Flexible preconditioned CG (Polak-Ribière β: `approximate` in single precision is not exactly
-// symmetric) on the reduced system from x, whose residual is r, to `target` of ‖b‖; true when the
-// residual, recomputed in double at the end, gets there (or below kRefinedResidual when CG stalls).
+// Conjugate gradients on the correction A e = r of x (r = b − A x, known), preconditioned by
+// `approximate` (flexible: reduced_cg.hpp), to `target` of ‖b‖; true when the residual of x + e,
+// recomputed in double at the end (CG's recursive one drifts), gets there or below kRefinedResidual.
 template <class ApproximateSolve>
 bool refine_by_pcg(const BoxDiscQP& qp, const std::vector<Direction>& d, const ApproximateSolve& approximate,
-                   double target, double b_norm, const Eigen::VectorXd& b, Eigen::VectorXd& x, Eigen::VectorXd r,
+                   double target, const Eigen::VectorXd& b, const Eigen::VectorXd& r, Eigen::VectorXd& x,
                    int& products) {
-  Eigen::VectorXd z = approximate(r), p = z;
-  double rz = r.dot(z);
-  for (int it = 0; it < kMaxPcgIterations && r.norm() > target * b_norm; ++it) {
-    const Eigen::VectorXd Ap = reduced_product(qp, d, p);
-    ++products;
-    const double pAp = p.dot(Ap);
-    if (!(pAp > 0) || !(rz > 0)) break;
-    const double alpha = rz / pAp;
-    x += alpha * p;
-    const Eigen::VectorXd r_old = r;
-    r -= alpha * Ap;
-    z = approximate(r);
-    const double rz_new = r.dot(z);
-    const double beta = std::max(0.0, (rz_new - r_old.dot(z)) / rz);
-    p = z + beta * p;
-    rz = rz_new;
-  }
-  const Eigen::VectorXd true_r = b - reduced_product(qp, d, x);  // CG's recursive residual drifts
+  const double b_norm = b.norm();
+  Eigen::VectorXd e;  // from zero: no product for its start
+  products += solve_reduced_cg(qp, d, r, target * b_norm, kMaxPcgIterations, e, approximate).iterations;
+  x += e;
+  const Eigen::VectorXd left = b - reduced_product(qp, d, x);
   ++products;
-  return true_r.allFinite() && true_r.norm() <= std::max(target, kRefinedResidual) * b_norm;
+  return left.allFinite() && left.norm() <= std::max(target, kRefinedResidual) * b_norm;
 }
 
 template <class ApproximateSolve>
@@ -95,8 +82,7 @@ bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, cons
     before = left;
     x += approximate(r);
   }
-  if (best_x.size() == 0 || !refine_by_pcg(qp, d, approximate, target, b_norm, b, best_x, best_r, products))
-    return false;
+  if (best_x.size() == 0 || !refine_by_pcg(qp, d, approximate, target, b, best_r, best_x, products)) return false;
   y = best_x;
   return true;
 }
