@@ -52,7 +52,11 @@ bool refine_by_pcg(const BoxDiscQP& qp, const std::vector<Direction>& d, const A
                    int& products) {
   const double b_norm = b.norm();
   Eigen::VectorXd e;  // from zero: no product for its start
-  products += solve_reduced_cg(qp, d, r, target * b_norm, kMaxPcgIterations, e, approximate).iterations;
+  // By reference: `approximate` may hold a factor (LowRankUpdatedSolve), which must not be copied.
+  const ReducedPreconditioner precondition = [&approximate](const Eigen::VectorXd& v) {
+    return Eigen::VectorXd(approximate(v));
+  };
+  products += solve_reduced_cg(qp, d, r, target * b_norm, kMaxPcgIterations, e, precondition).iterations;
   x += e;
   const Eigen::VectorXd left = b - reduced_product(qp, d, x);
   ++products;
