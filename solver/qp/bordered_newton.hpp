@@ -12,8 +12,10 @@
 // cached for the whole run (Q does not change between solves, only the radii): a step pays for
 // the unit vectors that are new to the border (m² each), its p × p Cholesky and two triangular
 // solves per right-hand side. prepare() takes this route only when it costs fewer flops than
-// factoring the reduced matrix (k³/3): on a slab most cells touch and few change from one step
-// to the next, on a brick with a small contact zone k is small and the reduced matrix wins.
+// factoring the reduced matrix (k³/3) plus the reduced factorizations it refused since its last
+// fill (ski rental: the cache, once bought, serves the later steps): on a slab most cells touch and
+// few change from one step to the next, on a brick with a small contact zone k is small and the
+// reduced matrix wins.
 // In single precision (a single factor of Q) the answer is approximate; the caller refines it in
 // double (ssn.cpp).
 #pragma once

@@ -2,7 +2,8 @@
 // y as factoring Dᵀ Q D + diag(shift), for every kind of direction (normals in and off contact,
 // discs inside, sliding and points), on the plain and the Jacobi-scaled problem, with the factor in
 // double and in single precision; the cache of L⁻¹ e_i carried from one active set to the next; the
-// route declined where the reduced matrix is cheaper; the semismooth Newton solver's answer
+// route declined where the reduced matrix is cheaper, and taken once the factorizations it would
+// have spared cost as much as its cache (ski rental); the semismooth Newton solver's answer
 // unchanged by it; and a factor too inaccurate to refine, whose steps preconditioned CG finishes.
 #include <gtest/gtest.h>
 
@@ -142,6 +143,27 @@ TEST(BorderedNewton, DeclinesWhereFactoringTheReducedMatrixIsCheaper) {
   EXPECT_FALSE(solver->prepare(step.directions));
   // No factor (the stability check's LDLᵀ path): no solver.
   EXPECT_FALSE(make_bordered_newton(nullptr, Eigen::VectorXd::Ones(rq.qp.size())));
+}
+
+TEST(BorderedNewton, BuysItsCacheOnceTheRefusedReducedFactorizationsCostAsMuch) {
+  RandomQp rq = make_random_qp(200, true, 10);
+  rq.use_operator();
+  auto solver = make_bordered_newton(double_factor(rq.Q), Eigen::VectorXd::Ones(rq.qp.size()));
+  // A border whose fill costs a few factorizations of the reduced matrix.
+  const ReducedStep step = split_active_sets(rq.qp, mostly_touching(rq.qp, 3, 0.3, 0.3), projection_scale(rq.qp));
+  const double k = static_cast<double>(step.directions.size()), reduced = k * k * k / 3;
+  int refused = 0;
+  while (!solver->prepare(step.directions) && refused < 100) ++refused;
+  ASSERT_LT(refused, 100);
+  EXPECT_GE(refused, 1);  // the first step factors the reduced matrix
+  // Bought at the first step where the refused steps' factorizations and its own cost more than the fill.
+  EXPECT_GE(solver->prepare_flops(), refused * reduced);
+  EXPECT_LT(solver->prepare_flops(), (refused + 1) * reduced);
+  const Eigen::VectorXd b = random_vector(static_cast<int>(k), 5);
+  EXPECT_LT((solver->solve(b) - reduced_solve(rq.qp, step.directions, b)).norm(), 1e-9 * b.norm());
+  // The cache bought, the same border costs only its own small factorization from then on.
+  ASSERT_TRUE(solver->prepare(step.directions));
+  EXPECT_LT(solver->prepare_flops(), reduced);
 }
 
 namespace {
