@@ -554,7 +554,21 @@ std::string too_few_cells(const ContactOperator& op, const Partition& partition,
 // not balance the loads along the free motions — the loads pull the body off the foundation or tilt
 // it about an edge of the contact face, push it along the plane harder than friction holds, or the
 // body touches on too few cells to balance their moments (a sphere whose contact zone is one cell).
-void require_held(const Discretisation& disc, const ContactOperator& op, const Partition& partition,
+// The largest distance between two of the mesh's nodes along an axis, combined: the body's size.
+double body_size(const Mesh& mesh) {
+  if (mesh.nodes.empty()) return 0;
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = -low;
+  for (const auto& x : mesh.nodes)
+    for (int c = 0; c < 3; ++c) low[c] = std::min(low[c], x[c]), high[c] = std::max(high[c], x[c]);
+  return (high - low).norm();
+}
+
+// A rigid displacement of the body held by contact alone more than this many times its size: the
+// contact balanced the loads only by moving it along a motion it cannot hold (a linear model's
+// rigid motion that large is no answer).
+constexpr double kLargestRigidMotion = 10;
+
+void require_held(const Mesh& mesh, const Discretisation& disc, const ContactOperator& op, const Partition& partition,
                   const DualQpSolver& qp, const TrescaStep& tresca) {
   const ContactHeldMotions& held = disc.held;
   // An inner QP that did not converge leaves the loads unbalanced whatever the friction: the run then
@@ -566,6 +580,21 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
     // the nodes penetrating by many times the deformation.
     if (const std::string few = too_few_cells(op, partition, tresca); !few.empty())
       throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() + ")" + few);
+    // Balanced, but only after a rigid motion many times the body's size along a motion the pressed
+    // cells cannot hold: a half-cylinder pressed on its side whose contact force sat in one row of
+    // cells (cells of 1.5h) rolled about that row by 8e11 in the equalities' units, and its
+    // displacement was garbage (equilibrium residual 18) while the run said "converged".
+    const double rigid = (held.field * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
+    const double size = body_size(mesh);
+    if (!(rigid <= kLargestRigidMotion * size))
+      throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() +
+                       "), and the contact forces balance the loads only after a rigid displacement of " +
+                       number(rigid, 3) + ", " + number(rigid / size, 3) + " times the body's size: the " +
+                       std::to_string(pressed_cells(op, partition, tresca)) +
+                       " cells that carry the contact force cannot hold that motion (a contact zone one cell wide, "
+                       "as along a line contact, cannot hold a turn about it); refine the mesh where it touches or "
+                       "use larger cells (contact.cell_size) so that the contact zone spans several cells across, or "
+                       "prescribe that motion (boundary.displacement)");
     return;
   }
   const std::size_t solves = tresca.history().size();
@@ -609,6 +638,20 @@ Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& d
 }
 
 // The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
+// The recovered displacement out of equilibrium, ‖K w − f + 𝔹ᵀλ‖ above this share of the forces:
+// the KKT residuals of a sound solve are rounding (1e-12 on the brick, 1e-8 on bodies held by contact
+// alone), so this is no answer whatever the QP's own residual says.
+constexpr double kInaccurateEquilibrium = 1e-4;
+
+void flag_inaccurate_equilibrium(SolveResult& res) {
+  if (!(res.kkt.equilibrium > kInaccurateEquilibrium)) return;
+  res.warnings.push_back("the displacement satisfies the equilibrium K u = f − 𝔹ᵀλ only to " +
+                         number(res.kkt.equilibrium, 2) +
+                         " of the forces (summary.json kkt.equilibrium): the answer is inaccurate, whatever the dual "
+                         "solve's own residual says; check that the supports hold every rigid motion the contact "
+                         "cannot (boundary.clamped, boundary.displacement)");
+}
+
 void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, const ContactOperator& op,
              const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
   const Eigen::VectorXd w = displacement_of(dual, disc, tresca.history().back());
@@ -626,6 +669,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.u = expand_to_nodes(res.dofs, w);
   res.kkt = kkt_residuals(disc.stiffness_times(mesh, res.dofs, w), disc.f, op.B, op.r, op.with_friction, res.radius, w,
                           res.lambda, dual.h(), op.offset);
+  flag_inaccurate_equilibrium(res);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   res.forces =
       resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
@@ -1007,7 +1051,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
-  if (disc.held.count()) require_held(disc, op, res.partition, qp, tresca);
+  if (disc.held.count()) require_held(mesh, disc, op, res.partition, qp, tresca);
   clock.lap("dual_solve");
 
   stage.enter("recovery",
