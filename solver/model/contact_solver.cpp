@@ -587,14 +587,15 @@ void require_held(const Mesh& mesh, const Discretisation& disc, const ContactOpe
     const double rigid = (held.field * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
     const double size = body_size(mesh);
     if (!(rigid <= kLargestRigidMotion * size))
-      throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() +
-                       "), and the contact forces balance the loads only after a rigid displacement of " +
-                       number(rigid, 3) + ", " + number(rigid / size, 3) + " times the body's size: the " +
-                       std::to_string(pressed_cells(op, partition, tresca)) +
-                       " cells that carry the contact force cannot hold that motion (a contact zone one cell wide, "
-                       "as along a line contact, cannot hold a turn about it); refine the mesh where it touches or "
-                       "use larger cells (contact.cell_size) so that the contact zone spans several cells across, or "
-                       "prescribe that motion (boundary.displacement)");
+      throw InputError(
+          "the body is held by contact alone (nothing prescribed holds " + held.describe() +
+          "), and the contact forces balance the loads only after a rigid displacement of " + number(rigid, 3) + ", " +
+          number(rigid / size, 3) + " times the body's size: the " +
+          std::to_string(pressed_cells(op, partition, tresca)) +
+          " cells that carry the contact force cannot hold that motion (a contact zone one cell wide, "
+          "as along a line contact, cannot hold a turn about it); refine the mesh where it touches, or use "
+          "smaller cells (contact.cell_size), so that the contact zone spans several cells across, or "
+          "prescribe that motion (boundary.displacement)");
     return;
   }
   const std::size_t solves = tresca.history().size();
