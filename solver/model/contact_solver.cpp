@@ -550,25 +550,17 @@ std::string too_few_cells(const ContactOperator& op, const Partition& partition,
          "(contact.cell_size), so that the contact zone spans several cells";
 }
 
-// After the dual solve of a body held by contact alone: an InputError when the contact forces could
-// not balance the loads along the free motions — the loads pull the body off the foundation or tilt
-// it about an edge of the contact face, push it along the plane harder than friction holds, or the
-// body touches on too few cells to balance their moments (a sphere whose contact zone is one cell).
-// The largest distance between two of the mesh's nodes along an axis, combined: the body's size.
-double body_size(const Mesh& mesh) {
-  if (mesh.nodes.empty()) return 0;
-  Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = -low;
-  for (const auto& x : mesh.nodes)
-    for (int c = 0; c < 3; ++c) low[c] = std::min(low[c], x[c]), high[c] = std::max(high[c], x[c]);
-  return (high - low).norm();
-}
-
 // A rigid displacement of the body held by contact alone more than this many times its size: the
 // contact balanced the loads only by moving it along a motion it cannot hold (a linear model's
 // rigid motion that large is no answer).
 constexpr double kLargestRigidMotion = 10;
 
-void require_held(const Mesh& mesh, const Discretisation& disc, const ContactOperator& op, const Partition& partition,
+// After the dual solve of a body held by contact alone: an InputError when the contact forces could
+// not balance the loads along the free motions — the loads pull the body off the foundation or tilt
+// it about an edge of the contact face, push it along the plane harder than friction holds, or the
+// body touches on too few cells to balance their moments (a sphere whose contact zone is one cell) —
+// or balanced them only after a rigid displacement many times the body's size.
+void require_held(const Discretisation& disc, const ContactOperator& op, const Partition& partition,
                   const DualQpSolver& qp, const TrescaStep& tresca) {
   const ContactHeldMotions& held = disc.held;
   // An inner QP that did not converge leaves the loads unbalanced whatever the friction: the run then
@@ -585,7 +577,7 @@ void require_held(const Mesh& mesh, const Discretisation& disc, const ContactOpe
     // cells (cells of 1.5h) rolled about that row by 8e11 in the equalities' units, and its
     // displacement was garbage (equilibrium residual 18) while the run said "converged".
     const double rigid = (held.field * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
-    const double size = body_size(mesh);
+    const double size = held.free.size;  // the body's largest extent
     if (!(rigid <= kLargestRigidMotion * size))
       throw InputError(
           "the body is held by contact alone (nothing prescribed holds " + held.describe() +
@@ -638,7 +630,6 @@ Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& d
   return w;
 }
 
-// The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
 // The recovered displacement out of equilibrium, ‖K w − f + 𝔹ᵀλ‖ above this share of the forces:
 // the KKT residuals of a sound solve are rounding (1e-12 on the brick, 1e-8 on bodies held by contact
 // alone), so this is no answer whatever the QP's own residual says.
@@ -653,6 +644,7 @@ void flag_inaccurate_equilibrium(SolveResult& res) {
                          "cannot (boundary.clamped, boundary.displacement)");
 }
 
+// The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
 void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, const ContactOperator& op,
              const DualProblem& dual, const TrescaStep& tresca, SolveResult& res) {
   const Eigen::VectorXd w = displacement_of(dual, disc, tresca.history().back());
@@ -1052,7 +1044,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
-  if (disc.held.count()) require_held(mesh, disc, op, res.partition, qp, tresca);
+  if (disc.held.count()) require_held(disc, op, res.partition, qp, tresca);
   clock.lap("dual_solve");
 
   stage.enter("recovery",

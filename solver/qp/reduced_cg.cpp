@@ -157,17 +157,23 @@ void iterate_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Redu
   }
 }
 
+// The residual r of the start y, and a result that has converged where r already meets `tolerance`.
+ReducedCgResult start(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b, double tolerance,
+                      Eigen::VectorXd& y, Eigen::VectorXd& r) {
+  ReducedCgResult result;
+  r = start_residual(qp, d, b, y, result);
+  result.residual = r.norm();
+  result.converged = result.residual <= tolerance;
+  return result;
+}
+
 }  // namespace
 
 ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
                                  double tolerance, int max_iterations, Eigen::VectorXd& y) {
-  ReducedCgResult result;
-  const Eigen::VectorXd r = start_residual(qp, d, b, y, result);
-  result.residual = r.norm();
-  if (result.residual <= tolerance) {
-    result.converged = true;
-    return result;
-  }
+  Eigen::VectorXd r;
+  ReducedCgResult result = start(qp, d, b, tolerance, y, r);
+  if (result.converged) return result;
   const Eigen::VectorXd inverse_diagonal = reduced_diagonal(qp, d).cwiseInverse();
   FineLevel fine = [&inverse_diagonal](const Eigen::VectorXd& v) {
     return Eigen::VectorXd(v.cwiseProduct(inverse_diagonal));
@@ -201,13 +207,9 @@ ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Directio
 ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
                                  double tolerance, int max_iterations, Eigen::VectorXd& y,
                                  const ReducedPreconditioner& preconditioner) {
-  ReducedCgResult result;
-  const Eigen::VectorXd r = start_residual(qp, d, b, y, result);
-  result.residual = r.norm();
-  if (result.residual <= tolerance) {
-    result.converged = true;
-    return result;
-  }
+  Eigen::VectorXd r;
+  ReducedCgResult result = start(qp, d, b, tolerance, y, r);
+  if (result.converged) return result;
   iterate_cg(qp, d, preconditioner, false, true, tolerance, max_iterations, y, r, result);
   return result;
 }
