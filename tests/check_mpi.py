@@ -5,7 +5,8 @@ called directly with our ordering and through PETSc's interface) must give the s
 on Γc and the same multipliers to 1e-8 (relative to their largest entries), the same fixed-point
 steps, an equilibrium residual under 1e-8 (rank 0 forms K·w element by element, having freed K),
 and a summary naming the backend, the ranks, each rank's peak memory and (PETSc route) the six
-rigid-body modes attached to its matrix as the near-null space. Cases: the paper's
+rigid-body modes attached to its matrix as the near-null space, and each rank's BLAS threads within
+its share of the machine's cores. Cases: the paper's
 brick (n = 8, slip-dependent law; both routes) and an unstructured body with a hole (hexagonal
 prism, gmsh; also on 3 ranks, so the mesh is cut into three parts), and the quarter block on a
 spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap), and the brick
@@ -121,6 +122,14 @@ def main():
             if backend.get("name") != route or backend.get("ranks") != np_run or \
                     len(backend.get("peak_memory_mib_per_rank", [])) != np_run:
                 fails.append(f"{label}: summary.json backend {backend}, expected {route} on {np_run} ranks")
+            # The ranks on this machine share its cores: each rank's OpenBLAS gets at most its share
+            # (threads × ranks ≤ cores, at least one), however mpirun bound them (blas_threads.hpp).
+            blas = backend.get("blas_threads", {})
+            if not blas.get("user_set") and blas.get("before", 0) > 0:
+                share = max(1, (os.cpu_count() or 1) // np_run)
+                if blas.get("ranks_on_machine") != np_run or not 1 <= blas.get("threads", 0) <= share:
+                    fails.append(f"{label}: BLAS threads {blas} on {np_run} ranks and {os.cpu_count()} cores "
+                                 f"(at most {share} per rank)")
             # The PETSc route's matrix carries the six rigid-body modes as its near-null space (the
             # backend checks the ranks' copy against rank 0's K·R); the direct route has no matrix.
             if backend.get("near_null_space") != (6 if route == "petsc-mumps" else 0):

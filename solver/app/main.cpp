@@ -47,7 +47,8 @@ struct SolveArgs {
   std::string scene, mesh, out;
   std::vector<std::string> sets;
   bool quiet = false;
-  int ranks = 1;  // MPI ranks (the distributed build under mpirun)
+  int ranks = 1;                       // MPI ranks (the distributed build under mpirun)
+  BlasThreadChoice blas_under_mpirun;  // ranks > 1: the threads the Session gave rank 0's OpenBLAS
 };
 
 double since(std::chrono::steady_clock::time_point t0) {
@@ -128,8 +129,8 @@ int run_solve(const SolveArgs& args) {
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
   info.mesh_seconds = since(t0);
   require_constrained_triangles(scene, mesh);
-  // One process per core under mpirun: the ranks' BLAS threads stay as they are.
-  info.blas = args.ranks == 1 ? fit_blas_threads_to_idle_cores(start) : current_blas_threads();
+  // Under mpirun the Session gave each rank its share of the machine's cores.
+  info.blas = args.ranks == 1 ? fit_blas_threads_to_idle_cores(start) : args.blas_under_mpirun;
   if (!args.quiet && info.blas.threads < info.blas.before)
     fmt::print("BLAS threads: {} of {} (other processes keep {:.1f} of the {} cores busy)\n", info.blas.threads,
                info.blas.before, info.blas.busy_elsewhere, info.blas.cores);
@@ -333,6 +334,7 @@ int main(int argc, char** argv) {
   }
   try {
     args.ranks = session.ranks();
+    args.blas_under_mpirun = session.blas_threads();
     if (*solve) return run_solve(args);
     if (*check) return run_check(args);
     if (*mesh_cmd) {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "base/stage_clock.hpp"
+#include "linalg/blas_threads.hpp"
 #include "linalg/dual_problem.hpp"
 
 namespace contact3d::distributed {
@@ -41,10 +42,14 @@ class Session {
   Session& operator=(const Session&) = delete;
   bool is_root() const { return rank_ == 0; }
   int ranks() const { return size_; }
+  // With several ranks, each rank's OpenBLAS threads were set to its share of the machine's cores
+  // (share_cores_among_ranks); with one, nothing was set (threads 0) and main fits them itself.
+  const BlasThreadChoice& blas_threads() const { return blas_; }
   void serve();
 
  private:
   int rank_ = 0, size_ = 1;
+  BlasThreadChoice blas_;
   bool started_ = false;
 };
 

@@ -77,6 +77,17 @@ int comm_size() {
   return s;
 }
 
+// The ranks that share this rank's machine (its shared-memory communicator).
+int ranks_on_this_machine() {
+  MPI_Comm machine = MPI_COMM_NULL;
+  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine) != MPI_SUCCESS)
+    return comm_size();
+  int size = 1;
+  MPI_Comm_size(machine, &size);
+  MPI_Comm_free(&machine);
+  return size;
+}
+
 // The PETSc route's matrix (petsc_route.hpp), built on rank 0 from its K and 𝔹.
 UpperCsr augmented_upper(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B) {
   UpperCsr a;
@@ -634,6 +645,7 @@ Session::Session(int& argc, char**& argv) {
   started_ = true;
   rank_ = comm_rank();
   size_ = comm_size();
+  if (size_ > 1) blas_ = share_cores_among_ranks(ranks_on_this_machine());
 }
 
 Session::~Session() {

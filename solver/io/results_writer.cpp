@@ -137,10 +137,12 @@ void write_backend(JsonWriter& j, const SolveResult& res, const RunInfo& info) {
   j.value("ranks", res.ranks).value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");
   for (double mib : res.peak_memory_per_rank_mib) j.element(mib);
   j.end_array();
-  // OpenBLAS's threads (blas_threads.hpp): fitted to the cores other processes left idle
+  // OpenBLAS's threads (blas_threads.hpp): fitted to the cores other processes left idle, or under
+  // mpirun to this machine's cores shared among its ranks
   j.begin_object("blas_threads").value("threads", info.blas.threads).value("before", info.blas.before);
   j.value("cores", info.blas.cores).value("user_set", info.blas.user_set);
   if (info.blas.busy_elsewhere >= 0) j.value("busy_cores_elsewhere", info.blas.busy_elsewhere);
+  if (info.blas.ranks_on_machine > 1) j.value("ranks_on_machine", info.blas.ranks_on_machine);
   j.end_object().end_object();
 }
 

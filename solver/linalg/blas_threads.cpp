@@ -1,6 +1,7 @@
 #include "linalg/blas_threads.hpp"
 
 #include <dlfcn.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -48,6 +49,17 @@ bool read_own(std::uint64_t& own) {
   return true;
 }
 
+// Cores in this process's affinity mask (what mpirun's binding leaves it); the machine's where unknown.
+int usable_cores(int machine_cores) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return machine_cores;
+  return std::max(1, CPU_COUNT(&set));
+}
+
+using SetThreads = void (*)(int);
+SetThreads openblas_setter() { return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")); }
+
 bool thread_count_set_by_user() {
   for (const char* name : {"OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "GOTO_NUM_THREADS"})
     if (const char* value = std::getenv(name); value && *value) return true;
@@ -84,14 +96,24 @@ BlasThreadChoice current_blas_threads() {
 
 BlasThreadChoice fit_blas_threads_to_idle_cores(const CpuSnapshot& since, double min_seconds) {
   BlasThreadChoice choice = current_blas_threads();
-  using SetThreads = void (*)(int);
-  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  const SetThreads set = openblas_setter();
   if (!set || choice.before == 0 || choice.user_set || choice.before == 1 || !since.valid) return choice;
   if (const double waited = monotonic_seconds() - since.wall; waited < min_seconds)
     std::this_thread::sleep_for(std::chrono::duration<double>(min_seconds - waited));
   choice.busy_elsewhere = busy_cores_elsewhere(since, cpu_snapshot(), choice.cores);
   const int idle = static_cast<int>(std::lround(choice.cores - choice.busy_elsewhere));
   choice.threads = std::clamp(idle, 1, choice.before);
+  if (choice.threads != choice.before) set(choice.threads);
+  return choice;
+}
+
+BlasThreadChoice share_cores_among_ranks(int ranks_on_machine) {
+  BlasThreadChoice choice = current_blas_threads();
+  choice.ranks_on_machine = std::max(1, ranks_on_machine);
+  const SetThreads set = openblas_setter();
+  if (!set || choice.before == 0 || choice.user_set) return choice;
+  const int share = std::max(1, choice.cores / choice.ranks_on_machine);
+  choice.threads = std::clamp(std::min(usable_cores(choice.cores), share), 1, choice.before);
   if (choice.threads != choice.before) set(choice.threads);
   return choice;
 }

@@ -32,6 +32,7 @@ struct BlasThreadChoice {
   int cores = 0;               // cores of the machine
   double busy_elsewhere = -1;  // cores other processes kept busy (-1: not sampled)
   bool user_set = false;       // the environment fixed the count: left as it is
+  int ranks_on_machine = 1;    // MPI ranks sharing this machine's cores (share_cores_among_ranks)
 };
 
 // OpenBLAS's thread count as it is, unchanged (threads 0: not OpenBLAS).
@@ -41,5 +42,15 @@ BlasThreadChoice current_blas_threads();
 // clock ticks to count) and sets OpenBLAS's thread count to the idle cores: max(1, round(cores −
 // busy elsewhere)), never more than it had.
 BlasThreadChoice fit_blas_threads_to_idle_cores(const CpuSnapshot& since, double min_seconds = 0.05);
+
+// Under mpirun, each rank on this machine: OpenBLAS starts one thread per core the process may
+// use, so ranks that mpirun leaves unbound (--bind-to none) or binds to a whole socket (its default
+// above 2 ranks) each start as many threads as the machine or socket has cores — P × C threads on C
+// cores, and MUMPS's factorization waits on threads that wait for a core. Measured on this 2-core
+// machine, the paper's brick, 2 ranks unbound: n = 16 0.63-0.75 s with one thread per rank against
+// 1.13-1.28 s with two; n = 24 5.1 s against 7.8-14.5 s. Each rank gets max(1, min(the cores it may
+// use, the machine's cores / `ranks_on_machine`)) threads, never more than it had; a count the user
+// set is left alone.
+BlasThreadChoice share_cores_among_ranks(int ranks_on_machine);
 
 }  // namespace contact3d

@@ -1,7 +1,9 @@
 // The machine sampler behind OpenBLAS's thread count (blas_threads.hpp): the arithmetic of busy
-// cores elsewhere, a busy child process counted as elsewhere, and a count the user set left alone.
+// cores elsewhere, a busy child process counted as elsewhere, a count the user set left alone, and
+// ranks on one machine sharing its cores.
 #include <gtest/gtest.h>
 
+#include <dlfcn.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -53,4 +55,33 @@ TEST(BlasThreads, ACountTheUserSetIsLeftAlone) {
   EXPECT_TRUE(choice.user_set);
   EXPECT_EQ(choice.threads, choice.before);
   EXPECT_LT(choice.busy_elsewhere, 0);  // not even sampled
+}
+
+TEST(BlasThreads, RanksOnOneMachineShareItsCores) {
+  unsetenv("OPENBLAS_NUM_THREADS");
+  unsetenv("OMP_NUM_THREADS");
+  unsetenv("GOTO_NUM_THREADS");
+  const BlasThreadChoice start = current_blas_threads();
+  if (start.before == 0) GTEST_SKIP() << "the BLAS is not OpenBLAS";
+  using SetThreads = void (*)(int);
+  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  ASSERT_NE(set, nullptr);
+  // As many ranks as cores: one thread each, whatever OpenBLAS started with.
+  const BlasThreadChoice crowded = share_cores_among_ranks(start.cores);
+  EXPECT_EQ(crowded.before, start.before);
+  EXPECT_EQ(crowded.threads, 1);
+  EXPECT_EQ(crowded.ranks_on_machine, start.cores);
+  EXPECT_EQ(current_blas_threads().threads, 1);
+  // Twice as many ranks as cores (oversubscribed): still one, never zero.
+  EXPECT_EQ(share_cores_among_ranks(2 * start.cores).threads, 1);
+  // One rank: the count OpenBLAS chose for this process (its usable cores) stays.
+  set(start.before);
+  EXPECT_EQ(share_cores_among_ranks(1).threads, start.before);
+  // A count the user set is left alone, even when crowded.
+  setenv("OPENBLAS_NUM_THREADS", "2", 1);
+  const BlasThreadChoice user = share_cores_among_ranks(2 * start.cores);
+  unsetenv("OPENBLAS_NUM_THREADS");
+  EXPECT_TRUE(user.user_set);
+  EXPECT_EQ(user.threads, start.before);
+  set(start.before);
 }
