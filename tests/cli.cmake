@@ -32,6 +32,13 @@ add_test(NAME hertz_quarter_hemisphere_graded_mesh
 # contact point (pipeline/scenes/ball.toml): converged without warnings, KKT <= 1e-6, forces balanced.
 # Before the graded cells it was refused (it rested on one or two cells); then its equality
 # constraints stalled at 1e-5 of the loads. Frictionless at 0.4 mm: Hertz within 5% (0.5% and 0.5%).
+# Bodies held by contact alone: a soft ball refused on cells of 2h is solved by "auto" with cells of
+# 1.5h; frictionless, the motions in the plane are left to the loads: a pressed half-cylinder, whose
+# lateral slide the equalities once jumped along by 1e14, converges with one BLAS thread and two alike,
+# and a brick free to slide and turn in the plane (refused before) converges.
+add_test(NAME held_by_contact_on_few_cells
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/held_by_contact_cells.py $<TARGET_FILE:contact3d>
+                 ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/held-by-contact-cells)
 add_test(NAME ball_on_plane_held_by_contact_coulomb
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/ball_on_plane.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 add_test(NAME ball_on_plane_frictionless_hertz

@@ -56,6 +56,15 @@ struct Discretisation {
   // along them, in the least-squares sense over the free dofs.
   bool centre_in_plane = false;
 
+  // The rigid motions whose equilibrium the dual QP enforces as its equalities, μ their displacement:
+  // the free ones, or where centre_in_plane those with a normal part only. Frictionless, nothing in
+  // the QP acts along a slide (its rows of G are zero): its loads must balance by themselves
+  // (require_in_plane_balance), and the QP's equality loop jumped along it by 1e14 (a pressed
+  // half-cylinder), leaving the centred displacement rounding at 1e-2 of the body's size.
+  Eigen::MatrixXd equality_motions() const {
+    return centre_in_plane ? Eigen::MatrixXd(held.field * held.normal_combinations) : held.field;
+  }
+
   std::function<void()> release_K() {
     return [this] {
       Eigen::SparseMatrix<double>().swap(K);  // assigning an empty matrix would keep the capacity
@@ -505,11 +514,31 @@ void flag_possible_nonuniqueness(const Scene& scene, SolveResult& res) {
                         "successive approximations (5.7) reach from φ⁰ = 0, the sticking start");
 }
 
+// Frictionless contact leaves the in-plane motions (slides, the turn about the normal) to the loads:
+// an InputError where they do not balance along them, above the QP's 1e-6 of the loads along the
+// free motions for its equalities; where those loads are all in-plane and balance, what is left is
+// rounding, judged against the bound ‖R‖‖f‖ (1e-9 of it: a real imbalance of 1e-6 of the load is
+// 1e-7 … 1e-6 of it, the rounding of the sums 1e-14).
+void require_in_plane_balance(const Discretisation& disc) {
+  const Eigen::MatrixXd& R = disc.held.field;
+  const Eigen::VectorXd loads = R.transpose() * disc.f;
+  const Eigen::VectorXd along = disc.held.in_plane_combinations.transpose() * loads;
+  if (!(along.norm() > 1e-6 * loads.norm() + 1e-9 * R.norm() * disc.f.norm())) return;
+  throw InputError("the body is held by contact alone and nothing prescribed holds " + disc.held.describe_in_plane() +
+                   " in the foundation's plane: friction alone must hold it there, but the contact is frictionless "
+                   "and the loads along it do not balance (" +
+                   number(100 * along.norm() / loads.norm(), 3) +
+                   "% of the loads along the free motions); prescribe that motion (boundary.displacement, e.g. "
+                   "symmetry planes), add friction (friction.slip_bound, friction.model) or check the loads' "
+                   "directions");
+}
+
 // A body held by contact alone: the dual QP gets the equilibrium of the free rigid motions as its
 // equality constraints Gλ = e, and the Tresca step their displacement on Γc.
 void hold_by_contact(const Discretisation& disc, const ContactOperator& op, const FaceDofs& face_dofs, DualQpSolver& qp,
                      TrescaStep& tresca, Progress& report, SolveResult& res) {
-  const Eigen::MatrixXd& R = disc.held.field;
+  if (disc.centre_in_plane) require_in_plane_balance(disc);
+  const Eigen::MatrixXd R = disc.equality_motions();
   qp.set_equality((op.B * R).transpose(), R.transpose() * disc.f);
   Eigen::MatrixXd face_field(static_cast<Eigen::Index>(face_dofs.dofs.size()), R.cols());
   for (std::size_t k = 0; k < face_dofs.dofs.size(); ++k)
@@ -550,6 +579,13 @@ std::string too_few_cells(const ContactOperator& op, const Partition& partition,
          "(contact.cell_size), so that the contact zone spans several cells";
 }
 
+// A refusal of a body held by contact alone whose cure is smaller cells: its contact zone spans too
+// few of them to hold the loads' moments. With contact.cell_size = "auto" the scene is solved again
+// with cells of 1.5h before the refusal is given (refine_refused_cells).
+struct ContactZoneTooCoarse : InputError {
+  using InputError::InputError;
+};
+
 // A rigid displacement of the body held by contact alone more than this many times its size: the
 // contact balanced the loads only by moving it along a motion it cannot hold (a linear model's
 // rigid motion that large is no answer).
@@ -571,15 +607,16 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
     // cells that barely touch, or on the friction of cells out of contact (Tresca): no answer either,
     // the nodes penetrating by many times the deformation.
     if (const std::string few = too_few_cells(op, partition, tresca); !few.empty())
-      throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() + ")" + few);
-    // Balanced, but only after a rigid motion many times the body's size along a motion the pressed
-    // cells cannot hold: a half-cylinder pressed on its side whose contact force sat in one row of
-    // cells (cells of 1.5h) rolled about that row by 8e11 in the equalities' units, and its
-    // displacement was garbage (equilibrium residual 18) while the run said "converged".
-    const double rigid = (held.field * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
+      throw ContactZoneTooCoarse("the body is held by contact alone (nothing prescribed holds " + held.describe() +
+                                 ")" + few);
+    // Balanced, but only after a rigid motion many times the body's size, which a linear model's
+    // answer cannot be: the displacement is then rounding (a frictionless half-cylinder pressed on its
+    // side, whose lateral slide was among the equalities before equality_motions(), moved along it by
+    // 8e11 times its size: equilibrium residual 18, and the run said "converged").
+    const double rigid = (disc.equality_motions() * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
     const double size = held.free.size;  // the body's largest extent
     if (!(rigid <= kLargestRigidMotion * size))
-      throw InputError(
+      throw ContactZoneTooCoarse(
           "the body is held by contact alone (nothing prescribed holds " + held.describe() +
           "), and the contact forces balance the loads only after a rigid displacement of " + number(rigid, 3) + ", " +
           number(rigid / size, 3) + " times the body's size: the " +
@@ -622,7 +659,7 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
 // motions Rμ that the contact alone holds (held_by_contact.hpp).
 Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& disc, const TrescaStep::Solve& solve) {
   Eigen::VectorXd w = dual.displacement(solve.lambda);
-  if (disc.held.count()) w -= disc.held.field * solve.rigid;
+  if (disc.held.count()) w -= disc.equality_motions() * solve.rigid;
   if (disc.centre_in_plane) {
     const Eigen::MatrixXd slides = disc.held.field * disc.held.in_plane_combinations;
     w -= slides * (slides.transpose() * slides).ldlt().solve(slides.transpose() * w);
@@ -1136,6 +1173,38 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   return kept;
 }
 
+// contact.cell_size = "auto", a body held by contact alone refused with cells of 2h because its
+// contact zone spans too few of them (ContactZoneTooCoarse): solved again with cells of 1.5h, which
+// rescues a zone about two cells of 2h across (a soft ball resting on two cells,
+// tests/held_by_contact_cells.py); refused there too, the refusal names both cell sizes.
+SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step,
+                                 Progress& report, const std::string& refusal, double refused_seconds) {
+  const std::string finer_cells = "cells of " + number(kRefinedCellSize, 2) + "h";
+  report.stage("cells of 2h refused: " + refusal + "; solving again with " + finer_cells +
+               " (contact.cell_size = \"auto\")");
+  Scene finer = scene;
+  finer.cell_size = kRefinedCellSize;
+  finer.cell_size_auto = false;
+  SolveResult res;
+  try {
+    RunningStage stage;
+    res = solve_stages(finer, mesh, on_step, report, stage);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + " (with " + finer_cells +
+                     "; contact.cell_size = \"auto\" tried them after cells of 2h were refused too)");
+  }
+  PartitionRefinement& refinement = res.refinement;
+  refinement.tried = true;
+  refinement.first_cell_size = std::numeric_limits<double>::quiet_NaN();  // refused before its answer
+  refinement.first_penetration_ratio = std::numeric_limits<double>::quiet_NaN();
+  refinement.first_seconds = refused_seconds;
+  refinement.kept_finer = true;
+  refinement.outcome = "cells of 2h were refused (" + refusal + "); with " + finer_cells + " (" + cell_sizes(res) +
+                       "): the answer given";
+  res.notes.push_back("contact.cell_size = \"auto\": " + refinement.outcome);
+  return res;
+}
+
 }  // namespace
 
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress* progress) {
@@ -1151,7 +1220,16 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   stage.holds = "K for " + count(3 * static_cast<long long>(mesh.nodes.size())) + " unknowns";
   try {
     reserve_blas_buffers();  // under ulimit -v: before anything large, so that the memory checks see them
-    SolveResult res = solve_stages(scene, mesh, on_step, report, stage);
+    const auto start = std::chrono::steady_clock::now();
+    std::optional<SolveResult> first;
+    try {
+      first = solve_stages(scene, mesh, on_step, report, stage);
+    } catch (const ContactZoneTooCoarse& e) {
+      if (!scene.cell_size_auto) throw;
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return refine_refused_cells(scene, mesh, on_step, report, e.what(), seconds);
+    }
+    SolveResult res = std::move(*first);
     if (scene.cell_size_auto && unresolved(res))
       return refine_unresolved_contact(scene, mesh, on_step, report, std::move(res));
     return res;

@@ -77,6 +77,7 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
   const Eigen::Index k = held.count();
   Eigen::Index held_rank = 0;  // motions with a normal part
   while (held_rank < svd.singularValues().size() && svd.singularValues()[held_rank] >= 1e-6) ++held_rank;
+  held.normal_combinations = svd.matrixV().leftCols(held_rank);
   if (held_rank < k) {
     held.in_plane_combinations = svd.matrixV().rightCols(k - held_rank);
     const Eigen::MatrixXd in_plane = held.free.motions * held.in_plane_combinations;

@@ -30,6 +30,7 @@ struct ContactHeldMotions {
   FreeRigidMotions named;                 // the same in the user's frame (for messages)
   FreeRigidMotions in_plane;              // those of them that slide or turn in the foundation's plane, user frame
   Eigen::MatrixXd in_plane_combinations;  // k × (in_plane.count()): the same as combinations of `free`
+  Eigen::MatrixXd normal_combinations;    // k × (k − in_plane.count()): those with a normal part, the rest
   Eigen::MatrixXd field;                  // n_free × k: the motions at the free dofs (R)
   std::vector<int> pins;                  // k free dofs with a spring, where R's rows are best conditioned
   std::vector<double> pin_springs;        // the springs added to K's diagonal there (K_s = K + Σ s_p e_p e_pᵀ)

@@ -1,0 +1,131 @@
+#!/usr/bin/env python3
+"""Bodies held by contact alone whose contact zone spans few cells, with the default cells.
+
+1. A soft ball (R = 0.5 m, E = 1e8 Pa, meshed uniformly at h = 0.04, nothing prescribed, its weight
+   and a pressure on its upper part, F = 0.3): with cells of 2h it rests on two cells, which cannot
+   balance the loads' moments, and is refused (exit 2, "rests on"); contact.cell_size = "auto" (the
+   default) must then solve it again with cells of 1.5h and give that answer (exit 0, summary.json's
+   partition_refinement says the 2h cells were refused), the contact force balancing the load.
+2. A half-cylinder (geo/roller.geo, h = 0.04) on its curved side, pressed by 2e7 Pa on its flat top,
+   its ends held along the axis only, frictionless, cells of 1.5h: nothing in the frictionless dual
+   acts along the lateral slide, whose loads balance by themselves. The equalities' loop jumped along
+   that slide by 1e11-1e14 times the body's size and the run was refused (before that, reported
+   "converged" with an equilibrium residual of 18). It must converge with the equilibrium to 1e-8,
+   the normal force equal to the pressure times the top's area (1e-6), and the same displacement with
+   one BLAS thread and with two (1e-6), of the body's scale: its strip is narrower than a cell, so
+   the cells hold its roll weakly and it turns by 0.04 rad (2.3 cm on Γc), with the warning that
+   the contact zone is not resolved.
+
+3. The paper's brick (n = 4), frictionless, its top moved down by 1e-5 m (z only), nothing else
+   prescribed: every free motion (the slides, the turn about the normal) lies in the plane and the
+   loads along them are rounding. Refused before ("100% of them left unbalanced"); it must converge.
+
+Usage: held_by_contact_cells.py BIN SOURCE_DIR WORK_DIR
+Exit 0 when all hold, 1 when one does not.
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+from bad_inputs import SPHERE_GEO
+
+
+def solve(binary, scene, out, sets=(), threads=None):
+    env = dict(os.environ)
+    if threads:
+        env["OPENBLAS_NUM_THREADS"] = str(threads)
+    cmd = [binary, "solve", scene, "--out", out, "--quiet"] + [a for s in sets for a in ("--set", s)]
+    p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    summary = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else None
+    return p.returncode, p.stderr, summary
+
+
+def ball(binary, work, fails):
+    with open(os.path.join(work, "ball.geo"), "w") as f:
+        f.write(SPHERE_GEO)
+    scene = os.path.join(work, "ball.toml")
+    with open(scene, "w") as f:
+        f.write('[mesh]\ngeo = "ball.geo"\n[material]\nyoung = 1e8\npoisson = 0.3\nbody_force = [0.0, 0.0, -7.7e4]\n'
+                '[boundary]\nclamped = []\ncontact = ["contact"]\n[[boundary.pressure]]\ngroup = "upper"\nvalue = 1e5\n'
+                '[friction]\nslip_bound = 1e6\nlaw = "constant"\nvalue = 0.3\n')
+    code, err, _ = solve(binary, scene, os.path.join(work, "ball_2h"), ['contact.cell_size="2h"'])
+    if code != 2 or "rests on" not in err:
+        fails.append(f"ball, cells of 2h: exit {code}, expected the refusal (exit 2, 'rests on'): {err[-300:]}")
+    code, err, s = solve(binary, scene, os.path.join(work, "ball_auto"))
+    if code != 0:
+        fails.append(f"ball, cells auto: exit {code}: {err[-400:]}")
+        return
+    refinement = s.get("partition_refinement") or {}
+    if not refinement.get("kept_finer") or "cells of 2h were refused" not in refinement.get("outcome", ""):
+        fails.append(f"ball, cells auto: partition_refinement {refinement}")
+    applied, contact = s["forces"]["applied"], s["forces"]["contact"]
+    imbalance = math.dist(applied, [-c for c in contact]) / math.hypot(*applied)
+    print(f"ball, cells auto: {refinement.get('outcome', '')[-60:]}; contact force balances the load to "
+          f"{imbalance:.1e}, equilibrium {s['kkt']['equilibrium']:.1e}")
+    if s["kkt"]["equilibrium"] > 1e-8 or imbalance > 1e-8:
+        fails.append(f"ball, cells auto: equilibrium residual {s['kkt']['equilibrium']:.1e}, load imbalance "
+                     f"{imbalance:.1e}")
+
+
+def roller(binary, source, work, fails):
+    scene = os.path.join(work, "roller.toml")
+    with open(scene, "w") as f:
+        f.write('[mesh]\ngeo = "' + os.path.join(source, "geo", "roller.geo") + '"\nparameters = { h = 0.04 }\n'
+                '[material]\nyoung = 7e10\npoisson = 0.33\n[boundary]\nclamped = []\ncontact = ["contact"]\n'
+                '[[boundary.displacement]]\ngroup = "ends"\nx = 0.0\n[[boundary.pressure]]\ngroup = "top"\n'
+                'value = 2e7\n[friction]\nlaw = "none"\n[contact]\ncell_size = "1.5h"\n')
+    load = 2e7 * 0.8 * 1.0  # the pressure on the flat top, L = 0.8 by 2R = 1
+    answers = []
+    for threads in (1, 2):
+        code, err, s = solve(binary, scene, os.path.join(work, f"roller_{threads}"), threads=threads)
+        label = f"roller, {threads} BLAS thread(s)"
+        if code != 0:
+            fails.append(f"{label}: exit {code}: {err[-400:]}")
+            continue
+        normal, eq = s["contact_force"]["normal"], s["kkt"]["equilibrium"]
+        with open(os.path.join(work, f"roller_{threads}", "contact_nodes.csv")) as f:
+            u_max = max(math.hypot(float(r["u1"]), float(r["u2"]), float(r["u3"])) for r in csv.DictReader(f))
+        print(f"{label}: {s['status']}, normal force {normal:.9g} N (load {load:.9g}), equilibrium {eq:.1e}, "
+              f"largest |u| on Γc {u_max:.3g} m")
+        if s["status"] != "converged" or eq > 1e-8:
+            fails.append(f"{label}: {s['status']}, equilibrium residual {eq:.1e}")
+        if abs(normal - load) > 1e-6 * load:
+            fails.append(f"{label}: normal force {normal} against {load}")
+        if not u_max < 0.1:  # the pressed strip is narrower than a cell: the body rolls by 0.04 rad on it
+            fails.append(f"{label}: largest displacement {u_max} m on a body of 1 m")
+        answers.append(u_max)
+    if len(answers) == 2 and abs(answers[0] - answers[1]) > 1e-6 * answers[0]:
+        fails.append(f"roller: largest displacement {answers[0]} with one BLAS thread, {answers[1]} with two")
+
+
+def brick_sliding_free(binary, source, work, fails):
+    scene = os.path.join(source, "pipeline", "scenes", "paper_brick.toml")
+    code, err, s = solve(binary, scene, os.path.join(work, "brick"),
+                         ["mesh.parameters.n=4", "boundary.clamped=[]", "friction.slip_bound=0",
+                          'boundary.displacement=[{group="load_top", z=-1e-5}]',
+                          'boundary.traction=[{group="load_end", value=[0.0, 0.0, 2e7]}]'])
+    if code != 0:
+        fails.append(f"brick free to slide, frictionless: exit {code}: {err[-400:]}")
+        return
+    print(f"brick free to slide, frictionless: {s['status']}, equilibrium {s['kkt']['equilibrium']:.1e}")
+    if s["status"] != "converged" or s["kkt"]["equilibrium"] > 1e-8:
+        fails.append(f"brick free to slide: {s['status']}, equilibrium {s['kkt']['equilibrium']:.1e}")
+
+
+def main():
+    binary, source, work = sys.argv[1], os.path.abspath(sys.argv[2]), sys.argv[3]
+    os.makedirs(work, exist_ok=True)
+    fails = []
+    ball(binary, work, fails)
+    roller(binary, source, work, fails)
+    brick_sliding_free(binary, source, work, fails)
+    for f in fails:
+        print("FAIL:", f)
+    return 1 if fails else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
