@@ -77,6 +77,7 @@ hertz: build
 	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --cell-size 0.01 --top-pressure 1e8 \
 		--report $(REPORTS)/hertz/pressed
 	$(PY) tests/hertz_hemisphere.py $(BIN) . --h-pole 0.005 --fine 0.12 --cell-size 2h --report $(REPORTS)/hertz/graded
+	$(PY) tests/hertz_line_contact.py $(BIN) . --h-line 0.003 0.0015 --report $(REPORTS)/hertz/line/hertz_line.md
 
 # Symmetry plane and rotated foundation at n = 4 and 8 ($(REPORTS)/validation.md).
 validation: build

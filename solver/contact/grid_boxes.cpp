@@ -31,17 +31,33 @@ bool meet(const Box& a, const Box& b) {
 
 }  // namespace
 
+namespace {
+
+// The size below which `share` of the weight lies, the sizes weighted by `weight` (or counted alike).
+double weighted_percentile(std::vector<std::pair<double, double>> size_weight, double share) {
+  std::sort(size_weight.begin(), size_weight.end());
+  double total = 0;
+  for (const auto& sw : size_weight) total += sw.second;
+  double below = 0;
+  for (const auto& [size, weight] : size_weight)
+    if ((below += weight) >= share * total) return size;
+  return size_weight.back().first;
+}
+
+}  // namespace
+
 bool is_graded(const std::vector<Box>& triangles) {
   if (triangles.size() < 10) return false;
-  std::vector<double> size;
-  size.reserve(triangles.size());
-  for (const Box& t : triangles) size.push_back(t.extent().maxCoeff());
-  const auto at = [&size](std::size_t k) {
-    std::nth_element(size.begin(), size.begin() + k, size.end());
-    return size[k];
-  };
-  const double p10 = at(size.size() / 10), p90 = at(size.size() * 9 / 10);
-  return p90 > kGradedSpread * p10;
+  std::vector<std::pair<double, double>> by_count, by_area;
+  by_count.reserve(triangles.size());
+  by_area.reserve(triangles.size());
+  for (const Box& t : triangles) {
+    by_count.emplace_back(t.extent().maxCoeff(), 1.0);
+    by_area.emplace_back(t.extent().maxCoeff(), t.area());
+  }
+  const double finest = weighted_percentile(by_count, 0.1);
+  const double coarse = std::max(weighted_percentile(by_count, 0.9), weighted_percentile(by_area, 0.9));
+  return coarse > kGradedSpread * finest;
 }
 
 GridBoxes GridBoxes::uniform(const Eigen::Vector2d& lo, const Eigen::Vector2d& extent, int nx, int ny) {

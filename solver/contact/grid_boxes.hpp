@@ -20,8 +20,11 @@ struct Box {
 };
 
 // A contact mesh is graded when the 90th percentile of its triangles' sizes (the larger extent of
-// each projected triangle) is more than this many times the 10th percentile. Uniform and mildly
-// varying meshes (gmsh's unstructured ones spread by under 2) keep the uniform grid.
+// each projected triangle), the triangles counted alike or weighted by their area, is more than this
+// many times the 10th percentile counted alike: a mesh refined along a line has most of its triangles
+// fine and most of its area coarse (a half-cylinder meshed at 1.5 mm within 2 cm of its contact line,
+// 5 cm elsewhere: a uniform grid of twice the median size left 81 356 of 89 178 cells without a node).
+// Uniform and mildly varying meshes (gmsh's unstructured ones spread by under 2) keep the uniform grid.
 constexpr double kGradedSpread = 3.0;
 
 bool is_graded(const std::vector<Box>& triangles);

@@ -10,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "contact/contact_face.hpp"
+#include "contact/grid_boxes.hpp"
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
 #include "mesh/brick_generator.hpp"
@@ -367,4 +368,28 @@ TEST(Partition, UniformMeshKeepsTheGridWhenCellsArePerElement) {
     EXPECT_EQ(per_element.cells[i].lo, plain.cells[i].lo);
     EXPECT_EQ(per_element.cells[i].hi, plain.cells[i].hi);
   }
+}
+
+// A contact mesh refined along a line: most triangles fine, most area coarse. Counted alike its sizes
+// spread by under 3 (the uniform grid, whose cells of twice the median size left most of the coarse
+// area without nodes on a half-cylinder); weighted by area they spread by 50: graded.
+TEST(Partition, AMeshRefinedAlongALineIsGraded) {
+  std::vector<Box> triangles;
+  for (int i = 0; i < 950; ++i) {  // a strip of fine ones, 1 mm
+    const Eigen::Vector2d lo(0.001 * (i % 475), 0.001 * (i / 475));
+    triangles.push_back({lo, lo + Eigen::Vector2d::Constant(0.001)});
+  }
+  for (int i = 0; i < 50; ++i) {  // the rest of the face, 5 cm
+    const Eigen::Vector2d lo(0.05 * (i % 10), 0.01 + 0.05 * (i / 10));
+    triangles.push_back({lo, lo + Eigen::Vector2d::Constant(0.05)});
+  }
+  EXPECT_TRUE(is_graded(triangles));
+  // A mildly varying mesh stays uniform, counted or weighted.
+  std::vector<Box> mild;
+  for (int i = 0; i < 100; ++i) {
+    const double size = 0.01 * (1.0 + 0.01 * i);  // 1 to 2 cm
+    const Eigen::Vector2d lo(0.02 * i, 0.0);
+    mild.push_back({lo, lo + Eigen::Vector2d::Constant(size)});
+  }
+  EXPECT_FALSE(is_graded(mild));
 }
