@@ -13,7 +13,6 @@
 #include <malloc.h>
 #endif
 #include <mpi.h>
-#include <sched.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -695,10 +694,7 @@ std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput& inp
 int ranks() { return comm_size(); }
 
 std::string core_binding_note() {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) != 0) return "";
-  const int usable = CPU_COUNT(&set);
+  const int usable = usable_cores();
   const long online = sysconf(_SC_NPROCESSORS_ONLN);
   if (online <= 0 || static_cast<long>(usable) * comm_size() >= online) return "";
   return "each of the " + std::to_string(comm_size()) + " rank(s) may use " + std::to_string(usable) + " of the " +

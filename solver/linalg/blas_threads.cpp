@@ -49,14 +49,6 @@ bool read_own(std::uint64_t& own) {
   return true;
 }
 
-// Cores in this process's affinity mask (what mpirun's binding leaves it); the machine's where unknown.
-int usable_cores(int machine_cores) {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) != 0) return machine_cores;
-  return std::max(1, CPU_COUNT(&set));
-}
-
 using SetThreads = void (*)(int);
 SetThreads openblas_setter() { return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")); }
 
@@ -81,6 +73,13 @@ double busy_cores_elsewhere(const CpuSnapshot& from, const CpuSnapshot& to, int 
   const double busy = static_cast<double>(to.machine_busy - from.machine_busy);
   const double own = static_cast<double>(to.own) - static_cast<double>(from.own);
   return std::clamp((busy - own) / total * cores, 0.0, static_cast<double>(cores));
+}
+
+int usable_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return static_cast<int>(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
+  return std::max(1, CPU_COUNT(&set));
 }
 
 BlasThreadChoice current_blas_threads() {
@@ -113,7 +112,7 @@ BlasThreadChoice share_cores_among_ranks(int ranks_on_machine) {
   const SetThreads set = openblas_setter();
   if (!set || choice.before == 0 || choice.user_set) return choice;
   const int share = std::max(1, choice.cores / choice.ranks_on_machine);
-  choice.threads = std::clamp(std::min(usable_cores(choice.cores), share), 1, choice.before);
+  choice.threads = std::clamp(std::min(usable_cores(), share), 1, choice.before);
   if (choice.threads != choice.before) set(choice.threads);
   return choice;
 }

@@ -35,6 +35,9 @@ struct BlasThreadChoice {
   int ranks_on_machine = 1;    // MPI ranks sharing this machine's cores (share_cores_among_ranks)
 };
 
+// Cores in this process's affinity mask (what mpirun's binding leaves it); the machine's where unknown.
+int usable_cores();
+
 // OpenBLAS's thread count as it is, unchanged (threads 0: not OpenBLAS).
 BlasThreadChoice current_blas_threads();
 

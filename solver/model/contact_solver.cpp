@@ -1119,6 +1119,14 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
 // of 1h on the slab: cond ≈ 1e16), so 1.5h is the only step taken, and a refused or failed finer
 // solve leaves the first answer (with its warning).
 
+// The scene with cells of 1.5h, as "auto" takes them (kRefinedCellSize), and no further choice.
+Scene with_refined_cells(const Scene& scene) {
+  Scene finer = scene;
+  finer.cell_size = kRefinedCellSize;
+  finer.cell_size_auto = false;
+  return finer;
+}
+
 // The stage times of `other` added into `into`'s, stage by stage (a benchmark's total is the user's wait).
 void add_stage_seconds(std::vector<std::pair<std::string, double>>& into,
                        const std::vector<std::pair<std::string, double>>& other) {
@@ -1143,9 +1151,7 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
                           number(100 * first.penetration_ratio, 2) + "% of the largest displacement";
   report.stage("contact zone unresolved: " + was + "; solving again with " + finer_cells +
                " (contact.cell_size = \"auto\")");
-  Scene finer = scene;
-  finer.cell_size = kRefinedCellSize;
-  finer.cell_size_auto = false;
+  const Scene finer = with_refined_cells(scene);
   std::optional<SolveResult> second;
   try {
     RunningStage stage;
@@ -1182,9 +1188,7 @@ SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const Pro
   const std::string finer_cells = "cells of " + number(kRefinedCellSize, 2) + "h";
   report.stage("cells of 2h refused: " + refusal + "; solving again with " + finer_cells +
                " (contact.cell_size = \"auto\")");
-  Scene finer = scene;
-  finer.cell_size = kRefinedCellSize;
-  finer.cell_size_auto = false;
+  const Scene finer = with_refined_cells(scene);
   SolveResult res;
   try {
     RunningStage stage;
@@ -1221,15 +1225,14 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   try {
     reserve_blas_buffers();  // under ulimit -v: before anything large, so that the memory checks see them
     const auto start = std::chrono::steady_clock::now();
-    std::optional<SolveResult> first;
+    SolveResult res;
     try {
-      first = solve_stages(scene, mesh, on_step, report, stage);
+      res = solve_stages(scene, mesh, on_step, report, stage);
     } catch (const ContactZoneTooCoarse& e) {
       if (!scene.cell_size_auto) throw;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return refine_refused_cells(scene, mesh, on_step, report, e.what(), seconds);
     }
-    SolveResult res = std::move(*first);
     if (scene.cell_size_auto && unresolved(res))
       return refine_unresolved_contact(scene, mesh, on_step, report, std::move(res));
     return res;
