@@ -19,6 +19,10 @@
 3. The paper's brick (n = 4), frictionless, its top moved down by 1e-5 m (z only), nothing else
    prescribed: every free motion (the slides, the turn about the normal) lies in the plane and the
    loads along them are rounding. Refused before ("100% of them left unbalanced"); it must converge.
+4. The same brick with Tresca's friction (g = 1e6) and with Coulomb's: friction alone holds those
+   motions, their loads still rounding. Refused before ("more than the contact's friction carries",
+   the equalities' residual measured against the loads' own size); it must converge, the equilibrium
+   to 1e-8 and the total friction force below 1e-9 of the normal one.
 
 Usage: held_by_contact_cells.py BIN SOURCE_DIR WORK_DIR
 Exit 0 when all hold, 1 when one does not.
@@ -115,6 +119,29 @@ def brick_sliding_free(binary, source, work, fails):
         fails.append(f"brick free to slide: {s['status']}, equilibrium {s['kkt']['equilibrium']:.1e}")
 
 
+def brick_sliding_free_with_friction(binary, source, work, fails):
+    """The same brick with Tresca's and Coulomb's friction: friction alone holds the slides and the turn,
+    whose loads are rounding (1e-9 N against 6e6 N of contact force). Refused before as "more than the
+    contact's friction carries": the equalities' residual was measured against those loads' own size."""
+    scene = os.path.join(source, "pipeline", "scenes", "paper_brick.toml")
+    for label, friction in (("tresca", ["friction.slip_bound=1e6"]),
+                            ("coulomb", ["friction.slip_bound=0", 'friction.model="coulomb"'])):
+        code, err, s = solve(binary, scene, os.path.join(work, "brick_" + label),
+                             ["mesh.parameters.n=4", "boundary.clamped=[]",
+                              'boundary.displacement=[{group="load_top", z=-1e-5}]',
+                              'boundary.traction=[{group="load_end", value=[0.0, 0.0, 2e7]}]'] + friction)
+        if code != 0:
+            fails.append(f"brick free to slide, {label}: exit {code}: {err[-400:]}")
+            continue
+        contact = s["forces"]["contact"]
+        normal, tangential = contact[2], math.hypot(contact[0], contact[1])
+        print(f"brick free to slide, {label}: {s['status']}, equilibrium {s['kkt']['equilibrium']:.1e}, "
+              f"friction force {tangential:.1e} N against {normal:.2e} N")
+        if s["status"] != "converged" or s["kkt"]["equilibrium"] > 1e-8 or not tangential <= 1e-9 * normal:
+            fails.append(f"brick free to slide, {label}: {s['status']}, equilibrium {s['kkt']['equilibrium']:.1e}, "
+                         f"friction force {tangential:.1e} of {normal:.2e}")
+
+
 def main():
     binary, source, work = sys.argv[1], os.path.abspath(sys.argv[2]), sys.argv[3]
     os.makedirs(work, exist_ok=True)
@@ -122,6 +149,7 @@ def main():
     ball(binary, work, fails)
     roller(binary, source, work, fails)
     brick_sliding_free(binary, source, work, fails)
+    brick_sliding_free_with_friction(binary, source, work, fails)
     for f in fails:
         print("FAIL:", f)
     return 1 if fails else 0
