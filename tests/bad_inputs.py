@@ -595,6 +595,24 @@ def c_held_by_contact_frictionless_pushed_sideways(c):
              "do not balance", "boundary.displacement"])
 
 
+def c_two_parts_one_floating(c):
+    # Two blocks in one mesh, sharing no node: the first clamped, the second resting on the foundation
+    # under a pressure with nothing prescribed on it. The contact holds a body only when it is one
+    # part, so K would be singular along the second block's motions (the factorization then blamed Γu).
+    geo = ('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {1.5, 0, 0, 1, 0.5, 0.3};\n'
+           'Mesh.MeshSizeMin = 0.1; Mesh.MeshSizeMax = 0.1; eps = 1e-6;\n'
+           'Physical Surface("contact") = Surface In BoundingBox {-eps, -eps, -eps, 3, 1, eps};\n'
+           'Physical Surface("clamped") = Surface In BoundingBox {-eps, -eps, -eps, eps, 1, 1};\n'
+           'Physical Surface("top") = Surface In BoundingBox {-eps, -eps, 0.3 - eps, 3, 1, 0.3 + eps};\n'
+           'Physical Volume("body") = {1, 2};\n')
+    text = ('[mesh]\ngeo = "' + c.write("two.geo", geo) + '"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n'
+            '[boundary]\nclamped = ["clamped"]\ncontact = ["contact"]\n'
+            '[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n'
+            '[friction]\nmodel = "coulomb"\nlaw = "constant"\nvalue = 0.3\n')
+    return (["solve", c.write("two.toml", text), "--out", c.path("out"), "--quiet"],
+            ["2 disconnected parts", "part 2", "all six rigid motions are free", "one connected part"])
+
+
 SPHERE_GEO = """SetFactory("OpenCASCADE");
 h = 0.04; R = 0.5; eps = 1e-6;
 Sphere(1) = {0, 0, R, R};

@@ -88,11 +88,20 @@ struct BodyFrame {
   Eigen::Vector3d scaled(const Eigen::Vector3d& x) const { return (x - centre) / size; }
 };
 
-BodyFrame body_frame(const Mesh& mesh, const DofMap& dofs) {
+// The nodes a frame or a Gram matrix counts: every used node, or those of one part.
+struct NodeSelection {
+  const BodyParts* parts = nullptr;
+  int part = 0;
+  bool operator()(const DofMap& dofs, int v) const {
+    return dofs.used[v] && (!parts || parts->of_node[static_cast<std::size_t>(v)] == part);
+  }
+};
+
+BodyFrame body_frame(const Mesh& mesh, const DofMap& dofs, NodeSelection selected = {}) {
   BodyFrame f;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
   for (int v = 0; v < dofs.n_nodes; ++v)
-    if (dofs.used[v]) {
+    if (selected(dofs, v)) {
       lo = lo.cwiseMin(mesh.nodes[v]);
       hi = hi.cwiseMax(mesh.nodes[v]);
       f.centre += mesh.nodes[v];
@@ -141,11 +150,12 @@ struct PrescribedRows {
   bool negligible(int j) const { return eig.eigenvalues()[j] <= 1e-10 * std::max(eig.eigenvalues()[5], 1.0); }
 };
 
-PrescribedRows prescribed_rows(const Mesh& mesh, const DofMap& dofs, const BodyFrame& frame) {
+PrescribedRows prescribed_rows(const Mesh& mesh, const DofMap& dofs, const BodyFrame& frame,
+                               NodeSelection selected = {}) {
   PrescribedRows rows;
   Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
   for (int v = 0; v < dofs.n_nodes; ++v) {
-    if (!dofs.used[v] || !dofs.fixed[v]) continue;
+    if (!selected(dofs, v) || !dofs.fixed[v]) continue;
     const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
     for (int c = 0; c < 3; ++c)
       if (dofs.fixed[v] >> c & 1) {
@@ -175,20 +185,63 @@ Eigen::VectorXd prescribed_rigid_motion(const Mesh& mesh, const DofMap& dofs) {
   return field;
 }
 
-FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs) {
-  // A rigid motion is free iff it vanishes at every prescribed component: with coordinates scaled
-  // by the body's size, the Gram matrix of those components' rows is singular exactly along it.
-  const BodyFrame frame = body_frame(mesh, dofs);
+namespace {
+
+// A rigid motion is free iff it vanishes at every prescribed component: with coordinates scaled
+// by the body's size, the Gram matrix of those components' rows is singular exactly along it.
+FreeRigidMotions free_rigid_motions_of(const Mesh& mesh, const DofMap& dofs, NodeSelection selected) {
+  const BodyFrame frame = body_frame(mesh, dofs, selected);
   FreeRigidMotions free;
   free.centre = frame.centre;
   free.size = frame.size;
   free.motions.resize(6, 0);
   if (frame.n_used == 0) return free;
-  const PrescribedRows rows = prescribed_rows(mesh, dofs, frame);
+  const PrescribedRows rows = prescribed_rows(mesh, dofs, frame, selected);
   int k = 0;
   while (k < 6 && rows.negligible(k)) ++k;
   free.motions = rows.eig.eigenvectors().leftCols(k);
   return free;
+}
+
+// The part holding `v` (union-find with path halving).
+int find_part(std::vector<int>& parent, int v) {
+  while (parent[static_cast<std::size_t>(v)] != v)
+    v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+  return v;
+}
+
+}  // namespace
+
+FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs) {
+  return free_rigid_motions_of(mesh, dofs, {});
+}
+
+FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts, int part) {
+  return free_rigid_motions_of(mesh, dofs, {&parts, part});
+}
+
+BodyParts body_parts(const Mesh& mesh) {
+  const int n = static_cast<int>(mesh.nodes.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) parent[static_cast<std::size_t>(v)] = v;
+  for (const auto& t : mesh.tets)
+    for (int k = 1; k < 4; ++k) {
+      const int a = find_part(parent, t[0]), b = find_part(parent, t[k]);
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  BodyParts parts;
+  parts.of_node.assign(static_cast<std::size_t>(n), -1);
+  std::vector<int> number_of_root(static_cast<std::size_t>(n), -1);
+  for (const auto& t : mesh.tets) {
+    int& number = number_of_root[static_cast<std::size_t>(find_part(parent, t[0]))];
+    if (number < 0) {
+      number = parts.count();
+      parts.tets.push_back(0);
+    }
+    ++parts.tets[static_cast<std::size_t>(number)];
+    for (int v : t) parts.of_node[static_cast<std::size_t>(v)] = number;
+  }
+  return parts;
 }
 
 std::string FreeRigidMotions::describe(const Eigen::Matrix<double, 6, 1>& free_motion) const {

@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 
 namespace contact3d {
 
@@ -62,10 +63,37 @@ FreeRigidMotions in_user_frame(const FreeRigidMotions& local, const FoundationFr
   return global;
 }
 
+// A mesh of several disconnected parts (no node shared between them): the free rigid motions and the
+// equalities that let the contact hold them are the whole body's, so each part must be held by its
+// own prescribed components (two blocks each clamped are solved), else K is singular along that
+// part's own motions and the factorization would fail with a message about Γu. Refused up front,
+// naming the part and its motion, in the user's frame.
+void require_each_part_held(const Mesh& mesh, const DofMap& dofs, const FoundationFrame& user_frame) {
+  const BodyParts parts = body_parts(mesh);
+  if (parts.count() < 2) return;
+  for (int part = 0; part < parts.count(); ++part) {
+    const FreeRigidMotions free = in_user_frame(free_rigid_motions(mesh, dofs, parts, part), user_frame);
+    if (free.count() == 0) continue;
+    const Eigen::Vector3d& c = free.centre;
+    throw InputError(
+        "the mesh has " + std::to_string(parts.count()) +
+        " disconnected parts (no node is shared between them), and the prescribed displacements leave part " +
+        std::to_string(part + 1) + " (" + count(parts.tets[static_cast<std::size_t>(part)]) +
+        " tetrahedra, centred at (" + number(c.x(), 6) + ", " + number(c.y(), 6) + ", " + number(c.z(), 6) +
+        ")) free to move: " +
+        (free.count() == 6 ? std::string("no clamped or prescribed node lies on it, all six rigid motions are")
+                           : describe_all(free) + (free.count() > 1 ? " are" : " is")) +
+        " free; the contact holds a body only when its mesh is one connected part, so hold "
+        "every part with boundary.clamped or boundary.displacement, join the parts into one "
+        "volume (shared nodes), or solve each part as its own scene");
+  }
+}
+
 }  // namespace
 
 ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
                                         const FoundationFrame& user_frame) {
+  require_each_part_held(mesh, dofs, user_frame);
   ContactHeldMotions held;
   held.free = free_rigid_motions(mesh, dofs);
   held.named = in_user_frame(held.free, user_frame);

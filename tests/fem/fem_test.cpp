@@ -322,6 +322,54 @@ TEST(Assembly, FreeRigidMotionsAreNamed) {
   }
 }
 
+// Two copies of the n = 2 brick, the second moved 5 m along x: two parts sharing no node. Each part's
+// free rigid motions are its own: the first clamped (none), the second held only by u_z on its
+// bottom (its slides and its turn about z).
+TEST(DofMap, EachDisconnectedPartHasItsOwnFreeMotions) {
+  Mesh mesh = make_paper_brick({2});
+  const Mesh copy = mesh;
+  const int offset = static_cast<int>(mesh.nodes.size());
+  for (std::size_t v = 0; v < copy.nodes.size(); ++v) {
+    mesh.nodes.push_back(copy.nodes[v] + Eigen::Vector3d(5, 0, 0));
+    mesh.node_tags.push_back(copy.node_tags[v] + static_cast<std::size_t>(offset));
+  }
+  for (std::size_t t = 0; t < copy.tets.size(); ++t) {
+    std::array<int, 4> moved = copy.tets[t];
+    for (int& v : moved) v += offset;
+    mesh.tets.push_back(moved);
+    mesh.tet_tags.push_back(copy.tet_tags[t] + copy.tets.size());
+    mesh.tet_group.push_back(copy.tet_group[t]);
+  }
+  const BodyParts parts = body_parts(mesh);
+  ASSERT_EQ(parts.count(), 2);
+  EXPECT_EQ(parts.tets[0], static_cast<int>(copy.tets.size()));
+  EXPECT_EQ(parts.tets[1], static_cast<int>(copy.tets.size()));
+  EXPECT_EQ(parts.of_node[0], 0);
+  EXPECT_EQ(parts.of_node[static_cast<std::size_t>(offset)], 1);
+  EXPECT_EQ(body_parts(copy).count(), 1);
+
+  // The clamped group and the bottom are the first copy's triangles: the second part touches none.
+  const DofMap dofs = make_dof_map(mesh, {"clamped"});
+  EXPECT_EQ(free_rigid_motions(mesh, dofs).count(), 0);  // the whole body's check sees nothing free
+  EXPECT_EQ(free_rigid_motions(mesh, dofs, parts, 0).count(), 0);
+  EXPECT_EQ(free_rigid_motions(mesh, dofs, parts, 1).count(), 6);
+  // Its bottom on rollers (u_z) as well: three motions left, every one without a normal part.
+  std::set<int> bottom;
+  for (int v = offset; v < static_cast<int>(mesh.nodes.size()); ++v)
+    if (mesh.nodes[v].z() == 0) bottom.insert(v);
+  DofMap rollers = make_dof_map(mesh, {"clamped"});
+  for (int v : bottom) rollers.fixed[v] |= 4;
+  const FreeRigidMotions left = free_rigid_motions(mesh, rollers, parts, 1);
+  ASSERT_EQ(left.count(), 3);
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_LT(std::abs(left.motions(2, j)), 1e-9) << j;           // no lift
+    EXPECT_LT(left.motions.block(3, j, 2, 1).norm(), 1e-9) << j;  // no tilt
+  }
+  // About its own centroid: the first copy's, moved.
+  const Eigen::Vector3d own = free_rigid_motions(copy, make_dof_map(copy, {})).centre + Eigen::Vector3d(5, 0, 0);
+  EXPECT_LT((left.centre - own).norm(), 1e-12);
+}
+
 TEST(Assembly, RejectsInvertedTets) {
   Mesh mesh = make_paper_brick({1});
   std::swap(mesh.tets[2][0], mesh.tets[2][1]);
