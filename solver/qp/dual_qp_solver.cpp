@@ -128,7 +128,7 @@ constexpr long kAugmentedMinBudget = 20000;
 // the Jacobian instead of trusting Broyden's update (the free thin slab with 4 800 multipliers: six
 // inner solves at 1e-12 and 4 373 products without, four and 3 235 with; dual solve 47.6 → 30.5 s).
 constexpr double kSlowFullStep = 0.1;
-// Below this ‖F‖/‖e‖ a step that finds no descent is the inner solves' rounding, not a failure.
+// Below this ‖F‖/scale (balance_scale) a step that finds no descent is the inner solves' rounding, not a failure.
 constexpr double kEqualityNoiseFloor = 1e-7;
 // Loads along the equalities' motions below this share of the contact forces' size along them
 // (‖G‖‖λ‖) are balanced to that size instead of to their own: the inner solves' rounding of Gλ is

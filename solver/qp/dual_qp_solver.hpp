@@ -106,13 +106,15 @@ class DualQpSolver {
   // maximum of the concave dual φ (F = ∇φ) along it, that maximum is searched for (false position on
   // Fᵀs) and taken; along motions no contact force responds to yet (a body above its gaps) μ jumps to
   // the next touch, or to φ's maximum along the jump where it lies before,
-  // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (1e-7 where the inner solves' rounding stops the descent), the
-  // inner solves to min(rtol/100, 1e-8). Where these steps leave the loads unbalanced, the augmented
-  // Lagrangian takes over from their best iterate (solve_with_augmented_lagrangian). μ is warm-started too.
+  // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (‖e‖ at least 1e-4·‖G‖‖λ‖; 1e-7 where the inner solves' rounding stops the descent),
+  // the inner solves to min(rtol/100, 1e-8). Where these steps leave the loads unbalanced, the augmented Lagrangian
+  // takes over from their best iterate (solve_with_augmented_lagrangian). μ is warm-started too.
   void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);
   bool has_equality() const { return G_.rows() > 0; }
   const Eigen::VectorXd& equality_multiplier() const { return mu_; }  // μ of the last solve
-  double equality_residual() const { return equality_residual_; }     // ‖Gλ − e‖ / ‖e‖ of the last solve
+  // ‖Gλ − e‖ of the last solve over max(‖e‖, 1e-4·‖G‖‖λ‖): the loads along the motions, or where they are
+  // only rounding (a symmetric body's slide) the contact forces' size along them.
+  double equality_residual() const { return equality_residual_; }
   // dλ/dc at `lambda`, the solution of the last solve(), in the original variables, computed on the
   // problem that solve() solved (Jacobi-scaled or not; through the factor of Q where the Newton steps
   // go through it; by CG on a matrix-free Q). It holds the radii of this solve and must not outlive
