@@ -1,5 +1,8 @@
 #include "model/held_by_contact.hpp"
 
+#include <algorithm>
+#include <array>
+
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
@@ -44,9 +47,32 @@ std::vector<int> pin_dofs(const Eigen::MatrixXd& field) {
   return pins;
 }
 
+// The pure translations leading `motions` (no rotation part) in a basis of the user's axes where their
+// span holds them, else of the directions nearest to those axes: translations free along y and z are
+// named (0, 1, 0) and (0, 0, 1), not two mixtures such as (0, 0.0107, 0.99994) and (0, 0.99994, −0.0107).
+void align_translations_with_axes(FreeRigidMotions& motions) {
+  Eigen::Index k = 0;
+  while (k < motions.count() && motions.motions.col(k).tail<3>().norm() <= 1e-9) ++k;
+  if (k == 0) return;
+  const Eigen::Matrix3d onto = motions.motions.topLeftCorner(3, k) * motions.motions.topLeftCorner(3, k).transpose();
+  std::array<int, 3> axes = {0, 1, 2};  // the axes nearest the span first (x, y, z among equals)
+  std::stable_sort(axes.begin(), axes.end(),
+                   [&](int a, int b) { return onto.col(a).norm() > onto.col(b).norm() + 1e-12; });
+  Eigen::Index chosen = 0;
+  for (const int axis : axes) {
+    Eigen::Vector3d v = onto.col(axis);
+    for (Eigen::Index j = 0; j < chosen; ++j)
+      v -= motions.motions.col(j).head<3>().dot(v) * motions.motions.col(j).head<3>();
+    if (v.norm() <= 1e-6 || chosen == k) continue;
+    motions.motions.col(chosen).head<3>() = v.normalized();
+    motions.motions.col(chosen).tail<3>().setZero();
+    ++chosen;
+  }
+}
+
 // The motions (t; ω) about the centre, from the plane's frame into the user's global axes, in a basis
-// that names well: the slides and lifts first (no rotation), then the rotations orthogonal to them
-// (their axes pass as near the centroid as the free space allows).
+// that names well: the slides and lifts first (no rotation; along the axes where they can be), then the
+// rotations orthogonal to them (their axes pass as near the centroid as the free space allows).
 FreeRigidMotions in_user_frame(const FreeRigidMotions& local, const FoundationFrame& frame) {
   FreeRigidMotions global = local;
   if (local.count() > 0) {
@@ -60,6 +86,7 @@ FreeRigidMotions in_user_frame(const FreeRigidMotions& local, const FoundationFr
     global.motions.col(j).head<3>() = frame.to_global(motion.head<3>());
     global.motions.col(j).tail<3>() = frame.to_global(motion.tail<3>());
   }
+  align_translations_with_axes(global);
   return global;
 }
 
