@@ -102,12 +102,12 @@ void require_each_part_held(const Mesh& mesh, const DofMap& dofs, const Foundati
     const FreeRigidMotions free = in_user_frame(free_rigid_motions(mesh, dofs, parts, part), user_frame);
     if (free.count() == 0) continue;
     const Eigen::Vector3d& c = free.centre;
+    const int tets = parts.tets[static_cast<std::size_t>(part)];
     throw InputError(
         "the mesh has " + std::to_string(parts.count()) +
         " disconnected parts (no node is shared between them), and the prescribed displacements leave part " +
-        std::to_string(part + 1) + " (" + count(parts.tets[static_cast<std::size_t>(part)]) +
-        " tetrahedra, centred at (" + number(c.x(), 6) + ", " + number(c.y(), 6) + ", " + number(c.z(), 6) +
-        ")) free to move: " +
+        std::to_string(part + 1) + " (" + count(tets) + (tets == 1 ? " tetrahedron" : " tetrahedra") +
+        ", centred at (" + number(c.x(), 6) + ", " + number(c.y(), 6) + ", " + number(c.z(), 6) + ")) free to move: " +
         (free.count() == 6 ? std::string("no clamped or prescribed node lies on it, all six rigid motions are")
                            : describe_all(free) + (free.count() > 1 ? " are" : " is")) +
         " free; the contact holds a body only when its mesh is one connected part, so hold "
