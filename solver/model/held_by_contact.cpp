@@ -59,11 +59,11 @@ void align_translations_with_axes(FreeRigidMotions& motions) {
   std::stable_sort(axes.begin(), axes.end(),
                    [&](int a, int b) { return onto.col(a).norm() > onto.col(b).norm() + 1e-12; });
   Eigen::Index chosen = 0;
-  for (const int axis : axes) {
-    Eigen::Vector3d v = onto.col(axis);
+  for (std::size_t a = 0; a < axes.size() && chosen < k; ++a) {
+    Eigen::Vector3d v = onto.col(axes[a]);
     for (Eigen::Index j = 0; j < chosen; ++j)
       v -= motions.motions.col(j).head<3>().dot(v) * motions.motions.col(j).head<3>();
-    if (v.norm() <= 1e-6 || chosen == k) continue;
+    if (v.norm() <= 1e-6) continue;
     motions.motions.col(chosen).head<3>() = v.normalized();
     motions.motions.col(chosen).tail<3>().setZero();
     ++chosen;
