@@ -82,6 +82,24 @@ inline void release_freed_memory() {
 #endif
 }
 
+// For the scope of one allocation-heavy call into a library that keeps its own large workspaces
+// (MUMPS's factorization): blocks of 256 KiB and more come from the system and go back to it when
+// freed, so that the heap's free holes, resident under keep_freed_memory(), are not left beside a
+// workspace too large to fit in them. The policy of keep_freed_memory() comes back at the end.
+class LargeBlocksFromSystem {
+ public:
+  LargeBlocksFromSystem() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+    mallopt(M_MMAP_MAX, 65536);             // glibc's default
+    mallopt(M_MMAP_THRESHOLD, 256 * 1024);  // fixed: no dynamic raising after a large free
+#endif
+  }
+  ~LargeBlocksFromSystem() { keep_freed_memory(); }
+  LargeBlocksFromSystem(const LargeBlocksFromSystem&) = delete;
+  LargeBlocksFromSystem& operator=(const LargeBlocksFromSystem&) = delete;
+};
+
 inline std::uint64_t available_memory_bytes() {
   std::uint64_t avail = memory_detail::meminfo_available();
   for (const std::uint64_t cap : {memory_detail::cgroup_headroom(), memory_detail::address_space_headroom()})
