@@ -596,12 +596,13 @@ def c_held_by_contact_frictionless_pushed_sideways(c):
 
 
 def c_two_parts_one_floating(c):
-    # Two blocks in one mesh, sharing no node: the first clamped, the second resting on the foundation
-    # under a pressure with nothing prescribed on it. The contact holds a body only when it is one
-    # part, so K would be singular along the second block's motions (the factorization then blamed Γu).
+    # Two blocks in one mesh, sharing no node: the first clamped, the second under a pressure with
+    # nothing prescribed on it and its bottom not in the contact group. The contact holds each part
+    # that rests on it (its own rigid motions among the dual's equalities), but nothing touches the
+    # second: K would be singular along its motions (the factorization once blamed Γu).
     geo = ('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {1.5, 0, 0, 1, 0.5, 0.3};\n'
            'Mesh.MeshSizeMin = 0.1; Mesh.MeshSizeMax = 0.1; eps = 1e-6;\n'
-           'Physical Surface("contact") = Surface In BoundingBox {-eps, -eps, -eps, 3, 1, eps};\n'
+           'Physical Surface("contact") = Surface In BoundingBox {-eps, -eps, -eps, 1 + eps, 1, eps};\n'
            'Physical Surface("clamped") = Surface In BoundingBox {-eps, -eps, -eps, eps, 1, 1};\n'
            'Physical Surface("top") = Surface In BoundingBox {-eps, -eps, 0.3 - eps, 3, 1, 0.3 + eps};\n'
            'Physical Volume("body") = {1, 2};\n')
@@ -610,7 +611,22 @@ def c_two_parts_one_floating(c):
             '[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n'
             '[friction]\nmodel = "coulomb"\nlaw = "constant"\nvalue = 0.3\n')
     return (["solve", c.write("two.toml", text), "--out", c.path("out"), "--quiet"],
-            ["2 disconnected parts", "part 2", "all six rigid motions are free", "one connected part"])
+            ["part 2 of 2", "no free node on the contact face", "boundary.contact"])
+
+
+def c_two_parts_one_floating_no_contact(c):
+    # The same two blocks with no contact face at all: the second block's motions are free and
+    # nothing in the scene could hold them.
+    geo = ('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {1.5, 0, 0, 1, 0.5, 0.3};\n'
+           'Mesh.MeshSizeMin = 0.1; Mesh.MeshSizeMax = 0.1; eps = 1e-6;\n'
+           'Physical Surface("clamped") = Surface In BoundingBox {-eps, -eps, -eps, eps, 1, 1};\n'
+           'Physical Surface("top") = Surface In BoundingBox {-eps, -eps, 0.3 - eps, 3, 1, 0.3 + eps};\n'
+           'Physical Volume("body") = {1, 2};\n')
+    text = ('[mesh]\ngeo = "' + c.write("two.geo", geo) + '"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n'
+            '[boundary]\nclamped = ["clamped"]\ncontact = []\n'
+            '[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n')
+    return (["solve", c.write("two.toml", text), "--out", c.path("out"), "--quiet"],
+            ["2 disconnected parts", "part 2 of 2", "all six rigid motions are free", "no contact face"])
 
 
 SPHERE_GEO = """SetFactory("OpenCASCADE");

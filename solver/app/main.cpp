@@ -235,7 +235,7 @@ int run_check(const SolveArgs& args) {
   const ContactHeldMotions held = contact_held_motions(mesh, dofs, !scene.contact.empty(), scene.user_frame);
   if (held.count())
     fmt::print("held by contact alone: {}{}\n", held.describe(),
-               held.in_plane.count() ? "; in the foundation's plane by friction alone: " + held.describe_in_plane()
+               held.in_plane_count() ? "; in the foundation's plane by friction alone: " + held.describe_in_plane()
                                      : std::string());
   tet_materials(scene, mesh);
   if (!scene.contact.empty()) {

@@ -262,15 +262,29 @@ std::string FreeRigidMotions::describe(const Eigen::Matrix<double, 6, 1>& free_m
   return what;
 }
 
-Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free) {
+namespace {
+
+Eigen::MatrixXd rigid_motion_field_of(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free,
+                                      NodeSelection selected) {
   Eigen::MatrixXd field = Eigen::MatrixXd::Zero(dofs.n_free, free.count());
   for (int v = 0; v < dofs.n_nodes; ++v) {
-    if (!dofs.used[v]) continue;
+    if (!selected(dofs, v)) continue;
     const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis((mesh.nodes[v] - free.centre) / free.size);
     for (int c = 0; c < 3; ++c)
       if (const int d = dofs.dof(v, c); d >= 0) field.row(d) = basis.row(c) * free.motions;
   }
   return field;
+}
+
+}  // namespace
+
+Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free) {
+  return rigid_motion_field_of(mesh, dofs, free, {});
+}
+
+Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free,
+                                   const BodyParts& parts, int part) {
+  return rigid_motion_field_of(mesh, dofs, free, {&parts, part});
 }
 
 void require_rigid_motions_fixed(const Mesh& mesh, const DofMap& dofs) {

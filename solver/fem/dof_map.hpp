@@ -75,6 +75,9 @@ BodyParts body_parts(const Mesh& mesh);
 FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts, int part);
 // Those motions at the free dofs (n_free × k).
 Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free);
+// One part's motions at its free dofs, zero on the other parts (n_free × k).
+Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free,
+                                   const BodyParts& parts, int part);
 
 // The rigid motion that fits the prescribed values best (least squares over the prescribed
 // components; none along the motions they leave free) as a nodal field (3 · n_nodes, 0 at unused

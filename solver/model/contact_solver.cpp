@@ -119,7 +119,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
   warn_if_nearly_incompressible(mesh, disc.materials, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
-  disc.centre_in_plane = disc.held.in_plane.count() > 0 && scene.frictionless();
+  disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
@@ -614,7 +614,7 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
     // side, whose lateral slide was among the equalities before equality_motions(), moved along it by
     // 8e11 times its size: equilibrium residual 18, and the run said "converged").
     const double rigid = (disc.equality_motions() * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
-    const double size = held.free.size;  // the body's largest extent
+    const double size = held.size;  // the largest extent of a part held by contact
     if (!(rigid <= kLargestRigidMotion * size))
       throw ContactZoneTooCoarse(
           "the body is held by contact alone (nothing prescribed holds " + held.describe() +
@@ -633,7 +633,7 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
                                                    " of the successive approximations, "
                                                    "with its slips' friction coefficients"
                                              : "");
-  if (held.in_plane.count() && !tresca.history().empty()) {
+  if (held.in_plane_count() && !tresca.history().empty()) {
     // The generalized forces along the free motions that the contact leaves over, Rᵀ(𝔹ᵀλ − f).
     const Eigen::MatrixXd& R = held.field;
     const Eigen::VectorXd left = (op.B * R).transpose() * tresca.history().back().lambda - R.transpose() * disc.f;
@@ -1038,6 +1038,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                                            : "the sparse factor of K with the multipliers (" +
                                                  count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
+  if (disc.held.count()) require_free_parts_on_contact_face(disc.held, face_dofs.dofs);
   report.stage("factorization (" +
                std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
                name_of(method, kDualMethodNames) + ")");

@@ -21,8 +21,35 @@ std::string describe_all(const FreeRigidMotions& motions) {
 
 }  // namespace
 
-std::string ContactHeldMotions::describe() const { return describe_all(named); }
-std::string ContactHeldMotions::describe_in_plane() const { return describe_all(in_plane); }
+std::string PartMotions::label() const {
+  if (parts < 2) return "";
+  const Eigen::Vector3d& c = named.centre;
+  return "part " + std::to_string(part + 1) + " of " + std::to_string(parts) + " (" + count(tets) +
+         (tets == 1 ? " tetrahedron" : " tetrahedra") + ", centred at (" + number(c.x(), 6) + ", " + number(c.y(), 6) +
+         ", " + number(c.z(), 6) + "))";
+}
+
+namespace {
+
+// "part 2 of 3 (…): a translation along … and …", or the motions alone for a one-part body.
+std::string labelled(const PartMotions& p, const FreeRigidMotions& motions) {
+  return p.parts < 2 ? describe_all(motions) : p.label() + ": " + describe_all(motions);
+}
+
+}  // namespace
+
+std::string ContactHeldMotions::describe() const {
+  std::string text;
+  for (const PartMotions& p : parts) text += (text.empty() ? "" : "; ") + labelled(p, p.named);
+  return text;
+}
+
+std::string ContactHeldMotions::describe_in_plane() const {
+  std::string text;
+  for (const PartMotions& p : parts)
+    if (p.in_plane.count()) text += (text.empty() ? "" : "; ") + labelled(p, p.in_plane);
+  return text;
+}
 
 void ContactHeldMotions::remove_springs(const Eigen::VectorXd& w, Eigen::VectorXd& Ks_w) const {
   for (std::size_t p = 0; p < pins.size(); ++p) Ks_w[pins[p]] -= pin_springs[p] * w[pins[p]];
@@ -90,57 +117,113 @@ FreeRigidMotions in_user_frame(const FreeRigidMotions& local, const FoundationFr
   return global;
 }
 
-// A mesh of several disconnected parts (no node shared between them): the free rigid motions and the
-// equalities that let the contact hold them are the whole body's, so each part must be held by its
-// own prescribed components (two blocks each clamped are solved), else K is singular along that
-// part's own motions and the factorization would fail with a message about Γu. Refused up front,
-// naming the part and its motion, in the user's frame.
-void require_each_part_held(const Mesh& mesh, const DofMap& dofs, const FoundationFrame& user_frame) {
-  const BodyParts parts = body_parts(mesh);
-  if (parts.count() < 2) return;
+// Without a contact face nothing can hold a free motion: each part of the mesh must be held by its
+// own prescribed components (two blocks each clamped are solved), else K is singular along that part's
+// motions and the factorization would fail with a message about Γu. Refused up front, naming the part
+// and its motion, in the user's frame.
+void require_each_part_held(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts,
+                            const FoundationFrame& user_frame) {
   for (int part = 0; part < parts.count(); ++part) {
-    const FreeRigidMotions free = in_user_frame(free_rigid_motions(mesh, dofs, parts, part), user_frame);
-    if (free.count() == 0) continue;
-    const Eigen::Vector3d& c = free.centre;
-    const int tets = parts.tets[static_cast<std::size_t>(part)];
-    throw InputError(
-        "the mesh has " + std::to_string(parts.count()) +
-        " disconnected parts (no node is shared between them), and the prescribed displacements leave part " +
-        std::to_string(part + 1) + " (" + count(tets) + (tets == 1 ? " tetrahedron" : " tetrahedra") +
-        ", centred at (" + number(c.x(), 6) + ", " + number(c.y(), 6) + ", " + number(c.z(), 6) + ")) free to move: " +
-        (free.count() == 6 ? std::string("no clamped or prescribed node lies on it, all six rigid motions are")
-                           : describe_all(free) + (free.count() > 1 ? " are" : " is")) +
-        " free; the contact holds a body only when its mesh is one connected part, so hold "
-        "every part with boundary.clamped or boundary.displacement, join the parts into one "
-        "volume (shared nodes), or solve each part as its own scene");
+    PartMotions p{part, parts.count(), parts.tets[static_cast<std::size_t>(part)], {}, {}, {}};
+    p.named = in_user_frame(free_rigid_motions(mesh, dofs, parts, part), user_frame);
+    if (p.named.count() == 0) continue;
+    throw InputError("the mesh has " + std::to_string(parts.count()) +
+                     " disconnected parts (no node is shared between them), and the prescribed displacements leave " +
+                     p.label() + ": " +
+                     (p.named.count() == 6 ? std::string("no clamped or prescribed node lies on it, all six rigid "
+                                                         "motions are")
+                                           : describe_all(p.named) + (p.named.count() > 1 ? " are" : " is")) +
+                     " free, and the scene has no contact face that could hold it; hold every part with "
+                     "boundary.clamped or boundary.displacement, or give the scene a contact face (boundary.contact) "
+                     "under each part that is free");
   }
+}
+
+// One part's free motions (those of the whole body when the mesh is one part), split into those
+// with a normal part and those in the plane; `field` its motions at the free dofs.
+PartMotions part_motions(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts, int part,
+                         const FoundationFrame& user_frame, Eigen::MatrixXd& field, Eigen::MatrixXd& normal,
+                         Eigen::MatrixXd& in_plane) {
+  const bool whole = parts.count() == 1;
+  PartMotions p{part, parts.count(), parts.tets[static_cast<std::size_t>(part)], {}, {}, {}};
+  p.free = whole ? free_rigid_motions(mesh, dofs) : free_rigid_motions(mesh, dofs, parts, part);
+  p.named = in_user_frame(p.free, user_frame);
+  if (p.free.count() == 0) return p;
+  // A combination of the free motions with no normal part slides or turns the part in the plane:
+  // only friction holds it.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(normal_parts(p.free), Eigen::ComputeFullV);
+  const Eigen::Index k = p.free.count();
+  Eigen::Index held_rank = 0;  // motions with a normal part
+  while (held_rank < svd.singularValues().size() && svd.singularValues()[held_rank] >= 1e-6) ++held_rank;
+  normal = svd.matrixV().leftCols(held_rank);
+  in_plane = svd.matrixV().rightCols(k - held_rank);
+  if (held_rank < k) p.in_plane = in_user_frame({p.free.motions * in_plane, p.free.centre, p.free.size}, user_frame);
+  field = whole ? rigid_motion_field(mesh, dofs, p.free) : rigid_motion_field(mesh, dofs, p.free, parts, part);
+  return p;
+}
+
+// The k × (Σ columns) matrix with the blocks on its diagonal, in order.
+Eigen::MatrixXd block_diagonal(const std::vector<Eigen::MatrixXd>& blocks) {
+  Eigen::Index rows = 0, cols = 0;
+  for (const Eigen::MatrixXd& b : blocks) rows += b.rows(), cols += b.cols();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(rows, cols);
+  rows = cols = 0;
+  for (const Eigen::MatrixXd& b : blocks) {
+    out.block(rows, cols, b.rows(), b.cols()) = b;
+    rows += b.rows(), cols += b.cols();
+  }
+  return out;
 }
 
 }  // namespace
 
 ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
                                         const FoundationFrame& user_frame) {
-  require_each_part_held(mesh, dofs, user_frame);
-  ContactHeldMotions held;
-  held.free = free_rigid_motions(mesh, dofs);
-  held.named = in_user_frame(held.free, user_frame);
-  if (held.count() == 0) return held;
-  if (!has_contact) require_rigid_motions_fixed(mesh, dofs);  // throws, naming the motion
-  // A combination of the free motions with no normal part slides or turns the body in the plane:
-  // only friction holds it.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(normal_parts(held.free), Eigen::ComputeFullV);
-  const Eigen::Index k = held.count();
-  Eigen::Index held_rank = 0;  // motions with a normal part
-  while (held_rank < svd.singularValues().size() && svd.singularValues()[held_rank] >= 1e-6) ++held_rank;
-  held.normal_combinations = svd.matrixV().leftCols(held_rank);
-  if (held_rank < k) {
-    held.in_plane_combinations = svd.matrixV().rightCols(k - held_rank);
-    const Eigen::MatrixXd in_plane = held.free.motions * held.in_plane_combinations;
-    held.in_plane = in_user_frame({in_plane, held.free.centre, held.free.size}, user_frame);
+  const BodyParts parts = body_parts(mesh);
+  if (!has_contact) {
+    if (parts.count() > 1) require_each_part_held(mesh, dofs, parts, user_frame);
+    require_rigid_motions_fixed(mesh, dofs);  // throws, naming the motion
+    return {};
   }
-  held.field = rigid_motion_field(mesh, dofs, held.free);
+  ContactHeldMotions held;
+  std::vector<Eigen::MatrixXd> fields, normal, in_plane;
+  for (int part = 0; part < parts.count(); ++part) {
+    Eigen::MatrixXd field, normal_p, in_plane_p;
+    PartMotions p = part_motions(mesh, dofs, parts, part, user_frame, field, normal_p, in_plane_p);
+    if (p.free.count() == 0) continue;
+    held.size = held.parts.empty() ? p.free.size : std::max(held.size, p.free.size);
+    held.parts.push_back(std::move(p));
+    fields.push_back(std::move(field));
+    normal.push_back(std::move(normal_p));
+    in_plane.push_back(std::move(in_plane_p));
+  }
+  if (held.parts.empty()) return held;
+  held.normal_combinations = block_diagonal(normal);
+  held.in_plane_combinations = block_diagonal(in_plane);
+  held.field.resize(dofs.n_free, held.normal_combinations.rows());
+  Eigen::Index col = 0;
+  for (const Eigen::MatrixXd& f : fields) {
+    held.field.middleCols(col, f.cols()) = f;
+    col += f.cols();
+  }
   held.pins = pin_dofs(held.field);
   return held;
+}
+
+void require_free_parts_on_contact_face(const ContactHeldMotions& held, const std::vector<int>& face_dofs) {
+  Eigen::Index col = 0;
+  for (const PartMotions& p : held.parts) {
+    double on_face = 0;
+    for (const int d : face_dofs) on_face = std::max(on_face, held.field.row(d).segment(col, p.free.count()).norm());
+    col += p.free.count();
+    if (on_face > 0) continue;
+    throw InputError((p.parts > 1 ? p.label() : std::string("the body")) +
+                     " has no free node on the contact face Γc, so the contact cannot hold it, and nothing prescribed "
+                     "holds " +
+                     (p.named.count() == 6 ? std::string("any of its six rigid motions") : describe_all(p.named)) +
+                     ": put its face towards the foundation into boundary.contact, or hold it with boundary.clamped "
+                     "or boundary.displacement");
+  }
 }
 
 void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held) {

@@ -9,7 +9,9 @@
 // normal (a lift, a tilt about an axis in the plane); a motion in the plane (a slide, a turn about
 // the normal) is held by friction alone, its equilibrium then a condition on the tangential
 // multipliers (Σ friction forces = the tangential load). Frictionless contact holds it only when the
-// loads along it balance (the pin then places the body, carrying no force).
+// loads along it balance (the pin then places the body, carrying no force). A mesh of several
+// disconnected parts has each part's own motions (R's columns for a part vanish on the others), so
+// each part that nothing prescribed holds is held by its own contact forces.
 #pragma once
 
 #include <string>
@@ -25,29 +27,47 @@
 
 namespace contact3d {
 
+// The free motions of one connected part of the mesh (the whole body when the mesh is one part):
+// a mesh of several disconnected parts (no node shared) has each part's own rigid motions.
+struct PartMotions {
+  int part = 0;               // its number among the mesh's parts (fem::body_parts), from 0
+  int parts = 1;              // how many parts the mesh has
+  int tets = 0;               // its tetrahedra
+  FreeRigidMotions free;      // the motions, about the part's centroid
+  FreeRigidMotions named;     // the same in the user's frame (for messages)
+  FreeRigidMotions in_plane;  // those of them that slide or turn in the foundation's plane, user frame
+  // "part 2 of 3 (946 tetrahedra, centred at (…))" where the mesh has several parts, else "".
+  std::string label() const;
+};
+
 struct ContactHeldMotions {
-  FreeRigidMotions free;                  // the motions, about the body's centroid
-  FreeRigidMotions named;                 // the same in the user's frame (for messages)
-  FreeRigidMotions in_plane;              // those of them that slide or turn in the foundation's plane, user frame
-  Eigen::MatrixXd in_plane_combinations;  // k × (in_plane.count()): the same as combinations of `free`
-  Eigen::MatrixXd normal_combinations;    // k × (k − in_plane.count()): those with a normal part, the rest
-  Eigen::MatrixXd field;                  // n_free × k: the motions at the free dofs (R)
+  std::vector<PartMotions> parts;         // the parts with free motions; their columns in `field` in this order
+  Eigen::MatrixXd in_plane_combinations;  // k × (in-plane motions): the in-plane ones as combinations of the free
+  Eigen::MatrixXd normal_combinations;    // k × (the others): those with a normal part (both block diagonal by part)
+  Eigen::MatrixXd field;                  // n_free × k: the motions at the free dofs (R), each part's on its own dofs
   std::vector<int> pins;                  // k free dofs with a spring, where R's rows are best conditioned
   std::vector<double> pin_springs;        // the springs added to K's diagonal there (K_s = K + Σ s_p e_p e_pᵀ)
-  int count() const { return free.count(); }
-  // "a translation along (0, 0, 1)" and so on, one per motion, joined by " and ".
+  double size = 1;                        // the largest extent of a part with free motions
+  int count() const { return static_cast<int>(field.cols()); }
+  int in_plane_count() const { return static_cast<int>(in_plane_combinations.cols()); }
+  // "a translation along (0, 0, 1)" and so on, one per motion, joined by " and " (each part's after
+  // its label, the parts joined by "; ").
   std::string describe() const;
   std::string describe_in_plane() const;  // the same for the in-plane motions ("" where none)
   // K_s w − (K_s − K) w: K w from a product by K_s.
   void remove_springs(const Eigen::VectorXd& w, Eigen::VectorXd& Ks_w) const;
 };
 
-// The free rigid motions of a body whose contact face lies on the plane z = 0 (the solve's frame):
-// none (count() = 0) when the prescribed components hold the body. Throws InputError when
-// `has_contact` is false.
+// The free rigid motions of a body whose contact face lies on the plane z = 0 (the solve's frame),
+// each part's own where the mesh has several: none (count() = 0) when the prescribed components
+// hold every part. Throws InputError, naming the part and motion, when `has_contact` is false.
 // Messages name the motions in `user_frame`'s global axes (the solve's frame is the plane's).
 ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
                                         const FoundationFrame& user_frame = FoundationFrame());
+
+// Throws InputError when a part with free motions has no free dof on Γc (`face_dofs`: the free dofs
+// of the contact nodes): nothing could hold it.
+void require_free_parts_on_contact_face(const ContactHeldMotions& held, const std::vector<int>& face_dofs);
 
 // Adds the pins' springs (each equal to K's diagonal entry there) to K; records them in `held`.
 void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held);

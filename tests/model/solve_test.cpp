@@ -548,6 +548,80 @@ TEST(SolveUserConditions, BodyHeldByContactAlone) {
 
 namespace {
 
+// `mesh` with a copy of itself moved by `shift` appended: two parts that share no node.
+Mesh with_moved_copy(const Mesh& mesh, const Eigen::Vector3d& shift) {
+  Mesh two = mesh;
+  const int offset = static_cast<int>(mesh.nodes.size());
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
+    two.nodes.push_back(mesh.nodes[v] + shift);
+    two.node_tags.push_back(mesh.node_tags[v] + static_cast<std::size_t>(offset));
+  }
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    std::array<int, 4> moved = mesh.tets[t];
+    for (int& v : moved) v += offset;
+    two.tets.push_back(moved);
+    two.tet_tags.push_back(mesh.tet_tags[t] + mesh.tets.size());
+    two.tet_group.push_back(mesh.tet_group[t]);
+  }
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    std::array<int, 3> moved = mesh.triangles[t];
+    for (int& v : moved) v += offset;
+    two.triangles.push_back(moved);
+    two.triangle_tags.push_back(mesh.triangle_tags[t] + mesh.triangles.size());
+    two.triangle_group.push_back(mesh.triangle_group[t]);
+  }
+  return two;
+}
+
+}  // namespace
+
+// A mesh of two parts (two copies of the paper's brick 5 m apart, no node shared), nothing clamped:
+// each part is held by the contact alone, its own six rigid motions among the dual's equalities
+// (the lift and tilts by its normal pressure, the slides and the turn by its friction). With cells of
+// 2h the grid over both faces cuts each copy as it cuts the brick alone, so each part's answer is the
+// brick's solved alone: the two parts meet only through the dual's equalities, which must not mix them.
+// A copy left with nothing on the contact face is refused before anything is factorized.
+TEST(SolveUserConditions, EachPartOfAMeshIsHeldByContactOnItsOwn) {
+  for (const char* model : {"\"tresca\"", "\"coulomb\""}) {
+    const std::vector<std::string> options = {"boundary.clamped=[]",
+                                              std::string("friction.model=") + model,
+                                              std::string("friction.slip_bound=") + (model[1] == 'c' ? "0" : "2e7"),
+                                              "contact.cell_size=\"2h\"",
+                                              "solver.qp_rtol=1e-10",
+                                              "solver.fixed_point_tol=1e-8"};
+    const Scene scene = parse_scene_text(kPaperScene, ".", options);
+    const Mesh brick = make_paper_brick({scene.mesh.n});
+    const SolveResult alone = solve_scene(scene, brick);
+    const SolveResult both = solve_scene(scene, with_moved_copy(brick, {5, 0, 0}));
+    ASSERT_TRUE(alone.converged && both.converged) << model << ": " << both.status;
+    EXPECT_EQ(both.lambda.size(), 2 * alone.lambda.size()) << model;
+    EXPECT_LT(both.kkt.max(), 1e-8) << model;
+    EXPECT_LT((both.forces.contact + both.forces.applied).norm(), 1e-8 * both.forces.applied.norm()) << model;
+    const Eigen::Index n = alone.u.size();
+    const double scale = alone.u.cwiseAbs().maxCoeff();
+    EXPECT_LT(max_difference(both.u.head(n), alone.u), 1e-6 * scale) << model;
+    EXPECT_LT(max_difference(both.u.tail(n), alone.u), 1e-6 * scale) << model;
+    bool named = false;
+    for (const std::string& note : both.notes) named |= note.find("part 2 of 2") != std::string::npos;
+    EXPECT_TRUE(named) << model;
+  }
+  // The copy's triangles in no group: nothing on the contact face could hold it.
+  const Scene scene = parse_scene_text(kPaperScene, ".",
+                                       {"boundary.clamped=[]", "friction.model=\"coulomb\"", "friction.slip_bound=0"});
+  const Mesh brick = make_paper_brick({scene.mesh.n});
+  Mesh stray = with_moved_copy(brick, {5, 0, 0});
+  for (std::size_t t = brick.triangles.size(); t < stray.triangles.size(); ++t) stray.triangle_group[t] = 0;
+  try {
+    solve_scene(scene, stray);
+    FAIL() << "a part with nothing on the contact face solved";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("part 2 of 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no free node on the contact face"), std::string::npos) << e.what();
+  }
+}
+
+namespace {
+
 // The largest difference between u and u mirrored through the brick's two vertical symmetry planes
 // x = 1.5 and y = 0.5 (u_x and u_y change sign), over its nodes.
 double mirror_asymmetry(const SolveResult& res, int n) {
