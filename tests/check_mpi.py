@@ -9,9 +9,9 @@ rigid-body modes attached to its matrix as the near-null space, and each rank's 
 its share of the machine's cores. Cases: the paper's
 brick (n = 8, slip-dependent law; both routes) and an unstructured body with a hole (hexagonal
 prism, gmsh; also on 3 ranks, so the mesh is cut into three parts), and the quarter block on a
-spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap), and the brick
-with Coulomb's bound. One rank bound to one core must get summary.json's note on unbinding. The
-brick n = 12 with its factor out of core (solver.out_of_core_dir) must give the in-memory answer
+spherical cap (two materials, rollers, a prescribed displacement, a pressure, a gap), the brick
+with Coulomb's bound, and two pads in one mesh of two parts. One rank bound to one core must get
+summary.json's note on unbinding. The brick n = 12 with its factor out of core (solver.out_of_core_dir) must give the in-memory answer
 with less memory per rank and leave no file behind. The executable must not link PETSc (a module
 loaded by the PETSc route only), and that route without its module is an error (exit 2) naming the
 module, also when only another rank than rank 0 lacks it. A negative check compares the serial
@@ -52,6 +52,9 @@ CASES = [
     # normal by friction (six equality rows, six springs)
     ("paper brick n=8 with nothing prescribed", "paper_brick.toml",
      ["mesh.generator=paper_brick", "mesh.n=8", "boundary.clamped=[]"], "mumps"),
+    # a mesh in two parts (geo/pads.geo), nothing prescribed: each pad held by its own contact, twelve
+    # equality rows and springs, each part's on its own dofs
+    ("two pads, a mesh in two parts held by their own contact", "pads.toml", [], "mumps"),
     # Coulomb's bound F(φ)·λ_n: the fixed point on (φ, λ_n), each step a MUMPS solve
     ("paper brick n=8, Coulomb", "paper_brick.toml",
      ["mesh.generator=paper_brick", "mesh.n=8", "friction.model=coulomb", "friction.slip_bound=0"], "mumps"),
