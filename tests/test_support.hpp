@@ -1,7 +1,9 @@
 // Shared fixtures of the unit tests: the paper's scene as TOML text, small random QPs of the form
-// (5.5) with both constraint kinds (also as matrix-free ones), and a grid Laplacian to factor.
+// (5.5) with both constraint kinds (also as matrix-free ones), a grid Laplacian to factor, and a
+// mesh with moved copies of itself (a mesh of several parts).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <random>
 #include <vector>
@@ -11,6 +13,7 @@
 
 #include "linalg/dense_cholesky.hpp"
 #include "linalg/dual_operator.hpp"
+#include "mesh/mesh.hpp"
 #include "qp/box_disc_qp.hpp"
 
 namespace contact3d::testing {
@@ -39,6 +42,35 @@ inline Eigen::SparseMatrix<double> grid_laplacian(int nx, int ny, int nz, double
   K.setFromTriplets(t.begin(), t.end());
   return K;
 }
+
+// `mesh` with copies of itself moved by each of `shifts` appended (nodes, tetrahedra and boundary
+// triangles, with their groups): 1 + shifts.size() parts that share no node.
+inline Mesh with_moved_copies(const Mesh& mesh, const std::vector<Eigen::Vector3d>& shifts) {
+  Mesh all = mesh;
+  for (const Eigen::Vector3d& shift : shifts) {
+    const int offset = static_cast<int>(all.nodes.size());
+    for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
+      all.nodes.push_back(mesh.nodes[v] + shift);
+      all.node_tags.push_back(all.node_tags.empty() ? 1 : all.node_tags.back() + 1);
+    }
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+      std::array<int, 4> moved = mesh.tets[t];
+      for (int& v : moved) v += offset;
+      all.tets.push_back(moved);
+      all.tet_tags.push_back(all.tet_tags.back() + 1);
+      all.tet_group.push_back(mesh.tet_group[t]);
+    }
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      std::array<int, 3> moved = mesh.triangles[t];
+      for (int& v : moved) v += offset;
+      all.triangles.push_back(moved);
+      all.triangle_tags.push_back(all.triangle_tags.back() + 1);
+      all.triangle_group.push_back(mesh.triangle_group[t]);
+    }
+  }
+  return all;
+}
+inline Mesh with_moved_copy(const Mesh& mesh, const Eigen::Vector3d& shift) { return with_moved_copies(mesh, {shift}); }
 
 // Section 6 of the paper on the built-in five-tet brick at n = 4 (override with mesh.n).
 inline const char* paper_scene_text() {

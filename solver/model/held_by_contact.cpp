@@ -31,24 +31,42 @@ std::string PartMotions::label() const {
 
 namespace {
 
-// "part 2 of 3 (…): a translation along … and …", or the motions alone for a one-part body.
+// "part 2 of 3 (…): a translation along … and …" (or "…: all six rigid motions"), or the motions
+// alone for a one-part body.
 std::string labelled(const PartMotions& p, const FreeRigidMotions& motions) {
-  return p.parts < 2 ? describe_all(motions) : p.label() + ": " + describe_all(motions);
+  if (p.parts < 2) return describe_all(motions);
+  return p.label() + ": " + (motions.count() == 6 ? std::string("all six rigid motions") : describe_all(motions));
+}
+
+// The parts' motions joined by "; ", the first kNamedParts of them in full and the rest by their numbers
+// (a mesh of many loose pieces would otherwise give a note of kilobytes).
+constexpr std::size_t kNamedParts = 4;
+template <class MotionsOf>
+std::string describe_parts(const std::vector<PartMotions>& parts, MotionsOf motions_of) {
+  std::string text, more;
+  std::size_t named = 0, rest = 0;
+  for (const PartMotions& p : parts) {
+    const FreeRigidMotions& motions = motions_of(p);
+    if (motions.count() == 0) continue;
+    if (named < kNamedParts) {
+      text += (named++ ? "; " : "") + labelled(p, motions);
+    } else {
+      more += (rest++ ? ", " : "") + std::to_string(p.part + 1);
+    }
+  }
+  if (rest)
+    text += "; and " + std::to_string(rest) + (rest > 1 ? " more parts (numbers " : " more part (number ") + more + ")";
+  return text;
 }
 
 }  // namespace
 
 std::string ContactHeldMotions::describe() const {
-  std::string text;
-  for (const PartMotions& p : parts) text += (text.empty() ? "" : "; ") + labelled(p, p.named);
-  return text;
+  return describe_parts(parts, [](const PartMotions& p) -> const FreeRigidMotions& { return p.named; });
 }
 
 std::string ContactHeldMotions::describe_in_plane() const {
-  std::string text;
-  for (const PartMotions& p : parts)
-    if (p.in_plane.count()) text += (text.empty() ? "" : "; ") + labelled(p, p.in_plane);
-  return text;
+  return describe_parts(parts, [](const PartMotions& p) -> const FreeRigidMotions& { return p.in_plane; });
 }
 
 void ContactHeldMotions::remove_springs(const Eigen::VectorXd& w, Eigen::VectorXd& Ks_w) const {

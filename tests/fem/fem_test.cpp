@@ -16,6 +16,7 @@
 #include "fem/mesh_part.hpp"
 #include "linalg/sparse_cholesky.hpp"
 #include "mesh/brick_generator.hpp"
+#include "test_support.hpp"
 
 using namespace contact3d;
 
@@ -326,20 +327,13 @@ TEST(Assembly, FreeRigidMotionsAreNamed) {
 // free rigid motions are its own: the first clamped (none), the second held only by u_z on its
 // bottom (its slides and its turn about z).
 TEST(DofMap, EachDisconnectedPartHasItsOwnFreeMotions) {
-  Mesh mesh = make_paper_brick({2});
-  const Mesh copy = mesh;
-  const int offset = static_cast<int>(mesh.nodes.size());
-  for (std::size_t v = 0; v < copy.nodes.size(); ++v) {
-    mesh.nodes.push_back(copy.nodes[v] + Eigen::Vector3d(5, 0, 0));
-    mesh.node_tags.push_back(copy.node_tags[v] + static_cast<std::size_t>(offset));
-  }
-  for (std::size_t t = 0; t < copy.tets.size(); ++t) {
-    std::array<int, 4> moved = copy.tets[t];
-    for (int& v : moved) v += offset;
-    mesh.tets.push_back(moved);
-    mesh.tet_tags.push_back(copy.tet_tags[t] + copy.tets.size());
-    mesh.tet_group.push_back(copy.tet_group[t]);
-  }
+  const Mesh copy = make_paper_brick({2});
+  Mesh mesh = contact3d::testing::with_moved_copy(copy, {5, 0, 0});
+  // The boundary triangles of the first copy only: its clamped group and bottom.
+  mesh.triangles.resize(copy.triangles.size());
+  mesh.triangle_tags.resize(copy.triangles.size());
+  mesh.triangle_group.resize(copy.triangles.size());
+  const int offset = static_cast<int>(copy.nodes.size());
   const BodyParts parts = body_parts(mesh);
   ASSERT_EQ(parts.count(), 2);
   EXPECT_EQ(parts.tets[0], static_cast<int>(copy.tets.size()));

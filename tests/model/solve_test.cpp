@@ -546,35 +546,6 @@ TEST(SolveUserConditions, BodyHeldByContactAlone) {
   }
 }
 
-namespace {
-
-// `mesh` with a copy of itself moved by `shift` appended: two parts that share no node.
-Mesh with_moved_copy(const Mesh& mesh, const Eigen::Vector3d& shift) {
-  Mesh two = mesh;
-  const int offset = static_cast<int>(mesh.nodes.size());
-  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
-    two.nodes.push_back(mesh.nodes[v] + shift);
-    two.node_tags.push_back(mesh.node_tags[v] + static_cast<std::size_t>(offset));
-  }
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    std::array<int, 4> moved = mesh.tets[t];
-    for (int& v : moved) v += offset;
-    two.tets.push_back(moved);
-    two.tet_tags.push_back(mesh.tet_tags[t] + mesh.tets.size());
-    two.tet_group.push_back(mesh.tet_group[t]);
-  }
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    std::array<int, 3> moved = mesh.triangles[t];
-    for (int& v : moved) v += offset;
-    two.triangles.push_back(moved);
-    two.triangle_tags.push_back(mesh.triangle_tags[t] + mesh.triangles.size());
-    two.triangle_group.push_back(mesh.triangle_group[t]);
-  }
-  return two;
-}
-
-}  // namespace
-
 // A mesh of two parts (two copies of the paper's brick 5 m apart, no node shared), nothing clamped:
 // each part is held by the contact alone, its own six rigid motions among the dual's equalities
 // (the lift and tilts by its normal pressure, the slides and the turn by its friction). With cells of
@@ -592,7 +563,7 @@ TEST(SolveUserConditions, EachPartOfAMeshIsHeldByContactOnItsOwn) {
     const Scene scene = parse_scene_text(kPaperScene, ".", options);
     const Mesh brick = make_paper_brick({scene.mesh.n});
     const SolveResult alone = solve_scene(scene, brick);
-    const SolveResult both = solve_scene(scene, with_moved_copy(brick, {5, 0, 0}));
+    const SolveResult both = solve_scene(scene, contact3d::testing::with_moved_copy(brick, {5, 0, 0}));
     ASSERT_TRUE(alone.converged && both.converged) << model << ": " << both.status;
     EXPECT_EQ(both.lambda.size(), 2 * alone.lambda.size()) << model;
     EXPECT_LT(both.kkt.max(), 1e-8) << model;
@@ -609,7 +580,7 @@ TEST(SolveUserConditions, EachPartOfAMeshIsHeldByContactOnItsOwn) {
   const Scene scene = parse_scene_text(kPaperScene, ".",
                                        {"boundary.clamped=[]", "friction.model=\"coulomb\"", "friction.slip_bound=0"});
   const Mesh brick = make_paper_brick({scene.mesh.n});
-  Mesh stray = with_moved_copy(brick, {5, 0, 0});
+  Mesh stray = contact3d::testing::with_moved_copy(brick, {5, 0, 0});
   for (std::size_t t = brick.triangles.size(); t < stray.triangles.size(); ++t) stray.triangle_group[t] = 0;
   try {
     solve_scene(scene, stray);
