@@ -486,13 +486,39 @@ double largest_deformation(const Mesh& mesh, const DofMap& dofs, const Eigen::Ve
   return largest;
 }
 
+// A penetration against the body's largest displacement, to go before "the … displacement": "12% of",
+// or "3.1e+05 times" past 1000%.
+std::string share_of_displacement(double ratio) {
+  return ratio <= 10 ? number(100 * ratio, 2) + "% of" : number(ratio, 2) + " times";
+}
+
+// No cell presses (every λ_n ≤ 0) while nodes penetrate: the approach closed no cell's mean gap.
+bool penetrates_without_pressure(const SolveResult& res) {
+  const Eigen::Index r = static_cast<Eigen::Index>(res.partition.cells.size());
+  return res.wn_plus_inf > 0 && r > 0 && res.lambda.size() >= r && res.lambda.head(r).maxCoeff() <= 0;
+}
+
 // `u_max`: largest_deformation; `rigid_removed`: it is less a rigid motion (held by contact alone, or
 // imposed by prescribed values).
 void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_removed, SolveResult& res) {
   res.penetration_ratio = u_max > 0 ? res.wn_plus_inf / u_max : 0.0;
   if (!unresolved(res)) return;
+  if (penetrates_without_pressure(res)) {
+    // A cone on its tip pushed down: the tip's cell averages a gap of millimetres over its area, which
+    // the approach does not close, so the tip passes through the foundation with no force at all.
+    res.warnings.push_back(
+        "nodes penetrate the foundation by up to " + number(res.wn_plus_inf, 3) +
+        " while no cell carries a contact force: non-penetration holds as averages of w_n − d over cells of " +
+        cell_sizes(res) +
+        ", and where the body touches on a zone much smaller than a cell (a tip, a point, a steep curved face) "
+        "the approach closes the part of the face that touches but not the cell's mean gap, so the body passes "
+        "through the foundation there unresisted; refine the mesh where it touches until its cells are about as "
+        "small as the zone that touches (a mesh graded towards the contact zone gives cells that follow its "
+        "size), or check the prescribed approach");
+    return;
+  }
   res.warnings.push_back("the largest nodal penetration (" + number(res.wn_plus_inf, 3) + ") is " +
-                         number(100 * res.wn_plus_inf / u_max, 2) + "% of the body's largest displacement" +
+                         share_of_displacement(res.penetration_ratio) + " the body's largest displacement" +
                          (rigid_removed ? std::string(" less its rigid motion") : std::string()) +
                          ": non-penetration holds as averages over cells of " + cell_sizes(res) +
                          " and the body deforms inside a cell (a body about as thin as a cell, or a contact zone a "
@@ -1149,7 +1175,7 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   for (const auto& stage : first.seconds) refinement.first_seconds += stage.second;
   const std::string finer_cells = "cells of " + number(kRefinedCellSize, 2) + "h";
   const std::string was = "cells of " + cell_sizes(first) + " (2h) let nodes penetrate by " +
-                          number(100 * first.penetration_ratio, 2) + "% of the largest displacement";
+                          share_of_displacement(first.penetration_ratio) + " the largest displacement";
   report.stage("contact zone unresolved: " + was + "; solving again with " + finer_cells +
                " (contact.cell_size = \"auto\")");
   const Scene finer = with_refined_cells(scene);
@@ -1167,7 +1193,7 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
     refinement.kept_finer =
         second->penetration_ratio < first.penetration_ratio && (second->converged || !first.converged);
     refinement.outcome = was + "; with " + finer_cells + " (" + cell_sizes(*second) +
-                         "): " + number(100 * second->penetration_ratio, 2) + "%" +
+                         "): " + share_of_displacement(second->penetration_ratio) + " it" +
                          (refinement.kept_finer ? ", the answer given"
                           : second->penetration_ratio < first.penetration_ratio
                               ? " but that solve ended with " + second->status + ": the answer is the 2h one"

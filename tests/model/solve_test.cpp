@@ -101,6 +101,29 @@ TEST(SolvePaperBrick, PenetrationInsideCellsIsWarnedOnlyWhereTheBodyIsThinnerTha
   EXPECT_FALSE(thin.refinement.tried);  // an explicit cell size is kept
 }
 
+// A brick whose sole is tilted (z = 0.2·x at the bottom, the top left at z = 1), pushed down by 1e-3 m
+// on its top, nothing else: only the edge x = 0 touches at first, and 1e-3 m closes the mean gap of no
+// cell (0.2 × H/2 = 0.05 m with cells of 0.5), so the nodes along the edge pass through the
+// foundation with no contact force at all. Said in its own warning, not as a percentage of a
+// deformation that is rounding.
+TEST(SolvePaperBrick, PenetrationWithoutAnyContactForceIsWarnedAsSuch) {
+  const Scene scene =
+      parse_scene_text(kPaperScene, ".",
+                       {"friction.law=\"none\"", "contact.cell_size=\"2h\"", "boundary.clamped=[]",
+                        "boundary.traction=[]", "boundary.displacement=[{group=\"load_top\", x=0.0, y=0.0, z=-1e-3}]"});
+  Mesh wedge = make_paper_brick({4});
+  for (Eigen::Vector3d& x : wedge.nodes) x.z() += 0.2 * x.x() * (1 - x.z());
+  const SolveResult res = solve_scene(scene, wedge);
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_NEAR(res.wn_plus_inf, 1e-3, 1e-9);
+  EXPECT_EQ(res.forces.contact.norm(), 0.0);
+  bool said = false;
+  for (const std::string& w : res.warnings)
+    said |= w.find("while no cell carries a contact force") != std::string::npos;
+  EXPECT_TRUE(said);
+  EXPECT_FALSE(warns_unresolved(res));  // not the percentage of a deformation
+}
+
 // contact.cell_size = "auto" (the default) solves again with cells of 1.5h where 2h leaves the contact
 // zone unresolved, and keeps the answer that penetrates less; a resolved body is solved once.
 TEST(SolvePaperBrick, AutoCellSizeSolvesAgainWithSmallerCellsWhereTheContactZoneIsUnresolved) {
