@@ -4,13 +4,17 @@
 #pragma once
 
 #include <array>
+#include <initializer_list>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
+#include "base/errors.hpp"
 #include "linalg/dense_cholesky.hpp"
 #include "linalg/dual_operator.hpp"
 #include "mesh/mesh.hpp"
@@ -43,6 +47,31 @@ inline Eigen::SparseMatrix<double> grid_laplacian(int nx, int ny, int nz, double
   return K;
 }
 
+// Runs `call`, which must throw an InputError whose message holds each of `parts` (`what`: the case, for
+// the failure message).
+template <class Call>
+void expect_input_error(Call call, std::initializer_list<const char*> parts, const char* what) {
+  try {
+    call();
+    ADD_FAILURE() << what << ": no InputError";
+  } catch (const InputError& e) {
+    for (const char* part : parts) EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
+
+// Appends `from`'s elements with their nodes shifted by `offset`, new tags and `from_groups`' groups.
+template <std::size_t N>
+void append_elements(const std::vector<std::array<int, N>>& from, const std::vector<int>& from_groups, int offset,
+                     std::vector<std::array<int, N>>& to, std::vector<std::size_t>& tags, std::vector<int>& groups) {
+  for (std::size_t e = 0; e < from.size(); ++e) {
+    std::array<int, N> moved = from[e];
+    for (int& v : moved) v += offset;
+    to.push_back(moved);
+    tags.push_back(tags.empty() ? 1 : tags.back() + 1);
+    groups.push_back(from_groups[e]);
+  }
+}
+
 // `mesh` with copies of itself moved by each of `shifts` appended (nodes, tetrahedra and boundary
 // triangles, with their groups): 1 + shifts.size() parts that share no node.
 inline Mesh with_moved_copies(const Mesh& mesh, const std::vector<Eigen::Vector3d>& shifts) {
@@ -53,20 +82,8 @@ inline Mesh with_moved_copies(const Mesh& mesh, const std::vector<Eigen::Vector3
       all.nodes.push_back(mesh.nodes[v] + shift);
       all.node_tags.push_back(all.node_tags.empty() ? 1 : all.node_tags.back() + 1);
     }
-    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-      std::array<int, 4> moved = mesh.tets[t];
-      for (int& v : moved) v += offset;
-      all.tets.push_back(moved);
-      all.tet_tags.push_back(all.tet_tags.back() + 1);
-      all.tet_group.push_back(mesh.tet_group[t]);
-    }
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      std::array<int, 3> moved = mesh.triangles[t];
-      for (int& v : moved) v += offset;
-      all.triangles.push_back(moved);
-      all.triangle_tags.push_back(all.triangle_tags.back() + 1);
-      all.triangle_group.push_back(mesh.triangle_group[t]);
-    }
+    append_elements(mesh.tets, mesh.tet_group, offset, all.tets, all.tet_tags, all.tet_group);
+    append_elements(mesh.triangles, mesh.triangle_group, offset, all.triangles, all.triangle_tags, all.triangle_group);
   }
   return all;
 }
