@@ -224,7 +224,10 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
     held.field.middleCols(col, f.cols()) = f;
     col += f.cols();
   }
-  held.pins = pin_dofs(held.field);
+  for (const Eigen::MatrixXd& f : fields) {  // each part's own: k_p² n work, not (Σ k_p)² n
+    const std::vector<int> pins = pin_dofs(f);
+    held.pins.insert(held.pins.end(), pins.begin(), pins.end());
+  }
   return held;
 }
 
