@@ -60,7 +60,8 @@ struct ContactHeldMotions {
 
 // The free rigid motions of a body whose contact face lies on the plane z = 0 (the solve's frame),
 // each part's own where the mesh has several: none (count() = 0) when the prescribed components
-// hold every part. Throws InputError, naming the part and motion, when `has_contact` is false.
+// hold every part. Throws InputError, naming the part and motion, when a motion is free and
+// `has_contact` is false.
 // Messages name the motions in `user_frame`'s global axes (the solve's frame is the plane's).
 ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
                                         const FoundationFrame& user_frame = FoundationFrame());
