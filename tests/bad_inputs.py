@@ -595,38 +595,53 @@ def c_held_by_contact_frictionless_pushed_sideways(c):
              "do not balance", "boundary.displacement"])
 
 
+def two_blocks_scene(c, name, boxes, groups, contact=True):
+    # Two steel blocks meshed by gmsh from `boxes` (its OpenCASCADE lines) with `groups` (its physical
+    # groups), the first clamped at x = 0, a pressure of 1 MPa on "top", Coulomb 0.3 where there is
+    # contact: the scene file's path.
+    geo = ('SetFactory("OpenCASCADE");\n' + boxes + 'Mesh.MeshSizeMin = 0.1; Mesh.MeshSizeMax = 0.1; eps = 1e-6;\n'
+           'Physical Surface("clamped") = Surface In BoundingBox {-eps, -eps, -eps, eps, 1, 1};\n' + groups)
+    text = ('[mesh]\ngeo = "' + c.write(name + ".geo", geo) + '"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n'
+            '[boundary]\nclamped = ["clamped"]\ncontact = ' + ('["contact"]' if contact else '[]') + '\n'
+            '[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n' +
+            ('[friction]\nmodel = "coulomb"\nlaw = "constant"\nvalue = 0.3\n' if contact else ''))
+    return c.write(name + ".toml", text)
+
+
+APART_BOXES = 'Box(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {1.5, 0, 0, 1, 0.5, 0.3};\n'
+APART_TOP = 'Physical Surface("top") = Surface In BoundingBox {-eps, -eps, 0.3 - eps, 3, 1, 0.3 + eps};\n'
+
+
 def c_two_parts_one_floating(c):
     # Two blocks in one mesh, sharing no node: the first clamped, the second under a pressure with
     # nothing prescribed on it and its bottom not in the contact group. The contact holds each part
     # that rests on it (its own rigid motions among the dual's equalities), but nothing touches the
     # second: K would be singular along its motions (the factorization once blamed Γu).
-    geo = ('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {1.5, 0, 0, 1, 0.5, 0.3};\n'
-           'Mesh.MeshSizeMin = 0.1; Mesh.MeshSizeMax = 0.1; eps = 1e-6;\n'
-           'Physical Surface("contact") = Surface In BoundingBox {-eps, -eps, -eps, 1 + eps, 1, eps};\n'
-           'Physical Surface("clamped") = Surface In BoundingBox {-eps, -eps, -eps, eps, 1, 1};\n'
-           'Physical Surface("top") = Surface In BoundingBox {-eps, -eps, 0.3 - eps, 3, 1, 0.3 + eps};\n'
-           'Physical Volume("body") = {1, 2};\n')
-    text = ('[mesh]\ngeo = "' + c.write("two.geo", geo) + '"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n'
-            '[boundary]\nclamped = ["clamped"]\ncontact = ["contact"]\n'
-            '[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n'
-            '[friction]\nmodel = "coulomb"\nlaw = "constant"\nvalue = 0.3\n')
-    return (["solve", c.write("two.toml", text), "--out", c.path("out"), "--quiet"],
+    scene = two_blocks_scene(c, "two", APART_BOXES, APART_TOP + 'Physical Surface("contact") = Surface In '
+                             'BoundingBox {-eps, -eps, -eps, 1 + eps, 1, eps};\nPhysical Volume("body") = {1, 2};\n')
+    return (["solve", scene, "--out", c.path("out"), "--quiet"],
             ["part 2 of 2", "no free node on the contact face", "boundary.contact"])
 
 
 def c_two_parts_one_floating_no_contact(c):
     # The same two blocks with no contact face at all: the second block's motions are free and
     # nothing in the scene could hold them.
-    geo = ('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {1.5, 0, 0, 1, 0.5, 0.3};\n'
-           'Mesh.MeshSizeMin = 0.1; Mesh.MeshSizeMax = 0.1; eps = 1e-6;\n'
-           'Physical Surface("clamped") = Surface In BoundingBox {-eps, -eps, -eps, eps, 1, 1};\n'
-           'Physical Surface("top") = Surface In BoundingBox {-eps, -eps, 0.3 - eps, 3, 1, 0.3 + eps};\n'
-           'Physical Volume("body") = {1, 2};\n')
-    text = ('[mesh]\ngeo = "' + c.write("two.geo", geo) + '"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n'
-            '[boundary]\nclamped = ["clamped"]\ncontact = []\n'
-            '[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n')
-    return (["solve", c.write("two.toml", text), "--out", c.path("out"), "--quiet"],
+    scene = two_blocks_scene(c, "two", APART_BOXES, APART_TOP + 'Physical Volume("body") = {1, 2};\n', contact=False)
+    return (["solve", scene, "--out", c.path("out"), "--quiet"],
             ["2 disconnected parts", "part 2 of 2", "all six rigid motions are free", "no contact face"])
+
+
+def c_mesh_hinged_block(c):
+    # Two blocks fragmented by gmsh that touch only along an edge (the second sits on the first's far
+    # top edge): their meshes share that edge's nodes but no face, so the second turns about the edge
+    # with no strain. The solve once "converged" with an equilibrium residual 16 times the forces.
+    boxes = ('Box(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {1, 0, 0.3, 1, 0.5, 0.3};\n'
+             'v() = BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; };\n')
+    groups = ('Physical Surface("contact") = Surface In BoundingBox {-eps, -eps, -eps, 3, 1, eps};\n'
+              'Physical Surface("top") = Surface In BoundingBox {1 - eps, -eps, 0.6 - eps, 3, 1, 0.6 + eps};\n'
+              'Physical Volume("body") = {v()};\n')
+    return (["solve", two_blocks_scene(c, "hinge", boxes, groups), "--out", c.path("out"), "--quiet"],
+            ["only along the line from (1, 0, 0.3) to (1, 0.5, 0.3)", "a hinge", "singular", "through a face"])
 
 
 SPHERE_GEO = """SetFactory("OpenCASCADE");

@@ -1,6 +1,11 @@
 #include "fem/dof_map.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <map>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
@@ -242,6 +247,138 @@ BodyParts body_parts(const Mesh& mesh) {
     for (int v : t) parts.of_node[static_cast<std::size_t>(v)] = number;
   }
   return parts;
+}
+
+namespace {
+
+// Tetrahedra that share a face (three nodes) in one block, by union-find over their faces. The faces
+// are bucketed by their smallest node (a counting sort), so only the few faces around a node are
+// compared: linear in the mesh.
+std::vector<int> face_connected_blocks(const Mesh& mesh, int& count) {
+  const int n = static_cast<int>(mesh.tets.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int t = 0; t < n; ++t) parent[static_cast<std::size_t>(t)] = t;
+  struct Face {
+    std::int64_t rest;  // the two larger nodes
+    int tet;
+    bool operator<(const Face& o) const { return rest < o.rest; }
+  };
+  std::vector<int> start(mesh.nodes.size() + 1, 0);
+  const auto face_of = [&](int t, int skip) {
+    std::array<int, 3> f{};
+    for (int k = 0, j = 0; k < 4; ++k)
+      if (k != skip)
+        f[static_cast<std::size_t>(j++)] = mesh.tets[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)];
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  for (int t = 0; t < n; ++t)
+    for (int skip = 0; skip < 4; ++skip) ++start[static_cast<std::size_t>(face_of(t, skip)[0]) + 1];
+  for (std::size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+  std::vector<Face> faces(4 * static_cast<std::size_t>(n));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int t = 0; t < n; ++t)
+    for (int skip = 0; skip < 4; ++skip) {
+      const std::array<int, 3> f = face_of(t, skip);
+      faces[static_cast<std::size_t>(fill[static_cast<std::size_t>(f[0])]++)] = {
+          static_cast<std::int64_t>(f[1]) << 32 | static_cast<std::uint32_t>(f[2]), t};
+    }
+  for (std::size_t v = 0; v + 1 < start.size(); ++v) {
+    const auto first = faces.begin() + start[v], last = faces.begin() + start[v + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last && it + 1 != last; ++it)
+      if (it->rest == (it + 1)->rest) {
+        const int a = find_part(parent, it->tet), b = find_part(parent, (it + 1)->tet);
+        if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+      }
+  }
+  std::vector<int> of_tet(static_cast<std::size_t>(n)), number(static_cast<std::size_t>(n), -1);
+  count = 0;
+  for (int t = 0; t < n; ++t) {
+    int& b = number[static_cast<std::size_t>(find_part(parent, t))];
+    if (b < 0) b = count++;
+    of_tet[static_cast<std::size_t>(t)] = b;
+  }
+  return of_tet;
+}
+
+// Blocks beyond this many are not searched for joints (the kernel's Gram matrix is 6 × blocks square).
+constexpr int kMostBlocksSearched = 200;
+
+}  // namespace
+
+std::string find_mechanism(const Mesh& mesh, const DofMap& dofs) {
+  int blocks = 0;
+  const std::vector<int> block_of_tet = face_connected_blocks(mesh, blocks);
+  const BodyParts parts = body_parts(mesh);
+  if (blocks <= parts.count() || blocks > kMostBlocksSearched) return "";
+  // The blocks each node lies in.
+  std::vector<std::vector<int>> blocks_of_node(static_cast<std::size_t>(dofs.n_nodes));
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (const int v : mesh.tets[t]) {
+      std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)];
+      if (std::find(in.begin(), in.end(), block_of_tet[t]) == in.end()) in.push_back(block_of_tet[t]);
+    }
+  // K's zero-energy motions: a rigid motion per block, equal where blocks share a node, zero along the
+  // prescribed components: the kernel of the Gram matrix of those conditions.
+  const BodyFrame frame = body_frame(mesh, dofs);
+  const int k = 6 * blocks;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(k, k);
+  for (int v = 0; v < dofs.n_nodes; ++v) {
+    const std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)];
+    if (in.empty()) continue;
+    const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
+    for (std::size_t j = 1; j < in.size(); ++j)
+      for (int c = 0; c < 3; ++c) {
+        Eigen::VectorXd row = Eigen::VectorXd::Zero(k);
+        row.segment<6>(6 * in[0]) = basis.row(c).transpose();
+        row.segment<6>(6 * in[j]) -= basis.row(c).transpose();
+        gram.noalias() += row * row.transpose();
+      }
+    for (int c = 0; c < 3; ++c)
+      if (dofs.fixed[v] >> c & 1)
+        for (const int b : in) gram.block<6, 6>(6 * b, 6 * b) += basis.row(c).transpose() * basis.row(c);
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);
+  const double largest = std::max(eig.eigenvalues()[k - 1], 1.0);
+  int kernel = 0;
+  while (kernel < k && eig.eigenvalues()[kernel] <= 1e-10 * largest) ++kernel;
+  int rigid = 0;  // of which each part's own rigid motions
+  for (int part = 0; part < parts.count(); ++part) rigid += free_rigid_motions(mesh, dofs, parts, part).count();
+  if (kernel <= rigid) return "";
+  // Name a block joined to the others at nodes that lie on one line (a hinge) or at one node.
+  for (int b = 0; b < blocks; ++b) {
+    std::vector<int> joints;
+    for (int v = 0; v < dofs.n_nodes; ++v) {
+      const std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)];
+      if (in.size() > 1 && std::find(in.begin(), in.end(), b) != in.end()) joints.push_back(v);
+    }
+    if (joints.empty()) continue;
+    const Eigen::Vector3d a = mesh.nodes[static_cast<std::size_t>(joints.front())];
+    Eigen::Vector3d far = a;
+    for (const int v : joints)
+      if ((mesh.nodes[static_cast<std::size_t>(v)] - a).norm() > (far - a).norm())
+        far = mesh.nodes[static_cast<std::size_t>(v)];
+    bool on_line = true;
+    const Eigen::Vector3d axis =
+        (far - a).norm() > 0 ? Eigen::Vector3d((far - a).normalized()) : Eigen::Vector3d::Zero();
+    for (const int v : joints) {
+      const Eigen::Vector3d d = mesh.nodes[static_cast<std::size_t>(v)] - a;
+      on_line = on_line && (d - d.dot(axis) * axis).norm() <= 1e-9 * frame.size;
+    }
+    if (!on_line) continue;
+    const long tets = std::count(block_of_tet.begin(), block_of_tet.end(), b);
+    const std::string joint =
+        joints.size() == 1 || (far - a).norm() == 0
+            ? "only at the node " + vector_text(a, frame.size) + ", a ball joint about which it can turn"
+            : "only along the line from " + vector_text(a, frame.size) + " to " + vector_text(far, frame.size) + " (" +
+                  std::to_string(joints.size()) + " nodes, no shared face), a hinge about which it can turn";
+    return "a block of " + count(tets) + (tets == 1 ? " tetrahedron" : " tetrahedra") +
+           " is joined to the rest of the mesh " + joint;
+  }
+  return "the mesh's tetrahedra form " + std::to_string(blocks) +
+         " blocks joined to each other only at nodes or along edges (no shared face), which can move against each "
+         "other";
 }
 
 std::string FreeRigidMotions::describe(const Eigen::Matrix<double, 6, 1>& free_motion) const {

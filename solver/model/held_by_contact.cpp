@@ -197,6 +197,11 @@ Eigen::MatrixXd block_diagonal(const std::vector<Eigen::MatrixXd>& blocks) {
 
 ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
                                         const FoundationFrame& user_frame) {
+  if (const std::string joint = find_mechanism(mesh, dofs); !joint.empty())
+    throw InputError(joint +
+                     ", and nothing prescribed holds that motion: the stiffness matrix is singular along it (no "
+                     "strain, no force); join the block to the rest through a face (shared triangles, as gmsh's "
+                     "BooleanFragments gives where volumes touch over an area), or prescribe that motion");
   const BodyParts parts = body_parts(mesh);
   if (!has_contact) {
     if (parts.count() > 1) require_each_part_held(mesh, dofs, parts, user_frame);

@@ -258,6 +258,61 @@ TEST(Assembly, PerComponentConditionsAndMaterials) {
   }
 }
 
+namespace {
+
+// The n = 2 brick (clamped at x = 0) with a copy moved by `shift` whose nodes that fall on the first
+// brick's are merged into them; the copy keeps no boundary triangles (nothing prescribed on it).
+Mesh brick_with_joined_copy(const Eigen::Vector3d& shift) {
+  const Mesh brick = make_paper_brick({2});
+  Mesh mesh = contact3d::testing::with_moved_copy(brick, shift);
+  mesh.triangles.resize(brick.triangles.size());
+  mesh.triangle_tags.resize(brick.triangles.size());
+  mesh.triangle_group.resize(brick.triangles.size());
+  const int n = static_cast<int>(brick.nodes.size());
+  std::vector<int> merged(mesh.nodes.size());
+  for (int v = 0; v < static_cast<int>(mesh.nodes.size()); ++v) {
+    merged[static_cast<std::size_t>(v)] = v;
+    if (v < n) continue;
+    for (int w = 0; w < n; ++w)
+      if ((mesh.nodes[static_cast<std::size_t>(v)] - brick.nodes[static_cast<std::size_t>(w)]).norm() < 1e-12)
+        merged[static_cast<std::size_t>(v)] = w;
+  }
+  for (auto& tet : mesh.tets)
+    for (int& v : tet) v = merged[static_cast<std::size_t>(v)];
+  return mesh;
+}
+
+}  // namespace
+
+// Tetrahedra that share a face move as one rigid block when K's energy is zero; a block joined to the
+// rest only along a line of edges (a hinge) or at one node (a ball joint) turns about it freely, K
+// singular along that motion: named before anything is factorized. Joined through a face, or with the
+// turn prescribed, nothing is found; so for the brick alone and for two disconnected parts.
+TEST(DofMap, BlocksJoinedOnlyAlongAnEdgeOrAtANodeAreMechanisms) {
+  const Mesh brick = make_paper_brick({2});
+  EXPECT_EQ(find_mechanism(brick, make_dof_map(brick, {"clamped"})), "");
+
+  const Mesh hinged = brick_with_joined_copy({3, 0, 1});  // shares the edge x = 3, z = 1
+  const std::string hinge = find_mechanism(hinged, make_dof_map(hinged, {"clamped"}));
+  EXPECT_NE(hinge.find("a hinge"), std::string::npos) << hinge;
+  EXPECT_NE(hinge.find("(3, 0, 1) to (3, 1, 1)"), std::string::npos) << hinge;
+
+  const Mesh ball = brick_with_joined_copy({3, 1, 1});  // shares the node (3, 1, 1)
+  const std::string joint = find_mechanism(ball, make_dof_map(ball, {"clamped"}));
+  EXPECT_NE(joint.find("only at the node (3, 1, 1)"), std::string::npos) << joint;
+
+  const Mesh glued = brick_with_joined_copy({3, 0, 0});  // shares the face x = 3
+  EXPECT_EQ(find_mechanism(glued, make_dof_map(glued, {"clamped"})), "");
+  // The hinge's turn prescribed: every node of the copy's top held.
+  DofMap held = make_dof_map(hinged, {"clamped"});
+  for (int v = static_cast<int>(brick.nodes.size()); v < held.n_nodes; ++v)
+    if (held.used[v] && std::abs(hinged.nodes[v].z() - 2) < 1e-12) held.fixed[v] |= 7;
+  EXPECT_EQ(find_mechanism(hinged, held), "");
+  // Two parts sharing no node are parts, not a mechanism (free_rigid_motions names them).
+  const Mesh apart = brick_with_joined_copy({5, 0, 0});
+  EXPECT_EQ(find_mechanism(apart, make_dof_map(apart, {"clamped"})), "");
+}
+
 // The rigid part of the prescribed values: none for clamps and rollers at 0; a prescribed translation
 // or rotation of a face exactly; only the prescribed components' share where they leave motions free.
 TEST(DofMapRigidMotions, PrescribedRigidMotionFitsThePrescribedValues) {
