@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <map>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -307,10 +306,9 @@ constexpr int kMostBlocksSearched = 200;
 
 }  // namespace
 
-std::string find_mechanism(const Mesh& mesh, const DofMap& dofs) {
+std::string find_mechanism(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts) {
   int blocks = 0;
   const std::vector<int> block_of_tet = face_connected_blocks(mesh, blocks);
-  const BodyParts parts = body_parts(mesh);
   if (blocks <= parts.count() || blocks > kMostBlocksSearched) return "";
   // The blocks each node lies in.
   std::vector<std::vector<int>> blocks_of_node(static_cast<std::size_t>(dofs.n_nodes));
@@ -328,13 +326,14 @@ std::string find_mechanism(const Mesh& mesh, const DofMap& dofs) {
     const std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)];
     if (in.empty()) continue;
     const Eigen::Matrix<double, 3, 6> basis = rigid_motion_basis(frame.scaled(mesh.nodes[v]));
-    for (std::size_t j = 1; j < in.size(); ++j)
-      for (int c = 0; c < 3; ++c) {
-        Eigen::VectorXd row = Eigen::VectorXd::Zero(k);
-        row.segment<6>(6 * in[0]) = basis.row(c).transpose();
-        row.segment<6>(6 * in[j]) -= basis.row(c).transpose();
-        gram.noalias() += row * row.transpose();
-      }
+    const Eigen::Matrix<double, 6, 6> joined = basis.transpose() * basis;  // m_a(x) = m_b(x), all three components
+    for (std::size_t j = 1; j < in.size(); ++j) {
+      const int a = 6 * in[0], b = 6 * in[j];
+      gram.block<6, 6>(a, a) += joined;
+      gram.block<6, 6>(b, b) += joined;
+      gram.block<6, 6>(a, b) -= joined;
+      gram.block<6, 6>(b, a) -= joined;
+    }
     for (int c = 0; c < 3; ++c)
       if (dofs.fixed[v] >> c & 1)
         for (const int b : in) gram.block<6, 6>(6 * b, 6 * b) += basis.row(c).transpose() * basis.row(c);
@@ -347,12 +346,12 @@ std::string find_mechanism(const Mesh& mesh, const DofMap& dofs) {
   for (int part = 0; part < parts.count(); ++part) rigid += free_rigid_motions(mesh, dofs, parts, part).count();
   if (kernel <= rigid) return "";
   // Name a block joined to the others at nodes that lie on one line (a hinge) or at one node.
+  std::vector<std::vector<int>> joints_of_block(static_cast<std::size_t>(blocks));
+  for (int v = 0; v < dofs.n_nodes; ++v)
+    if (const std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)]; in.size() > 1)
+      for (const int b : in) joints_of_block[static_cast<std::size_t>(b)].push_back(v);
   for (int b = 0; b < blocks; ++b) {
-    std::vector<int> joints;
-    for (int v = 0; v < dofs.n_nodes; ++v) {
-      const std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)];
-      if (in.size() > 1 && std::find(in.begin(), in.end(), b) != in.end()) joints.push_back(v);
-    }
+    const std::vector<int>& joints = joints_of_block[static_cast<std::size_t>(b)];
     if (joints.empty()) continue;
     const Eigen::Vector3d a = mesh.nodes[static_cast<std::size_t>(joints.front())];
     Eigen::Vector3d far = a;

@@ -73,13 +73,13 @@ struct BodyParts {
 BodyParts body_parts(const Mesh& mesh);
 // free_rigid_motions of one part on its own (about its centroid, scaled by its extent).
 FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts, int part);
-// Zero-energy motions of K other than each part's rigid motions: tetrahedra that share a face move as
-// one rigid block, and blocks joined only at nodes or along a line of edges can turn against each
-// other (a hinge, a ball joint), the prescribed components not holding them. A description of one
-// such joint, or "" where there is none (or more than 200 blocks, not searched).
-std::string find_mechanism(const Mesh& mesh, const DofMap& dofs);
 // Those motions at the free dofs (n_free × k).
 Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free);
+// Zero-energy motions of K other than each part's rigid motions (`parts`: body_parts(mesh)): tetrahedra
+// that share a face move as one rigid block, and blocks joined only at nodes or along a line of edges can
+// turn against each other (a hinge, a ball joint), the prescribed components not holding them. A
+// description of one such joint, or "" where there is none (or more than 200 blocks, not searched).
+std::string find_mechanism(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts);
 // One part's motions at its free dofs, zero on the other parts (n_free × k).
 Eigen::MatrixXd rigid_motion_field(const Mesh& mesh, const DofMap& dofs, const FreeRigidMotions& free,
                                    const BodyParts& parts, int part);

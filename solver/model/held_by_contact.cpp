@@ -197,12 +197,12 @@ Eigen::MatrixXd block_diagonal(const std::vector<Eigen::MatrixXd>& blocks) {
 
 ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bool has_contact,
                                         const FoundationFrame& user_frame) {
-  if (const std::string joint = find_mechanism(mesh, dofs); !joint.empty())
+  const BodyParts parts = body_parts(mesh);
+  if (const std::string joint = find_mechanism(mesh, dofs, parts); !joint.empty())
     throw InputError(joint +
                      ", and nothing prescribed holds that motion: the stiffness matrix is singular along it (no "
                      "strain, no force); join the block to the rest through a face (shared triangles, as gmsh's "
                      "BooleanFragments gives where volumes touch over an area), or prescribe that motion");
-  const BodyParts parts = body_parts(mesh);
   if (!has_contact) {
     if (parts.count() > 1) require_each_part_held(mesh, dofs, parts, user_frame);
     require_rigid_motions_fixed(mesh, dofs);  // throws, naming the motion
@@ -228,9 +228,7 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
   for (const Eigen::MatrixXd& f : fields) {
     held.field.middleCols(col, f.cols()) = f;
     col += f.cols();
-  }
-  for (const Eigen::MatrixXd& f : fields) {  // each part's own: k_p² n work, not (Σ k_p)² n
-    const std::vector<int> pins = pin_dofs(f);
+    const std::vector<int> pins = pin_dofs(f);  // each part's own: k_p² n work, not (Σ k_p)² n
     held.pins.insert(held.pins.end(), pins.begin(), pins.end());
   }
   return held;

@@ -290,27 +290,27 @@ Mesh brick_with_joined_copy(const Eigen::Vector3d& shift) {
 // turn prescribed, nothing is found; so for the brick alone and for two disconnected parts.
 TEST(DofMap, BlocksJoinedOnlyAlongAnEdgeOrAtANodeAreMechanisms) {
   const Mesh brick = make_paper_brick({2});
-  EXPECT_EQ(find_mechanism(brick, make_dof_map(brick, {"clamped"})), "");
+  EXPECT_EQ(find_mechanism(brick, make_dof_map(brick, {"clamped"}), body_parts(brick)), "");
 
   const Mesh hinged = brick_with_joined_copy({3, 0, 1});  // shares the edge x = 3, z = 1
-  const std::string hinge = find_mechanism(hinged, make_dof_map(hinged, {"clamped"}));
+  const std::string hinge = find_mechanism(hinged, make_dof_map(hinged, {"clamped"}), body_parts(hinged));
   EXPECT_NE(hinge.find("a hinge"), std::string::npos) << hinge;
   EXPECT_NE(hinge.find("(3, 0, 1) to (3, 1, 1)"), std::string::npos) << hinge;
 
   const Mesh ball = brick_with_joined_copy({3, 1, 1});  // shares the node (3, 1, 1)
-  const std::string joint = find_mechanism(ball, make_dof_map(ball, {"clamped"}));
+  const std::string joint = find_mechanism(ball, make_dof_map(ball, {"clamped"}), body_parts(ball));
   EXPECT_NE(joint.find("only at the node (3, 1, 1)"), std::string::npos) << joint;
 
   const Mesh glued = brick_with_joined_copy({3, 0, 0});  // shares the face x = 3
-  EXPECT_EQ(find_mechanism(glued, make_dof_map(glued, {"clamped"})), "");
+  EXPECT_EQ(find_mechanism(glued, make_dof_map(glued, {"clamped"}), body_parts(glued)), "");
   // The hinge's turn prescribed: every node of the copy's top held.
   DofMap held = make_dof_map(hinged, {"clamped"});
   for (int v = static_cast<int>(brick.nodes.size()); v < held.n_nodes; ++v)
     if (held.used[v] && std::abs(hinged.nodes[v].z() - 2) < 1e-12) held.fixed[v] |= 7;
-  EXPECT_EQ(find_mechanism(hinged, held), "");
+  EXPECT_EQ(find_mechanism(hinged, held, body_parts(hinged)), "");
   // Two parts sharing no node are parts, not a mechanism (free_rigid_motions names them).
   const Mesh apart = brick_with_joined_copy({5, 0, 0});
-  EXPECT_EQ(find_mechanism(apart, make_dof_map(apart, {"clamped"})), "");
+  EXPECT_EQ(find_mechanism(apart, make_dof_map(apart, {"clamped"}), body_parts(apart)), "");
 }
 
 // The rigid part of the prescribed values: none for clamps and rollers at 0; a prescribed translation
