@@ -16,6 +16,15 @@ Eigen::VectorXd symmetric_product(const DenseView& Q, const Eigen::VectorXd& v) 
   return out;
 }
 
+Eigen::MatrixXd symmetric_block_product(const DenseView& Q, const Eigen::MatrixXd& V) {
+  const int n = static_cast<int>(Q.rows()), lda = static_cast<int>(Q.outerStride()), k = static_cast<int>(V.cols());
+  if (V.rows() != n) throw std::invalid_argument("symmetric_product: block rows differ from Q");
+  const double alpha = 1, beta = 0;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, k);
+  if (n > 0 && k > 0) dsymm_("L", "L", &n, &k, &alpha, Q.data(), &lda, V.data(), &n, &beta, out.data(), &n);
+  return out;
+}
+
 Eigen::VectorXd symmetric_product(const SingleSymmetric& Q_single, double scale, const Eigen::VectorXd& v) {
   const int n = Q_single.size, lda = Q_single.stride, one = 1;
   if (v.size() != n) throw std::invalid_argument("symmetric_product: vector size differs from Q");

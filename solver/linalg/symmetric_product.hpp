@@ -14,6 +14,9 @@ namespace contact3d {
 
 // Q v.
 Eigen::VectorXd symmetric_product(const DenseView& Q, const Eigen::VectorXd& v);
+// Q V for several columns at once (BLAS dsymm: Q is read once for all of them, where a product per
+// column reads it per column).
+Eigen::MatrixXd symmetric_block_product(const DenseView& Q, const Eigen::MatrixXd& V);
 
 // A symmetric size × size matrix in single precision of which one triangle is stored (column-major,
 // columns `stride` apart): the lower one (lower_triangle_in_single's copy), or the upper one, kept

@@ -35,6 +35,14 @@ void forward_columns(int m, int n, const float* L, float* B) {
   const float one = 1;
   strsm_("L", "L", "N", "N", &m, &n, &one, L, &m, B, &m);
 }
+void backward_columns(int m, int n, const double* L, double* B) {
+  const double one = 1;
+  dtrsm_("L", "L", "T", "N", &m, &n, &one, L, &m, B, &m);
+}
+void backward_columns(int m, int n, const float* L, float* B) {
+  const float one = 1;
+  strsm_("L", "L", "T", "N", &m, &n, &one, L, &m, B, &m);
+}
 // C (rows × cols, leading dimension ldc) = Aᵀ B, A: m × rows, B: m × cols.
 void gram(int m, int rows, int cols, const double* A, const double* B, double* C, int ldc) {
   const double one = 1, zero = 0;
@@ -43,6 +51,13 @@ void gram(int m, int rows, int cols, const double* A, const double* B, double* C
 void gram(int m, int rows, int cols, const float* A, const float* B, float* C, int ldc) {
   const float one = 1, zero = 0;
   sgemm_("T", "N", &rows, &cols, &m, &one, A, &m, B, &m, &zero, C, &ldc);
+}
+// C = alpha A B + beta C, A: m × k (leading dimension m), B: k × n, C: m × n.
+void product(int m, int n, int k, double alpha, const double* A, const double* B, double beta, double* C) {
+  dgemm_("N", "N", &m, &n, &k, &alpha, A, &m, B, &k, &beta, C, &m);
+}
+void product(int m, int n, int k, float alpha, const float* A, const float* B, float beta, float* C) {
+  sgemm_("N", "N", &m, &n, &k, &alpha, A, &m, B, &k, &beta, C, &m);
 }
 // y = alpha op(A) x + beta y, A: m × n.
 void gemv(const char* trans, int m, int n, double alpha, const double* A, const double* x, double beta, double* y) {
@@ -132,6 +147,39 @@ class BorderedNewtonWith final : public BorderedNewton {
     backward(m_, L_.data(), t.data());
     const Eigen::VectorXd x = t.template cast<double>().cwiseProduct(unit_scale_) * size;
     return restrict_to(directions_, x);
+  }
+
+  // solve() with matrices: each column scaled to unit max-norm (no under- or overflow in single).
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const override {
+    const Eigen::MatrixXd U = unit_scale_.asDiagonal() * prolong(directions_, B, m_);
+    const auto k = static_cast<int>(B.cols());
+    Eigen::VectorXd size = U.cwiseAbs().colwise().maxCoeff().transpose();
+    if (k == 0 || !size.allFinite()) return Eigen::MatrixXd::Zero(B.rows(), k) * size.sum();
+    size = (size.array() > 0).select(size, 1.0);
+    Matrix X = (U * size.cwiseInverse().asDiagonal()).template cast<T>();
+    forward_columns(m_, k, L_.data(), X.data());  // L̂⁻¹ D B
+    const int n = cached();
+    if (n > 0) {
+      Matrix WX(n, k);  // Wᵀ L̂⁻¹ D B
+      gram(m_, n, k, W_.data(), X.data(), WX.data(), n);
+      Eigen::MatrixXd rhs(static_cast<Eigen::Index>(borders_.size()), k);  // Uᵀ Q̂⁻¹ D B
+      for (std::size_t j = 0; j < borders_.size(); ++j) {
+        const Border& e = borders_[j];
+        rhs.row(static_cast<Eigen::Index>(j)) = e.w_a * WX.row(slot_[e.a]).template cast<double>();
+        if (e.b >= 0) rhs.row(static_cast<Eigen::Index>(j)) += e.w_b * WX.row(slot_[e.b]).template cast<double>();
+      }
+      const Eigen::MatrixXd V = border_factor_ ? border_factor_->solve_columns(rhs) : rhs;
+      Matrix Z = Matrix::Zero(n, k);  // U V in the cached unit vectors
+      for (std::size_t j = 0; j < borders_.size(); ++j) {
+        const Border& e = borders_[j];
+        Z.row(slot_[e.a]) += (e.w_a * V.row(static_cast<Eigen::Index>(j))).template cast<T>();
+        if (e.b >= 0) Z.row(slot_[e.b]) += (e.w_b * V.row(static_cast<Eigen::Index>(j))).template cast<T>();
+      }
+      product(m_, k, n, T(-1), W_.data(), Z.data(), T(1), X.data());  // L̂⁻¹ (D B − U V)
+    }
+    backward_columns(m_, k, L_.data(), X.data());
+    return restrict_columns(directions_,
+                            Eigen::MatrixXd(unit_scale_.asDiagonal() * X.template cast<double>() * size.asDiagonal()));
   }
 
   double prepare_flops() const override { return prepare_flops_; }

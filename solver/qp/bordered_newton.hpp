@@ -39,6 +39,9 @@ class BorderedNewton {
   virtual bool prepare(const std::vector<Direction>& d) = 0;
   // y = (Dᵀ Q D + diag(shift))⁻¹ b for the directions of the last successful prepare().
   virtual Eigen::VectorXd solve(const Eigen::VectorXd& b) const = 0;
+  // The same for the columns of B at once: the factor and the cache read once for all of them
+  // (triangular solves and products by blocks), where solve() per column reads them per column.
+  virtual Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const = 0;
   // Flops of the last successful prepare() (the unit vectors it added, the border's factorization).
   virtual double prepare_flops() const = 0;
   // Whether solve() is accurate to double's rounding (a factor in double) and needs no refinement.

@@ -30,6 +30,12 @@ Eigen::MatrixXd BoxDiscQP::apply_block(const Eigen::MatrixXd& V) const {
     if (scale.size() == 0) return with_low_rank(block_product(V), low_rank, V);
     return with_low_rank(Eigen::MatrixXd(scale.asDiagonal() * block_product(scale.asDiagonal() * V)), low_rank, V);
   }
+  if (Q) {
+    if (scale.size() == 0) return with_low_rank(symmetric_block_product(*Q, V), low_rank, V);
+    return with_low_rank(
+        Eigen::MatrixXd(scale.asDiagonal() * symmetric_block_product(*Q, Eigen::MatrixXd(scale.asDiagonal() * V))),
+        low_rank, V);
+  }
   Eigen::MatrixXd out(V.rows(), V.cols());
   for (Eigen::Index j = 0; j < V.cols(); ++j) out.col(j) = apply(V.col(j));
   return out;

@@ -73,7 +73,8 @@ struct BoxDiscQP {
   int size() const { return layout().size(); }
   // Q v from the lower triangle only (linalg/symmetric_product.hpp), scaled when `scale` is set.
   Eigen::VectorXd apply(const Eigen::VectorXd& v) const;
-  // Q V column by column, or by block_product where there is one; scaled as apply().
+  // Q V for several columns at once (dsymm on a dense Q, block_product matrix-free; column by column
+  // where there is neither); scaled as apply().
   Eigen::MatrixXd apply_block(const Eigen::MatrixXd& V) const;
   // The operator's diagonal, and the factor its entry (i, j) carries over Q's (1 without a scale).
   Eigen::VectorXd diagonal() const;

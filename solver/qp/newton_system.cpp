@@ -62,13 +62,8 @@ Eigen::MatrixXd prolong(const std::vector<Direction>& d, const Eigen::MatrixXd& 
 
 Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::MatrixXd& Y) {
   const Eigen::Index k = static_cast<Eigen::Index>(d.size());
-  const Eigen::MatrixXd QV = qp.apply_block(prolong(d, Y, qp.size()));
-  Eigen::MatrixXd out(k, Y.cols());
-  for (Eigen::Index j = 0; j < k; ++j) {
-    const Direction& e = d[static_cast<std::size_t>(j)];
-    out.row(j) = e.w_a * QV.row(e.a) + e.shift * Y.row(j);
-    if (e.b >= 0) out.row(j) += e.w_b * QV.row(e.b);
-  }
+  Eigen::MatrixXd out = restrict_columns(d, qp.apply_block(prolong(d, Y, qp.size())));
+  for (Eigen::Index j = 0; j < k; ++j) out.row(j) += d[static_cast<std::size_t>(j)].shift * Y.row(j);
   return out;
 }
 
@@ -77,6 +72,16 @@ Eigen::VectorXd restrict_to(const std::vector<Direction>& d, const Eigen::Vector
   for (std::size_t j = 0; j < d.size(); ++j)
     y[static_cast<Eigen::Index>(j)] = d[j].w_a * v[d[j].a] + (d[j].b >= 0 ? d[j].w_b * v[d[j].b] : 0.0);
   return y;
+}
+
+Eigen::MatrixXd restrict_columns(const std::vector<Direction>& d, const Eigen::MatrixXd& V) {
+  Eigen::MatrixXd Y(static_cast<Eigen::Index>(d.size()), V.cols());
+  for (std::size_t j = 0; j < d.size(); ++j) {
+    const Eigen::Index row = static_cast<Eigen::Index>(j);
+    Y.row(row) = d[j].w_a * V.row(d[j].a);
+    if (d[j].b >= 0) Y.row(row) += d[j].w_b * V.row(d[j].b);
+  }
+  return Y;
 }
 
 Eigen::VectorXd prolong(const std::vector<Direction>& d, const Eigen::VectorXd& y, int size) {

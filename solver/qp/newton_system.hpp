@@ -79,6 +79,7 @@ Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction
 Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::MatrixXd& Y);
 // Dᵀ v (the reduced right-hand side of a full-size v) and D y (a reduced vector in full size).
 Eigen::VectorXd restrict_to(const std::vector<Direction>& d, const Eigen::VectorXd& v);
+Eigen::MatrixXd restrict_columns(const std::vector<Direction>& d, const Eigen::MatrixXd& V);  // Dᵀ V
 Eigen::VectorXd prolong(const std::vector<Direction>& d, const Eigen::VectorXd& y, int size);
 Eigen::MatrixXd prolong(const std::vector<Direction>& d, const Eigen::MatrixXd& Y, int size);
 

@@ -44,6 +44,10 @@ class RadiusSensitivity {
   // roller 2 075 against 2 205 (2 662), split ring 2 640 against 3 203 (3 616), same steps.
   static constexpr double kCgRelativeResidual = 1e-3;
   static constexpr int kMaxCgProducts = 2000, kRecycledSolutions = 30;
+  // The equality Jacobian's k solves at once (solve_reduced_columns): refined in double until a
+  // correction is at most this fraction of the answer, in at most this many steps.
+  static constexpr double kRefinedCorrection = 1e-2;
+  static constexpr int kMaxRefinements = 4;
 
   // `qp` is the problem λ (or μ = S⁻¹λ) solves, copied (its Q, and its bordered solver if any, must
   // outlive this object); `solution` a (converged) solution of it; `scale` = S when `qp` is the
@@ -74,6 +78,7 @@ class RadiusSensitivity {
   bool bordered_ready();
   // False when no route is left (the lazily made factor failed).
   bool solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y);
+  bool solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y);  // the same for B's columns at once
   bool solve_reduced_by_cg(const Eigen::VectorXd& b, Eigen::VectorXd& y);
   void remember(Eigen::VectorXd p, Eigen::VectorXd Ap);  // adds a solution to the recycled basis
   bool prepare_equality();                               // Z and G D Z, on the first apply()

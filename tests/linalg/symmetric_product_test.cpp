@@ -30,6 +30,18 @@ TEST(SymmetricProduct, DoubleReadsOnlyTheLowerTriangle) {
   EXPECT_THROW(symmetric_product(Q, Eigen::VectorXd::Ones(49)), std::invalid_argument);
 }
 
+TEST(SymmetricProduct, BlockOfColumnsReadsOnlyTheLowerTriangle) {
+  const Eigen::MatrixXd Q = random_symmetric(50, 2);
+  Eigen::MatrixXd lower_only = Q;
+  lower_only.triangularView<Eigen::StrictlyUpper>().setConstant(1e300);  // never read
+  Eigen::MatrixXd V(50, 3);
+  V << Eigen::VectorXd::LinSpaced(50, -2.0, 3.0), Eigen::VectorXd::Zero(50), Eigen::VectorXd::Constant(50, 1e-20);
+  const Eigen::MatrixXd QV = symmetric_block_product(lower_only, V);
+  for (int j = 0; j < 3; ++j)
+    EXPECT_LE((QV.col(j) - Q * V.col(j)).norm(), 1e-12 * (Q * V.col(j)).norm()) << "column " << j;
+  EXPECT_THROW(symmetric_block_product(Q, Eigen::MatrixXd::Ones(49, 2)), std::invalid_argument);
+}
+
 TEST(SymmetricProduct, SingleWithinRoundingAtAnyScale) {
   for (const double magnitude : {1e-30, 1.0, 1e30}) {
     const Eigen::MatrixXd Q = magnitude * random_symmetric(40, 3);

@@ -115,6 +115,34 @@ TEST(BorderedNewton, JacobiScaledProblemFromAFactorOfTheUnscaledQInSingle) {
   EXPECT_GT(error, 0);  // it did run in single
 }
 
+// solve_columns() (the equality loop's k right-hand sides at once) gives what solve() gives for
+// each column, whatever their magnitudes (each is scaled into single's range on its own), a zero
+// column included; in double to rounding, in single to single's rounding of one solve.
+TEST(BorderedNewton, SolvesSeveralRightHandSidesAsEachAlone) {
+  RandomQp rq = few_point_discs(200, 9);
+  JacobiScaledQP jacobi(rq.qp);
+  const BoxDiscQP& scaled = jacobi.scaled(rq.qp.radius);
+  const ReducedStep step = split_active_sets(scaled, mostly_touching(scaled, 5), projection_scale(scaled));
+  const auto k = static_cast<Eigen::Index>(step.directions.size());
+  Eigen::MatrixXd B(k, 4);
+  B << random_vector(k, 13), 1e-30 * random_vector(k, 14), Eigen::VectorXd::Zero(k), 1e30 * random_vector(k, 15);
+  for (const bool in_double : {true, false}) {
+    auto solver =
+        make_bordered_newton(in_double ? double_factor(rq.Q) : single_factor(rq.Q, rq.qp.q_norm), jacobi.scale());
+    ASSERT_TRUE(solver && solver->prepare(step.directions));
+    ASSERT_GT(solver->cached_units(), 0);  // the border's share is exercised
+    const Eigen::MatrixXd Y = solver->solve_columns(B);
+    ASSERT_EQ(Y.rows(), k);
+    ASSERT_EQ(Y.cols(), 4);
+    for (Eigen::Index j = 0; j < 4; ++j) {
+      const Eigen::VectorXd alone = solver->solve(B.col(j));
+      const double tolerance = in_double ? 1e-12 : 1e-5;
+      EXPECT_LE((Y.col(j) - alone).norm(), tolerance * alone.norm()) << "column " << j << " double " << in_double;
+    }
+    EXPECT_EQ(Y.col(2).norm(), 0);
+  }
+}
+
 TEST(BorderedNewton, CarriesItsCacheFromOneActiveSetToTheNext) {
   RandomQp rq = few_point_discs(200, 9);
   const double rho = projection_scale(rq.qp);

@@ -6,6 +6,7 @@
 // prepared for another system in between.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <random>
 
 #include <Eigen/Dense>
@@ -148,6 +149,38 @@ TEST(RadiusSensitivity, ThroughTheFactorOfQOnTheJacobiScaledProblem) {
     for (int i = 0; i < scaled.size(); ++i) other.push_back({i, -1, 1.0, 0.0, 0.0});
     ASSERT_TRUE(bordered->prepare(other));
     EXPECT_LE((sensitivity.apply(dc) - reference).norm(), tol) << (single ? "single" : "double") << ", re-prepared";
+  }
+}
+
+// With equality constraints (a body held by contact alone) the equality loop's Jacobian G D Z takes k
+// reduced solves, made at once (solve_reduced_columns): through the factor of Q it is the one the
+// reduced matrix's factor gives.
+TEST(RadiusSensitivity, EqualityResponseThroughTheFactorOfQAsThroughTheReducedMatrix) {
+  for (bool single : {false, true}) {
+    RandomQp a = mostly_sticking(60, 22, 7);
+    a.use_operator();
+    const Eigen::VectorXd lambda = solve_tightly(a.qp, Eigen::VectorXd());
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3, a.qp.size());
+    G.row(0).head(a.qp.r).setOnes();                                                  // a lift
+    G.row(1).segment(a.qp.r, a.qp.r) = Eigen::VectorXd::LinSpaced(a.qp.r, 1.0, 2.0);  // a slide
+    G.row(2).head(a.qp.r) = Eigen::VectorXd::LinSpaced(a.qp.r, -1.0, 1.0);            // a tilt
+
+    JacobiScaledQP jacobi(a.qp);
+    BoxDiscQP scaled = jacobi.scaled(a.qp.radius);
+    const Eigen::VectorXd start = jacobi.to_scaled(lambda);
+    const std::optional<Eigen::MatrixXd> reference =
+        RadiusSensitivity(scaled, start, false, jacobi.scale(), G).equality_response();
+    ASSERT_TRUE(reference);
+    ASSERT_GT(reference->norm(), 0);
+    auto bordered = make_bordered_newton(factor_of(a.Q, single, a.qp.q_norm), jacobi.scale());
+    ASSERT_TRUE(bordered);
+    scaled.bordered = bordered.get();
+    RadiusSensitivity sensitivity(scaled, start, single, jacobi.scale(), G);
+    ASSERT_TRUE(sensitivity.through_factor_of_Q());
+    const std::optional<Eigen::MatrixXd> response = sensitivity.equality_response();
+    ASSERT_TRUE(response);
+    EXPECT_LE((*response - *reference).norm(), (single ? 1e-6 : 1e-9) * reference->norm()) << single;
+    EXPECT_LE((*response - response->transpose()).norm(), 1e-6 * response->norm());  // G D A⁻¹ Dᵀ Gᵀ
   }
 }
 
