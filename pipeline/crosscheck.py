@@ -20,7 +20,9 @@ from the scene: bound s = F*g), slipdep (the scene's own solution-dependent coef
 law = ramp or table, the paper's actual problem: contact3d's successive approximations (5.7)
 against FreeFEM's successive approximations on nodal bounds s_p = g F(|u_t,p|)), coulomb (the same
 law with Coulomb's bound F(|u_t|)·λ_n: both sides start frictionless, then from the sticking slip
-φ = 0, and iterate on the slip and λ_n together; FreeFEM's nodal bound s_p = F(φ_p) λ_n,p), scene (the
+φ = 0, and iterate on the slip and λ_n together; FreeFEM's nodal bound s_p = F(φ_p) λ_n,p; a scene whose
+Coulomb law is constant takes it as coulomb_constant), coulomb_constant (Coulomb's bound F·λ_n with F =
+--F, on any scene: to FreeFEM a table law of two points with that F), scene (the
 scene's own law, whichever it is), all (frictionless, tresca, and slipdep when the scene's law
 depends on the slip; also the default). Both solvers get a derived copy of the scene with the
 [friction] table of the variant (written to the work directory), so that the scene's other
@@ -33,7 +35,7 @@ Optional table in the scene (all keys optional, command-line options win):
                               #   tangential vector when there is friction)
   n = 8                       # mesh parameter `n` used by the cross-check (default: the scene's)
   variants = ["frictionless", "tresca", "slipdep"]   # default: as --variant all
-  friction_coefficient = 0.3  # F of the tresca variant
+  friction_coefficient = 0.3  # F of the tresca and coulomb_constant variants
   contact_tol = 1e-2          # a node is "in contact" when wn > -contact_tol * max|u| on Gc
 
 Norms: the L2(Gc) norms are exact integrals of the P1 interpolant over the contact triangles
@@ -70,7 +72,7 @@ DEFAULTS = {
     "contact_tol": 1e-2,
     "variants": ["all"],
 }
-VARIANTS = ("frictionless", "tresca", "slipdep", "coulomb", "scene")
+VARIANTS = ("frictionless", "tresca", "slipdep", "coulomb", "coulomb_constant", "scene")
 CROSSCHECK_KEYS = {"tolerance", "force_tolerance", "n", "variants", "friction_coefficient", "contact_tol"}
 
 
@@ -184,7 +186,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     fr_table, ff_law, label = variant_friction(scene, variant, F, scene_path)
     if args.perturb_freefem_law:
         if ff_law["kind"] == 0:
-            raise SideFailed("--perturb-freefem-law needs a slip-dependent variant (slipdep)")
+            raise SideFailed("--perturb-freefem-law needs a variant with a law (slipdep, coulomb, coulomb_constant)")
         ff_law = perturb_law(ff_law, args.perturb_freefem_law)
     s = ff_law["s"]
     work = work_root / f"{name}-{mesh_label(n).replace('=', '')}-{variant}"
@@ -541,10 +543,11 @@ def main(argv=None) -> int:
     ap.add_argument("--mesh-param", default=None, metavar="NAME=V1,V2,...",
                     help="a sweep over another mesh parameter of the scene's script, e.g. h=0.05,0.035,0.025")
     ap.add_argument("--variant", default=None,
-                    help="frictionless | tresca | slipdep | coulomb | scene | all (= frictionless,tresca[,slipdep if "
-                         "the scene's law is ramp/table]; for a Coulomb scene frictionless[,coulomb]); comma-separated "
-                         "list allowed")
-    ap.add_argument("--F", type=float, default=None, help="friction coefficient of the tresca variant (default 0.3)")
+                    help="frictionless | tresca | slipdep | coulomb | coulomb_constant | scene | all (= "
+                         "frictionless,tresca[,slipdep if the scene's law is ramp/table]; for a Coulomb scene "
+                         "frictionless[,coulomb]); comma-separated list allowed")
+    ap.add_argument("--F", type=float, default=None,
+                    help="friction coefficient of the tresca and coulomb_constant variants (default 0.3)")
     ap.add_argument("--tolerance", type=float, default=None, help="max relative L2(Gc) difference of u")
     ap.add_argument("--force-tolerance", type=float, default=None, help="max relative difference of contact forces")
     ap.add_argument("--contact-tol", type=float, default=None, help="'in contact' threshold relative to max|u|")

@@ -6,6 +6,9 @@ from pathlib import Path
 from oracle.errors import SideFailed
 
 
+COULOMB_LAWS = ("constant", "ramp", "table")  # the laws the FreeFEM reference takes with Coulomb's bound
+
+
 def scene_law_depends_on_slip(scene: dict) -> bool:
     fr = scene.get("friction", {})
     return fr.get("law", "none") in ("ramp", "table") and float(fr.get("slip_bound", 0.0)) > 0
@@ -16,7 +19,7 @@ def expand_variants(names, scene: dict) -> list[str]:
     for v in names:
         v = v.strip()
         if v == "all" and scene.get("friction", {}).get("model", "tresca") == "coulomb":
-            out += ["frictionless"] + (["coulomb"] if scene.get("friction", {}).get("law") in ("ramp", "table") else [])
+            out += ["frictionless"] + (["coulomb"] if scene.get("friction", {}).get("law") in COULOMB_LAWS else [])
         elif v == "all":
             out += ["frictionless", "tresca"] + (["slipdep"] if scene_law_depends_on_slip(scene) else [])
         elif v:
@@ -72,15 +75,16 @@ def law_label(law: dict) -> str:
 
 
 def perturb_law(law: dict, items: list[str]) -> dict:
-    """--perturb-freefem-law KEY=VALUE (negative tests): change the FreeFEM side's law only."""
+    """--perturb-freefem-law KEY=VALUE (negative tests): change the FreeFEM side's law only (a table's
+    KEY F sets F at every point: a constant law's coefficient)."""
     law = dict(law)
+    keys = [x for x in ("high", "low", "t0", "param", "g", "F") if x in law]
     for kv in items:
         k, sep, v = kv.partition("=")
         k = k.strip()
-        if not sep or k not in ("high", "low", "t0", "param", "g") or k not in law:
-            raise SideFailed(f"--perturb-freefem-law {kv!r}: expected KEY=VALUE with KEY one of "
-                             f"{', '.join(x for x in ('high', 'low', 't0', 'param', 'g') if x in law)}")
-        law[k] = float(v)
+        if not sep or k not in keys:
+            raise SideFailed(f"--perturb-freefem-law {kv!r}: expected KEY=VALUE with KEY one of {', '.join(keys)}")
+        law[k] = [float(v)] * len(law["F"]) if k == "F" else float(v)
     if law.get("coulomb"):
         law["s"] = None  # F·λ_n: known after the solve
     elif law["kind"] == 1:
@@ -114,6 +118,12 @@ def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> t
             raise SideFailed(f"{scene_path}: variant slipdep needs friction.slip_bound > 0")
         law = slipdep_law(fr, scene_path)
         return {"law": fr["law"], "slip_bound": g, **law_parameters(fr, law)}, law, law_label(law)
+    if variant == "coulomb_constant":
+        # Coulomb's bound F·λ_n with one F (--F): to FreeFEM a table whose two points have that F
+        law = {"kind": 2, "g": 1.0, "T": [0.0, 1.0], "F": [F, F], "coulomb": True, "s": None}
+        return {"model": "coulomb", "law": "constant", "value": F}, law, f"Coulomb F={F:g}"
+    if variant == "coulomb" and fr.get("law") == "constant":  # the scene's own F
+        return variant_friction(scene, "coulomb_constant", float(fr.get("value", F)), scene_path)
     if variant == "coulomb":
         # the scene's slip-dependent law with Coulomb's bound F(φ)·λ_n instead of F(φ)·g
         law = dict(slipdep_law(dict(fr, slip_bound=1.0), scene_path), g=1.0, coulomb=True)
@@ -122,11 +132,11 @@ def variant_friction(scene: dict, variant: str, F: float, scene_path: Path) -> t
         return table, law, "Coulomb " + law_label(law).replace(", g=1", "")
     if variant == "scene":
         law = fr.get("law", "none")
-        if fr.get("model", "tresca") == "coulomb" and law in ("ramp", "table"):
+        if fr.get("model", "tresca") == "coulomb" and law in COULOMB_LAWS:
             table, ffl, label = variant_friction(scene, "coulomb", F, scene_path)
             return table, ffl, label + " (scene)"
         if fr.get("model", "tresca") == "coulomb" and law != "none":
-            raise SideFailed(f"{scene_path}: Coulomb with law {law!r} has no FreeFEM reference (ramp or table only)")
+            raise SideFailed(f"{scene_path}: Coulomb with law {law!r} has no FreeFEM reference")
         if law == "none" or g == 0:
             return {"law": "none"}, {"kind": 0, "s": 0.0}, "frictionless (scene)"
         if law == "constant":
