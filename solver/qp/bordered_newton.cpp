@@ -27,21 +27,14 @@ void backward(int m, const float* L, float* x) {
   const int one = 1;
   strsv_("L", "T", "N", &m, L, &m, x, &one);
 }
-void forward_columns(int m, int n, const double* L, double* B) {
+// B ← L⁻¹ B (trans "N") or L⁻ᵀ B ("T"), B: m × n.
+void triangular_columns(const char* trans, int m, int n, const double* L, double* B) {
   const double one = 1;
-  dtrsm_("L", "L", "N", "N", &m, &n, &one, L, &m, B, &m);
+  dtrsm_("L", "L", trans, "N", &m, &n, &one, L, &m, B, &m);
 }
-void forward_columns(int m, int n, const float* L, float* B) {
+void triangular_columns(const char* trans, int m, int n, const float* L, float* B) {
   const float one = 1;
-  strsm_("L", "L", "N", "N", &m, &n, &one, L, &m, B, &m);
-}
-void backward_columns(int m, int n, const double* L, double* B) {
-  const double one = 1;
-  dtrsm_("L", "L", "T", "N", &m, &n, &one, L, &m, B, &m);
-}
-void backward_columns(int m, int n, const float* L, float* B) {
-  const float one = 1;
-  strsm_("L", "L", "T", "N", &m, &n, &one, L, &m, B, &m);
+  strsm_("L", "L", trans, "N", &m, &n, &one, L, &m, B, &m);
 }
 // C (rows × cols, leading dimension ldc) = Aᵀ B, A: m × rows, B: m × cols.
 void gram(int m, int rows, int cols, const double* A, const double* B, double* C, int ldc) {
@@ -157,7 +150,7 @@ class BorderedNewtonWith final : public BorderedNewton {
     if (k == 0 || !size.allFinite()) return Eigen::MatrixXd::Zero(B.rows(), k) * size.sum();
     size = (size.array() > 0).select(size, 1.0);
     Matrix X = (U * size.cwiseInverse().asDiagonal()).template cast<T>();
-    forward_columns(m_, k, L_.data(), X.data());  // L̂⁻¹ D B
+    triangular_columns("N", m_, k, L_.data(), X.data());  // L̂⁻¹ D B
     const int n = cached();
     if (n > 0) {
       Matrix WX(n, k);  // Wᵀ L̂⁻¹ D B
@@ -177,7 +170,7 @@ class BorderedNewtonWith final : public BorderedNewton {
       }
       product(m_, k, n, T(-1), W_.data(), Z.data(), T(1), X.data());  // L̂⁻¹ (D B − U V)
     }
-    backward_columns(m_, k, L_.data(), X.data());
+    triangular_columns("T", m_, k, L_.data(), X.data());
     return restrict_columns(directions_,
                             Eigen::MatrixXd(unit_scale_.asDiagonal() * X.template cast<double>() * size.asDiagonal()));
   }
@@ -238,7 +231,7 @@ class BorderedNewtonWith final : public BorderedNewton {
       W_(fresh[j], before + j) = static_cast<T>(unit_scale_[fresh[j]]);
       slot_[fresh[j]] = before + j;
     }
-    forward_columns(m_, added, L_.data(), W_.data() + static_cast<std::ptrdiff_t>(before) * m_);
+    triangular_columns("N", m_, added, L_.data(), W_.data() + static_cast<std::ptrdiff_t>(before) * m_);
     gram_.conservativeResize(after, after);
     gram(m_, after, added, W_.data(), W_.data() + static_cast<std::ptrdiff_t>(before) * m_,
          gram_.data() + static_cast<std::ptrdiff_t>(before) * after, after);
