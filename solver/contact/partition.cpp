@@ -8,6 +8,7 @@
 #include <numeric>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
@@ -155,13 +156,16 @@ namespace {
 // union-find of pieces into cells. build() reads as the algorithm.
 class GridPartitionBuilder {
  public:
-  GridPartitionBuilder(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt)
-      : mesh_(mesh), face_(face), opt_(opt) {}
+  GridPartitionBuilder(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt,
+                       const std::vector<int>& region_of_triangle)
+      : mesh_(mesh), face_(face), opt_(opt), region_of_triangle_(region_of_triangle) {}
 
   Partition build() {
     if (!(opt_.cell_size > 0) || !std::isfinite(opt_.cell_size))
       throw InputError("contact.cell_size must be a positive length, got " + std::to_string(opt_.cell_size));
     if (face_.triangles.empty()) throw InputError("the contact face has no triangles");
+    if (!region_of_triangle_.empty() && region_of_triangle_.size() != face_.triangles.size())
+      throw std::invalid_argument("make_grid_partition: one region per contact triangle expected");
     lay_out_rectangles();
     clip_triangles_to_rectangles();
     link_adjacent_pieces();
@@ -245,14 +249,16 @@ class GridPartitionBuilder {
   // 2. Initial cells: the pieces of one rectangle, split into connected components.
   void form_initial_cells() {
     uf_ = UnionFind(pieces_.size());
-    std::map<int, int> first_of_box;
+    std::map<std::pair<int, int>, int> first_of_box;
     for (std::size_t p = 0; p < pieces_.size(); ++p)
       if (!opt_.split_disconnected) {
-        auto [it, fresh] = first_of_box.emplace(pieces_[p].box, static_cast<int>(p));
+        auto [it, fresh] =
+            first_of_box.emplace(std::pair(pieces_[p].box, region(static_cast<int>(p))), static_cast<int>(p));
         if (!fresh) uf_.parent[uf_.find(static_cast<int>(p))] = uf_.find(it->second);
       } else {
         for (int q : adj_[p])
-          if (pieces_[q].box == pieces_[p].box) uf_.parent[uf_.find(static_cast<int>(p))] = uf_.find(q);
+          if (pieces_[q].box == pieces_[p].box && region(q) == region(static_cast<int>(p)))
+            uf_.parent[uf_.find(static_cast<int>(p))] = uf_.find(q);
       }
     std::map<int, std::vector<int>> roots_of_box;
     for (std::size_t p = 0; p < pieces_.size(); ++p) {
@@ -273,14 +279,22 @@ class GridPartitionBuilder {
     return out;
   }
 
-  // Merges cell `root` into its adjacent cell of largest area; false if it has none.
+  int region(int piece) const {
+    return region_of_triangle_.empty() ? 0 : region_of_triangle_[static_cast<std::size_t>(pieces_[piece].triangle)];
+  }
+
+  // Merges cell `root` into its adjacent cell of largest area, one of its own region where it has
+  // such a neighbour; false if it has none.
   bool merge_into_largest_neighbour(int root) {
     int best = -1;
+    bool best_same = false;
     for (std::size_t p = 0; p < pieces_.size(); ++p) {
       if (uf_.find(static_cast<int>(p)) != root) continue;
       for (int q : adj_[p]) {
         const int rq = uf_.find(q);
-        if (rq != root && (best < 0 || area_[rq] > area_[best])) best = rq;
+        const bool same = region(q) == region(root);
+        if (rq != root && (best < 0 || (same && !best_same) || (same == best_same && area_[rq] > area_[best])))
+          best = rq, best_same = same;
       }
     }
     if (best < 0) return false;
@@ -366,6 +380,7 @@ class GridPartitionBuilder {
   const Mesh& mesh_;
   const ContactFace& face_;
   const PartitionOptions& opt_;
+  const std::vector<int>& region_of_triangle_;  // empty: one region
   Partition part_;
   std::vector<Polygon> whole_triangles_;  // the contact triangles in the plane
   std::vector<Box> triangle_boxes_;       // and their bounding boxes
@@ -379,8 +394,9 @@ class GridPartitionBuilder {
 
 }  // namespace
 
-Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt) {
-  return GridPartitionBuilder(mesh, face, opt).build();
+Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt,
+                              const std::vector<int>& triangle_region) {
+  return GridPartitionBuilder(mesh, face, opt, triangle_region).build();
 }
 
 std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face,

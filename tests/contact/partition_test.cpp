@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "base/errors.hpp"
 #include "contact/contact_face.hpp"
@@ -108,6 +110,37 @@ TEST(Partition, UnitSquareClippingAndHatIntegrals) {
   EXPECT_NEAR(weight_of(rows[l], node_at(f.mesh, 1, 1)), 1.0 / 24.0, 1e-15);
   expect_row_sums_are_areas(f, p);
   EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
+}
+
+// Two materials (or two mesh parts) side by side on Γc: no cell averages over both. A rectangle across
+// their interface becomes one cell per region, and a sliver of one region goes to a neighbour of its
+// own region, not into the other's cell (where a cell spans steel and rubber, the steel sinks and the
+// rubber lifts with the cell's mean gap 0).
+TEST(Partition, CellsDoNotSpanTwoRegions) {
+  for (const auto& [width, interface, H] : {std::tuple(4, 2, 1.5), std::tuple(6, 1, 1.2)}) {
+    std::vector<std::pair<int, int>> squares;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < width; ++i) squares.push_back({i, j});
+    const Flat f = flat(squares);
+    std::vector<int> region;
+    for (auto [i, j] : squares) region.insert(region.end(), 2, i < interface ? 0 : 1);  // two triangles each
+    const Partition plain = make_grid_partition(f.mesh, f.face, {H});
+    const Partition split = make_grid_partition(f.mesh, f.face, {H}, region);
+    const auto spans_both = [&region](const ContactCell& c) {
+      return std::any_of(c.pieces.begin(), c.pieces.end(),
+                         [&](const CellPiece& p) { return region[p.triangle] == 0; }) &&
+             std::any_of(c.pieces.begin(), c.pieces.end(), [&](const CellPiece& p) { return region[p.triangle] == 1; });
+    };
+    EXPECT_TRUE(std::any_of(plain.cells.begin(), plain.cells.end(), spans_both)) << width;  // the case is real
+    EXPECT_FALSE(std::any_of(split.cells.begin(), split.cells.end(), spans_both)) << width;
+    double area = 0;
+    for (const auto& c : split.cells) area += c.area;
+    EXPECT_NEAR(area, 2.0 * width, 1e-12);
+    expect_row_sums_are_areas(f, split);
+    EXPECT_TRUE(cells_without_own_node(f.face, split).empty());
+  }
+  const Flat f = flat({{0, 0}});
+  EXPECT_THROW(make_grid_partition(f.mesh, f.face, {0.5}, {0}), std::invalid_argument);  // one per triangle
 }
 
 TEST(Partition, CellCutByAHole) {
