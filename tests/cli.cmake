@@ -93,6 +93,10 @@ add_test(NAME rotated_brick_n4
 # of their gmsh twins (issue 15).
 add_test(NAME freefem_meshed_bodies
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/freefem_bodies.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+# Rubber beside steel on Γc (pipeline/scenes/bimaterial.toml): no cell spans the two materials, so no
+# contact node sinks or lifts by more than 15% of the push (45% when a cell spanned both).
+add_test(NAME bimaterial_cells_split_by_material
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/bimaterial_cells.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 add_test(NAME symmetry_half_brick_n4
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/symmetry_half_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
 
