@@ -1,16 +1,13 @@
 #include "model/contact_solver.hpp"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
-#include <tuple>
 
 #include <Eigen/Dense>
 
@@ -32,6 +29,7 @@
 #include "linalg/sparse_cholesky.hpp"
 #include "linalg/symmetric_product.hpp"
 #include "mesh/mesh_checks.hpp"
+#include "model/contact_regions.hpp"
 #include "model/dual_route.hpp"
 #include "model/held_by_contact.hpp"
 #include "model/plane_frame.hpp"
@@ -162,37 +160,6 @@ void require_free_contact_rows(const ContactOperator& op, const Partition& part)
 // "H = 0.05" (the cell size asked for), or the range of a graded partition's rectangles.
 std::string cell_sizes(const SolveResult& res) {
   return res.partition.graded ? describe_cell_sizes(res.partition) : "H = " + number(res.cell_size, 3);
-}
-
-// Each contact triangle's region for the partition (make_grid_partition's triangle_region): its
-// tetrahedron's material and the mesh part it belongs to, so that no cell averages the gap over two
-// materials or two parts. Empty where the body is one material in one part.
-std::vector<int> contact_triangle_regions(const Scene& scene, const Mesh& mesh, const ContactFace& face) {
-  const BodyParts parts = body_parts(mesh);
-  if (scene.regions.empty() && parts.count() <= 1) return {};
-  const TetMaterials materials = tet_materials(scene, mesh);
-  const auto sorted = [](std::array<int, 3> t) {
-    std::sort(t.begin(), t.end());
-    return t;
-  };
-  std::map<std::array<int, 3>, std::size_t> tet_of_face;  // a contact triangle's tetrahedron
-  for (const auto& t : face.triangles) tet_of_face.emplace(sorted(t), mesh.tets.size());
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> key{};
-      for (int a = 0, k = 0; a < 4; ++a)
-        if (a != skip) key[k++] = mesh.tets[e][a];
-      if (auto it = tet_of_face.find(sorted(key)); it != tet_of_face.end()) it->second = e;
-    }
-  std::map<std::tuple<int, double, double>, int> ids;
-  std::vector<int> region;
-  for (const auto& t : face.triangles) {
-    const std::size_t e = tet_of_face[sorted(t)];
-    const Material& m = e < mesh.tets.size() ? materials[e] : scene.material;
-    const auto key = std::tuple(parts.of_node[static_cast<std::size_t>(t[0])], m.young, m.poisson);
-    region.push_back(ids.emplace(key, static_cast<int>(ids.size())).first->second);
-  }
-  return region;
 }
 
 // Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
