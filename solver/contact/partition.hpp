@@ -3,8 +3,9 @@
 // intersected with the contact triangles (exact polygon clipping). Then, in order:
 //  1. a grid rectangle whose pieces are not connected (a hole, a gap of a non-convex face
 //     between them) is split into one cell per connected component (pieces are connected when
-//     they share a boundary segment of positive length and lie in the same region: materials and
-//     mesh parts are not averaged together: make_grid_partition's triangle_region);
+//     they share a boundary segment of positive length and lie in the same region: two materials
+//     are not averaged together, make_grid_partition's triangle_region; pieces of separate mesh
+//     parts share no edge, so they are never connected);
 //  2. slivers (area below a fraction of their full rectangle) are merged, smallest first, into the
 //     adjacent cell of largest area (adjacent = sharing a boundary segment), repeatedly, so
 //     chains of slivers end up in one cell;
@@ -64,8 +65,8 @@ struct Partition {
   int stability_merges = 0;  // cells merged into a neighbour to satisfy the matching test
 };
 
-// `triangle_region`: the region of each contact triangle (e.g. its tetrahedron's material and the mesh
-// part it belongs to); empty: one region. A rectangle's pieces of different regions are different
+// `triangle_region`: the region of each contact triangle (its tetrahedron's material,
+// model/contact_regions.hpp); empty: one region. A rectangle's pieces of different regions are different
 // cells, and a sliver is merged into a neighbour of its own region where it has one: a cell averaging
 // the gap over a stiff and a soft material lets the stiff one sink and the soft one lift (steel beside
 // rubber under a prescribed push, the cell across their interface: 45 µm of 100 µm).

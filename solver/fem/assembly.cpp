@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <exception>
 #include <limits>
-#include <map>
 #include <stdexcept>
 #include <thread>
 
@@ -335,31 +334,21 @@ namespace {
 
 // The body's outward unit normal on each triangle of a group, from the tetrahedron it bounds.
 std::vector<Eigen::Vector3d> outward_normals(const Mesh& mesh, const std::string& group, const std::vector<int>& tris) {
-  std::map<std::array<int, 3>, int> opposite;  // sorted face -> the tet's fourth node
-  for (int t : tris) {
-    std::array<int, 3> key = mesh.triangles[t];
-    std::sort(key.begin(), key.end());
-    opposite.emplace(key, -1);
-  }
-  for (const auto& tet : mesh.tets)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> key{};
-      for (int a = 0, k = 0; a < 4; ++a)
-        if (a != skip) key[k++] = tet[a];
-      std::sort(key.begin(), key.end());
-      if (auto it = opposite.find(key); it != opposite.end()) it->second = it->second == -1 ? tet[skip] : -2;
-    }
+  std::vector<std::array<int, 3>> faces;
+  for (int t : tris) faces.push_back(mesh.triangles[t]);
+  const std::vector<int> tet = tetrahedra_of_faces(mesh, faces);
   std::vector<Eigen::Vector3d> normals;
-  for (int t : tris) {
-    std::array<int, 3> key = mesh.triangles[t];
-    std::sort(key.begin(), key.end());
-    const int inner = opposite[key];
-    if (inner < 0)
-      throw InputError(
-          "boundary.pressure on '" + group + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
-          (inner == -1 ? " is not a face of any tetrahedron" : " is an interior face (two tetrahedra share it)") +
-          "; a pressure acts on the body's boundary");
+  for (std::size_t k = 0; k < tris.size(); ++k) {
+    const int t = tris[k], e = tet[k];
+    if (e < 0)
+      throw InputError("boundary.pressure on '" + group + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
+                       (e == kNoTetrahedron ? " is not a face of any tetrahedron"
+                                            : " is an interior face (two tetrahedra share it)") +
+                       "; a pressure acts on the body's boundary");
     const auto& tri = mesh.triangles[t];
+    int inner = -1;  // the tetrahedron's fourth node
+    for (int v : mesh.tets[static_cast<std::size_t>(e)])
+      if (std::find(tri.begin(), tri.end(), v) == tri.end()) inner = v;
     Eigen::Vector3d n =
         (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).normalized();
     if (n.dot(mesh.nodes[inner] - mesh.nodes[tri[0]]) > 0) n = -n;

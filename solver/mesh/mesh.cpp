@@ -1,5 +1,8 @@
 #include "mesh/mesh.hpp"
 
+#include <algorithm>
+#include <map>
+
 #include "base/errors.hpp"
 
 namespace contact3d {
@@ -56,6 +59,27 @@ void drop_unused_nodes(Mesh& mesh) {
     for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
   for (auto& t : mesh.triangles)
     for (int& v : t) v = new_index[static_cast<std::size_t>(v)];
+}
+
+std::vector<int> tetrahedra_of_faces(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles) {
+  const auto sorted = [](std::array<int, 3> t) {
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::map<std::array<int, 3>, int> tet_of;  // sorted face -> its tetrahedron
+  for (const auto& t : triangles) tet_of.emplace(sorted(t), kNoTetrahedron);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> face{};
+      for (int a = 0, k = 0; a < 4; ++a)
+        if (a != skip) face[k++] = mesh.tets[e][a];
+      if (auto it = tet_of.find(sorted(face)); it != tet_of.end())
+        it->second = it->second == kNoTetrahedron ? static_cast<int>(e) : kSeveralTetrahedra;
+    }
+  std::vector<int> out;
+  out.reserve(triangles.size());
+  for (const auto& t : triangles) out.push_back(tet_of[sorted(t)]);
+  return out;
 }
 
 }  // namespace contact3d

@@ -50,6 +50,11 @@ struct Mesh {
   std::vector<int> triangles_of_group(std::string_view name) const;
 };
 
+// For each triangle (node triples, any order): the tetrahedron it is a face of, kNoTetrahedron where
+// none is, kSeveralTetrahedra where two are (an interior face).
+constexpr int kNoTetrahedron = -1, kSeveralTetrahedra = -2;
+std::vector<int> tetrahedra_of_faces(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
+
 // Drops the nodes that no tet or triangle uses (a second-order file's mid-edge nodes, read by the
 // elements' corners) and renumbers the others in their order; node_tags follow, so messages still
 // name the file's nodes.

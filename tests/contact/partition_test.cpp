@@ -112,7 +112,7 @@ TEST(Partition, UnitSquareClippingAndHatIntegrals) {
   EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
 }
 
-// Two materials (or two mesh parts) side by side on Γc: no cell averages over both. A rectangle across
+// Two materials side by side on Γc: no cell averages over both. A rectangle across
 // their interface becomes one cell per region, and a sliver of one region goes to a neighbour of its
 // own region, not into the other's cell (where a cell spans steel and rubber, the steel sinks and the
 // rubber lifts with the cell's mean gap 0).

@@ -1,11 +1,12 @@
-// The regions of Γc's triangles for the partition (model/contact_regions.hpp): one material in one
-// part has none; a [[material.region]] reaching the contact face splits it along the material
-// interface; two separate parts are two regions even of one material.
+// The regions of Γc's triangles for the partition (model/contact_regions.hpp): one material has none;
+// a [[material.region]] reaching the contact face splits it along the material interface; separate
+// mesh parts need none (the partition keeps them apart by itself).
 #include <gtest/gtest.h>
 
 #include <set>
 
 #include "contact/contact_face.hpp"
+#include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
 #include "mesh/brick_generator.hpp"
 #include "model/contact_regions.hpp"
@@ -41,7 +42,7 @@ double centroid_x(const Mesh& mesh, const std::array<int, 3>& t) {
 
 }  // namespace
 
-TEST(ContactRegions, OneMaterialInOnePartHasNone) {
+TEST(ContactRegions, OneMaterialHasNone) {
   const Brick b = brick_with_rubber_left_of(1.5);
   const Scene scene = parse_scene_text(contact3d::testing::paper_scene_text(), ".");
   EXPECT_TRUE(contact_triangle_regions(scene, b.mesh, b.face).empty());
@@ -70,15 +71,27 @@ TEST(ContactRegions, MaterialInterfaceOnTheContactFaceSplitsIt) {
   EXPECT_EQ(std::set<int>(one.begin(), one.end()).size(), 1u);
 }
 
-TEST(ContactRegions, SeparatePartsAreSeparateRegions) {
+// Separate parts need no regions: their contact triangles share no edge, so the partition never joins
+// their pieces into one cell, even where a rectangle lies across both (two bricks side by side with
+// coincident but distinct nodes at x = 3, rectangles of 6/7 across x = 3).
+TEST(ContactRegions, SeparatePartsNeedNone) {
   Brick b{make_paper_brick({2}), {}};
-  b.mesh = contact3d::testing::with_moved_copy(b.mesh, Eigen::Vector3d(5, 0, 0));
+  b.mesh = contact3d::testing::with_moved_copy(b.mesh, Eigen::Vector3d(3, 0, 0));
   const DofMap dofs = make_dof_map(b.mesh, {"clamped"});
   b.face = make_contact_face(b.mesh, {"contact"}, dofs);
   const Scene scene = parse_scene_text(contact3d::testing::paper_scene_text(), ".");
-  const std::vector<int> region = contact_triangle_regions(scene, b.mesh, b.face);
-  ASSERT_EQ(region.size(), b.face.triangles.size());
-  for (std::size_t t = 0; t < region.size(); ++t)
-    EXPECT_EQ(region[t], centroid_x(b.mesh, b.face.triangles[t]) < 4 ? region[0] : 1 - region[0]) << t;
-  EXPECT_EQ(std::set<int>(region.begin(), region.end()).size(), 2u);
+  EXPECT_TRUE(contact_triangle_regions(scene, b.mesh, b.face).empty());
+  const std::size_t first_part_triangles = b.face.triangles.size() / 2;
+  for (std::size_t t = 0; t < b.face.triangles.size(); ++t)  // the copy's triangles come after the original's
+    ASSERT_EQ(centroid_x(b.mesh, b.face.triangles[t]) < 3, t < first_part_triangles) << t;
+  const Partition p = make_grid_partition(b.mesh, b.face, {6.0 / 7});
+  int across = 0;
+  for (const ContactCell& c : p.cells) {
+    std::set<bool> parts;
+    for (const CellPiece& piece : c.pieces)
+      parts.insert(static_cast<std::size_t>(piece.triangle) < first_part_triangles);
+    EXPECT_EQ(parts.size(), 1u) << "a cell spans both parts";
+    across += c.lo.x() < 3 - 1e-9 && c.hi.x() > 3 + 1e-9;
+  }
+  EXPECT_EQ(across, 0);
 }
