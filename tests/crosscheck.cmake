@@ -97,6 +97,17 @@ foreach(dropped regions pressure)
     FAIL_REGULAR_EXPRESSION "error:")
 endforeach()
 
+# A flat sole beside rounded edges (pipeline/scenes/filleted_block.toml: fillets of r = 20 mm, the top
+# pushed down 20 um) against FreeFEM on the same gmsh mesh (h = 8 mm), frictionless: measured rel L2(Gc)
+# 0.091, normal force 2.3%, with no cell across the sole's edge (model/contact_regions.hpp); with cells
+# across it (the partition before the levels) 0.232 and 5.7%, which the tolerances below reject.
+add_test(NAME crosscheck_filleted_block_frictionless
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d>
+          --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/filleted_block.toml --variant frictionless
+          --tolerance 0.12 --force-tolerance 0.04
+          --workdir ${CONTACT3D_CC_WORK}/filleted_block --report ${CONTACT3D_CC_WORK}/filleted_block.md)
+set_tests_properties(crosscheck_filleted_block_frictionless PROPERTIES TIMEOUT 120 LABELS crosscheck)
+
 # Line contact on a curved face with a gap (pipeline/scenes/roller.toml: a half-cylinder on its side,
 # held only by the prescribed displacement of its top; the contact strip opens with the load) against
 # FreeFEM on the same gmsh mesh (h = 0.04), Tresca F = 0.3: measured rel L2(Gc) 0.0088, normal force

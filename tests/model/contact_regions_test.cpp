@@ -1,8 +1,10 @@
 // The regions of Γc's triangles for the partition (model/contact_regions.hpp): one material has none;
-// a [[material.region]] reaching the contact face splits it along the material interface; separate
-// mesh parts need none (the partition keeps them apart by itself).
+// a [[material.region]] reaching the contact face splits it along the material interface; a flat sole
+// beside a rounded or raised part splits it by level; separate mesh parts need none (the partition keeps
+// them apart by itself).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "contact/contact_face.hpp"
@@ -40,6 +42,18 @@ double centroid_x(const Mesh& mesh, const std::array<int, 3>& t) {
   return (mesh.nodes[t[0]].x() + mesh.nodes[t[1]].x() + mesh.nodes[t[2]].x()) / 3;
 }
 
+// The paper's brick at n = 2 with the nodes of its bottom face (z = 0) right of x = 1.5 raised by
+// lift(x); the contact face made afterwards.
+template <class Lift>
+Brick brick_with_bottom_raised(Lift lift) {
+  Brick b{make_paper_brick({2}), {}};
+  for (Eigen::Vector3d& x : b.mesh.nodes)
+    if (x.z() == 0 && x.x() > 1.5 + 1e-12) x.z() = lift(x.x());
+  const DofMap dofs = make_dof_map(b.mesh, {"clamped"});
+  b.face = make_contact_face(b.mesh, {"contact"}, dofs);
+  return b;
+}
+
 }  // namespace
 
 TEST(ContactRegions, OneMaterialHasNone) {
@@ -67,8 +81,7 @@ TEST(ContactRegions, MaterialInterfaceOnTheContactFaceSplitsIt) {
       std::string(contact3d::testing::paper_scene_text()) + "\n[[material.region]]\ngroup = \"rubber\"\nyoung = " +
           std::to_string(scene.material.young) + "\npoisson = " + std::to_string(scene.material.poisson) + "\n",
       ".");
-  const std::vector<int> one = contact_triangle_regions(same, b.mesh, b.face);
-  EXPECT_EQ(std::set<int>(one.begin(), one.end()).size(), 1u);
+  EXPECT_TRUE(contact_triangle_regions(same, b.mesh, b.face).empty());
 }
 
 // Separate parts need no regions: their contact triangles share no edge, so the partition never joins
@@ -94,4 +107,81 @@ TEST(ContactRegions, SeparatePartsNeedNone) {
     across += c.lo.x() < 3 - 1e-9 && c.hi.x() > 3 + 1e-9;
   }
   EXPECT_EQ(across, 0);
+}
+
+// A flat sole (x <= 1.5) beside a part that rises quadratically (a rounded edge): the sole is one level,
+// the rest none, and no cell of the partition spans both, where one does without the regions.
+TEST(ContactRegions, FlatSoleBesideARoundedPartSplitsIt) {
+  const Brick b = brick_with_bottom_raised([](double x) { return 0.05 * (x - 1.5) * (x - 1.5); });
+  const std::vector<int> level = triangle_levels(b.mesh, b.face);
+  for (std::size_t t = 0; t < level.size(); ++t)
+    EXPECT_EQ(level[t], centroid_x(b.mesh, b.face.triangles[t]) < 1.5 ? 0 : kNoLevel) << t;
+  const Scene scene = parse_scene_text(contact3d::testing::paper_scene_text(), ".");
+  const std::vector<int> region = contact_triangle_regions(scene, b.mesh, b.face);
+  ASSERT_EQ(region.size(), b.face.triangles.size());
+  const auto spans_both = [&](const ContactCell& c) {
+    std::set<int> seen;
+    for (const CellPiece& piece : c.pieces) seen.insert(level[static_cast<std::size_t>(piece.triangle)]);
+    return seen.size() > 1;
+  };
+  const double H = 1.0;  // rectangles [1, 2] lie across x = 1.5
+  const Partition plain = make_grid_partition(b.mesh, b.face, {H});
+  const Partition split = make_grid_partition(b.mesh, b.face, {H}, region);
+  EXPECT_TRUE(std::any_of(plain.cells.begin(), plain.cells.end(), spans_both));  // the case is real
+  EXPECT_FALSE(std::any_of(split.cells.begin(), split.cells.end(), spans_both));
+}
+
+// A step: the bottom right of x = 1.5 raised by 1 cm. The triangles left of the step and those wholly
+// right of it are two levels, numbered from the lowest; the triangles across the step (from x = 1.5 to
+// the next column of nodes) none.
+TEST(ContactRegions, TwoHeightsAreTwoLevels) {
+  const Brick b = brick_with_bottom_raised([](double) { return 0.01; });
+  const std::vector<int> level = triangle_levels(b.mesh, b.face);
+  std::set<int> left, across, right;
+  for (std::size_t t = 0; t < level.size(); ++t) {
+    const auto& tri = b.face.triangles[t];
+    const double lowest = std::min({b.mesh.nodes[tri[0]].x(), b.mesh.nodes[tri[1]].x(), b.mesh.nodes[tri[2]].x()});
+    const double highest = std::max({b.mesh.nodes[tri[0]].x(), b.mesh.nodes[tri[1]].x(), b.mesh.nodes[tri[2]].x()});
+    (highest <= 1.5 + 1e-12 ? left : lowest > 1.5 + 1e-12 ? right : across).insert(level[t]);
+  }
+  EXPECT_EQ(left, std::set<int>{0});
+  EXPECT_EQ(right, std::set<int>{1});
+  EXPECT_EQ(across, std::set<int>{kNoLevel});
+}
+
+// Round-off is no level: a flat face whose nodes' heights differ by 1e-8 m (3e-9 of its extent, a mesh
+// file's eighth digit) is one region; 1e-4 m is a relief, and splits it.
+TEST(ContactRegions, RoundOffOfAFlatFaceIsOneLevel) {
+  const Scene scene = parse_scene_text(contact3d::testing::paper_scene_text(), ".");
+  for (const double relief : {1e-8, 1e-4}) {
+    int k = 0;
+    const Brick b = brick_with_bottom_raised([&](double) { return relief * (++k % 2); });
+    const std::vector<int> level = triangle_levels(b.mesh, b.face);
+    if (relief < 1e-6) {
+      EXPECT_TRUE(contact_triangle_regions(scene, b.mesh, b.face).empty()) << relief;
+      EXPECT_EQ(std::set<int>(level.begin(), level.end()), std::set<int>{0}) << relief;
+    } else {
+      EXPECT_FALSE(contact_triangle_regions(scene, b.mesh, b.face).empty()) << relief;
+      EXPECT_EQ(std::count(level.begin(), level.end(), kNoLevel) > 0, true) << relief;
+    }
+  }
+}
+
+// Three nodes of a curved face that happen to lie at one height make no level: the bottom of the n = 8
+// brick raised as 0.01 x², one of its triangles then flattened (0.26% of the face) is still of none, so the
+// face is one region.
+TEST(ContactRegions, ALoneFlatTriangleOfACurvedFaceIsNoLevel) {
+  Brick b{make_paper_brick({8}), {}};
+  for (Eigen::Vector3d& x : b.mesh.nodes)
+    if (x.z() == 0) x.z() = 0.01 * x.x() * x.x();
+  const DofMap dofs = make_dof_map(b.mesh, {"clamped"});
+  b.face = make_contact_face(b.mesh, {"contact"}, dofs);
+  const std::array<int, 3> flattened = b.face.triangles[b.face.triangles.size() / 2];
+  const double z = b.mesh.nodes[flattened[0]].z();
+  for (const int v : flattened) b.mesh.nodes[v].z() = z;
+  b.face = make_contact_face(b.mesh, {"contact"}, dofs);
+  const std::vector<int> level = triangle_levels(b.mesh, b.face);
+  EXPECT_EQ(std::count(level.begin(), level.end(), kNoLevel), static_cast<std::ptrdiff_t>(level.size()));
+  const Scene scene = parse_scene_text(contact3d::testing::paper_scene_text(), ".");
+  EXPECT_TRUE(contact_triangle_regions(scene, b.mesh, b.face).empty());
 }
