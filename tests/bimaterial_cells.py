@@ -34,6 +34,8 @@ with tempfile.TemporaryDirectory() as tmp:
     s = summary(tmp)
     if s.get("status") != "converged":
         fail(f"status {s.get('status')}")
+    if s.get("contact_regions") != 2:
+        fail(f"summary.json's contact_regions is {s.get('contact_regions')}, expected 2 (steel, rubber)")
     if not s["forces"]["balance"] < 1e-8:
         fail(f"forces do not balance: {s['forces']['balance']}")
     with open(Path(tmp) / "contact_nodes.csv") as f:

@@ -7,6 +7,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -166,6 +167,8 @@ class GridPartitionBuilder {
     if (face_.triangles.empty()) throw InputError("the contact face has no triangles");
     if (!region_of_triangle_.empty() && region_of_triangle_.size() != face_.triangles.size())
       throw std::invalid_argument("make_grid_partition: one region per contact triangle expected");
+    part_.regions = static_cast<int>(std::set<int>(region_of_triangle_.begin(), region_of_triangle_.end()).size());
+    part_.regions = std::max(part_.regions, 1);
     lay_out_rectangles();
     clip_triangles_to_rectangles();
     link_adjacent_pieces();

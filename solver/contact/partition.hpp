@@ -63,13 +63,15 @@ struct Partition {
   int merged_slivers = 0;    // cells merged into a neighbour because they were small
   int split_cells = 0;       // extra cells created by splitting disconnected rectangles
   int stability_merges = 0;  // cells merged into a neighbour to satisfy the matching test
+  int regions = 1;           // regions of Γc that no cell spans (triangle_region's distinct values)
 };
 
-// `triangle_region`: the region of each contact triangle (its tetrahedron's material,
+// `triangle_region`: the region of each contact triangle (its tetrahedron's material and its level,
 // model/contact_regions.hpp); empty: one region. A rectangle's pieces of different regions are different
 // cells, and a sliver is merged into a neighbour of its own region where it has one: a cell averaging
 // the gap over a stiff and a soft material lets the stiff one sink and the soft one lift (steel beside
-// rubber under a prescribed push, the cell across their interface: 45 µm of 100 µm).
+// rubber under a prescribed push, the cell across their interface: 45 µm of 100 µm), and one across a
+// flat sole's edge and its fillet stays open.
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& options,
                               const std::vector<int>& triangle_region = {});
 

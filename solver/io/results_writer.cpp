@@ -111,6 +111,7 @@ void write_sizes(JsonWriter& j, const Mesh& mesh, const SolveResult& res, const 
       .value("cell_size", res.cell_size)
       .value("cells_merged", res.partition.merged_slivers);
   j.value("cells_split", res.partition.split_cells).value("cells_merged_for_stability", res.partition.stability_merges);
+  j.value("contact_regions", res.partition.regions);
   j.value("cells_graded", res.partition.graded);
   if (res.partition.graded) {  // the rectangles follow the contact mesh (contact/grid_boxes.hpp): their sides
     for (const auto& [key, sides] : {std::pair{"cell_sides_smallest", res.partition.smallest_box},

@@ -893,8 +893,12 @@ namespace {
 
 void describe_contact(Progress& report, const SolveResult& res, const ContactOperator& op) {
   report.stage("contact: " + count(res.face.triangles.size()) + " triangles and " + count(res.face.nodes.size()) +
-               " nodes on Γc; " + count(op.r) + " cells of T_H (" + cell_sizes(res) + "), " + count(op.rows()) +
-               " multipliers");
+               " nodes on Γc; " + count(op.r) + " cells of T_H (" + cell_sizes(res) +
+               (res.partition.regions > 1  // model/contact_regions.hpp
+                    ? "; each within one of " + std::to_string(res.partition.regions) +
+                          " regions of Γc by material and flat part"
+                    : "") +
+               "), " + count(op.rows()) + " multipliers");
 }
 
 std::string describe_dual_solve(const Scene& scene) {
