@@ -4,6 +4,10 @@
 
 namespace contact3d {
 
+double dense_dual_bytes_per_entry(const QpSettings& qp, int rows) {
+  return 2 * 8.0 + (uses_single_products(qp.precision, rows) ? 4.0 : 0.0);
+}
+
 std::optional<DualMethod> dual_method_for_memory(DualMethod requested, DualMethod resolved, bool dense_Q_fits) {
   if (dense_Q_fits || resolved == DualMethod::MatrixFree) return resolved;
   if (requested == DualMethod::Auto && resolved == DualMethod::Augmented) return DualMethod::MatrixFree;

@@ -7,8 +7,15 @@
 #include <optional>
 
 #include "linalg/dual_problem.hpp"
+#include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
+
+// Bytes per entry of Q that the dense dual solve holds at most: Q and a Newton step's reduced matrix (up
+// to m² in double), plus the single-precision copy when it is used (the Jacobi scaling is applied in each
+// product, not stored; the stability check's factor, kept for the Newton steps when it fits, is counted
+// by check_dual_stability, model/stability_check.hpp).
+double dense_dual_bytes_per_entry(const QpSettings& qp, int rows);
 
 // `requested`: solver.schur as the scene states it; `resolved`: what "auto" became for the build
 // (augmented; mumps in the distributed build). nullopt: the dense Q does not fit and nothing else
