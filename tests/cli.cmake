@@ -97,6 +97,11 @@ add_test(NAME freefem_meshed_bodies
 # contact node sinks or lifts by more than 15% of the push (45% when a cell spanned both).
 add_test(NAME bimaterial_cells_split_by_material
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/bimaterial_cells.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+# `check` says how many regions of Γc the cells keep apart: the filleted block's flat sole and its fillets.
+add_test(NAME check_names_the_regions_of_the_contact_face
+         COMMAND contact3d check ${CMAKE_SOURCE_DIR}/pipeline/scenes/filleted_block.toml)
+set_tests_properties(check_names_the_regions_of_the_contact_face PROPERTIES PASS_REGULAR_EXPRESSION
+                     "dual: [0-9]+ cells \\(H = [0-9.]+ m; each within one of 2 regions of Γc by material and flat part\\)")
 add_test(NAME symmetry_half_brick_n4
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/symmetry_half_brick.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR} 4)
 

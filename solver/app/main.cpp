@@ -180,9 +180,11 @@ void print_dual_plan(const DualPlan& plan) {
     route +=
         " (Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps "
         "the dense Q)";
-  fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells,
-             plan.cell_sizes.empty() ? fmt::format("H = {:.4g} m", plan.cell_size) : plan.cell_sizes, plan.multipliers,
-             bytes_text(plan.dense_bytes), available, route);
+  std::string sizes = plan.cell_sizes.empty() ? fmt::format("H = {:.4g} m", plan.cell_size) : plan.cell_sizes;
+  if (plan.regions > 1)
+    sizes += fmt::format("; each within one of {} regions of Γc by material and flat part", plan.regions);
+  fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
+             plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }
 
 int run_check(const SolveArgs& args) {

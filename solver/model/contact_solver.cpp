@@ -745,6 +745,7 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
   plan.multipliers = op.rows();
   plan.cell_size = res.cell_size;
   if (res.partition.graded) plan.cell_sizes = describe_cell_sizes(res.partition);
+  plan.regions = res.partition.regions;
   plan.dense_bytes = memory.bytes;
   plan.available_bytes = memory.available;
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();

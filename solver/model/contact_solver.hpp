@@ -120,6 +120,7 @@ struct DualPlan {
   int cells = 0, multipliers = 0;
   double cell_size = 0;                         // H (m; the x extent where cells are anisotropic)
   std::string cell_sizes;                       // a graded partition's range of sides (else empty)
+  int regions = 1;                              // parts of Γc no cell spans (model/contact_regions.hpp)
   double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
   std::string method;
 };
