@@ -25,7 +25,7 @@ namespace contact3d {
 std::vector<int> contact_triangle_regions(const Scene& scene, const Mesh& mesh, const ContactFace& face);
 
 // The level of each triangle of `face`: 0, 1, … for triangles whose nodes' initial gaps agree to a
-// tolerance (1e-6 of the face's extent or largest gap: a mesh file's round-off of a flat face), equal for
+// tolerance (1e-8 of the face's extent or largest gap: the round-off of a flat face's nodes), equal for
 // triangles at the same height (numbered from the lowest); kNoLevel for the others, and for a height whose
 // triangles cover under 1% of the face's projected area.
 inline constexpr int kNoLevel = -1;

@@ -149,11 +149,11 @@ TEST(ContactRegions, TwoHeightsAreTwoLevels) {
   EXPECT_EQ(across, std::set<int>{kNoLevel});
 }
 
-// Round-off is no level: a flat face whose nodes' heights differ by 1e-8 m (3e-9 of its extent, a mesh
-// file's eighth digit) is one region; 1e-4 m is a relief, and splits it.
+// Round-off is no level: a flat face whose nodes' heights differ by 1e-9 m (3e-10 of its extent) is one
+// region; 1e-4 m is a relief, and splits it.
 TEST(ContactRegions, RoundOffOfAFlatFaceIsOneLevel) {
   const Scene scene = parse_scene_text(contact3d::testing::paper_scene_text(), ".");
-  for (const double relief : {1e-8, 1e-4}) {
+  for (const double relief : {1e-9, 1e-4}) {
     int k = 0;
     const Brick b = brick_with_bottom_raised([&](double) { return relief * (++k % 2); });
     const std::vector<int> level = triangle_levels(b.mesh, b.face);
@@ -179,6 +179,21 @@ TEST(ContactRegions, ALoneFlatTriangleOfACurvedFaceIsNoLevel) {
   const std::array<int, 3> flattened = b.face.triangles[b.face.triangles.size() / 2];
   const double z = b.mesh.nodes[flattened[0]].z();
   for (const int v : flattened) b.mesh.nodes[v].z() = z;
+  b.face = make_contact_face(b.mesh, {"contact"}, dofs);
+  const std::vector<int> level = triangle_levels(b.mesh, b.face);
+  EXPECT_EQ(std::count(level.begin(), level.end(), kNoLevel), static_cast<std::ptrdiff_t>(level.size()));
+  const Scene scene = parse_scene_text(contact3d::testing::paper_scene_text(), ".");
+  EXPECT_TRUE(contact_triangle_regions(scene, b.mesh, b.face).empty());
+}
+
+// A crowned face is no level anywhere: the bottom of the n = 8 brick raised by 0.1 mm (x − 1.5)² / 1.5²,
+// nearly flat in its middle (0.7 µm across a triangle there), is one region; a tolerance of 1e-6 of the
+// extent would have made a level of its middle fifth and split the face along it.
+TEST(ContactRegions, ACrownedFaceIsNoLevel) {
+  Brick b{make_paper_brick({8}), {}};
+  for (Eigen::Vector3d& x : b.mesh.nodes)
+    if (x.z() == 0) x.z() = 1e-4 * (x.x() - 1.5) * (x.x() - 1.5) / (1.5 * 1.5);
+  const DofMap dofs = make_dof_map(b.mesh, {"clamped"});
   b.face = make_contact_face(b.mesh, {"contact"}, dofs);
   const std::vector<int> level = triangle_levels(b.mesh, b.face);
   EXPECT_EQ(std::count(level.begin(), level.end(), kNoLevel), static_cast<std::ptrdiff_t>(level.size()));
