@@ -29,6 +29,22 @@ double projected_area(const Mesh& mesh, const std::array<int, 3>& t) {
   return 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
 }
 
+// (E, ν) of each contact triangle's tetrahedron ([material] where the scene has no regions).
+std::vector<std::pair<double, double>> triangle_materials(const Scene& scene, const Mesh& mesh,
+                                                          const ContactFace& face) {
+  std::vector<std::pair<double, double>> material(face.triangles.size(),
+                                                  {scene.material.young, scene.material.poisson});
+  if (scene.regions.empty()) return material;
+  const TetMaterials materials = tet_materials(scene, mesh);
+  const std::vector<int> tet = tetrahedra_of_faces(mesh, face.triangles);
+  for (std::size_t t = 0; t < tet.size(); ++t)
+    if (tet[t] >= 0) {
+      const Material& m = materials[static_cast<std::size_t>(tet[t])];
+      material[t] = {m.young, m.poisson};
+    }
+  return material;
+}
+
 }  // namespace
 
 std::vector<int> triangle_levels(const Mesh& mesh, const ContactFace& face) {
@@ -63,18 +79,8 @@ std::vector<int> triangle_levels(const Mesh& mesh, const ContactFace& face) {
 }
 
 std::vector<int> contact_triangle_regions(const Scene& scene, const Mesh& mesh, const ContactFace& face) {
+  const std::vector<std::pair<double, double>> material = triangle_materials(scene, mesh, face);
   const std::vector<int> level = triangle_levels(mesh, face);
-  std::vector<std::pair<double, double>> material(face.triangles.size(),
-                                                  {scene.material.young, scene.material.poisson});
-  if (!scene.regions.empty()) {
-    const TetMaterials materials = tet_materials(scene, mesh);
-    const std::vector<int> tet = tetrahedra_of_faces(mesh, face.triangles);
-    for (std::size_t t = 0; t < tet.size(); ++t)
-      if (tet[t] >= 0) {
-        const Material& m = materials[static_cast<std::size_t>(tet[t])];
-        material[t] = {m.young, m.poisson};
-      }
-  }
   std::map<std::tuple<double, double, int>, int> ids;  // (E, ν, level) -> region
   std::vector<int> region;
   region.reserve(face.triangles.size());
