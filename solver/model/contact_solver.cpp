@@ -406,8 +406,10 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
                          share_of_displacement(res.penetration_ratio) + " the body's largest displacement" +
                          (rigid_removed ? std::string(" less its rigid motion") : std::string()) +
                          ": non-penetration holds as averages over cells of " + cell_sizes(res) +
-                         " and the body deforms inside a cell (a body about as thin as a cell, or a contact zone a "
-                         "few cells wide), so the displacement near Γc is not resolved; refine the mesh (h)" +
+                         " and the body deforms inside a cell (a body about as thin as a cell, a contact zone a "
+                         "few cells wide, or the pressure peak at a flat sole's edges and corners), so the "
+                         "displacement near Γc is not resolved; refine the mesh (h), most where it penetrates (the "
+                         "cells of a graded mesh follow its element size)" +
                          (scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
                               ? std::string(" (cells smaller than 1.5h make Q ill-conditioned)")
                               : std::string(" or use a smaller contact.cell_size, e.g. \"1.5h\" (watch cond(Q))")));
