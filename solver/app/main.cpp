@@ -24,6 +24,7 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "base/memory.hpp"
+#include "contact/partition.hpp"
 #include "distributed/backend.hpp"
 #include "io/results_writer.hpp"
 #include "io/run_folder.hpp"
@@ -180,9 +181,8 @@ void print_dual_plan(const DualPlan& plan) {
     route +=
         " (Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps "
         "the dense Q)";
-  std::string sizes = plan.cell_sizes.empty() ? fmt::format("H = {:.4g} m", plan.cell_size) : plan.cell_sizes;
-  if (plan.regions > 1)
-    sizes += fmt::format("; each within one of {} regions of Γc by material and flat part", plan.regions);
+  const std::string sizes = (plan.cell_sizes.empty() ? fmt::format("H = {:.4g} m", plan.cell_size) : plan.cell_sizes) +
+                            describe_regions(plan.regions);
   fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
              plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }

@@ -143,6 +143,11 @@ std::string describe_cell_sizes(const Partition& part) {
          " m, following the contact mesh's element size";
 }
 
+std::string describe_regions(int regions) {
+  return regions > 1 ? "; each within one of " + std::to_string(regions) + " regions of Γc by material and flat part"
+                     : std::string();
+}
+
 std::string describe_cell(const Partition& part, int i) {
   const auto& c = part.cells[i];
   std::ostringstream s;
@@ -167,8 +172,8 @@ class GridPartitionBuilder {
     if (face_.triangles.empty()) throw InputError("the contact face has no triangles");
     if (!region_of_triangle_.empty() && region_of_triangle_.size() != face_.triangles.size())
       throw std::invalid_argument("make_grid_partition: one region per contact triangle expected");
-    part_.regions = static_cast<int>(std::set<int>(region_of_triangle_.begin(), region_of_triangle_.end()).size());
-    part_.regions = std::max(part_.regions, 1);
+    part_.regions =
+        std::max(1, static_cast<int>(std::set<int>(region_of_triangle_.begin(), region_of_triangle_.end()).size()));
     lay_out_rectangles();
     clip_triangles_to_rectangles();
     link_adjacent_pieces();

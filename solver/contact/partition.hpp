@@ -93,6 +93,9 @@ std::vector<int> cells_without_own_node(const ContactFace& face, const Partition
 // "H = 0.05 x 0.05 m", or for graded cells "H from 0.01 x 0.01 to 0.08 x 0.08 m, following the contact
 // mesh's element size", for messages.
 std::string describe_cell_sizes(const Partition& partition);
+// "; each within one of N regions of Γc by material and flat part" where `regions` > 1, else empty: the
+// run's contact line and `contact3d check` append it to the cell sizes.
+std::string describe_regions(int regions);
 
 // "cell i [x0, x1] x [y0, y1], area a" for messages.
 std::string describe_cell(const Partition& partition, int cell);

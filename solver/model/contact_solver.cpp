@@ -779,11 +779,7 @@ namespace {
 void describe_contact(Progress& report, const SolveResult& res, const ContactOperator& op) {
   report.stage("contact: " + count(res.face.triangles.size()) + " triangles and " + count(res.face.nodes.size()) +
                " nodes on Γc; " + count(op.r) + " cells of T_H (" + cell_sizes(res) +
-               (res.partition.regions > 1  // model/contact_regions.hpp
-                    ? "; each within one of " + std::to_string(res.partition.regions) +
-                          " regions of Γc by material and flat part"
-                    : "") +
-               "), " + count(op.rows()) + " multipliers");
+               describe_regions(res.partition.regions) + "), " + count(op.rows()) + " multipliers");
 }
 
 std::string describe_dual_solve(const Scene& scene) {
@@ -924,8 +920,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                                              : "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
   double q_norm = 0;  // once: for cond(Q) and for MPGP's step ᾱ
   std::shared_ptr<DualOperatorFactor> q_factor = check_dual_stability(
-      *dual, q_norm, op, scene.solver.qp,
-      dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) * op.rows() * static_cast<double>(op.rows()), report, res);
+      *dual, q_norm, op, scene.solver.qp, dense_dual_memory(scene.solver.qp, op.rows()).bytes, report, res);
   clock.lap("stability");
 
   stage.enter("dual solve", matrix_free ? std::string("the QP's vectors, each product through the factor of K")
