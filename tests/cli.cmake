@@ -135,6 +135,14 @@ add_test(NAME no_warning_on_the_paper_brick
          COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
                  --out ${CMAKE_BINARY_DIR}/cli-tests/brick-n4-warnings --quiet)
 set_tests_properties(no_warning_on_the_paper_brick PROPERTIES FAIL_REGULAR_EXPRESSION "warning:")
+# A scene in mixed units (young in MPa, lengths in metres: the paper's brick strained a million times
+# too much) solves, but says first that its strains are far beyond linear elasticity and to check the
+# units; summary.json has the figure (largest_strain). The brick in Pa has no such warning (above).
+add_test(NAME warns_strains_beyond_linear_elasticity
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
+                 --set material.young=2.15e5 --out ${CMAKE_BINARY_DIR}/cli-tests/brick-n4-mixed-units --quiet)
+set_tests_properties(warns_strains_beyond_linear_elasticity PROPERTIES PASS_REGULAR_EXPRESSION
+                     "^warning: the largest strain is [0-9.e+]+ \\([0-9.e+]+%\\) in tetrahedron [0-9]+, centred at \\([^)]+\\): .*check that the scene is in one consistent system of units")
 add_test(NAME version_flag COMMAND contact3d --version)
 set_tests_properties(version_flag PROPERTIES PASS_REGULAR_EXPRESSION "^contact3d [0-9]+\\.[0-9]+\\.[0-9]+")
 

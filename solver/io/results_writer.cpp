@@ -194,7 +194,8 @@ void write_contact(JsonWriter& j, const SolveResult& res) {
   if (has_friction(res))
     j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
   j.value("max_penetration", res.wn_plus_inf);       // max nodal (w_n − d)⁺ on Γc
-  j.value("penetration_ratio", res.penetration_ratio);             // max_penetration / the largest nodal displacement
+  j.value("penetration_ratio", res.penetration_ratio);  // max_penetration / the largest nodal displacement
+  j.value("largest_strain", res.largest_strain);        // largest principal strain in absolute value (warned above 10%)
   if (const PartitionRefinement& pr = res.refinement; pr.tried) {  // contact.cell_size = "auto" solved twice
     j.begin_object("partition_refinement").value("first_cell_size", pr.first_cell_size);
     j.value("first_penetration_ratio", pr.first_penetration_ratio).value("first_seconds", pr.first_seconds);

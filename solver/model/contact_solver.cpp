@@ -415,6 +415,29 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
                               : std::string(" or use a smaller contact.cell_size, e.g. \"1.5h\" (watch cond(Q))")));
 }
 
+// contact3d solves linear elasticity (small strains and rotations, the contact condition on the
+// undeformed face), which describes a body strained by a few percent at most. Far beyond that the
+// answer is the linear model's, not the body's, and the usual cause is a scene in mixed units: young in
+// MPa with lengths in metres strains a steel block a million times too much, and the only other warning
+// was about penetration, which asked for a finer mesh. Said before any other warning.
+constexpr double kLargeStrain = 0.1;
+void flag_large_strain(const Mesh& mesh, SolveResult& res) {
+  const StrainPeak peak = largest_strain(mesh, res.u);
+  res.largest_strain = peak.value;
+  if (!(peak.value > kLargeStrain)) return;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const int v : mesh.tets[peak.tet]) centre += mesh.nodes[static_cast<std::size_t>(v)] / 4;
+  res.warnings.insert(
+      res.warnings.begin(),
+      "the largest strain is " + number(peak.value, 3) + " (" + number(100 * peak.value, 3) + "%) in tetrahedron " +
+          std::to_string(peak.tet + 1) + ", centred at (" + number(centre.x(), 4) + ", " + number(centre.y(), 4) +
+          ", " + number(centre.z(), 4) +
+          "): contact3d solves linear elasticity (small strains and rotations, contact on the undeformed face), "
+          "which describes strains of a few percent at most, so this is not the body's answer; check that the "
+          "scene is in one consistent system of units (young in Pa with lengths in m and forces in N, or in MPa "
+          "with mm), and the size of its loads and prescribed displacements");
+}
+
 // A coefficient with a jump is not Lipschitz, so the existence-and-uniqueness argument behind (5.7)
 // does not hold and the discrete problem may have several solutions: on the thin slab of
 // results/robustness.md (jump law) a start from a large slip instead of φ⁰ = 0 converged to a
@@ -619,6 +642,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.forces.contact_at_held_nodes = held_share_of_contact_force(contact_force_in_plane_frame(res), res.forces.contact);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
+  flag_large_strain(mesh, res);
   flag_unresolved_contact(scene, largest_deformation(mesh, res.dofs, w, disc.held.field),
                           disc.held.count() > 0 || res.dofs.has_nonzero_prescribed(), res);
   flag_possible_nonuniqueness(scene, res);
@@ -724,6 +748,7 @@ SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Di
   res.kkt.equilibrium = (disc.K * w - disc.f).norm() / std::max(disc.f.norm(), 1e-300);
   res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, no_rows,
                                 Eigen::VectorXd());
+  flag_large_strain(mesh, res);
   res.n_mult = 1;
   res.converged = true;
   res.status = "converged";

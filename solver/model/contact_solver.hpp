@@ -88,6 +88,7 @@ struct SolveResult {
   // wn_plus_inf / the body's largest nodal displacement less its best-fitting rigid motion along the
   // motions the contact alone holds (all of it where nothing is held; 0 without contact)
   double penetration_ratio = 0;
+  double largest_strain = 0;  // the largest principal strain of u in absolute value, over the tetrahedra
   PartitionRefinement refinement;
   double stability_condition = 0;            // estimate of cond(Q) from its Cholesky pivots
   double stability_condition_scaled = 0;     // cond of the Jacobi-scaled Q where cond(Q) > 1e10 (else 0)

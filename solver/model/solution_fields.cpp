@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "base/multiplier_layout.hpp"
 #include "contact/partition.hpp"
 
@@ -93,6 +95,24 @@ TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Ei
         3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
   }
   return out;
+}
+
+StrainPeak largest_strain(const Mesh& mesh, const Eigen::VectorXd& u) {
+  StrainPeak peak;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& t = mesh.tets[e];
+    const TetCoords x{mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]};
+    Eigen::Matrix<double, 12, 1> ue;
+    for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u.segment<3>(3 * t[a]);
+    const Eigen::Matrix<double, 6, 1> v = strain_matrix(x) * ue;  // Voigt, engineering shears
+    Eigen::Matrix3d strain;
+    strain << v[0], v[5] / 2, v[4] / 2, v[5] / 2, v[1], v[3] / 2, v[4] / 2, v[3] / 2, v[2];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal;
+    principal.computeDirect(strain, Eigen::EigenvaluesOnly);
+    const double largest = principal.eigenvalues().cwiseAbs().maxCoeff();
+    if (largest > peak.value) peak = {largest, e};
+  }
+  return peak;
 }
 
 double plane_gap(const Mesh& mesh, const FoundationFrame& frame, const Eigen::VectorXd& u, int v) {

@@ -51,6 +51,14 @@ struct TetStress {
 };
 TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Eigen::VectorXd& u);
 
+// The largest principal strain of the P1 field u (3 per mesh node) in absolute value, and the
+// tetrahedron where it is: linear elasticity holds for small strains, a few percent at most.
+struct StrainPeak {
+  double value = 0;
+  std::size_t tet = 0;
+};
+StrainPeak largest_strain(const Mesh& mesh, const Eigen::VectorXd& u);
+
 // The gap to the foundation after the displacement u: height of node v above the plane plus u'_3.
 double plane_gap(const Mesh& mesh, const FoundationFrame& frame, const Eigen::VectorXd& u, int v);
 // The tangential part (u'_1, u'_2, 0) of a displacement u' given in the plane's frame, in the user's axes.

@@ -57,6 +57,29 @@ TEST(TetStresses, ShearLandsOffTheDiagonalSymmetrically) {
   EXPECT_NEAR(s.von_mises[0], std::sqrt(3.0) * mu * gamma, 1e-12);
 }
 
+TEST(LargestStrain, PrincipalStrainInAbsoluteValueAndWhere) {
+  const Mesh m = two_tets();
+  // Compression: the largest principal strain in absolute value is the negative one.
+  StrainPeak peak = largest_strain(m, uniaxial(m, -0.2));
+  EXPECT_NEAR(peak.value, 0.2, 1e-12);
+  // Simple shear u_x = γ y: principal strains ±γ/2, not the engineering shear γ.
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(15);
+  for (std::size_t v = 0; v < m.nodes.size(); ++v) u[3 * v] = 0.3 * m.nodes[v].y();
+  EXPECT_NEAR(largest_strain(m, u).value, 0.15, 1e-12);
+  // A small rotation about z (u = θ ẑ × x) has no linearised strain; a stretch of node 4 alone
+  // strains the second tetrahedron only.
+  for (std::size_t v = 0; v < m.nodes.size(); ++v) {
+    u[3 * v] = -1e-3 * m.nodes[v].y();
+    u[3 * v + 1] = 1e-3 * m.nodes[v].x();
+    u[3 * v + 2] = 0;
+  }
+  EXPECT_LT(largest_strain(m, u).value, 1e-15);
+  u[3 * 4 + 2] += 0.5;
+  peak = largest_strain(m, u);
+  EXPECT_GT(peak.value, 0.1);
+  EXPECT_EQ(peak.tet, 1U);
+}
+
 TEST(CellStatus, SeparatedStickAndSlipByTheDocumentedRule) {
   // Four cells: λ_n = 0 (separated), λ_t inside the disc (stick), on the disc (slip), a tiny λ_n.
   Eigen::VectorXd lambda(12), radius(4);
