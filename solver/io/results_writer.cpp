@@ -199,7 +199,8 @@ void write_contact(JsonWriter& j, const SolveResult& res) {
   if (const PartitionRefinement& pr = res.refinement; pr.tried) {  // contact.cell_size = "auto" solved twice
     j.begin_object("partition_refinement").value("first_cell_size", pr.first_cell_size);
     j.value("first_penetration_ratio", pr.first_penetration_ratio).value("first_seconds", pr.first_seconds);
-    j.value("kept_finer", pr.kept_finer).value("outcome", pr.outcome).end_object();
+    j.value("kept_finer", pr.kept_finer).value("reused_factor", pr.reused_factor);
+    j.value("outcome", pr.outcome).end_object();
   }
   j.value("friction_where_separated_area", res.friction_where_separated_area);  // Tresca's bound where λ_n = 0
   {  // areas of the cells by status (in the plane; the cells' own areas)

@@ -16,11 +16,21 @@ std::int64_t leading_columns(const SparseCholesky::Supernodes& L, std::int64_t s
 }  // namespace
 
 DisplacementTrace::DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f,
+                                     const std::vector<int>& dofs, const ForwardSolvedBlocks& W)
+    : DisplacementTrace(factor, f, dofs, &W) {}
+
+DisplacementTrace::DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f,
                                      const std::vector<int>& dofs)
-    : L_(factor.supernodes()), n_(factor.size()), dofs_(dofs) {
-  if (!factor.augmented()) throw std::logic_error("DisplacementTrace needs the augmented factor SparseCholesky(K, 𝔹)");
+    : DisplacementTrace(factor, f, dofs, nullptr) {}
+
+DisplacementTrace::DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f,
+                                     const std::vector<int>& dofs, const ForwardSolvedBlocks* W)
+    : L_(factor.supernodes()), n_(factor.size()), dofs_(dofs), W_(W) {
+  if (!W_ && !factor.augmented())
+    throw std::logic_error("DisplacementTrace needs the augmented factor SparseCholesky(K, 𝔹), or W");
+  if (W_ && W_->rows != n_) throw std::invalid_argument("DisplacementTrace: W and K sizes differ");
   if (f.size() != n_) throw std::invalid_argument("DisplacementTrace: load vector and K sizes differ");
-  first_trailing_ = L_.n - factor.trailing_size();
+  first_trailing_ = factor.augmented() ? L_.n - factor.trailing_size() : n_;
   position_.assign(L_.n, 0);
   for (std::int64_t k = 0; k < L_.n; ++k) position_[L_.perm[k]] = k;
 
@@ -75,9 +85,15 @@ DisplacementTrace::DisplacementTrace(const SparseCholesky& factor, const Eigen::
 
 Eigen::VectorXd DisplacementTrace::back_substitute(const Eigen::VectorXd& lambda,
                                                    const std::vector<std::int64_t>& supernodes) const {
-  if (lambda.size() != L_.n - first_trailing_) throw std::invalid_argument("DisplacementTrace: λ has the wrong size");
+  if (lambda.size() != (W_ ? W_->columns : L_.n - first_trailing_))
+    throw std::invalid_argument("DisplacementTrace: λ has the wrong size");
   Eigen::VectorXd x = z_;
-  for (std::int64_t i = 0; i < lambda.size(); ++i) x[position_[n_ + i]] = lambda[i];
+  if (W_) {  // z − Wλ on K's rows; the factor's own multipliers (if any) at zero
+    x.tail(L_.n - n_).setZero();
+    W_->subtract_product(lambda, x);
+  } else {
+    for (std::int64_t i = 0; i < lambda.size(); ++i) x[position_[n_ + i]] = lambda[i];
+  }
   std::vector<double> gathered;
   const int one = 1;
   const double minus_one = -1, plus_one = 1;

@@ -7,6 +7,11 @@
 // So each λ costs one back substitution, and only over the supernodes that hold a dof of S or
 // are ancestors of one (an entry of L₁₁ᵀx = y at row j depends only on x at j's ancestors).
 // The fixed point of section 4 needs u_t on Γc only: this is its per-step solve.
+//
+// For another 𝔹 than the one factored with K (contact.cell_size = "auto" solving again with smaller
+// cells), or a factor of K alone: with W = L₁₁⁻¹P𝔹ᵀ (sparse_forward_solve.hpp),
+//     K⁻¹(f − 𝔹ᵀλ) = L₁₁⁻ᵀ (z − Wλ),
+// the same back substitution with Wλ in place of L₂₁ᵀλ.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "linalg/sparse_cholesky.hpp"
+#include "linalg/sparse_forward_solve.hpp"
 
 namespace contact3d {
 
@@ -23,6 +29,10 @@ class DisplacementTrace {
   // `factor` must be the augmented factor SparseCholesky(K, 𝔹) and outlive this object;
   // `dofs` are rows of K (S); f the load vector of K.
   DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f, const std::vector<int>& dofs);
+  // Through W = L₁₁⁻¹P𝔹ᵀ (forward_solve_by_supernodes on this factor; it must outlive this object),
+  // for any factor of K, augmented or not.
+  DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f, const std::vector<int>& dofs,
+                    const ForwardSolvedBlocks& W);
 
   // w at S (in the order of `dofs`) for the multipliers λ (rows of 𝔹).
   Eigen::VectorXd at(const Eigen::VectorXd& lambda) const;
@@ -38,11 +48,14 @@ class DisplacementTrace {
   std::int64_t n_ = 0, first_trailing_ = 0;  // K's size; first multiplier column of L
   std::vector<std::int64_t> position_;       // row of the factored matrix -> pivot position
   std::vector<int> dofs_;
-  std::vector<std::int64_t> needed_;  // supernodes for at(), descending
-  std::vector<std::int64_t> all_;     // every supernode with leading columns, descending
-  Eigen::VectorXd z_;                 // L₁₁⁻¹ P f, in pivot order (trailing part unused)
+  std::vector<std::int64_t> needed_;        // supernodes for at(), descending
+  std::vector<std::int64_t> all_;           // every supernode with leading columns, descending
+  Eigen::VectorXd z_;                       // L₁₁⁻¹ P f, in pivot order (trailing part unused)
+  const ForwardSolvedBlocks* W_ = nullptr;  // L₁₁⁻¹P𝔹ᵀ for another 𝔹, or null: L₂₁ᵀ
   double work_fraction_ = 1;
 
+  DisplacementTrace(const SparseCholesky& factor, const Eigen::VectorXd& f, const std::vector<int>& dofs,
+                    const ForwardSolvedBlocks* W);
   Eigen::VectorXd back_substitute(const Eigen::VectorXd& lambda, const std::vector<std::int64_t>& supernodes) const;
 };
 

@@ -9,6 +9,7 @@
 #include "linalg/dual_operator.hpp"
 #include "linalg/single_precision_factor.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "linalg/sparse_forward_solve.hpp"
 
 namespace contact3d {
 namespace {
@@ -21,10 +22,10 @@ class CholmodDualProblem final : public DualProblem {
     if (in.B.rows() == 0) m = DualMethod::BlockSolve;  // nothing to form: a plain factor of K
     if (m == DualMethod::Auto) m = DualMethod::Augmented;
     method = m == DualMethod::Augmented ? "augmented" : m == DualMethod::ContactLast ? "contactlast" : "blocksolve";
-    factor_ = m == DualMethod::ContactLast ? std::make_unique<SparseCholesky>(in.K, contact_dofs(in.B), in.on_analysis)
+    factor_ = m == DualMethod::ContactLast ? std::make_shared<SparseCholesky>(in.K, contact_dofs(in.B), in.on_analysis)
               : m == DualMethod::Augmented
-                  ? std::make_unique<SparseCholesky>(in.K, in.B, 0.0, in.on_analysis)
-                  : std::make_unique<SparseCholesky>(in.K, FillOrdering::QuotientNestedDissection, in.on_analysis);
+                  ? std::make_shared<SparseCholesky>(in.K, in.B, 0.0, in.on_analysis)
+                  : std::make_shared<SparseCholesky>(in.K, FillOrdering::QuotientNestedDissection, in.on_analysis);
     factor_nonzeros = factor_->factor_nonzeros();
     clock.lap("factorization");
 
@@ -59,6 +60,10 @@ class CholmodDualProblem final : public DualProblem {
     return u_free_ - factor_->solve(Eigen::VectorXd(B_.transpose() * lambda));
   }
 
+  std::shared_ptr<const SparseCholesky> factor_to_share() const override {
+    return factor_ && factor_->augmented() ? factor_ : nullptr;
+  }
+
   void release_factor() override {
     Q_in_factor_ = nullptr;
     trace_.reset();  // it points into the factor
@@ -68,7 +73,7 @@ class CholmodDualProblem final : public DualProblem {
  private:
   const Eigen::SparseMatrix<double>& B_;
   std::vector<int> face_dofs_;
-  std::unique_ptr<SparseCholesky> factor_;
+  std::shared_ptr<SparseCholesky> factor_;
   std::optional<DisplacementTrace> trace_;
   Eigen::VectorXd u_free_;  // K⁻¹f
 };
@@ -164,7 +169,67 @@ class MatrixFreeDualProblem final : public DualProblem {
   Eigen::SparseMatrix<double> forward_solved_;     // W = L⁻¹P𝔹ᵀ (Q = WᵀW), or empty: products by solves
 };
 
+// The dual problem of another 𝔹 on a factor of K already made (make_dual_problem_on_factor).
+class SharedFactorDualProblem final : public DualProblem {
+ public:
+  SharedFactorDualProblem(std::shared_ptr<const SparseCholesky> factor, const DualProblemInput& in, StageClock& clock)
+      : factor_(std::move(factor)) {
+    method = "augmented";
+    factor_nonzeros = factor_->factor_nonzeros();
+    clock.lap("factorization");
+    W_ = forward_solve_by_supernodes(*factor_, Eigen::SparseMatrix<double>(in.B.transpose()));
+    Q_ = W_.gram();
+    trace_.emplace(*factor_, in.f, in.face_dofs, W_);
+    step_solve_fraction = trace_->work_fraction();
+    u_free_ = trace_->everywhere(Eigen::VectorXd::Zero(in.B.rows()));
+    h_ = in.B * u_free_;
+    if (in.offset.size() == h_.size()) h_ += in.offset;
+    clock.lap("dual");
+  }
+
+  Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const override {
+    if (!trace_) throw std::logic_error("DualProblem: the factor was released");
+    return trace_->at(lambda);
+  }
+  Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const override {
+    if (!trace_) throw std::logic_error("DualProblem: the factor was released");
+    if (lambda.size() == 0) return u_free_;
+    return trace_->everywhere(lambda);
+  }
+  void release_factor() override {
+    trace_.reset();
+    factor_.reset();
+  }
+
+ private:
+  std::shared_ptr<const SparseCholesky> factor_;
+  ForwardSolvedBlocks W_;  // L₁₁⁻¹P𝔹ᵀ by supernodes (before trace_, which reads it)
+  std::optional<DisplacementTrace> trace_;
+  Eigen::VectorXd u_free_;  // K⁻¹f
+};
+
 }  // namespace
+
+AugmentedFactorParts augmented_factor_parts(const SparseCholesky& factor) {
+  AugmentedFactorParts parts;
+  const SparseCholesky::Supernodes L = factor.supernodes();
+  const std::int64_t n = factor.size();
+  for (std::int64_t s = 0; s < L.count && L.super[s] < n; ++s) {
+    const std::int64_t columns = std::min(L.super[s + 1], n) - L.super[s];
+    const std::int64_t* rows = L.rows + L.pi[s];
+    const std::int64_t count = L.pi[s + 1] - L.pi[s];
+    // K's rows first (its own columns, then the rows below ascending), the multipliers' last.
+    const std::int64_t leading_rows = std::lower_bound(rows + columns, rows + count, n) - rows;
+    parts.leading += double(columns) * double(leading_rows);
+    parts.coupling += double(columns) * double(count - leading_rows);
+  }
+  return parts;
+}
+
+std::unique_ptr<DualProblem> make_dual_problem_on_factor(std::shared_ptr<const SparseCholesky> factor,
+                                                         const DualProblemInput& input, StageClock& clock) {
+  return std::make_unique<SharedFactorDualProblem>(std::move(factor), input, clock);
+}
 
 std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input,
                                                        StageClock& clock) {

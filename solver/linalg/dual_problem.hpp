@@ -119,6 +119,9 @@ class DualProblem {
   virtual Eigen::VectorXd face_displacement(const Eigen::VectorXd& lambda) const = 0;
   // w = K⁻¹(f − 𝔹ᵀλ) at every free dof.
   virtual Eigen::VectorXd displacement(const Eigen::VectorXd& lambda) const = 0;
+  // The factor of K this problem holds, to be shared with a dual problem for another 𝔹
+  // (make_dual_problem_on_factor): the augmented CHOLMOD factor; null for every other route.
+  virtual std::shared_ptr<const SparseCholesky> factor_to_share() const { return nullptr; }
   // Frees the factorization (benchmarks time a reference factorization afterwards), and with it Q
   // where it lies in the factor (Q() is then empty): only after the dual solve's last use of Q. h stays.
   virtual void release_factor() = 0;
@@ -139,5 +142,20 @@ class DualProblem {
 // "dual" (forming Q and h; matrix-free: h and Q's diagonal).
 std::unique_ptr<DualProblem> make_cholmod_dual_problem(DualMethod method, const DualProblemInput& input,
                                                        StageClock& clock);
+
+// The dual problem for another 𝔹 on a factor of K already made (factor_to_share(): the same K, e.g.
+// contact.cell_size = "auto" solving again with smaller cells), without factoring again:
+// W = L₁₁⁻¹P𝔹ᵀ by sparse forward solves, Q = WᵀW by supernodes, each step's face displacement by
+// DisplacementTrace through W. Laps `clock` at "factorization" (nothing done) and "dual".
+std::unique_ptr<DualProblem> make_dual_problem_on_factor(std::shared_ptr<const SparseCholesky> factor,
+                                                         const DualProblemInput& input, StageClock& clock);
+
+// The entries of an augmented factor by part: K's (L₁₁, its supernodes' columns × rows) and the
+// multipliers' rows beside them (L₂₁) — what forward solves of another 𝔹 of as many rows would store.
+// `coupling` is 0 for a factor of K alone.
+struct AugmentedFactorParts {
+  double leading = 0, coupling = 0;
+};
+AugmentedFactorParts augmented_factor_parts(const SparseCholesky& factor);
 
 }  // namespace contact3d

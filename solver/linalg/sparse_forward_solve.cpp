@@ -1,6 +1,7 @@
 #include "linalg/sparse_forward_solve.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -10,20 +11,30 @@
 namespace contact3d {
 namespace {
 
-// The elimination tree of the supernodes: owner of every pivot position, parent of every supernode
-// (the owner of its first row below the diagonal block; -1 for a root).
+// The elimination tree of the supernodes with leading columns — K's, not the multipliers' that an
+// augmented factor orders last (pivot positions from `lead` on): owner of every leading pivot position,
+// parent of every supernode (the owner of its first leading row below the diagonal block; -1 for a
+// root of K's factor), and of each supernode its leading columns and leading rows below them.
 struct SupernodeTree {
-  std::vector<std::int64_t> position;  // row of K -> pivot position
-  std::vector<std::int64_t> owner;     // pivot position -> supernode
+  std::int64_t lead;                   // K's size: pivot positions [0, lead) are K's
+  std::vector<std::int64_t> position;  // row of the factored matrix -> pivot position
+  std::vector<std::int64_t> owner;     // leading pivot position -> supernode
   std::vector<std::int64_t> parent;
+  std::vector<int> columns, below;  // per supernode: leading columns, leading rows below them
 
-  explicit SupernodeTree(const SparseCholesky::Supernodes& L) : position(L.n), owner(L.n), parent(L.count, -1) {
+  SupernodeTree(const SparseCholesky::Supernodes& L, std::int64_t lead_size)
+      : lead(lead_size), position(L.n), owner(lead_size), parent(L.count, -1), columns(L.count, 0), below(L.count, 0) {
     for (std::int64_t k = 0; k < L.n; ++k) position[L.perm[k]] = k;
-    for (std::int64_t s = 0; s < L.count; ++s)
-      for (std::int64_t j = L.super[s]; j < L.super[s + 1]; ++j) owner[j] = s;
-    for (std::int64_t s = 0; s < L.count; ++s) {
+    for (std::int64_t s = 0; s < L.count && L.super[s] < lead; ++s) {
+      columns[s] = static_cast<int>(std::min(L.super[s + 1], lead) - L.super[s]);
+      for (std::int64_t j = L.super[s]; j < L.super[s] + columns[s]; ++j) owner[j] = s;
+    }
+    for (std::int64_t s = 0; s < L.count && L.super[s] < lead; ++s) {
       const std::int64_t ncols = L.super[s + 1] - L.super[s], nrows = L.pi[s + 1] - L.pi[s];
-      if (nrows > ncols) parent[s] = owner[L.rows[L.pi[s] + ncols]];
+      // Rows below the diagonal block ascend, the multipliers' (trailing) last.
+      const std::int64_t* rows = L.rows + L.pi[s] + ncols;
+      below[s] = static_cast<int>(std::lower_bound(rows, rows + (nrows - ncols), lead) - rows);
+      if (below[s] > 0) parent[s] = owner[rows[0]];
     }
   }
 };
@@ -35,10 +46,10 @@ class ReachBlock {
   explicit ReachBlock(std::int64_t supernodes) : offset_(supernodes, -1) {}
 
   // Adds the supernodes from `s` up to the root that are not in the block yet.
-  void add_path(const SparseCholesky::Supernodes& L, const SupernodeTree& tree, std::int64_t s) {
+  void add_path(const SupernodeTree& tree, std::int64_t s) {
     for (; s >= 0 && offset_[s] < 0; s = tree.parent[s]) {
       offset_[s] = rows_;
-      rows_ += L.super[s + 1] - L.super[s];
+      rows_ += tree.columns[s];
       supernodes_.push_back(s);
     }
   }
@@ -67,15 +78,16 @@ void substitute(const SparseCholesky::Supernodes& L, const SupernodeTree& tree, 
   const int R = static_cast<int>(block.rows());
   const double one = 1, zero = 0;
   for (std::int64_t s : reach) {
-    const int nc = static_cast<int>(L.super[s + 1] - L.super[s]);
-    const int nrows = static_cast<int>(L.pi[s + 1] - L.pi[s]), nb = nrows - nc;
+    const int nc = tree.columns[s], nb = tree.below[s];  // K's part of the supernode
+    const int all_columns = static_cast<int>(L.super[s + 1] - L.super[s]);
+    const int nrows = static_cast<int>(L.pi[s + 1] - L.pi[s]);
     const double* values = L.values + L.px[s];
     double* Xs = X.data() + block.offset(s);
     dtrsm_("L", "L", "N", "N", &nc, &cols, &one, values, &nrows, Xs, &R);
     if (nb == 0) continue;
     below.resize(static_cast<std::size_t>(nb) * cols);
-    dgemm_("N", "N", &nb, &cols, &nc, &one, values + nc, &nrows, Xs, &R, &zero, below.data(), &nb);
-    const std::int64_t* rows = L.rows + L.pi[s] + nc;
+    dgemm_("N", "N", &nb, &cols, &nc, &one, values + all_columns, &nrows, Xs, &R, &zero, below.data(), &nb);
+    const std::int64_t* rows = L.rows + L.pi[s] + all_columns;
     for (int p = 0; p < nb; ++p) {
       const std::int64_t t = tree.owner[rows[p]];
       const std::int64_t local = block.offset(t) + rows[p] - L.super[t];
@@ -91,10 +103,9 @@ void forward_solve_sparse_columns(
     const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs, int max_block_columns,
     std::int64_t block_bytes,
     const std::function<void(int column, std::span<const std::int64_t> rows, std::span<const double> values)>& visit) {
-  if (factor.augmented()) throw std::logic_error("forward_solve_sparse_columns: not for the augmented factor");
   if (rhs.rows() != factor.size()) throw std::invalid_argument("forward_solve_sparse_columns: sizes differ");
   const SparseCholesky::Supernodes L = factor.supernodes();
-  const SupernodeTree tree(L);
+  const SupernodeTree tree(L, factor.size());
   const int m = static_cast<int>(rhs.cols());
 
   // Each column enters the tree at its lowest supernode; sorted by it, neighbours share their paths.
@@ -114,7 +125,7 @@ void forward_solve_sparse_columns(
     while (start + cols < m && cols < std::max(1, max_block_columns)) {
       const int j = order[start + cols];
       for (Eigen::SparseMatrix<double>::InnerIterator it(rhs, j); it; ++it)
-        block.add_path(L, tree, tree.owner[tree.position[it.row()]]);
+        block.add_path(tree, tree.owner[tree.position[it.row()]]);
       ++cols;
       if (block.rows() * cols * static_cast<std::int64_t>(sizeof(double)) >= block_bytes) break;
     }
@@ -131,7 +142,7 @@ void forward_solve_sparse_columns(
       rows.clear();
       values.clear();
       for (std::int64_t s : reach)
-        for (std::int64_t k = 0; k < L.super[s + 1] - L.super[s]; ++k) {
+        for (std::int64_t k = 0; k < tree.columns[s]; ++k) {
           const double v = X[block.offset(s) + k + c * R];
           if (v != 0) {
             rows.push_back(L.super[s] + k);
@@ -142,6 +153,139 @@ void forward_solve_sparse_columns(
     }
     block.clear();
     start += cols;
+  }
+}
+
+namespace {
+
+// Ascending a ∪ b.
+std::vector<int> merged(const std::vector<int>& a, const std::vector<int>& b) {
+  std::vector<int> out;
+  out.reserve(a.size() + b.size());
+  std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+  return out;
+}
+
+// Where each of `sub` (ascending, a subset of `set`) lies in `set` (ascending).
+void positions_in(const std::vector<int>& sub, const std::vector<int>& set, std::vector<int>& out) {
+  out.resize(sub.size());
+  auto from = set.begin();
+  for (std::size_t k = 0; k < sub.size(); ++k) {
+    from = std::lower_bound(from, set.end(), sub[k]);
+    out[k] = static_cast<int>(from - set.begin());
+  }
+}
+
+}  // namespace
+
+ForwardSolvedBlocks forward_solve_by_supernodes(const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs) {
+  if (rhs.rows() != factor.size()) throw std::invalid_argument("forward_solve_by_supernodes: sizes differ");
+  const SparseCholesky::Supernodes L = factor.supernodes();
+  const SupernodeTree tree(L, factor.size());
+  ForwardSolvedBlocks out;
+  out.rows = factor.size();
+  out.columns = static_cast<int>(rhs.cols());
+  out.first_row.assign(L.super, L.super + L.count);
+  out.reaching.assign(static_cast<std::size_t>(L.count), {});
+  out.block.assign(static_cast<std::size_t>(L.count), {});
+
+  // The columns reaching each supernode: its own entries', then its children's (children come first).
+  for (int j = 0; j < out.columns; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(rhs, j); it; ++it)
+      out.reaching[static_cast<std::size_t>(tree.owner[tree.position[it.row()]])].push_back(j);
+  for (std::int64_t s = 0; s < L.count && L.super[s] < out.rows; ++s) {
+    std::vector<int>& mine = out.reaching[static_cast<std::size_t>(s)];
+    std::sort(mine.begin(), mine.end());
+    mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+    if (const std::int64_t p = tree.parent[s]; p >= 0 && !mine.empty())
+      out.reaching[static_cast<std::size_t>(p)] = merged(out.reaching[static_cast<std::size_t>(p)], mine);
+  }
+  for (std::int64_t s = 0; s < L.count && L.super[s] < out.rows; ++s)
+    out.block[static_cast<std::size_t>(s)].assign(
+        static_cast<std::size_t>(tree.columns[s]) * out.reaching[static_cast<std::size_t>(s)].size(), 0.0);
+  for (int j = 0; j < out.columns; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(rhs, j); it; ++it) {
+      const std::int64_t p = tree.position[it.row()], s = tree.owner[p];
+      const std::vector<int>& cols = out.reaching[static_cast<std::size_t>(s)];
+      const auto c = std::lower_bound(cols.begin(), cols.end(), j) - cols.begin();
+      out.block[static_cast<std::size_t>(s)]
+               [static_cast<std::size_t>(p - L.super[s]) + static_cast<std::size_t>(c) * tree.columns[s]] += it.value();
+    }
+
+  // Bottom up: solve the supernode's block, then subtract its update from its ancestors' blocks.
+  std::vector<double> update;
+  std::vector<int> where;
+  const double one = 1, zero = 0;
+  for (std::int64_t s = 0; s < L.count && L.super[s] < out.rows; ++s) {
+    const std::vector<int>& cols = out.reaching[static_cast<std::size_t>(s)];
+    if (cols.empty()) continue;
+    const int nc = tree.columns[s], nb = tree.below[s], c = static_cast<int>(cols.size());
+    const int all_columns = static_cast<int>(L.super[s + 1] - L.super[s]);
+    const int nrows = static_cast<int>(L.pi[s + 1] - L.pi[s]);
+    const double* values = L.values + L.px[s];
+    double* X = out.block[static_cast<std::size_t>(s)].data();
+    dtrsm_("L", "L", "N", "N", &nc, &c, &one, values, &nrows, X, &nc);
+    if (nb == 0) continue;
+    update.resize(static_cast<std::size_t>(nb) * c);
+    dgemm_("N", "N", &nb, &c, &nc, &one, values + all_columns, &nrows, X, &nc, &zero, update.data(), &nb);
+    const std::int64_t* rows = L.rows + L.pi[s] + all_columns;
+    for (int first = 0; first < nb;) {  // the rows below, ascending: grouped by the ancestor that holds them
+      const std::int64_t t = tree.owner[rows[first]];
+      int last = first;
+      while (last < nb && tree.owner[rows[last]] == t) ++last;
+      const std::vector<int>& above = out.reaching[static_cast<std::size_t>(t)];
+      positions_in(cols, above, where);
+      double* Y = out.block[static_cast<std::size_t>(t)].data();
+      const std::size_t ld = static_cast<std::size_t>(tree.columns[t]);
+      for (int k = 0; k < c; ++k) {
+        double* to = Y + static_cast<std::size_t>(where[static_cast<std::size_t>(k)]) * ld;
+        const double* from = update.data() + static_cast<std::size_t>(k) * nb;
+        for (int r = first; r < last; ++r) to[rows[r] - L.super[t]] -= from[r];
+      }
+      first = last;
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixXd ForwardSolvedBlocks::gram() const {
+  const int m = columns;
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(m, m);
+  std::vector<double> G;
+  const double one = 1, zero = 0;
+  for (std::size_t s = 0; s < reaching.size(); ++s) {
+    const std::vector<int>& cols = reaching[s];
+    if (cols.empty()) continue;
+    const int c = static_cast<int>(cols.size()), k = static_cast<int>(block[s].size() / cols.size());
+    if (c == m) {  // every column reaches s (the top of the tree): straight into Q
+      dsyrk_("L", "T", &c, &k, &one, block[s].data(), &k, &one, Q.data(), &m);
+      continue;
+    }
+    G.resize(static_cast<std::size_t>(c) * c);
+    dsyrk_("L", "T", &c, &k, &one, block[s].data(), &k, &zero, G.data(), &c);
+    for (int j = 0; j < c; ++j) {
+      double* to = Q.data() + static_cast<std::size_t>(cols[static_cast<std::size_t>(j)]) * m;
+      const double* from = G.data() + static_cast<std::size_t>(j) * c;
+      for (int i = j; i < c; ++i) to[cols[static_cast<std::size_t>(i)]] += from[i];
+    }
+  }
+  return Q.selfadjointView<Eigen::Lower>();
+}
+
+void ForwardSolvedBlocks::subtract_product(const Eigen::VectorXd& lambda, Eigen::VectorXd& x) const {
+  if (lambda.size() != columns || x.size() < rows)
+    throw std::invalid_argument("ForwardSolvedBlocks::subtract_product: sizes differ");
+  std::vector<double> gathered;
+  const int one = 1;
+  const double minus_one = -1, plus_one = 1;
+  for (std::size_t s = 0; s < reaching.size(); ++s) {
+    const std::vector<int>& cols = reaching[s];
+    if (cols.empty()) continue;
+    const int c = static_cast<int>(cols.size()), k = static_cast<int>(block[s].size() / cols.size());
+    gathered.resize(cols.size());
+    for (std::size_t j = 0; j < cols.size(); ++j) gathered[j] = lambda[cols[j]];
+    dgemv_("N", &k, &c, &minus_one, block[s].data(), &k, gathered.data(), &one, &plus_one, x.data() + first_row[s],
+           &one);
   }
 }
 

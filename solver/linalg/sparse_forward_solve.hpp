@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include <Eigen/Sparse>
 
@@ -21,11 +22,33 @@ namespace contact3d {
 // Calls visit(j, rows, values) once for every column j of `rhs` (n × m, n = K's size) with the
 // nonzero entries of L⁻¹P rhs_j: their pivot positions (rows of L) and values, in no fixed order
 // (entries of the reach that come out exactly zero may be among them). Blocks hold at most
-// `max_block_columns` columns and a workspace of about `block_bytes`. `factor` must be the factor of
-// K alone (not augmented).
+// `max_block_columns` columns and a workspace of about `block_bytes`. `factor` is a factor of K, or
+// the augmented factor SparseCholesky(K, 𝔹), whose leading block is one: only that block is read
+// (L₁₁⁻¹P rhs, for another 𝔹 than the one factored with K).
 void forward_solve_sparse_columns(
     const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs, int max_block_columns,
     std::int64_t block_bytes,
     const std::function<void(int column, std::span<const std::int64_t> rows, std::span<const double> values)>& visit);
+
+// L₁₁⁻¹P rhs for all columns at once, supernode by supernode as a multifrontal solve: supernode s
+// holds a dense block of its rows by exactly the columns whose reach includes it (those with an entry
+// in its subtree), solved by one dtrsm and passed up to its ancestors by one dgemm — the work an
+// augmented factorization does for the rows of 𝔹, where the blocks of neighbouring columns above do
+// it over the union of their reaches. Same `factor` as above.
+struct ForwardSolvedBlocks {
+  std::int64_t rows = 0;  // K's size
+  int columns = 0;        // rhs's
+  // Per supernode (empty where no column reaches it): the columns that reach it, ascending, and its
+  // leading rows (pivot positions first_row[s] ...) of L₁₁⁻¹P rhs by those columns, column-major.
+  std::vector<std::int64_t> first_row;
+  std::vector<std::vector<int>> reaching;
+  std::vector<std::vector<double>> block;
+
+  // (L₁₁⁻¹P rhs)ᵀ(L₁₁⁻¹P rhs), dense with both triangles: one dsyrk per supernode.
+  Eigen::MatrixXd gram() const;
+  // x −= (L₁₁⁻¹P rhs) λ, x in pivot order (K's rows first): one dgemv per supernode.
+  void subtract_product(const Eigen::VectorXd& lambda, Eigen::VectorXd& x) const;
+};
+ForwardSolvedBlocks forward_solve_by_supernodes(const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs);
 
 }  // namespace contact3d

@@ -892,9 +892,37 @@ MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Pa
   return q;
 }
 
-// The stages of one solve in the foundation plane's frame (the README's data flow).
+// contact.cell_size = "auto": the first solve's factor of K, kept for a second solve with cells of
+// 1.5h (the same K, another 𝔹), which forms its Q from it where forward solves cost less than
+// factoring again (forward_solves_pay, model/dual_route.hpp).
+struct KeptFactor {
+  std::shared_ptr<const SparseCholesky> factor;
+};
+
+// The dual problem: on the kept factor where that pays, else by the route's own factorization (whose
+// factor is then kept, where there is a KeptFactor to keep it in).
+std::unique_ptr<DualProblem> dual_problem(DualMethod method, const DualProblemInput& input, const Scene& scene,
+                                          KeptFactor* kept, StageClock& clock, Progress& report, SolveResult& res) {
+  const int rows = static_cast<int>(input.B.rows());
+  if (kept && kept->factor && method == DualMethod::Augmented &&
+      forward_solves_pay(augmented_factor_parts(*kept->factor), kept->factor->trailing_size(), rows,
+                         static_cast<double>(available_memory_bytes()))) {
+    report.stage("factorization: none, the first solve's factor of K is reused (Q by forward solves of 𝔹 through it)");
+    res.factor_reused = true;
+    return make_dual_problem_on_factor(kept->factor, input, clock);
+  }
+  report.stage("factorization (" +
+               std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
+               name_of(method, kDualMethodNames) + ")");
+  std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, scene.solver, clock);
+  if (kept && !scene.solver.reference_factorization) kept->factor = dual->factor_to_share();
+  return dual;
+}
+
+// The stages of one solve in the foundation plane's frame (the README's data flow). `kept`: where the
+// factor of K is kept for a second solve with other cells (contact.cell_size = "auto"), or null.
 SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress& report,
-                         RunningStage& stage) {
+                         RunningStage& stage, KeptFactor* kept = nullptr) {
   SolveResult res;
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
@@ -920,9 +948,6 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                                                  count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
   if (disc.held.count()) require_free_parts_on_contact_face(disc.held, face_dofs.dofs);
-  report.stage("factorization (" +
-               std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
-               name_of(method, kDualMethodNames) + ")");
   StiffnessSource source{mesh, res.dofs, disc.materials};
   if (!disc.springs_in_K)
     for (std::size_t p = 0; p < disc.held.pins.size(); ++p)
@@ -932,7 +957,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                          op.offset,        factor_size_check(report, &stage),
                          disc.release_K(), K_on_ranks ? &source : nullptr};
   if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
-  std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, scene.solver, clock);
+  std::unique_ptr<DualProblem> dual = dual_problem(method, input, scene, kept, clock, report, res);
   const double done_s = stage_seconds(res, "factorization") + stage_seconds(res, "dual");
   if (matrix_free)
     report.stage("  done in " + number(done_s, 3) + " s (factor, h and Q's diagonal); Q: " + count(op.rows()) + " x " +
@@ -1023,7 +1048,7 @@ void add_stage_seconds(std::vector<std::pair<std::string, double>>& into,
 }
 
 SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step,
-                                      Progress& report, SolveResult first) {
+                                      Progress& report, SolveResult first, KeptFactor& first_factor) {
   PartitionRefinement refinement;
   refinement.tried = true;
   refinement.first_cell_size = first.cell_size;
@@ -1038,17 +1063,20 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   std::optional<SolveResult> second;
   try {
     RunningStage stage;
-    second = solve_stages(finer, mesh, on_step, report, stage);
+    second = solve_stages(finer, mesh, on_step, report, stage, &first_factor);
   } catch (const InputError& e) {  // e.g. the finer partition violates (5.1)
     refinement.outcome = was + "; " + finer_cells + " were refused (" + e.what() + "): the answer is the 2h one";
   } catch (const std::bad_alloc&) {
     refinement.outcome = was + "; " + finer_cells + " did not fit in memory: the answer is the 2h one";
   }
+  first_factor.factor.reset();
   if (second) {
+    refinement.reused_factor = second->factor_reused;
     // A converged answer is never traded for one that did not converge.
     refinement.kept_finer =
         second->penetration_ratio < first.penetration_ratio && (second->converged || !first.converged);
     refinement.outcome = was + "; with " + finer_cells + " (" + cell_sizes(*second) +
+                         (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") +
                          "): " + share_of_displacement(second->penetration_ratio) + " it" +
                          (refinement.kept_finer ? ", the answer given"
                           : second->penetration_ratio < first.penetration_ratio
@@ -1067,7 +1095,8 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
 // rescues a zone about two cells of 2h across (a soft ball resting on two cells,
 // tests/held_by_contact_cells.py); refused there too, the refusal names both cell sizes.
 SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step,
-                                 Progress& report, const std::string& refusal, double refused_seconds) {
+                                 Progress& report, const std::string& refusal, double refused_seconds,
+                                 KeptFactor& first_factor) {
   const std::string finer_cells = "cells of " + number(kRefinedCellSize, 2) + "h";
   report.stage("cells of 2h refused: " + refusal + "; solving again with " + finer_cells +
                " (contact.cell_size = \"auto\")");
@@ -1075,7 +1104,7 @@ SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const Pro
   SolveResult res;
   try {
     RunningStage stage;
-    res = solve_stages(finer, mesh, on_step, report, stage);
+    res = solve_stages(finer, mesh, on_step, report, stage, &first_factor);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) + " (with " + finer_cells +
                      "; contact.cell_size = \"auto\" tried them after cells of 2h were refused too)");
@@ -1086,6 +1115,7 @@ SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const Pro
   refinement.first_penetration_ratio = std::numeric_limits<double>::quiet_NaN();
   refinement.first_seconds = refused_seconds;
   refinement.kept_finer = true;
+  refinement.reused_factor = res.factor_reused;
   refinement.outcome = "cells of 2h were refused (" + refusal + "); with " + finer_cells + " (" + cell_sizes(res) +
                        "): the answer given";
   res.notes.push_back("contact.cell_size = \"auto\": " + refinement.outcome);
@@ -1109,15 +1139,16 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     reserve_blas_buffers();  // under ulimit -v: before anything large, so that the memory checks see them
     const auto start = std::chrono::steady_clock::now();
     SolveResult res;
+    KeptFactor kept;  // the factor of K, for a second solve with cells of 1.5h
     try {
-      res = solve_stages(scene, mesh, on_step, report, stage);
+      res = solve_stages(scene, mesh, on_step, report, stage, scene.cell_size_auto ? &kept : nullptr);
     } catch (const ContactZoneTooCoarse& e) {
       if (!scene.cell_size_auto) throw;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      return refine_refused_cells(scene, mesh, on_step, report, e.what(), seconds);
+      return refine_refused_cells(scene, mesh, on_step, report, e.what(), seconds, kept);
     }
     if (scene.cell_size_auto && unresolved(res))
-      return refine_unresolved_contact(scene, mesh, on_step, report, std::move(res));
+      return refine_unresolved_contact(scene, mesh, on_step, report, std::move(res), kept);
     return res;
   } catch (const std::bad_alloc&) {
     const bool dual_sized = stage.name == "contact" || stage.name == "stability check" || stage.name == "dual solve";

@@ -43,6 +43,7 @@ struct PartitionRefinement {
   double first_penetration_ratio = 0;  // its SolveResult::penetration_ratio
   double first_seconds = 0;            // its stages, also added into SolveResult::seconds
   bool kept_finer = false;             // the answer is the 1.5h solve's
+  bool reused_factor = false;          // the 1.5h solve formed its Q from the first solve's factor of K
   std::string outcome;                 // what happened, for the notes and summary.json
 };
 
@@ -88,7 +89,8 @@ struct SolveResult {
   // wn_plus_inf / the body's largest nodal displacement less its best-fitting rigid motion along the
   // motions the contact alone holds (all of it where nothing is held; 0 without contact)
   double penetration_ratio = 0;
-  double largest_strain = 0;  // the largest principal strain of u in absolute value, over the tetrahedra
+  bool factor_reused = false;  // Q formed from an earlier solve's factor of K (no factorization of its own)
+  double largest_strain = 0;   // the largest principal strain of u in absolute value, over the tetrahedra
   PartitionRefinement refinement;
   double stability_condition = 0;            // estimate of cond(Q) from its Cholesky pivots
   double stability_condition_scaled = 0;     // cond of the Jacobi-scaled Q where cond(Q) > 1e10 (else 0)

@@ -28,4 +28,10 @@ double single_factor_budget(double available_bytes) {
   return available_bytes > 0 ? kSingleFactorShare * available_bytes : std::numeric_limits<double>::infinity();
 }
 
+bool forward_solves_pay(const AugmentedFactorParts& first_factor, int first_rows, int rows, double available_bytes) {
+  if (first_rows <= 0 || first_factor.coupling <= 0) return false;  // no measure of a cell's reach
+  const double entries = first_factor.coupling * rows / first_rows;
+  return entries < 0.5 * first_factor.leading && (available_bytes <= 0 || 8 * entries < 0.5 * available_bytes);
+}
+
 }  // namespace contact3d

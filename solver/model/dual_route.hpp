@@ -44,4 +44,13 @@ bool lumped_operators_fit(double bytes, double available_bytes);
 inline constexpr double kSingleFactorShare = 0.25;
 double single_factor_budget(double available_bytes);
 
+// contact.cell_size = "auto" solving again with cells of 1.5h keeps K, and so its factor: the second
+// solve's Q can come from the first solve's augmented factor by forward solves of its 𝔹
+// (make_dual_problem_on_factor) instead of a new factorization. Those store W = L₁₁⁻¹P𝔹ᵀ, about
+// coupling · m₂/m₁ entries (a cell's reach up the elimination tree is much the same at either size),
+// in dense blocks per supernode: taken where W is under half of K's factor (a compact body, whose
+// cells reach little of it; on a thin slab W is most of the factor, and factoring again is cheaper)
+// and fits in half the memory available (0: unknown, no limit).
+bool forward_solves_pay(const AugmentedFactorParts& first_factor, int first_rows, int rows, double available_bytes);
+
 }  // namespace contact3d

@@ -217,6 +217,56 @@ TEST(FastPaths, DisplacementTraceMatchesFullSolves) {
   }
 }
 
+// contact.cell_size = "auto" solving again with cells of 1.5h on the factor of the 2h solve: Q, h and
+// the per-step displacement of the 1.5h cells through the 2h augmented factor (forward solves of the
+// new 𝔹 over its leading block) equal a fresh augmented factorization's and full solves.
+TEST(FastPaths, AnotherPartitionOnTheAugmentedFactor) {
+  for (int n : {4, 6}) {
+    const Scene scene = parse_scene_text(kBrick, ".", {});
+    const Mesh mesh = make_paper_brick(BrickSize{n});
+    const DofMap dofs = make_dof_map(mesh, scene.clamped);
+    const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, dofs, scene.material);
+    const Eigen::VectorXd f = assemble_load(mesh, dofs, scene.tractions, scene.body_force);
+    const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
+    const ContactOperator first =
+        make_contact_operator(face, make_grid_partition(mesh, face, {2 * face.h}), dofs, true);
+    const ContactOperator second =
+        make_contact_operator(face, make_grid_partition(mesh, face, {1.5 * face.h}), dofs, true);
+    ASSERT_GT(second.B.rows(), first.B.rows());
+    const std::vector<int> face_dofs = contact_dofs(second.B);
+
+    std::vector<std::pair<std::string, double>> seconds;
+    StageClock clock(seconds, false);
+    auto factored = make_cholmod_dual_problem(DualMethod::Augmented, {K, first.B, f, face_dofs}, clock);
+    const std::shared_ptr<const SparseCholesky> factor = factored->factor_to_share();
+    ASSERT_TRUE(factor);
+    const AugmentedFactorParts parts = augmented_factor_parts(*factor);
+    EXPECT_GT(parts.leading, 0.0);
+    EXPECT_GT(parts.coupling, 0.0);
+    const auto fresh = make_cholmod_dual_problem(DualMethod::Augmented, {K, second.B, f, face_dofs}, clock);
+    const auto reused = make_dual_problem_on_factor(factor, {K, second.B, f, face_dofs}, clock);
+    // The same L₁₁ up to the entries CHOLMOD's supernode amalgamation adds beside the other multipliers.
+    EXPECT_NEAR(augmented_factor_parts(*fresh->factor_to_share()).leading, parts.leading, 0.05 * parts.leading);
+
+    const Eigen::MatrixXd Q_fresh = fresh->Q(), Q_reused = reused->Q();
+    ASSERT_EQ(Q_reused.rows(), second.B.rows());
+    EXPECT_LT((Q_reused - Q_fresh).norm(), 1e-10 * Q_fresh.norm()) << "n = " << n;
+    EXPECT_LT((Q_reused - Q_reused.transpose()).norm(), 1e-14 * Q_fresh.norm());
+    EXPECT_LT((reused->h() - fresh->h()).norm(), 1e-10 * fresh->h().norm());
+    const SparseCholesky plain(K);
+    std::mt19937 gen(11 + n);
+    std::normal_distribution<double> normal;
+    Eigen::VectorXd lambda(second.B.rows());
+    for (auto& v : lambda) v = 1e6 * normal(gen);
+    const Eigen::VectorXd w = plain.solve(Eigen::VectorXd(f - second.B.transpose() * lambda));
+    const Eigen::VectorXd at = reused->face_displacement(lambda), all = reused->displacement(lambda);
+    for (std::size_t k = 0; k < face_dofs.size(); ++k)
+      EXPECT_NEAR(at[static_cast<Eigen::Index>(k)], w[face_dofs[k]], 1e-10 * w.cwiseAbs().maxCoeff());
+    EXPECT_LT((all - w).norm(), 1e-10 * w.norm());
+    EXPECT_LT(reused->step_solve_fraction, 1.0);
+  }
+}
+
 TEST(FastPaths, SsnMatchesMpgpOnRandomQps) {
   int newton_only = 0;
   for (unsigned seed = 1; seed <= 30; ++seed) {

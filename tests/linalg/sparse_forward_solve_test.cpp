@@ -69,16 +69,63 @@ TEST(SparseForwardSolve, AColumnGetsOnlyItsReach) {
   EXPECT_LT(entries, static_cast<std::size_t>(nx * ny * nz) / 4);
 }
 
-TEST(SparseForwardSolve, RefusesAnAugmentedFactorAndWrongSizes) {
+// An augmented factor [K 𝔹ᵀ; 𝔹 0] (multipliers last) is read over its leading block, a factor of K:
+// the same L⁻¹P B as K's own factor gives (both order K's dofs by the same nested dissection).
+TEST(SparseForwardSolve, ReadsTheLeadingBlockOfAnAugmentedFactor) {
+  const int nx = 10, ny = 9, nz = 4, m = 30;
+  const Eigen::SparseMatrix<double> K = grid_laplacian(nx, ny, nz);
+  const SparseCholesky plain(K);
+  const Eigen::SparseMatrix<double> first = face_columns(nx, ny, nz, 12);
+  const SparseCholesky augmented(K, Eigen::SparseMatrix<double>(first.transpose()));
+  const Eigen::SparseMatrix<double> B = face_columns(nx, ny, nz, m);
+  const Eigen::MatrixXd dense = plain.forward_solve(Eigen::MatrixXd(B));
+  Eigen::MatrixXd sparse = Eigen::MatrixXd::Zero(dense.rows(), m);
+  forward_solve_sparse_columns(augmented, B, 8, 1LL << 30,
+                               [&](int j, std::span<const std::int64_t> rows, std::span<const double> values) {
+                                 for (std::size_t k = 0; k < rows.size(); ++k) {
+                                   ASSERT_LT(rows[k], K.rows());  // never a multiplier's row
+                                   sparse(rows[k], j) += values[k];
+                                 }
+                               });
+  // Column norms are order-free: ‖L⁻¹P b‖² = bᵀK⁻¹b whatever the pivot order.
+  for (int j = 0; j < m; ++j)
+    EXPECT_NEAR(sparse.col(j).squaredNorm(), dense.col(j).squaredNorm(), 1e-12 * dense.col(j).squaredNorm() + 1e-300);
+  EXPECT_LT((sparse.transpose() * sparse - dense.transpose() * dense).norm(),
+            1e-12 * (dense.transpose() * dense).norm());
+}
+
+// All columns at once, supernode by supernode, on a factor of K and on the leading block of an
+// augmented one: WᵀW = 𝔹K⁻¹𝔹ᵀ (𝔹ᵀ = rhs) and W λ against the dense forward solve, the empty column
+// included.
+TEST(SparseForwardSolve, BySupernodesGivesTheGramAndProductsOfTheDenseSolve) {
+  const int nx = 11, ny = 9, nz = 4, m = 40;
+  const Eigen::SparseMatrix<double> K = grid_laplacian(nx, ny, nz);
+  const Eigen::SparseMatrix<double> B = face_columns(nx, ny, nz, m);
+  const SparseCholesky plain(K);
+  const Eigen::MatrixXd dense = plain.forward_solve(Eigen::MatrixXd(B));
+  const Eigen::MatrixXd gram = dense.transpose() * dense;
+  const SparseCholesky augmented(K, Eigen::SparseMatrix<double>(face_columns(nx, ny, nz, 12).transpose()));
+  for (const SparseCholesky* factor : {&plain, &augmented}) {
+    const ForwardSolvedBlocks W = forward_solve_by_supernodes(*factor, B);
+    EXPECT_EQ(W.rows, K.rows());
+    EXPECT_EQ(W.columns, m);
+    const Eigen::MatrixXd Q = W.gram();
+    EXPECT_LT((Q - gram).norm(), 1e-12 * gram.norm());
+    EXPECT_EQ(Q.row(m / 2).norm(), 0.0);
+    // W λ, then its norm against the dense one (pivot orders may differ: compare ‖Wλ‖² = λᵀQλ).
+    Eigen::VectorXd lambda = Eigen::VectorXd::LinSpaced(m, -1.0, 2.0);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(factor->factored_size());
+    W.subtract_product(lambda, x);
+    EXPECT_NEAR(x.squaredNorm(), (dense * lambda).squaredNorm(), 1e-12 * (dense * lambda).squaredNorm());
+    EXPECT_EQ(x.tail(factor->factored_size() - K.rows()).norm(), 0.0);  // never a multiplier's row
+    EXPECT_THROW(W.subtract_product(Eigen::VectorXd::Zero(m + 1), x), std::invalid_argument);
+  }
+}
+
+TEST(SparseForwardSolve, RefusesWrongSizes) {
   const Eigen::SparseMatrix<double> K = grid_laplacian(4, 4, 2);
   const SparseCholesky factor(K);
   const Eigen::SparseMatrix<double> wrong(K.rows() + 1, 2);
   EXPECT_THROW(forward_solve_sparse_columns(factor, wrong, 4, 1 << 20, [](int, auto, auto) {}), std::invalid_argument);
-  Eigen::SparseMatrix<double> B(2, K.cols());
-  B.insert(0, 0) = 1;
-  B.insert(1, 5) = 1;
-  const SparseCholesky augmented(K, B);
-  EXPECT_THROW(forward_solve_sparse_columns(augmented, Eigen::SparseMatrix<double>(K.rows(), 1), 4, 1 << 20,
-                                            [](int, auto, auto) {}),
-               std::logic_error);
+  EXPECT_THROW(forward_solve_by_supernodes(factor, wrong), std::invalid_argument);
 }

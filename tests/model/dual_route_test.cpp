@@ -31,3 +31,16 @@ TEST(DualRoute, TheTwoLevelPreconditionerOnlyWhereItsArraysFit) {
   EXPECT_FALSE(coarse_space_fits(30000, 192, 4 * 184.32e6 - 1e3));
   EXPECT_FALSE(coarse_space_fits(30000, 192, 500e6));
 }
+
+// A second solve with other cells forms its Q from the first solve's factor where the forward solves'
+// W (the first factor's coupling, scaled by the rows) stays under half of K's factor and fits in memory.
+TEST(DualRoute, ForwardSolvesOnTheFirstFactorWhereTheyStoreLittle) {
+  const AugmentedFactorParts compact{1e8, 2e7};  // a block: its cells reach a fifth of the factor
+  EXPECT_TRUE(forward_solves_pay(compact, 1000, 1780, 0.0));
+  EXPECT_TRUE(forward_solves_pay(compact, 1000, 1780, 16e9));
+  EXPECT_FALSE(forward_solves_pay(compact, 1000, 1780, 0.5e9));  // 8 B × 3.6e7 > half of 0.5 GB
+  const AugmentedFactorParts slab{1e8, 8e7};                     // a thin slab: W is most of the factor
+  EXPECT_FALSE(forward_solves_pay(slab, 1000, 1780, 0.0));
+  EXPECT_FALSE(forward_solves_pay(AugmentedFactorParts{1e8, 0.0}, 1000, 1780, 0.0));  // a factor of K alone
+  EXPECT_FALSE(forward_solves_pay(compact, 0, 1780, 0.0));
+}
