@@ -911,6 +911,7 @@ std::unique_ptr<DualProblem> dual_problem(DualMethod method, const DualProblemIn
     res.factor_reused = true;
     return make_dual_problem_on_factor(kept->factor, input, clock);
   }
+  if (kept) kept->factor.reset();  // not reused: freed before K is factored again
   report.stage("factorization (" +
                std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
                name_of(method, kDualMethodNames) + ")");
