@@ -1,7 +1,6 @@
 #include "linalg/sparse_forward_solve.hpp"
 
 #include <algorithm>
-#include <iterator>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -16,14 +15,13 @@ namespace {
 // parent of every supernode (the owner of its first leading row below the diagonal block; -1 for a
 // root of K's factor), and of each supernode its leading columns and leading rows below them.
 struct SupernodeTree {
-  std::int64_t lead;                   // K's size: pivot positions [0, lead) are K's
   std::vector<std::int64_t> position;  // row of the factored matrix -> pivot position
   std::vector<std::int64_t> owner;     // leading pivot position -> supernode
   std::vector<std::int64_t> parent;
   std::vector<int> columns, below;  // per supernode: leading columns, leading rows below them
 
-  SupernodeTree(const SparseCholesky::Supernodes& L, std::int64_t lead_size)
-      : lead(lead_size), position(L.n), owner(lead_size), parent(L.count, -1), columns(L.count, 0), below(L.count, 0) {
+  SupernodeTree(const SparseCholesky::Supernodes& L, std::int64_t lead)
+      : position(L.n), owner(lead), parent(L.count, -1), columns(L.count, 0), below(L.count, 0) {
     for (std::int64_t k = 0; k < L.n; ++k) position[L.perm[k]] = k;
     for (std::int64_t s = 0; s < L.count && L.super[s] < lead; ++s) {
       columns[s] = static_cast<int>(std::min(L.super[s + 1], lead) - L.super[s]);
@@ -158,14 +156,6 @@ void forward_solve_sparse_columns(
 
 namespace {
 
-// Ascending a ∪ b.
-std::vector<int> merged(const std::vector<int>& a, const std::vector<int>& b) {
-  std::vector<int> out;
-  out.reserve(a.size() + b.size());
-  std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
-  return out;
-}
-
 // Where each of `sub` (ascending, a subset of `set`) lies in `set` (ascending).
 void positions_in(const std::vector<int>& sub, const std::vector<int>& set, std::vector<int>& out) {
   out.resize(sub.size());
@@ -189,7 +179,8 @@ ForwardSolvedBlocks forward_solve_by_supernodes(const SparseCholesky& factor, co
   out.reaching.assign(static_cast<std::size_t>(L.count), {});
   out.block.assign(static_cast<std::size_t>(L.count), {});
 
-  // The columns reaching each supernode: its own entries', then its children's (children come first).
+  // The columns reaching each supernode: its own entries' and its children's (children come first,
+  // and hand theirs up before the parent sorts its list).
   for (int j = 0; j < out.columns; ++j)
     for (Eigen::SparseMatrix<double>::InnerIterator it(rhs, j); it; ++it)
       out.reaching[static_cast<std::size_t>(tree.owner[tree.position[it.row()]])].push_back(j);
@@ -197,8 +188,9 @@ ForwardSolvedBlocks forward_solve_by_supernodes(const SparseCholesky& factor, co
     std::vector<int>& mine = out.reaching[static_cast<std::size_t>(s)];
     std::sort(mine.begin(), mine.end());
     mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
-    if (const std::int64_t p = tree.parent[s]; p >= 0 && !mine.empty())
-      out.reaching[static_cast<std::size_t>(p)] = merged(out.reaching[static_cast<std::size_t>(p)], mine);
+    if (const std::int64_t p = tree.parent[s]; p >= 0)
+      out.reaching[static_cast<std::size_t>(p)].insert(out.reaching[static_cast<std::size_t>(p)].end(), mine.begin(),
+                                                       mine.end());
   }
   for (std::int64_t s = 0; s < L.count && L.super[s] < out.rows; ++s)
     out.block[static_cast<std::size_t>(s)].assign(

@@ -79,16 +79,25 @@ Eigen::Matrix3d TetStress::tensor(std::size_t tet) const {
   return s;
 }
 
+namespace {
+
+// The strain of tetrahedron e under u (Voigt order, engineering shears; constant on a P1 tet).
+Eigen::Matrix<double, 6, 1> tet_strain(const Mesh& mesh, const Eigen::VectorXd& u, std::size_t e) {
+  const auto& t = mesh.tets[e];
+  const TetCoords x{mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]};
+  Eigen::Matrix<double, 12, 1> ue;
+  for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u.segment<3>(3 * t[a]);
+  return strain_matrix(x) * ue;
+}
+
+}  // namespace
+
 TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Eigen::VectorXd& u) {
   TetStress out;
   out.voigt.resize(mesh.tets.size());
   out.von_mises.resize(mesh.tets.size());
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    const auto& t = mesh.tets[e];
-    const TetCoords x{mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]};
-    Eigen::Matrix<double, 12, 1> ue;
-    for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u.segment<3>(3 * t[a]);
-    const Eigen::Matrix<double, 6, 1> s = hooke_matrix(materials[e]) * (strain_matrix(x) * ue);
+    const Eigen::Matrix<double, 6, 1> s = hooke_matrix(materials[e]) * tet_strain(mesh, u, e);
     out.voigt[e] = s;
     out.von_mises[e] = std::sqrt(
         0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) + (s[2] - s[0]) * (s[2] - s[0])) +
@@ -100,11 +109,7 @@ TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Ei
 StrainPeak largest_strain(const Mesh& mesh, const Eigen::VectorXd& u) {
   StrainPeak peak;
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    const auto& t = mesh.tets[e];
-    const TetCoords x{mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]};
-    Eigen::Matrix<double, 12, 1> ue;
-    for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u.segment<3>(3 * t[a]);
-    const Eigen::Matrix<double, 6, 1> v = strain_matrix(x) * ue;  // Voigt, engineering shears
+    const Eigen::Matrix<double, 6, 1> v = tet_strain(mesh, u, e);
     Eigen::Matrix3d strain;
     strain << v[0], v[5] / 2, v[4] / 2, v[5] / 2, v[1], v[3] / 2, v[4] / 2, v[3] / 2, v[2];
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal;
