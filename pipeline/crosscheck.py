@@ -117,6 +117,12 @@ def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
             out.append(table[g])
         return out
 
+    def matrix_rows(entry, kind):  # a gradient, row by row (9 numbers; zero when absent)
+        rows = entry.get("gradient", [[0.0] * 3] * 3)
+        if len(rows) != 3 or any(len(r) != 3 for r in rows):
+            raise SideFailed(f"{scene_path}: the {kind} gradient on {entry['group']!r} must be 3 rows of 3 numbers")
+        return [float(x) for r in rows for x in r]
+
     def refuse(what):
         raise SideFailed(f"{scene_path}: {what} is not stated by the FreeFEM reference: nothing to cross-check")
 
@@ -141,22 +147,23 @@ def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
     for d in bnd.get("displacement", []):
         (tag,) = tags([d["group"]], "[[boundary.displacement]]")
         mask = [1 if c in d else 0 for c in ("x", "y", "z")]
-        disp.append((tag, mask, [float(d.get(c, 0.0)) for c in ("x", "y", "z")]))
+        disp.append((tag, mask, [float(d.get(c, 0.0)) for c in ("x", "y", "z")], matrix_rows(d, "displacement")))
     if not clamped and not disp:
         raise SideFailed(f"{scene_path}: the FreeFEM reference needs a clamped boundary or prescribed displacements")
     trac = []
     for t in bnd.get("traction", []):
         (tag,) = tags([t["group"]], "[[boundary.traction]]")
-        if "gradient" in t:
-            refuse(f"a traction gradient (group {t['group']!r})")
-        val = [float(x) for x in t["value"]]
+        val = [float(x) for x in t.get("value", [0.0, 0.0, 0.0])]
         if len(val) != 3:
             raise SideFailed(f"{scene_path}: traction on {t['group']!r} must have 3 components")
-        trac.append((tag, val))
+        trac.append((tag, val, matrix_rows(t, "traction")))
     pressure = []
     for p in bnd.get("pressure", []):
         (tag,) = tags([p["group"]], "[[boundary.pressure]]")
-        pressure.append((tag, float(p["value"])))
+        grad = [float(x) for x in p.get("gradient", [0.0, 0.0, 0.0])]
+        if len(grad) != 3:
+            raise SideFailed(f"{scene_path}: the pressure gradient on {p['group']!r} must have 3 components")
+        pressure.append((tag, float(p.get("value", 0.0)), grad))
     return {"young": young, "poisson": poisson, "regions": regions, "body_force": body, "clamped": clamped,
             "displacement": disp, "contact": contact, "traction": trac, "pressure": pressure}
 
@@ -197,7 +204,12 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     mesh = read_mesh(msh)
     prob = problem_data(scene, scene_path, mesh)
     for feature in args.perturb_freefem_drop or []:  # negative tests: FreeFEM solves without it
-        prob[feature] = []
+        if feature == "gradients":  # the loads' and displacements' gradients zeroed, their values kept
+            prob["traction"] = [(t, val, [0.0] * 9) for t, val, _ in prob["traction"]]
+            prob["pressure"] = [(t, v, [0.0] * 3) for t, v, _ in prob["pressure"]]
+            prob["displacement"] = [(t, mask, val, [0.0] * 9) for t, mask, val, _ in prob["displacement"]]
+        else:
+            prob[feature] = []
     case = {"scene": name, "n": params.get("n"), "variant": variant,
             "mesh_label": mesh_label(n if n is not None else params.get("n")), "friction": label, "slip_bound_s": s,
             "ff_law": ff_law,
@@ -442,10 +454,11 @@ def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) ->
 
     # (1) reverse every load: the body is pulled off the plane (checked: no node in contact)
     lifted = dict(prob)
-    lifted["traction"] = [(t, [-v for v in val]) for t, val in prob["traction"]]
+    lifted["traction"] = [(t, [-v for v in val], [-g for g in grad]) for t, val, grad in prob["traction"]]
     lifted["body_force"] = [-v for v in prob["body_force"]]
-    lifted["pressure"] = [(t, -v) for t, v in prob["pressure"]]
-    lifted["displacement"] = [(t, mask, [-v for v in val]) for t, mask, val in prob["displacement"]]
+    lifted["pressure"] = [(t, -v, [-g for g in grad]) for t, v, grad in prob["pressure"]]
+    lifted["displacement"] = [(t, mask, [-v for v in val], [-g for g in grad])
+                              for t, mask, val, grad in prob["displacement"]]
     run_freefem(args.freefem, freefem_driver(lifted, msh, 0.0, work / "lift.csv", work / "lift.json", tol=args.ff_tol,
                                              maxit=args.ff_maxit, perturb=1.0, out_field=str(work / "lift_field.csv")),
                 work, "lift", args.timeout)
@@ -569,8 +582,9 @@ def main(argv=None) -> int:
     ap.add_argument("--perturb-freefem-traction", type=float, default=1.0, help=argparse.SUPPRESS)
     # negative tests of the slipdep variant: KEY=VALUE (high, low, t0, param, g) for FreeFEM's law only
     ap.add_argument("--perturb-freefem-law", action="append", default=None, help=argparse.SUPPRESS)
-    # negative tests of the scene's features: FreeFEM solves without the materials' regions or the pressures
-    ap.add_argument("--perturb-freefem-drop", action="append", choices=["regions", "pressure"], default=None,
+    # negative tests of the scene's features: FreeFEM solves without the materials' regions, the pressures or
+    # the gradients of the loads and prescribed displacements
+    ap.add_argument("--perturb-freefem-drop", action="append", choices=["regions", "pressure", "gradients"], default=None,
                     help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
 

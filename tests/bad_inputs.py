@@ -691,6 +691,27 @@ def c_displacement_conflicting_values(c):
     return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["prescribed twice", "clamped"]
 
 
+def c_displacement_gradient_conflicting(c):
+    # u_z = 1e-6 y on the top face, 0 on the clamp: they share the edge x = 0, z = 1 where y > 0
+    text = open(c.scene()).read().replace(
+        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "load_top"\nz = 0.0\n'
+        'gradient = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 1e-6, 0.0]]\n\n[[boundary.traction]]', 1)
+    return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["prescribed twice", "load_top"]
+
+
+def c_displacement_gradient_of_free_component(c):
+    text = open(c.scene()).read().replace(
+        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "load_end"\nx = 0.0\n'
+        'gradient = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [1e-6, 0.0, 0.0]]\n\n[[boundary.traction]]', 1)
+    return ["check", c.write("scene.toml", text)], ["load_end", "gradient row 3", "z is not prescribed"]
+
+
+def c_pressure_without_value(c):
+    text = open(c.scene()).read().replace(
+        "[[boundary.traction]]", '[[boundary.pressure]]\ngroup = "free"\n\n[[boundary.traction]]', 1)
+    return ["check", c.write("scene.toml", text)], ["boundary.pressure", "free", "value (Pa) and/or a gradient"]
+
+
 def c_displacement_no_component(c):
     text = open(c.scene()).read().replace(
         "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "free"\n\n[[boundary.traction]]', 1)

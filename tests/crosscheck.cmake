@@ -192,3 +192,24 @@ set_tests_properties(crosscheck_brick_n4_coulomb_constant_detects_coefficient_pe
   LABELS crosscheck
   PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: paper_brick n=4 coulomb_constant: relative L2\\(Gc\\) difference of u .* exceeds tolerance"
   FAIL_REGULAR_EXPRESSION "error:")
+
+# Conditions that vary in space (pipeline/scenes/twisted_puck.toml: the top face lowered and turned by a
+# prescribed u(x) = value + gradient·x, a pressure rising with depth on half the mantle, a shear traction
+# growing with height on the other half), Coulomb F = 0.3, against FreeFEM evaluating the same fields at
+# its own nodes and quadrature points. Measured at h = 0.05: rel L2(Γc) of u 0.014, normal force 1.1e-4,
+# tangential 4.2e-3. FreeFEM with every gradient dropped (the values kept): 2.8 in u and 41% in the
+# tangential force, which must fail.
+add_test(NAME crosscheck_twisted_puck_coulomb
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d>
+          --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/twisted_puck.toml
+          --variant coulomb --tolerance 0.03 --force-tolerance 0.02
+          --workdir ${CONTACT3D_CC_WORK}/twisted_puck --report ${CONTACT3D_CC_WORK}/twisted_puck.md)
+set_tests_properties(crosscheck_twisted_puck_coulomb PROPERTIES TIMEOUT 120 LABELS crosscheck)
+add_test(NAME crosscheck_twisted_puck_detects_dropped_gradients
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d>
+          --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/twisted_puck.toml
+          --variant coulomb --tolerance 0.03 --force-tolerance 0.02 --perturb-freefem-drop gradients
+          --workdir ${CONTACT3D_CC_WORK}/twisted_puck-perturbed --report ${CONTACT3D_CC_WORK}/twisted_puck-perturbed.md)
+set_tests_properties(crosscheck_twisted_puck_detects_dropped_gradients PROPERTIES TIMEOUT 120 LABELS crosscheck
+  PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: twisted_puck scene coulomb: relative L2\\(Gc\\) difference of u .* exceeds tolerance"
+  FAIL_REGULAR_EXPRESSION "error:")

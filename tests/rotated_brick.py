@@ -9,7 +9,12 @@ the MSH 2.2 text; the scene's traction vectors are turned by Q. Checks, node by 
 u_turned = Q u, and wn, wt_norm, pressure equal; the contact force (normal, t1, t2) equal; the
 resultant contact force turned by Q. Exit 0 when all hold to 1e-6 relative, 1 when not, 2 on failure.
 
-Usage: rotated_brick.py BIN SOURCE_DIR [n]
+With `affine`, the loads and the clamp vary in space: the clamp is a prescribed displacement
+u(x) = v + Gx (a small tilt, boundary.displacement's gradient), the end's traction gets a gradient and
+the free side a pressure rising with height (boundary.pressure's gradient). Turned, such a field
+f(x) = v + Gx reads f'(x') = Q(v − GQᵀc) + QGQᵀx' at x' = Qx + c (a pressure: p₀ − (Qg)·c + (Qg)·x').
+
+Usage: rotated_brick.py BIN SOURCE_DIR [n] [affine]
 """
 import csv
 import math
@@ -25,6 +30,7 @@ from c3d.run import solve, summary  # noqa: E402
 
 binary, source = sys.argv[1], Path(sys.argv[2])
 n = int(sys.argv[3]) if len(sys.argv) > 3 else 4
+affine = len(sys.argv) > 4 and sys.argv[4] == "affine"
 axis = np.array([1.0, 1.0, 0.0]) / math.sqrt(2.0)
 angle = 0.6
 K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
@@ -50,12 +56,60 @@ def turn_msh2(text):
     return "\n".join(lines) + "\n"
 
 
-def turned_scene(text):
-    for old in ("value = [1e7, 0.0, 2e7]", "value = [0.0, 0.0, -3e7]"):
+def vec(v):
+    return "[" + ", ".join(f"{x:.17g}" for x in v) + "]"
+
+
+def mat(m):
+    return "[" + ", ".join(vec(r) for r in m) + "]"
+
+
+# The affine conditions, flat: a clamp tilted by 1e-6 rad about y and lowered along the end's height,
+# a traction on the end growing along z, a pressure on the free side growing with height.
+TILT = (np.zeros(3), np.array([[0.0, 0.0, 1e-6], [0.0, 0.0, 0.0], [0.0, -2e-6, 0.0]]))
+END_TRACTION = (np.array([1e7, 0.0, 2e7]), np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 4e6], [0.0, 0.0, -1e7]]))
+SIDE_PRESSURE = (1e6, np.array([0.0, 0.0, 3e6]))
+
+
+def affine_blocks(turn):
+    """The scene's affine conditions, in the flat frame or turned by (Q, shift)."""
+    def field(v, G):
+        return (Q @ (v - G @ Q.T @ shift), Q @ G @ Q.T) if turn else (v, G)
+    (dv, dG), (tv, tG) = field(*TILT), field(*END_TRACTION)
+    p0, g = SIDE_PRESSURE
+    if turn:
+        p0, g = p0 - (Q @ g) @ shift, Q @ g
+    return (f"[[boundary.displacement]]\ngroup = \"clamped\"\nx = {dv[0]:.17g}\ny = {dv[1]:.17g}\nz = {dv[2]:.17g}\n"
+            f"gradient = {mat(dG)}\n\n"
+            f"[[boundary.traction]]\ngroup = \"load_end\"\nvalue = {vec(tv)}\ngradient = {mat(tG)}\n\n"
+            f"[[boundary.pressure]]\ngroup = \"free\"\nvalue = {p0:.17g}\ngradient = {vec(g)}\n\n")
+
+
+def affine_scene(text, turn):
+    """The paper's scene with its clamp and end traction replaced by the affine conditions."""
+    for old in ('clamped = ["clamped"]', "[[boundary.traction]]            # Γp¹, Pa\ngroup = \"load_end\"\n"
+                                          "value = [1e7, 0.0, 2e7]\n"):
         if old not in text:
             fail(f"paper_brick.toml no longer has '{old}'", 2)
-        v = Q @ np.array([float(s) for s in old.split("[")[1].rstrip("]").split(",")])
-        text = text.replace(old, f"value = [{v[0]:.17g}, {v[1]:.17g}, {v[2]:.17g}]")
+    text = text.replace('clamped = ["clamped"]', "clamped = []")
+    text = text.replace("[[boundary.traction]]            # Γp¹, Pa\ngroup = \"load_end\"\nvalue = [1e7, 0.0, 2e7]\n", "")
+    return text.replace("[friction]\n", affine_blocks(turn) + "[friction]\n", 1)
+
+
+def turned_scene(text):
+    if affine:
+        return turned_plane(turned_vector(text, "value = [0.0, 0.0, -3e7]"))
+    return turned_plane(turned_vector(turned_vector(text, "value = [1e7, 0.0, 2e7]"), "value = [0.0, 0.0, -3e7]"))
+
+
+def turned_vector(text, old):
+    if old not in text:
+        fail(f"paper_brick.toml no longer has '{old}'", 2)
+    v = Q @ np.array([float(s) for s in old.split("[")[1].rstrip("]").split(",")])
+    return text.replace(old, f"value = [{v[0]:.17g}, {v[1]:.17g}, {v[2]:.17g}]")
+
+
+def turned_plane(text):
     normal = Q @ np.array([0.0, 0.0, 1.0])
     plane = (f"plane_point = [{shift[0]:.17g}, {shift[1]:.17g}, {shift[2]:.17g}]\n"
              f"plane_normal = [{normal[0]:.17g}, {normal[1]:.17g}, {normal[2]:.17g}]\n")
@@ -75,8 +129,8 @@ with tempfile.TemporaryDirectory() as tmp:
     turned = tmp / "turned.msh"
     turned.write_text(turn_msh2(flat.read_text()))
     scene_text = (source / "pipeline" / "scenes" / "paper_brick.toml").read_text()
-    (tmp / "flat.toml").write_text(scene_text)
-    (tmp / "turned.toml").write_text(turned_scene(scene_text))
+    (tmp / "flat.toml").write_text(affine_scene(scene_text, False) if affine else scene_text)
+    (tmp / "turned.toml").write_text(turned_scene(affine_scene(scene_text, True) if affine else scene_text))
     for name, msh in (("flat", flat), ("turned", turned)):
         proc, _ = solve(binary, tmp / f"{name}.toml", tmp / name, tight, mesh=msh)
         if proc.returncode != 0:

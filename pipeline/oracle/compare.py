@@ -57,7 +57,7 @@ def surface_l2_sq(coords: np.ndarray, tris: np.ndarray, field: np.ndarray) -> fl
 def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_tol: float) -> dict:
     contact_tris = mesh["tris"][np.isin(mesh["tri_tags"], prob["contact"])]
     # held nodes: clamped, or all three components prescribed (u given on both sides)
-    held_tags = list(prob["clamped"]) + [t for t, mask, _ in prob.get("displacement", []) if all(mask)]
+    held_tags = list(prob["clamped"]) + [t for t, mask, *_ in prob.get("displacement", []) if all(mask)]
     held_nodes = set(np.unique(mesh["tris"][np.isin(mesh["tri_tags"], held_tags)]).tolist())
     gnodes = np.unique(contact_tris)
     local = {int(g): k for k, g in enumerate(gnodes)}

@@ -368,15 +368,17 @@ Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tract
                        "boundary (2-D) groups");
     const std::vector<int> tris = mesh.triangles_of_group(tr.group);
     const std::vector<Eigen::Vector3d> normals =
-        tr.pressure != 0 ? outward_normals(mesh, tr.group, tris) : std::vector<Eigen::Vector3d>();
+        tr.has_pressure() ? outward_normals(mesh, tr.group, tris) : std::vector<Eigen::Vector3d>();
     for (std::size_t k = 0; k < tris.size(); ++k) {
       const auto& tri = mesh.triangles[tris[k]];
       const double area =
           0.5 * (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).norm();
-      const Eigen::Vector3d shift =
-          tr.pressure != 0 ? Eigen::Vector3d(-tr.pressure * normals[k]) : Eigen::Vector3d::Zero();
       std::array<Eigen::Vector3d, 3> t;  // the traction at the corners; ∫ t φ_i = |T|/12 (2 t_i + t_j + t_k)
-      for (int a = 0; a < 3; ++a) t[a] = tr.value + shift + tr.gradient * mesh.nodes[tri[a]];
+      for (int a = 0; a < 3; ++a) {
+        const Eigen::Vector3d& x = mesh.nodes[tri[a]];
+        t[a] = tr.value + tr.gradient * x;
+        if (tr.has_pressure()) t[a] -= (tr.pressure + tr.pressure_gradient.dot(x)) * normals[k];
+      }
       for (int a = 0; a < 3; ++a)
         load.segment<3>(3 * tri[a]) += area / 12.0 * (2 * t[a] + t[(a + 1) % 3] + t[(a + 2) % 3]);
     }

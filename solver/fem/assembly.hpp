@@ -17,13 +17,17 @@
 namespace contact3d {
 
 // A surface load on a boundary group: t(x) = value + gradient·x (Pa; affine in position, e.g. a
-// torsion gradient = τ[[0,-1,0],[1,0,0],[0,0,0]]) plus a normal pressure p (Pa, pushing into the
-// body: adds −p·n with n the body's outward normal, so it follows curved faces).
+// torsion gradient = τ[[0,-1,0],[1,0,0],[0,0,0]]) plus a normal pressure p(x) = pressure +
+// pressure_gradient·x (Pa, pushing into the body, e.g. a hydrostatic ρg·depth: adds −p·n with n the
+// body's outward normal, so it follows curved faces).
 struct Traction {
   std::string group;
   Eigen::Vector3d value = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero();  // Pa/m
-  double pressure = 0;                                 // Pa
+  Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero();           // Pa/m
+  double pressure = 0;                                          // Pa
+  Eigen::Vector3d pressure_gradient = Eigen::Vector3d::Zero();  // Pa/m
+
+  bool has_pressure() const { return pressure != 0 || !pressure_gradient.isZero(); }
 };
 
 struct ElasticSystem {

@@ -44,10 +44,13 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_gr
   map.fixed.assign(map.n_nodes, 0);
   map.prescribed.assign(3 * map.n_nodes, 0.0);
   map.fixed_by.assign(3 * map.n_nodes, -1);
-  auto prescribe = [&](int v, int c, double value) {
+  // Rounding of each value as evaluated (an affine field's terms), so that two conditions giving one
+  // node the same field in different forms agree; a constant is exact.
+  std::vector<double> rounding(3 * map.n_nodes, 0.0);
+  auto prescribe = [&](int v, int c, double value, double value_rounding) {
     const int i = 3 * v + c;
     if (map.fixed_by[i] >= 0) {
-      if (map.prescribed[i] != value)
+      if (std::abs(map.prescribed[i] - value) > std::max(rounding[i], value_rounding))
         throw InputError("u_" + std::string(kAxis[c]) + " at " + where(mesh, v) +
                          " is prescribed twice with different values: " + number(map.prescribed[i]) + " by " +
                          map.conditions[map.fixed_by[i]] + " and " + number(value) + " by " + map.conditions.back());
@@ -55,20 +58,25 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_gr
     }
     map.fixed[v] |= static_cast<unsigned char>(1u << c);
     map.prescribed[i] = value;
+    rounding[i] = value_rounding;
     map.fixed_by[i] = static_cast<int>(map.conditions.size()) - 1;
   };
   for (const auto& name : clamped_groups) {
     map.conditions.push_back("boundary.clamped '" + name + "'");
     for (int t : mesh.triangles_of_group(name))
       for (int v : mesh.triangles[t])
-        for (int c = 0; c < 3; ++c) prescribe(v, c, 0.0);
+        for (int c = 0; c < 3; ++c) prescribe(v, c, 0.0, 0.0);
   }
   for (const auto& d : displacements) {
     map.conditions.push_back("boundary.displacement '" + d.group + "'");
     for (int t : mesh.triangles_of_group(d.group))
       for (int v : mesh.triangles[t])
         for (int c = 0; c < 3; ++c)
-          if (d.value[c]) prescribe(v, c, *d.value[c]);
+          if (d.value[c]) {
+            const Eigen::Vector3d& x = mesh.nodes[v];
+            const double terms = std::abs(*d.value[c]) + d.gradient.row(c).cwiseAbs().dot(x.cwiseAbs());
+            prescribe(v, c, d.at(c, x), d.gradient.row(c).isZero() ? 0.0 : 1e-12 * terms);
+          }
   }
   // Nodes not used by any tet carry no stiffness: treat them as fixed so K stays regular.
   map.used.assign(map.n_nodes, 0);

@@ -15,10 +15,17 @@
 
 namespace contact3d {
 
-// Prescribed components on the nodes of a boundary group's triangles (unset = free).
+// Prescribed components on the nodes of a boundary group's triangles (unset = free): component c
+// at node x is value[c] + gradient.row(c)·x, affine in position (a small rotation θ about z:
+// gradient = θ[[0,-1,0],[1,0,0],[0,0,0]]); rows of components left free are zero.
 struct PrescribedDisplacement {
   std::string group;
-  std::array<std::optional<double>, 3> value;  // m, per component x, y, z
+  std::array<std::optional<double>, 3> value;          // m, per component x, y, z
+  Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero();  // m/m
+
+  double at(int component, const Eigen::Vector3d& x) const {
+    return *value[component] + gradient.row(component).dot(x);
+  }
 };
 
 struct DofMap {
@@ -40,7 +47,8 @@ struct DofMap {
 
 // Clamps every node of the triangles in `clamped_groups` (all three components) and prescribes
 // the given components on the nodes of each displacement group. Free dofs are numbered node by
-// node, ascending. Throws InputError when two conditions give one component different values.
+// node, ascending. Throws InputError when two conditions give one component different values
+// (beyond rounding, 1e-12 of the larger, where an affine field is evaluated at a shared node).
 DofMap make_dof_map(const Mesh& mesh, const std::vector<std::string>& clamped_groups,
                     const std::vector<PrescribedDisplacement>& displacements = {});
 

@@ -10,12 +10,16 @@ namespace {
 
 const char* const kAxis[3] = {"x", "y", "z"};
 
-// A condition on some components in the user's axes, expressed on the plane frame's axes.
-PrescribedDisplacement rotate_condition(const PrescribedDisplacement& given, const Eigen::Matrix3d& R) {
+// A condition on some components in the user's axes, expressed on the plane frame's axes and at
+// the frame's points x' (x = Rᵀx' + p, so u_c(x) = value_c + g_c·x = (value_c + g_c·p) + (R g_c)·x').
+PrescribedDisplacement rotate_condition(const PrescribedDisplacement& given, const FoundationFrame& f) {
+  const Eigen::Matrix3d& R = f.rotation;
   PrescribedDisplacement out{given.group, {}};
   if (given.value[0] && given.value[1] && given.value[2]) {
-    const Eigen::Vector3d v = R * Eigen::Vector3d(*given.value[0], *given.value[1], *given.value[2]);
+    const Eigen::Vector3d v =
+        R * (Eigen::Vector3d(*given.value[0], *given.value[1], *given.value[2]) + given.gradient * f.point);
     for (int k = 0; k < 3; ++k) out.value[k] = v[k];
+    out.gradient = R * given.gradient * R.transpose();
     return out;
   }
   for (int c = 0; c < 3; ++c) {
@@ -27,7 +31,8 @@ PrescribedDisplacement rotate_condition(const PrescribedDisplacement& given, con
       throw InputError("boundary.displacement '" + given.group + "': the condition on " + kAxis[c] +
                        " alone is not along an axis of the tilted foundation's frame; give all three components "
                        "(x, y, z) there, or a foundation plane whose normal is a coordinate axis");
-    out.value[k] = axis[k] * *given.value[c];
+    out.value[k] = axis[k] * (*given.value[c] + given.gradient.row(c).dot(f.point));
+    out.gradient.row(k) = axis[k] * (R * given.gradient.row(c).transpose()).transpose();
   }
   return out;
 }
@@ -45,8 +50,10 @@ PlaneFrameProblem to_plane_frame(const Scene& scene, const Mesh& mesh) {
   for (auto& t : local.scene.tractions) {  // t(x) = v + G x, x = Rᵀx' + p
     t.value = R * (t.value + t.gradient * f.point);
     t.gradient = R * t.gradient * R.transpose();
+    t.pressure += t.pressure_gradient.dot(f.point);  // p(x) = p + g·x, a scalar
+    t.pressure_gradient = R * t.pressure_gradient;
   }
-  for (auto& d : local.scene.displacements) d = rotate_condition(d, R);
+  for (auto& d : local.scene.displacements) d = rotate_condition(d, f);
   return local;
 }
 

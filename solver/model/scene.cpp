@@ -159,13 +159,19 @@ void parse_boundary(const toml::table& bnd, Scene& s) {
   s.contact = get_strings(bnd, "boundary", "contact");
   for (const toml::table* t : get_tables(bnd, "boundary", "displacement")) {
     const std::string where = "boundary.displacement";
-    check_keys(*t, where, {"group", "x", "y", "z"});
+    check_keys(*t, where, {"group", "x", "y", "z", "gradient"});
     PrescribedDisplacement d{get_group(*t, where), {}};
     const char* const axes[3] = {"x", "y", "z"};
     for (int c = 0; c < 3; ++c)
       if (t->contains(axes[c])) d.value[c] = get_number(*t, where, axes[c], 0, true);
     if (!d.value[0] && !d.value[1] && !d.value[2])
       throw InputError(where + " on '" + d.group + "' prescribes no component: give any of x, y, z (m)");
+    if (t->contains("gradient")) d.gradient = get_matrix(t->get("gradient"), where + ".gradient");
+    for (int c = 0; c < 3; ++c)
+      if (!d.value[c] && !d.gradient.row(c).isZero())
+        throw InputError(where + " on '" + d.group + "': gradient row " + std::to_string(c + 1) + " (u_" + axes[c] +
+                         ") is not zero but " + axes[c] + " is not prescribed; give " + axes[c] +
+                         " (its value at the origin, m) or leave that row zero");
     s.displacements.push_back(d);
   }
   if (s.clamped.empty() && s.displacements.empty() && s.contact.empty())
@@ -183,10 +189,13 @@ void parse_boundary(const toml::table& bnd, Scene& s) {
     s.tractions.push_back(tr);
   }
   for (const toml::table* t : get_tables(bnd, "boundary", "pressure")) {
-    check_keys(*t, "boundary.pressure", {"group", "value"});
+    check_keys(*t, "boundary.pressure", {"group", "value", "gradient"});
     Traction tr;
     tr.group = get_group(*t, "boundary.pressure");
-    tr.pressure = get_number(*t, "boundary.pressure", "value", 0, true);
+    if (!t->contains("value") && !t->contains("gradient"))
+      throw InputError("boundary.pressure on '" + tr.group + "' needs a value (Pa) and/or a gradient (Pa/m)");
+    tr.pressure = get_number(*t, "boundary.pressure", "value", 0, false);
+    if (t->contains("gradient")) tr.pressure_gradient = get_vector(t->get("gradient"), "boundary.pressure.gradient");
     s.tractions.push_back(tr);
   }
 }

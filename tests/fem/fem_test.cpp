@@ -173,7 +173,58 @@ TEST(Assembly, PressureAndAffineTractionsIntegrateExactly) {
   EXPECT_THROW(assemble_load(mesh, all, {wrong}, Eigen::Vector3d::Zero()), InputError);
 }
 
+// A pressure that varies in space, p(x) = p₀ + g·x (a hydrostatic load), along the inward normal:
+// its resultant is ∫p dS and its moment ∫x × (−p n) dS, both exact for P1 shape functions.
+TEST(Assembly, AffinePressureIntegratesExactly) {
+  const Mesh mesh = make_paper_brick({2});
+  const DofMap all = dofs_fixing(mesh, {}, [](int) { return Eigen::Vector3d::Zero(); });
+  Traction end;  // x = 3, y ∈ [0,1], z ∈ [0,1]; outward normal +x
+  end.group = "load_end";
+  end.pressure = 4e5;
+  end.pressure_gradient = Eigen::Vector3d(1e3, 2e5, -6e5);  // the x term is the constant 3e3 on the face
+  const Eigen::VectorXd load = assemble_load(mesh, all, {end}, Eigen::Vector3d::Zero());
+  const double mean_p = 4e5 + 3e3 + 2e5 * 0.5 - 6e5 * 0.5;
+  const Eigen::Vector3d f = total_force(load);
+  EXPECT_NEAR(f.x(), -mean_p, 1e-6);
+  EXPECT_NEAR(f.tail<2>().norm(), 0.0, 1e-6);
+  // Moment about the y axis of the force −p along x at height z: ∫ z·(−p) dS, with ∫z = 1/2, ∫z² = 1/3,
+  // ∫yz = 1/4 over the unit square.
+  double my = 0;
+  for (int v = 0; v < all.n_nodes; ++v) my += mesh.nodes[v].z() * load[3 * v];
+  EXPECT_NEAR(my, -((4e5 + 3e3) * 0.5 + 2e5 * 0.25 - 6e5 / 3.0), 1e-6);
+  EXPECT_TRUE(end.has_pressure());
+  end.pressure = 0;  // a gradient alone is a pressure too
+  EXPECT_NEAR(total_force(assemble_load(mesh, all, {end}, Eigen::Vector3d::Zero())).x(), -(mean_p - 4e5), 1e-6);
+}
+
 // Clamped brick under load: the clamp's reaction balances the applied load.
+// A prescribed displacement that varies in space: each node of the group gets value + gradient·x
+// on the given components; two conditions that give a shared node the same field in different forms
+// agree up to rounding, different fields are refused.
+TEST(DofMap, AffinePrescribedDisplacementAtEachNode) {
+  const Mesh mesh = make_paper_brick({2});
+  PrescribedDisplacement tilt{"load_end", {0.0, std::nullopt, 1e-4}};  // x = 3 face
+  tilt.gradient << 0, 0, 2e-5, 0, 0, 0, -1e-5, 3e-5, 0;
+  const DofMap dofs = make_dof_map(mesh, {"clamped"}, {tilt});
+  int checked = 0;
+  for (int t : mesh.triangles_of_group("load_end"))
+    for (int v : mesh.triangles[t]) {
+      const Eigen::Vector3d& x = mesh.nodes[v];
+      EXPECT_DOUBLE_EQ(dofs.prescribed[3 * v], 2e-5 * x.z());
+      EXPECT_DOUBLE_EQ(dofs.prescribed[3 * v + 2], 1e-4 - 1e-5 * x.x() + 3e-5 * x.y());
+      EXPECT_GE(dofs.dof(v, 1), 0);  // y is free
+      ++checked;
+    }
+  EXPECT_GT(checked, 0);
+  // The top face (z = 1) shares the edge x = 3, z = 1 with the end: u_z there is 1e-4 − 3e-5 + 3e-5·y.
+  PrescribedDisplacement same{"load_top", {std::nullopt, std::nullopt, 0.7e-4 + 1e-20}};
+  same.gradient.row(2) = Eigen::RowVector3d(0, 3e-5, 0);
+  PrescribedDisplacement lifted = same;
+  lifted.value[2] = 0.7e-4 + 1e-9;
+  EXPECT_NO_THROW(make_dof_map(mesh, {}, {tilt, same}));
+  EXPECT_THROW(make_dof_map(mesh, {}, {tilt, lifted}), InputError);
+}
+
 TEST(Assembly, ReactionBalancesTheLoad) {
   const Mesh mesh = make_paper_brick({2});
   const DofMap dofs = make_dof_map(mesh, {"clamped"});

@@ -518,6 +518,39 @@ TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) 
   } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("'free'"), std::string::npos) << e.what(); }
 }
 
+// Conditions that vary in space keep their values at every point when the frame turns and moves:
+// the local condition at x' = R(x − p) is R times the user's at x (per component: ± the user's).
+TEST(SolveContactGeometry, AffineConditionsTurnWithTheFrame) {
+  const std::string extra =
+      "\n[[boundary.displacement]]\ngroup = \"free\"\ny = 1e-4\n"
+      "gradient = [[0.0, 0.0, 0.0], [2e-5, -3e-5, 4e-5], [0.0, 0.0, 0.0]]\n"
+      "\n[[boundary.displacement]]\ngroup = \"load_end\"\nx = 1e-5\ny = 0.0\nz = -2e-5\n"
+      "gradient = [[0.0, 1e-6, 2e-6], [3e-6, 0.0, -1e-6], [0.0, 5e-6, 0.0]]\n"
+      "\n[[boundary.pressure]]\ngroup = \"load_top\"\nvalue = 1e5\ngradient = [1e4, -2e4, 3e4]\n";
+  Scene scene = parse_scene_text(std::string(kPaperScene) + extra, ".");
+  scene.foundation = FoundationFrame::from_plane(Eigen::Vector3d(0.3, -0.2, 0.1), Eigen::Vector3d(1, 0, 1));
+  const Mesh mesh = make_paper_brick({4});
+  const PlaneFrameProblem local = to_plane_frame(scene, mesh);
+  const Eigen::Matrix3d& R = scene.foundation.rotation;
+  ASSERT_EQ(local.scene.displacements.size(), 2u);
+  for (int v : {0, 7, 40, 111}) {
+    const Eigen::Vector3d& x = mesh.nodes[v];
+    const Eigen::Vector3d xl = local.mesh.nodes[v];
+    const PrescribedDisplacement& one = scene.displacements[0];  // y alone: along the frame's y axis
+    const PrescribedDisplacement& one_local = local.scene.displacements[0];
+    ASSERT_TRUE(one_local.value[1]);
+    EXPECT_NEAR(one_local.at(1, xl), R(1, 1) * one.at(1, x), 1e-18);
+    const PrescribedDisplacement& all = scene.displacements[1];
+    const Eigen::Vector3d u(all.at(0, x), all.at(1, x), all.at(2, x));
+    const PrescribedDisplacement& all_local = local.scene.displacements[1];
+    const Eigen::Vector3d ul(all_local.at(0, xl), all_local.at(1, xl), all_local.at(2, xl));
+    EXPECT_LT((ul - R * u).norm(), 1e-18);
+    const Traction& p = scene.tractions.back();
+    const Traction& pl = local.scene.tractions.back();
+    EXPECT_NEAR(pl.pressure + pl.pressure_gradient.dot(xl), p.pressure + p.pressure_gradient.dot(x), 1e-9);
+  }
+}
+
 // A body held by contact alone: rollers on x = 0 holding u_x and u_y leave the lift along z free;
 // the contact forces must then carry the whole downward load (no clamp reaction), the KKT residuals
 // include the equilibrium at every dof, and the body moves down as a whole (the roller face too).
