@@ -38,6 +38,11 @@ Optional table in the scene (all keys optional, command-line options win):
   friction_coefficient = 0.3  # F of the tresca and coulomb_constant variants
   contact_tol = 1e-2          # a node is "in contact" when wn > -contact_tol * max|u| on Gc
 
+A foundation plane other than z = 0 ([contact] plane_point, plane_normal): FreeFEM solves the body
+moved into the plane's frame (x' = R(x − p), R the smallest rotation taking the normal to e_z, as
+contact3d builds it) with its loads and prescribed displacements turned alike; contact3d solves the
+scene as given, and its nodes and displacements are moved into that frame before the comparison.
+
 Norms: the L2(Gc) norms are exact integrals of the P1 interpolant over the contact triangles
 of the mesh (nodes of Gc on the clamped boundary carry u = 0 on both sides).
 """
@@ -58,7 +63,7 @@ import numpy as np
 
 import c3d.run
 from oracle.errors import SideFailed, children_cpu, finite_or_fail, log
-from oracle.meshes import make_mesh, read_mesh
+from oracle.meshes import make_mesh, read_mesh, write_moved_mesh
 from oracle.laws import expand_variants, law_F, law_label, perturb_law, scene_law_depends_on_slip, slipdep_law, variant_friction
 from oracle.freefem import ff_checks, freefem_driver, run_freefem, toml_dump
 from oracle.compare import body_difference, compare, read_csv, read_vtu_points_and_displacement
@@ -86,6 +91,68 @@ CROSSCHECK_KEYS = {"tolerance", "force_tolerance", "n", "variants", "friction_co
 
 # ----------------------------------------------------------------------------------------------
 # scene -> problem data
+
+
+def plane_frame(scene: dict, scene_path: Path):
+    """The foundation plane's frame as contact3d builds it (contact/foundation_frame.cpp): R the smallest
+    rotation taking the plane's unit normal to e_z (a half turn about e_x for −e_z) and p the plane's
+    point, so that x' = R(x − p) puts the plane at z' = 0; None for the plane z = 0 itself."""
+    c = scene.get("contact", {})
+    try:
+        p = np.array([float(v) for v in c.get("plane_point", [0.0, 0.0, 0.0])])
+        n = np.array([float(v) for v in c.get("plane_normal", [0.0, 0.0, 1.0])])
+    except (TypeError, ValueError):
+        raise SideFailed(f"{scene_path}: [contact] plane_point / plane_normal must be three numbers") from None
+    if p.shape != (3,) or n.shape != (3,) or not np.all(np.isfinite(np.r_[p, n])) or not np.linalg.norm(n) > 0:
+        raise SideFailed(f"{scene_path}: [contact] plane_point / plane_normal must be three finite numbers, "
+                         "the normal not zero")
+    n = n / np.linalg.norm(n)
+    ez = np.array([0.0, 0.0, 1.0])
+    if np.linalg.norm(n - ez) <= 1e-15:
+        return None if not p.any() else (np.eye(3), p)
+    if n[2] < -1 + 1e-15:
+        return np.diag([1.0, -1.0, -1.0]), p
+    v = np.cross(n, ez)
+    K = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    return np.eye(3) + K + K @ K / (1 + n[2]), p
+
+
+def to_plane_frame(prob: dict, frame, scene_path: Path) -> dict:
+    """The problem's loads and prescribed displacements in the plane's frame, x' = R(x − p): a vector
+    field f(x) = v + Gx becomes R(v + Gp) + RGRᵀx', a pressure p₀ + g·x becomes p₀ + g·p + (Rg)·x'; a
+    condition on some components must stay along axes of the frame (as contact3d requires)."""
+    if frame is None:
+        return prob
+    R, p = frame
+
+    def field(v, g9):
+        G = np.array(g9).reshape(3, 3)
+        return (R @ (np.array(v) + G @ p)).tolist(), (R @ G @ R.T).ravel().tolist()
+
+    out = dict(prob)
+    out["body_force"] = (R @ np.array(prob["body_force"])).tolist()
+    out["traction"] = [(t, *field(v, g)) for t, v, g in prob["traction"]]
+    out["pressure"] = [(t, v + float(np.dot(g, p)), (R @ np.array(g)).tolist()) for t, v, g in prob["pressure"]]
+    disp = []
+    for t, mask, val, g9 in prob["displacement"]:
+        if all(mask):
+            disp.append((t, mask, *field(val, g9)))
+            continue
+        G = np.array(g9).reshape(3, 3)
+        mask2, val2, G2 = [0, 0, 0], [0.0] * 3, np.zeros((3, 3))
+        for c in range(3):
+            if not mask[c]:
+                continue
+            axis = R[:, c]  # e_c in the plane's frame
+            k = int(np.argmax(np.abs(axis)))
+            if abs(axis[k]) < 1 - 1e-12:
+                raise SideFailed(f"{scene_path}: a condition on one component that the tilted plane's frame mixes "
+                                 "with the others (contact3d refuses it too)")
+            mask2[k], val2[k] = 1, axis[k] * (val[c] + G[c] @ p)
+            G2[k] = axis[k] * (R @ G[c])
+        disp.append((t, mask2, val2, G2.ravel().tolist()))
+    out["displacement"] = disp
+    return out
 
 
 def problem_data(scene: dict, scene_path: Path, mesh: dict) -> dict:
@@ -123,12 +190,6 @@ def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
             raise SideFailed(f"{scene_path}: the {kind} gradient on {entry['group']!r} must be 3 rows of 3 numbers")
         return [float(x) for r in rows for x in r]
 
-    def refuse(what):
-        raise SideFailed(f"{scene_path}: {what} is not stated by the FreeFEM reference: nothing to cross-check")
-
-    contact_tbl = scene.get("contact", {})
-    if contact_tbl.get("plane_point", [0, 0, 0]) != [0, 0, 0] or contact_tbl.get("plane_normal", [0, 0, 1]) != [0, 0, 1]:
-        refuse("[contact] plane_point / plane_normal other than z = 0")
     try:
         young = float(mat["young"])
         poisson = float(mat["poisson"])
@@ -203,6 +264,16 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     msh, params = make_mesh(scene, scene_path, n, work, args.gmsh, reuse=args.reuse_freefem)
     mesh = read_mesh(msh)
     prob = problem_data(scene, scene_path, mesh)
+    # A moved foundation plane: FreeFEM solves the body moved into the plane's frame (the plane z = 0),
+    # contact3d the scene as given; its answer is moved into that frame for the comparison.
+    frame = plane_frame(scene, scene_path)
+    ff_msh = msh
+    if frame is not None:
+        R, p = frame
+        ff_msh = work / f"plane-frame-{msh.name}"
+        write_moved_mesh(msh, ff_msh, lambda x: (x - p) @ R.T)
+        mesh = dict(mesh, coords=(mesh["coords"] - p) @ R.T)
+        prob = to_plane_frame(prob, frame, scene_path)
     for feature in args.perturb_freefem_drop or []:  # negative tests: FreeFEM solves without it
         if feature == "gradients":  # the loads' and displacements' gradients zeroed, their values kept
             prob["traction"] = [(t, val, [0.0] * 9) for t, val, _ in prob["traction"]]
@@ -220,7 +291,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     # FreeFEM
     ff_csv, ff_json = work / "freefem_contact_nodes.csv", work / "freefem_summary.json"
     ff_field_csv = work / "freefem_field.csv"
-    drv = freefem_driver(prob, msh, ff_law, ff_csv, ff_json, tol=args.ff_tol, maxit=args.ff_maxit,
+    drv = freefem_driver(prob, ff_msh, ff_law, ff_csv, ff_json, tol=args.ff_tol, maxit=args.ff_maxit,
                          perturb=args.perturb_freefem_traction, fp_tol=args.ff_fp_tol, fp_maxit=args.ff_fp_maxit,
                          out_field=str(ff_field_csv))
     timing = work / "freefem_time.json"
@@ -293,9 +364,19 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     log(f"   contact3d: {summ.get('fixed_point_iterations', '?')} fixed-point steps{err_txt}, n_mult {summ.get('n_mult', '?')}, "
         f"{ours_wall:.2f} s wall, {ours_cpu:.2f} s CPU")
 
+    points, u_body = read_vtu_points_and_displacement(out / "body.vtu")
+    if frame is not None:  # our nodes and displacements into the plane's frame (λ is written in it)
+        R, p = frame
+        xyz = (np.column_stack([ours["x"], ours["y"], ours["z"]]) - p) @ R.T
+        u = np.column_stack([ours["u1"], ours["u2"], ours["u3"]]) @ R.T
+        for k, name in enumerate(("x", "y", "z")):
+            ours[name] = xyz[:, k]
+        for k, name in enumerate(("u1", "u2", "u3")):
+            ours[name] = u[:, k]
+        points, u_body = (points - p) @ R.T, u_body @ R.T
+        case["plane_frame"] = {"rotation": R.tolist(), "point": p.tolist()}
     cmp_ = compare(mesh, prob, ff, ours, cells, float(cfg["contact_tol"]))
     case.update(cmp_)
-    points, u_body = read_vtu_points_and_displacement(out / "body.vtu")
     case.update(body_difference(read_csv(ff_field_csv, ["x", "y", "z", "u1", "u2", "u3"]), points, u_body,
                                 1e-6 * float(np.ptp(points, axis=0).max())))
     case.update({
@@ -446,6 +527,8 @@ def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) ->
     msh, _ = make_mesh(scene, scene_path, n, work, args.gmsh)
     mesh = read_mesh(msh)
     prob = problem_data(scene, scene_path, mesh)
+    if plane_frame(scene, scene_path) is not None:
+        raise SideFailed(f"{scene_path}: the self-test of the FreeFEM reference runs on scenes whose foundation is z = 0")
     problems = []
 
     def load_field(p):

@@ -94,6 +94,31 @@ def read_medit(path: Path):
     return {"names": {}, "volume_names": {}, "coords": coords, "tris": tris, "tri_tags": np.asarray(tri_tags, dtype=np.int64)}
 
 
+def write_moved_mesh(src: Path, dst: Path, move) -> None:
+    """A copy of an ASCII MSH 2.2 or Medit mesh with every vertex x replaced by move(x) (an (n, 3) array
+    to an (n, 3) array); tags, elements and groups unchanged."""
+    lines = Path(src).read_text(errors="replace").splitlines()
+    medit = Path(src).suffix == ".mesh"
+    key = "Vertices" if medit else "$Nodes"
+    try:
+        start = next(k for k, line in enumerate(lines) if line.strip() == key)
+    except StopIteration:
+        raise SideFailed(f"{src}: no {key} block to move") from None
+    count = int(lines[start + 1].split()[0])
+    rows = [lines[start + 2 + k].split() for k in range(count)]
+    if medit:  # x y z label
+        xyz = np.array([[float(v) for v in r[:3]] for r in rows])
+        moved = move(xyz)
+        for k, r in enumerate(rows):
+            lines[start + 2 + k] = f"{moved[k, 0]:.17g} {moved[k, 1]:.17g} {moved[k, 2]:.17g} {r[3]}"
+    else:  # tag x y z
+        xyz = np.array([[float(v) for v in r[1:4]] for r in rows])
+        moved = move(xyz)
+        for k, r in enumerate(rows):
+            lines[start + 2 + k] = f"{r[0]} {moved[k, 0]:.17g} {moved[k, 1]:.17g} {moved[k, 2]:.17g}"
+    Path(dst).write_text("\n".join(lines) + "\n")
+
+
 def read_mesh(path: Path):
     return read_medit(path) if Path(path).suffix == ".mesh" else read_msh22(path)
 
