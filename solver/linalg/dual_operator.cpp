@@ -43,45 +43,16 @@ DualOperator make_dual_operator(const SparseCholesky& K, const Eigen::SparseMatr
   return op;
 }
 
-ForwardSolvedRows forward_solved_rows(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
-                                      double max_nonzeros, int block_columns) {
-  const int m = static_cast<int>(B.rows());
-  ForwardSolvedRows out;
-  out.diagonal = Eigen::VectorXd::Zero(m);
-  // W's columns as they come (in blocks of neighbouring cells, not in order), until W outgrows max_nonzeros.
-  std::vector<std::vector<int>> column_rows(m);
-  std::vector<std::vector<double>> column_values(m);
-  double kept = 0;
-  bool keep = max_nonzeros > 0;
+Eigen::VectorXd forward_solved_diagonal(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                        int block_columns) {
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(B.rows());
   // 16 MiB of workspace per block: this route is taken to save memory.
   forward_solve_sparse_columns(K, B.transpose(), block_columns, 16LL << 20,
-                               [&](int j, std::span<const std::int64_t> rows, std::span<const double> values) {
-                                 out.diagonal[j] =
+                               [&](int j, std::span<const std::int64_t>, std::span<const double> values) {
+                                 diagonal[j] =
                                      Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()).squaredNorm();
-                                 if (!keep) return;
-                                 column_rows[j].assign(rows.begin(), rows.end());
-                                 column_values[j].assign(values.begin(), values.end());
-                                 kept += static_cast<double>(rows.size());
-                                 if (kept > max_nonzeros) {  // too big to pay: the products go through the factor
-                                   keep = false;
-                                   std::vector<std::vector<int>>(m).swap(column_rows);
-                                   std::vector<std::vector<double>>(m).swap(column_values);
-                                 }
                                });
-  if (!keep) return out;
-  out.W.resize(K.size(), m);
-  out.W.reserve(static_cast<Eigen::Index>(kept));
-  for (int j = 0; j < m; ++j) {
-    out.W.startVec(j);
-    std::vector<std::size_t> by_row(column_rows[j].size());
-    std::iota(by_row.begin(), by_row.end(), 0);
-    std::sort(by_row.begin(), by_row.end(),
-              [&](std::size_t a, std::size_t b) { return column_rows[j][a] < column_rows[j][b]; });
-    for (std::size_t k : by_row)
-      out.W.insertBack(static_cast<Eigen::Index>(column_rows[j][k]), j) = column_values[j][k];
-  }
-  out.W.finalize();
-  return out;
+  return diagonal;
 }
 
 std::vector<int> contact_dofs(const Eigen::SparseMatrix<double>& B) {

@@ -47,18 +47,11 @@ DualOperator make_dual_operator_schur(const SparseCholesky& K, const Eigen::Spar
 DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::SparseMatrix<double>& B,
                                           const Eigen::VectorXd& f, const Eigen::VectorXd* u_free = nullptr);
 
-// 𝔹's rows forward-solved, W = L⁻¹P𝔹ᵀ (the factor of K alone, not augmented), in blocks of
-// `block_columns` neighbouring rows over their reach (sparse_forward_solve.hpp): Q = WᵀW, so Q's
-// diagonal is ‖Wᵢ‖² (no m × m array). Column i of W is nonzero only on the supernodes at or above
-// cell i's dofs, so W is sparse: it is kept while
-// it has at most `max_nonzeros` entries (a product Wᵀ(Wv) then reads fewer bytes than a solve with
-// the factor), else left empty.
-struct ForwardSolvedRows {
-  Eigen::VectorXd diagonal;       // Q's
-  Eigen::SparseMatrix<double> W;  // n × m, or empty
-};
-ForwardSolvedRows forward_solved_rows(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
-                                      double max_nonzeros, int block_columns = 256);
+// Q's diagonal ‖Wᵢ‖² from 𝔹's rows forward-solved, W = L⁻¹P𝔹ᵀ (the factor of K alone, not augmented),
+// in blocks of `block_columns` neighbouring rows over their reach (sparse_forward_solve.hpp), each block
+// dropped once its columns' norms are taken: no m × m array and no W kept (16 MiB of workspace).
+Eigen::VectorXd forward_solved_diagonal(const SparseCholesky& K, const Eigen::SparseMatrix<double>& B,
+                                        int block_columns = 256);
 
 // Columns per dense block of right-hand sides of `rows` rows: at most `requested`, fewer on big
 // meshes so that a block stays near `block_bytes` (at least 8 columns).

@@ -91,26 +91,30 @@ class MatrixFreeDualProblem final : public DualProblem {
     u_free_ = factor_->solve(in.f);
     h_ = B_ * u_free_;
     if (in.offset.size() == h_.size()) h_ += in.offset;
-    // W = L⁻¹P𝔹ᵀ is kept for the products where it holds under half the factor's entries (a product
-    // Wᵀ(Wv), 12 bytes per entry read twice by one thread, against a supernodal solve's 8 read twice on
-    // the BLAS threads: 6.5x faster on the paper's brick at n = 16, W 1.5e6 entries against 1.1e7) and
-    // a quarter of the memory available at most; on a thin slab W reaches most of the factor and it is not.
-    const double memory_cap = 0.25 * static_cast<double>(available_memory_bytes()) / 12.0;
-    ForwardSolvedRows rows = forward_solved_rows(
-        *factor_, B_, memory_cap > 0 ? std::min(0.5 * factor_nonzeros, memory_cap) : 0.5 * factor_nonzeros);
-    diagonal_ = std::move(rows.diagonal);
-    forward_solved_ = std::move(rows.W);
+    // W = L⁻¹P𝔹ᵀ is kept for the products where its supernodal blocks hold under half the factor's
+    // entries (a product Wᵀ(Wv), two dgemv per block, reads 8 bytes per entry twice, as a supernodal
+    // solve does for the whole factor) and a quarter of the memory available at most; on a thin slab
+    // W reaches most of the factor and it is not: the diagonal is then streamed in column blocks.
+    const double memory_cap = 0.25 * static_cast<double>(available_memory_bytes()) / 8.0;
+    const double cap = memory_cap > 0 ? std::min(0.5 * factor_nonzeros, memory_cap) : 0.5 * factor_nonzeros;
+    const Eigen::SparseMatrix<double> Bt = B_.transpose();
+    if (static_cast<double>(forward_solved_block_entries(*factor_, Bt)) <= cap) {
+      forward_solved_ = forward_solve_by_supernodes(*factor_, Bt);
+      diagonal_ = forward_solved_->column_squared_norms();
+    } else {
+      diagonal_ = forward_solved_diagonal(*factor_, B_);
+    }
     clock.lap("dual");
   }
 
   Eigen::VectorXd apply_Q(const Eigen::VectorXd& v) const override {
-    if (forward_solved_.size() > 0) return forward_solved_.transpose() * (forward_solved_ * v);
+    if (forward_solved_) return forward_solved_->gram_product(v);
     return B_ * solve(Eigen::VectorXd(B_.transpose() * v));
   }
   Eigen::VectorXd Q_diagonal() const override { return diagonal_; }
-  bool blocks_pay() const override { return forward_solved_.size() == 0; }  // Wᵀ(WV) costs per column what Wᵀ(Wv) does
+  bool blocks_pay() const override { return !forward_solved_; }  // Wᵀ(WV) costs per column what Wᵀ(Wv) does
   Eigen::MatrixXd apply_Q_block(const Eigen::MatrixXd& V) const override {
-    if (forward_solved_.size() > 0) return forward_solved_.transpose() * (forward_solved_ * V);
+    if (forward_solved_) return forward_solved_->gram_product(V);
     return in_blocks(V, [this](const Eigen::MatrixXd& rhs) { return solve(rhs); });
   }
   Eigen::MatrixXd apply_Q_block_single(const Eigen::MatrixXd& V) const override {
@@ -124,7 +128,7 @@ class MatrixFreeDualProblem final : public DualProblem {
   }
   bool prepare_single_products(double memory_bytes) override {
     // Where W is kept its products already read less than a solve does.
-    if (!factor_ || forward_solved_.size() > 0) return false;
+    if (!factor_ || forward_solved_) return false;
     if (SinglePrecisionFactor::bytes_for(*factor_) > memory_bytes) return false;
     single_ = std::make_unique<SinglePrecisionFactor>(*factor_);
     return true;
@@ -163,10 +167,10 @@ class MatrixFreeDualProblem final : public DualProblem {
   const Eigen::SparseMatrix<double>& B_;
   std::vector<int> face_dofs_;
   std::unique_ptr<SparseCholesky> factor_;
-  std::unique_ptr<SinglePrecisionFactor> single_;  // for apply_Q_single, or none
-  Eigen::VectorXd u_free_;                         // K⁻¹f
-  Eigen::VectorXd diagonal_;                       // Q's
-  Eigen::SparseMatrix<double> forward_solved_;     // W = L⁻¹P𝔹ᵀ (Q = WᵀW), or empty: products by solves
+  std::unique_ptr<SinglePrecisionFactor> single_;      // for apply_Q_single, or none
+  Eigen::VectorXd u_free_;                             // K⁻¹f
+  Eigen::VectorXd diagonal_;                           // Q's
+  std::optional<ForwardSolvedBlocks> forward_solved_;  // W = L⁻¹P𝔹ᵀ (Q = WᵀW), or none: products by solves
 };
 
 // The dual problem of another 𝔹 on a factor of K already made (make_dual_problem_on_factor).

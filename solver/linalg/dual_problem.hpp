@@ -46,9 +46,10 @@ struct StiffnessSource {
 //                 of [K 𝔹ᵀ; 𝔹 0] on the multipliers, under MPI, MUMPS called directly with our
 //                 nested dissection as its pivot order. Auto takes it in the MPI build.
 //   MumpsPetsc  — the same through PETSc's MUMPS interface, which orders by MUMPS's own AMD.
-//   MatrixFree  — Q never formed: the factor of K alone; forward solves give Q's diagonal and the
-//                 rows W = L⁻¹P𝔹ᵀ (forward_solved_rows); each product is Wᵀ(Wv) where W is kept,
-//                 else 𝔹K⁻¹(𝔹ᵀv) by one solve. For contact faces whose
+//   MatrixFree  — Q never formed: the factor of K alone; forward solves give the rows W = L⁻¹P𝔹ᵀ,
+//                 kept in supernodal blocks where they are small (forward_solve_by_supernodes), each
+//                 product then Wᵀ(Wv), else only Q's diagonal (forward_solved_diagonal) and each
+//                 product 𝔹K⁻¹(𝔹ᵀv) by one solve. For contact faces whose
 //                 dense Q does not fit in memory (Auto takes it there in the serial build); the QP's
 //                 Newton steps go by CG there (qp/reduced_cg.hpp).
 enum class DualMethod { Auto, Augmented, ContactLast, BlockSolve, Mumps, MumpsPetsc, MatrixFree };

@@ -166,7 +166,37 @@ void positions_in(const std::vector<int>& sub, const std::vector<int>& set, std:
   }
 }
 
+// The columns of `rhs` reaching each supernode of K's rows: its own entries' and its children's
+// (children come first, and hand theirs up before the parent sorts its list).
+std::vector<std::vector<int>> reaching_columns(const SparseCholesky::Supernodes& L, const SupernodeTree& tree,
+                                               std::int64_t rows, const Eigen::SparseMatrix<double>& rhs) {
+  std::vector<std::vector<int>> reaching(static_cast<std::size_t>(L.count));
+  for (int j = 0; j < rhs.cols(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(rhs, j); it; ++it)
+      reaching[static_cast<std::size_t>(tree.owner[tree.position[it.row()]])].push_back(j);
+  for (std::int64_t s = 0; s < L.count && L.super[s] < rows; ++s) {
+    std::vector<int>& mine = reaching[static_cast<std::size_t>(s)];
+    std::sort(mine.begin(), mine.end());
+    mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+    if (const std::int64_t p = tree.parent[s]; p >= 0)
+      reaching[static_cast<std::size_t>(p)].insert(reaching[static_cast<std::size_t>(p)].end(), mine.begin(),
+                                                   mine.end());
+  }
+  return reaching;
+}
+
 }  // namespace
+
+std::int64_t forward_solved_block_entries(const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs) {
+  if (rhs.rows() != factor.size()) throw std::invalid_argument("forward_solved_block_entries: sizes differ");
+  const SparseCholesky::Supernodes L = factor.supernodes();
+  const SupernodeTree tree(L, factor.size());
+  const std::vector<std::vector<int>> reaching = reaching_columns(L, tree, factor.size(), rhs);
+  std::int64_t entries = 0;
+  for (std::int64_t s = 0; s < L.count && L.super[s] < factor.size(); ++s)
+    entries += static_cast<std::int64_t>(tree.columns[s]) * static_cast<std::int64_t>(reaching[s].size());
+  return entries;
+}
 
 ForwardSolvedBlocks forward_solve_by_supernodes(const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs) {
   if (rhs.rows() != factor.size()) throw std::invalid_argument("forward_solve_by_supernodes: sizes differ");
@@ -176,22 +206,8 @@ ForwardSolvedBlocks forward_solve_by_supernodes(const SparseCholesky& factor, co
   out.rows = factor.size();
   out.columns = static_cast<int>(rhs.cols());
   out.first_row.assign(L.super, L.super + L.count);
-  out.reaching.assign(static_cast<std::size_t>(L.count), {});
+  out.reaching = reaching_columns(L, tree, out.rows, rhs);
   out.block.assign(static_cast<std::size_t>(L.count), {});
-
-  // The columns reaching each supernode: its own entries' and its children's (children come first,
-  // and hand theirs up before the parent sorts its list).
-  for (int j = 0; j < out.columns; ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(rhs, j); it; ++it)
-      out.reaching[static_cast<std::size_t>(tree.owner[tree.position[it.row()]])].push_back(j);
-  for (std::int64_t s = 0; s < L.count && L.super[s] < out.rows; ++s) {
-    std::vector<int>& mine = out.reaching[static_cast<std::size_t>(s)];
-    std::sort(mine.begin(), mine.end());
-    mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
-    if (const std::int64_t p = tree.parent[s]; p >= 0)
-      out.reaching[static_cast<std::size_t>(p)].insert(out.reaching[static_cast<std::size_t>(p)].end(), mine.begin(),
-                                                       mine.end());
-  }
   for (std::int64_t s = 0; s < L.count && L.super[s] < out.rows; ++s)
     out.block[static_cast<std::size_t>(s)].assign(
         static_cast<std::size_t>(tree.columns[s]) * out.reaching[static_cast<std::size_t>(s)].size(), 0.0);
@@ -262,6 +278,54 @@ Eigen::MatrixXd ForwardSolvedBlocks::gram() const {
     }
   }
   return Q.selfadjointView<Eigen::Lower>();
+}
+
+Eigen::VectorXd ForwardSolvedBlocks::column_squared_norms() const {
+  Eigen::VectorXd norms = Eigen::VectorXd::Zero(columns);
+  for (std::size_t s = 0; s < reaching.size(); ++s) {
+    const std::vector<int>& cols = reaching[s];
+    if (cols.empty()) continue;
+    const Eigen::Index k = static_cast<Eigen::Index>(block[s].size() / cols.size());
+    const Eigen::Map<const Eigen::MatrixXd> X(block[s].data(), k, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t j = 0; j < cols.size(); ++j) norms[cols[j]] += X.col(static_cast<Eigen::Index>(j)).squaredNorm();
+  }
+  return norms;
+}
+
+Eigen::MatrixXd ForwardSolvedBlocks::gram_product(const Eigen::MatrixXd& V) const {
+  if (V.rows() != columns) throw std::invalid_argument("ForwardSolvedBlocks::gram_product: sizes differ");
+  const int n = static_cast<int>(V.cols()), inc = 1;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(columns, n);
+  std::vector<double> gathered, rows_times_v;
+  const double one = 1, zero = 0;
+  for (std::size_t s = 0; s < reaching.size(); ++s) {
+    const std::vector<int>& cols = reaching[s];
+    if (cols.empty() || n == 0) continue;
+    const int c = static_cast<int>(cols.size()), k = static_cast<int>(block[s].size() / cols.size());
+    gathered.resize(static_cast<std::size_t>(c) * n);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < c; ++i)
+        gathered[static_cast<std::size_t>(i + j * c)] = V(cols[static_cast<std::size_t>(i)], j);
+    rows_times_v.resize(static_cast<std::size_t>(k) * n);
+    const double* X = block[s].data();
+    if (n == 1) {
+      dgemv_("N", &k, &c, &one, X, &k, gathered.data(), &inc, &zero, rows_times_v.data(), &inc);
+      dgemv_("T", &k, &c, &one, X, &k, rows_times_v.data(), &inc, &zero, gathered.data(), &inc);
+    } else {
+      dgemm_("N", "N", &k, &n, &c, &one, X, &k, gathered.data(), &c, &zero, rows_times_v.data(), &k);
+      dgemm_("T", "N", &c, &n, &k, &one, X, &k, rows_times_v.data(), &k, &zero, gathered.data(), &c);
+    }
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < c; ++i)
+        out(cols[static_cast<std::size_t>(i)], j) += gathered[static_cast<std::size_t>(i + j * c)];
+  }
+  return out;
+}
+
+std::int64_t ForwardSolvedBlocks::entries() const {
+  std::int64_t total = 0;
+  for (const auto& b : block) total += static_cast<std::int64_t>(b.size());
+  return total;
 }
 
 void ForwardSolvedBlocks::subtract_product(const Eigen::VectorXd& lambda, Eigen::VectorXd& x) const {

@@ -46,9 +46,17 @@ struct ForwardSolvedBlocks {
 
   // (L₁₁⁻¹P rhs)ᵀ(L₁₁⁻¹P rhs), dense with both triangles: one dsyrk per supernode.
   Eigen::MatrixXd gram() const;
+  // Its diagonal, the columns' squared norms, and its product with V (columns × k) without forming it:
+  // Wᵀ(W V), two dgemm (dgemv for one vector) per supernode.
+  Eigen::VectorXd column_squared_norms() const;
+  Eigen::MatrixXd gram_product(const Eigen::MatrixXd& V) const;
+  std::int64_t entries() const;  // stored, over all blocks
   // x −= (L₁₁⁻¹P rhs) λ, x in pivot order (K's rows first): one dgemv per supernode.
   void subtract_product(const Eigen::VectorXd& lambda, Eigen::VectorXd& x) const;
 };
 ForwardSolvedBlocks forward_solve_by_supernodes(const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs);
+// The entries forward_solve_by_supernodes would store (its blocks' sizes, from the columns reaching each
+// supernode), without solving: what keeping them costs.
+std::int64_t forward_solved_block_entries(const SparseCholesky& factor, const Eigen::SparseMatrix<double>& rhs);
 
 }  // namespace contact3d

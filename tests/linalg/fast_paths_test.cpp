@@ -22,6 +22,7 @@
 #include "linalg/dual_operator.hpp"
 #include "linalg/dual_problem.hpp"
 #include "linalg/sparse_cholesky.hpp"
+#include "linalg/sparse_forward_solve.hpp"
 #include "mesh/brick_generator.hpp"
 #include "model/contact_solver.hpp"
 #include "model/scene.hpp"
@@ -366,15 +367,17 @@ TEST(FastPaths, MatrixFreeDualIsTheDenseOne) {
   const BrickData d = brick_data(4, true);
   const SparseCholesky plain(d.K);
   const DualOperator ref = make_dual_operator(plain, d.B, d.f);
-  // 𝔹's rows forward-solved: W kept (Q = WᵀW) or, over its entry cap, dropped; the diagonal either way.
-  const ForwardSolvedRows kept = forward_solved_rows(plain, d.B, 1e12, 16);
-  ASSERT_EQ(kept.W.cols(), ref.Q.rows());
-  EXPECT_LT(kept.W.nonZeros(), kept.W.size() / 2);  // sparse: a cell's column stops at its supernodes' tops
-  EXPECT_LT((Eigen::MatrixXd(kept.W.transpose() * kept.W) - ref.Q).norm() / ref.Q.norm(), 1e-12);
-  const ForwardSolvedRows dropped = forward_solved_rows(plain, d.B, 10.0, 16);
-  EXPECT_EQ(dropped.W.size(), 0);
-  for (const ForwardSolvedRows* rows : {&kept, &dropped})
-    EXPECT_LT((rows->diagonal - ref.Q.diagonal()).norm() / ref.Q.diagonal().norm(), 1e-12);
+  // 𝔹's rows forward-solved: kept in supernodal blocks (Q = WᵀW, its diagonal and products without
+  // forming it), or streamed for the diagonal alone.
+  const Eigen::SparseMatrix<double> Bt = d.B.transpose();
+  const ForwardSolvedBlocks kept = forward_solve_by_supernodes(plain, Bt);
+  EXPECT_EQ(kept.entries(), forward_solved_block_entries(plain, Bt));
+  EXPECT_LT(kept.entries(), static_cast<std::int64_t>(Bt.rows()) * Bt.cols() / 2);  // a cell's rows stop at the top
+  const Eigen::MatrixXd V = Eigen::MatrixXd::Random(ref.Q.rows(), 3);
+  EXPECT_LT((kept.gram_product(V) - ref.Q * V).norm() / (ref.Q * V).norm(), 1e-12);
+  EXPECT_LT((kept.gram_product(V.col(1)) - ref.Q * V.col(1)).norm() / (ref.Q * V.col(1)).norm(), 1e-12);
+  for (const Eigen::VectorXd& diagonal : {kept.column_squared_norms(), forward_solved_diagonal(plain, d.B, 16)})
+    EXPECT_LT((diagonal - ref.Q.diagonal()).norm() / ref.Q.diagonal().norm(), 1e-12);
   StageTimes times;
   StageClock clock(times);
   const DualProblemInput input{d.K, d.B, d.f, {}};
