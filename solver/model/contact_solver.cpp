@@ -564,15 +564,29 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
     return;
   }
   const std::size_t solves = tresca.history().size();
-  const std::string unbalanced = number(100 * qp.equality_residual(), 3) + "% of them left unbalanced" +
-                                 (solves > 1 ? " in solve " + std::to_string(solves) +
-                                                   " of the successive approximations, "
-                                                   "with its slips' friction coefficients"
-                                             : "");
-  if (held.in_plane_count() && !tresca.history().empty()) {
-    // The generalized forces along the free motions that the contact leaves over, Rᵀ(𝔹ᵀλ − f).
+  // Coulomb's first solve is frictionless (every disc's radius 0): the loads along the in-plane motions
+  // are left to the friction of the solves after it, so a run that stopped there failed along the
+  // others, and its share of the loads left unbalanced is theirs.
+  const bool frictionless_start =
+      op.with_friction && solves == 1 && !(tresca.history().back().radius.array() > 0).any() && held.in_plane_count();
+  double unbalanced_share = qp.equality_residual();
+  // The generalized forces along the free motions that the contact leaves over, Rᵀ(𝔹ᵀλ − f).
+  Eigen::VectorXd left;
+  if (!tresca.history().empty()) {
     const Eigen::MatrixXd& R = held.field;
-    const Eigen::VectorXd left = (op.B * R).transpose() * tresca.history().back().lambda - R.transpose() * disc.f;
+    left = (op.B * R).transpose() * tresca.history().back().lambda - R.transpose() * disc.f;
+  }
+  if (frictionless_start && left.norm() > 0)
+    unbalanced_share *= (held.normal_combinations.transpose() * left).norm() / left.norm();
+  const std::string unbalanced =
+      number(100 * unbalanced_share, 3) + "% of them left unbalanced" +
+      (solves > 1 ? " in solve " + std::to_string(solves) +
+                        " of the successive approximations, "
+                        "with its slips' friction coefficients"
+       : frictionless_start ? " along the motions with a normal part in the first solve, the frictionless one "
+                              "that gives Coulomb's first normal pressure"
+                            : "");
+  if (held.in_plane_count() && !tresca.history().empty() && !frictionless_start) {
     if ((held.in_plane_combinations.transpose() * left).norm() > 0.5 * left.norm())
       throw InputError("the body is held by contact alone and nothing prescribed holds " + held.describe_in_plane() +
                        " in the foundation's plane: friction alone must hold it there, but the loads along it are " +

@@ -137,6 +137,8 @@ constexpr double kRoundingLoads = 1e-4;
 // The tightest tolerance the inner solves of the equality constraints are taken to when the loads
 // stay unbalanced above kEqualityNoiseFloor (the double-precision floor of a projected gradient).
 constexpr double kTightestInnerRtol = 1e-12;
+// A motion's row of G whose reachable columns hold less than this share of it: rounding, unreachable.
+constexpr double kUnreachableRow = 1e-12;
 
 // 1 / ‖row‖ of each row of G (1 for a zero row): G's rows are forces and moments, and a motion held
 // only by small cells (a ball's torsion, held by the friction of millimetre cells at its pole) has a
@@ -188,11 +190,18 @@ Eigen::MatrixXd full_contact_response(const Eigen::MatrixXd& G, const Eigen::Vec
 
 // The multipliers that can carry force in a solve with these radii: every normal one, a cell's
 // tangential pair only where its disc has a radius (none in a frictionless solve, e.g. Coulomb's first).
+// A motion whose row keeps only rounding of its whole row there (a slide in the foundation's plane,
+// whose normal entries are 1e-17 of its tangential ones, the free motions being a computed basis) is
+// unreachable: its row is zeroed, or the unit-row rank test of range_projector counts it, the loads
+// along it are driven at by μ, and μ jumps along it by 1e10 with nothing moving (Coulomb's first solve
+// of a brick held by contact alone, pushed along y: every equality step in vain, then refused).
 Eigen::MatrixXd DualQpSolver::reachable_columns(const Eigen::VectorXd& radius) const {
   Eigen::MatrixXd G = G_;
-  if (qp_.with_friction)
-    for (int i = 0; i < qp_.r; ++i)
-      if (!(radius[i] > 0)) G.col(qp_.r + i).setZero(), G.col(2 * qp_.r + i).setZero();
+  if (!qp_.with_friction) return G;
+  for (int i = 0; i < qp_.r; ++i)
+    if (!(radius[i] > 0)) G.col(qp_.r + i).setZero(), G.col(2 * qp_.r + i).setZero();
+  for (Eigen::Index j = 0; j < G.rows(); ++j)
+    if (G.row(j).norm() <= kUnreachableRow * G_.row(j).norm()) G.row(j).setZero();
   return G;
 }
 

@@ -450,6 +450,41 @@ TEST(SolveCoulomb, SlipStartsAtZeroAfterTheFrictionlessSolve) {
   for (int i = 0; i < r; ++i) EXPECT_NEAR(second_radius[i], 0.3 * first_pressure[i], 1e-12 * scale) << "cell " << i;
 }
 
+// Coulomb on a body held by contact alone and pushed along the plane (the brick at n = 6, x held on
+// its end face, the top pressed with p and sheared along y with τ): the first solve is frictionless, so
+// the slide along y is left out of the equalities it balances, and friction holds it from the second
+// solve on. Its row of G has only rounding (1e-17) on the normal columns; counted as reachable, μ
+// jumped along it by 1e10 and the run was refused as "more than the contact's friction carries" at
+// τ = 0.2p with F = 0.9. Where τ = 0.7p the loads tip the brick over its long edge (the cells' centres
+// reach 1/3 beside its axis, the load's moment needs 0.7): refused as tipping, in the first solve.
+TEST(SolveCoulomb, BodyHeldByContactAlonePushedAlongThePlaneStartsFrictionless) {
+  const auto scene_with_shear = [](double shear) {
+    return "[mesh]\ngenerator = \"paper_brick\"\nn = 6\n[material]\nyoung = 21.19e10\npoisson = 0.277\n"
+           "[boundary]\nclamped = []\ncontact = [\"contact\"]\n"
+           "[[boundary.displacement]]\ngroup = \"clamped\"\nx = 0.0\n"
+           "[[boundary.traction]]\ngroup = \"load_top\"\nvalue = [0.0, " +
+           std::to_string(shear) +
+           ", -3e7]\n"
+           "[friction]\nmodel = \"coulomb\"\nlaw = \"constant\"\nvalue = 0.9\n[contact]\ncell_size = \"2h\"\n";
+  };
+  const Scene held = parse_scene_text(scene_with_shear(6e6), ".");
+  const SolveResult res = solve_scene(held, make_paper_brick({held.mesh.n}));
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_LT(res.kkt.max(), 1e-8);
+  for (int c : {1, 2})
+    EXPECT_NEAR(res.forces.contact[c], -res.forces.applied[c], 1e-6 * std::abs(res.forces.applied.z())) << c;
+  const Scene tipped = parse_scene_text(scene_with_shear(2.1e7), ".");
+  try {
+    solve_scene(tipped, make_paper_brick({tipped.mesh.n}));
+    FAIL() << "loads that tip the brick over solved";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tip it over an edge"), std::string::npos) << what;
+    EXPECT_NE(what.find("the frictionless one"), std::string::npos) << what;
+    EXPECT_EQ(what.find("friction alone"), std::string::npos) << what;
+  }
+}
+
 // An initial gap: the brick lifted by d above the foundation, its clamp moved down by d, is the
 // paper's problem translated — u + d e_z equals the paper's u (the constraint ∫(w_n − d) <= 0
 // carries the gap; the prescribed clamp carries the translation).
