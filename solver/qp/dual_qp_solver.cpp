@@ -148,9 +148,9 @@ Eigen::VectorXd unit_row_scale(const Eigen::MatrixXd& G) {
   return G.rowwise().norm().unaryExpr([](double n) { return n > 0 ? 1 / n : 1.0; });
 }
 
-// The orthogonal projector onto the range of `G` (k × k): the part of Gλ − e that λ can move, its
-// rank decided on S G with unit rows (range(G) = S⁻¹ range(S G)).
-Eigen::MatrixXd range_projector(const Eigen::MatrixXd& G) {
+// An orthonormal basis (k × r) of the range of `G`, its rank decided on S G with unit rows
+// (range(G) = S⁻¹ range(S G)).
+Eigen::MatrixXd range_basis(const Eigen::MatrixXd& G) {
   const Eigen::VectorXd scale = unit_row_scale(G);
   const Eigen::MatrixXd scaled = scale.asDiagonal() * G;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled * scaled.transpose());
@@ -158,11 +158,41 @@ Eigen::MatrixXd range_projector(const Eigen::MatrixXd& G) {
   std::vector<Eigen::Index> kept;
   for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j)
     if (largest > 0 && eig.eigenvalues()[j] > 1e-12 * largest) kept.push_back(j);
-  if (kept.empty()) return Eigen::MatrixXd::Zero(G.rows(), G.rows());
+  if (kept.empty()) return Eigen::MatrixXd::Zero(G.rows(), 0);
   const Eigen::MatrixXd basis = scale.cwiseInverse().asDiagonal() * eig.eigenvectors()(Eigen::all, kept);
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(basis);
-  const Eigen::MatrixXd U = qr.householderQ() * Eigen::MatrixXd::Identity(G.rows(), basis.cols());
-  return U * U.transpose();
+  return qr.householderQ() * Eigen::MatrixXd::Identity(G.rows(), basis.cols());
+}
+
+// An orthonormal basis C (k × r) of the balance conditions c, cᵀ(Gλ − e) = 0, that the multipliers
+// which can carry force (the columns of `G_reach`, the others of `G` zeroed) can meet. Where they reach
+// every motion, all of them. Where some motions N = null(G_reachᵀ) are seen by none of them (Coulomb's
+// frictionless first solve: a slide in the plane), the loads along N stay unbalanced, and the
+// conditions kept are the motions whose work on the dropped multipliers is orthogonal to N's,
+// (Gᵀc)·(Gᵀn) = 0: for a flat face, the motions with no tangential trace, e.g. the tilt about an axis
+// in the foundation's plane. The orthogonal complement of N instead depends on the motions' basis: a
+// tilt about the centroid's axis, its tangential trace included, left the frictionless solve to
+// balance a moment that friction carries later, and bodies with shear of 3-6% of their pressure were
+// refused as tipping.
+Eigen::MatrixXd balance_conditions(const Eigen::MatrixXd& G, const Eigen::MatrixXd& G_reach) {
+  const Eigen::MatrixXd reached = range_basis(G_reach);
+  const Eigen::Index k = G.rows(), r = reached.cols();
+  if (r == k) return Eigen::MatrixXd::Identity(k, k);
+  if (r == 0) return reached;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> split(reached);
+  const Eigen::MatrixXd unseen = (split.householderQ() * Eigen::MatrixXd::Identity(k, k)).rightCols(k - r);  // N
+  const Eigen::MatrixXd work = G * (G.transpose() * unseen);  // k × (k − r): c ⊥ work keeps the conditions
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> kept(work);
+  if (kept.rank() < k - r) return reached;  // N does no work at all (a frictionless body's slide)
+  return (kept.householderQ() * Eigen::MatrixXd::Identity(k, k)).rightCols(r);
+}
+
+// An orthonormal basis (k × r) of S⁻¹ range(C): the rigid shifts μ = S x the conditions C allow, in
+// the unit-row units x that blindness is judged in (the identity where C is).
+Eigen::MatrixXd scaled_shifts(const Eigen::MatrixXd& C, const Eigen::VectorXd& row_scale) {
+  if (C.cols() == C.rows()) return Eigen::MatrixXd::Identity(C.rows(), C.rows());
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(row_scale.cwiseInverse().asDiagonal() * C);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(C.rows(), C.cols());
 }
 
 // The problem with ½‖A x‖² added to its objective (A: k × m, k <= 6): its operator becomes Q + AᵀA,
@@ -192,7 +222,7 @@ Eigen::MatrixXd full_contact_response(const Eigen::MatrixXd& G, const Eigen::Vec
 // tangential pair only where its disc has a radius (none in a frictionless solve, e.g. Coulomb's first).
 // A motion whose row keeps only rounding of its whole row there (a slide in the foundation's plane,
 // whose normal entries are 1e-17 of its tangential ones, the free motions being a computed basis) is
-// unreachable: its row is zeroed, or the unit-row rank test of range_projector counts it, the loads
+// unreachable: its row is zeroed, or the unit-row rank test of range_basis counts it, the loads
 // along it are driven at by μ, and μ jumps along it by 1e10 with nothing moving (Coulomb's first solve
 // of a brick held by contact alone, pushed along y: every equality step in vain, then refused).
 Eigen::MatrixXd DualQpSolver::reachable_columns(const Eigen::VectorXd& radius) const {
@@ -218,7 +248,8 @@ class DualQpSolver::EqualitySolve {
     total_.status = QpStatus::Converged;
     if (lambda_.size() != s_.qp_.size()) lambda_ = Eigen::VectorXd::Zero(s_.qp_.size());
     G_reach_ = s_.qp_.with_friction ? s_.reachable_columns(radius) : s_.G_;
-    P_ = range_projector(G_reach_);
+    conditions_ = balance_conditions(s_.G_, G_reach_);
+    P_ = conditions_ * conditions_.transpose();
     if (s_.reach_projector_.rows() != k_ || !s_.reach_projector_.isApprox(P_))
       s_.jacobian_.resize(0, 0);  // other columns: measure again
     s_.reach_projector_ = P_;
@@ -228,6 +259,7 @@ class DualQpSolver::EqualitySolve {
     mu_unit_ = G_max > 0 && h_max > 0 ? h_max / G_max : 1.0;
     full_contact_ = full_contact_response(G_reach_, s_.qp_.diagonal());
     row_scale_ = unit_row_scale(s_.G_);
+    scaled_shifts_ = scaled_shifts(conditions_, row_scale_);
   }
 
   QpResult run() {
@@ -247,7 +279,10 @@ class DualQpSolver::EqualitySolve {
       if (slow_full_step_ && !fresh_jacobian_) measure_jacobian();
       slow_full_step_ = false;
       // J ≈ −G·dλ/dh·Gᵀ is singular where the contact does not hold a motion: least squares there.
-      const Eigen::VectorXd newton = s_.jacobian_.completeOrthogonalDecomposition().solve(-P_ * F_);
+      const Eigen::MatrixXd& C = conditions_;
+      const Eigen::VectorXd newton = C * Eigen::MatrixXd(C.transpose() * s_.jacobian_ * C)
+                                             .completeOrthogonalDecomposition()
+                                             .solve(-C.transpose() * F_);
       const HalvedStep halved = take_halved_step(newton);
       if (halved.accepted) {
         searched_since_descent_ = fresh_jacobian_ = false;
@@ -375,13 +410,18 @@ class DualQpSolver::EqualitySolve {
   // does not see it. The Jacobian is judged blind along a direction in unit-row units (μ = S μ̂,
   // Ĵ = S J S), as the rank of G is: judged unscaled, a ball's torsion looked blind next to its lift.
   Eigen::VectorXd unseen_shift() const {
-    const Eigen::VectorXd shift = full_contact_.completeOrthogonalDecomposition().solve(P_ * F_);
+    const Eigen::MatrixXd& C = conditions_;
+    const Eigen::VectorXd shift =
+        C *
+        Eigen::MatrixXd(C.transpose() * full_contact_ * C).completeOrthogonalDecomposition().solve(C.transpose() * F_);
     if (s_.jacobian_.rows() != k_) return shift;
-    const Eigen::MatrixXd scaled = row_scale_.asDiagonal() * s_.jacobian_ * row_scale_.asDiagonal();
+    const Eigen::MatrixXd& X = scaled_shifts_;
+    const Eigen::MatrixXd scaled = X.transpose() * row_scale_.asDiagonal() * s_.jacobian_ * row_scale_.asDiagonal() * X;
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullV);
+    const Eigen::Index n = X.cols();
     Eigen::Index seen = 0;
-    while (seen < k_ && svd.singularValues()[seen] > 1e-6 * svd.singularValues()[0]) ++seen;
-    const Eigen::MatrixXd blind = svd.matrixV().rightCols(k_ - seen);
+    while (seen < n && svd.singularValues()[seen] > 1e-6 * svd.singularValues()[0]) ++seen;
+    const Eigen::MatrixXd blind = X * svd.matrixV().rightCols(n - seen);
     const Eigen::VectorXd shift_scaled = row_scale_.cwiseInverse().cwiseProduct(shift);
     return row_scale_.cwiseProduct(blind * (blind.transpose() * shift_scaled));
   }
@@ -435,11 +475,12 @@ class DualQpSolver::EqualitySolve {
 
   // Even a measured Jacobian gives no descent: F has no root, or the inner solves' rounding hides it
   // (an ill-conditioned Q: a ball on graded cells stalled at 1e-5 of the loads with inner solves to
-  // 1e-8 and balanced them with 1e-12). Where the loads are not yet balanced to the noise floor, the
-  // inner solves are tightened (×1e-2, down to kTightestInnerRtol) and F and J taken again; false
-  // where there is nothing left to tighten.
+  // 1e-8 and balanced them with 1e-12). The inner solves are tightened (×1e-2, down to
+  // kTightestInnerRtol) and F and J taken again, also where the loads are balanced to the noise floor
+  // but not to the target (the ball's last Coulomb step stalled at 1.5e-8 of them with inner solves
+  // at 7e-12, and went to 7e-12 with 1e-12); false where there is nothing left to tighten.
   bool tighten_inner_solves() {
-    if (inner_rtol_ <= kTightestInnerRtol || reach(F_) <= kEqualityNoiseFloor * F_scale_) return false;
+    if (inner_rtol_ <= kTightestInnerRtol) return false;
     inner_rtol_ = std::max(1e-2 * inner_rtol_, kTightestInnerRtol);
     F_ = balance_at(s_.mu_, lambda_);
     measure_jacobian();
@@ -470,8 +511,10 @@ class DualQpSolver::EqualitySolve {
   double inner_rtol_;     // the inner QPs' tolerance, tightened where rounding hides the descent
   QpResult total_;
   bool inner_failed_ = false;
-  Eigen::MatrixXd G_reach_, P_;  // G's reachable columns, the projector onto their range
-  Eigen::VectorXd F_;            // F at (mu_, lambda_)
+  Eigen::MatrixXd G_reach_;         // G's reachable columns
+  Eigen::MatrixXd conditions_, P_;  // the balance conditions C they can meet (balance_conditions), P = C Cᵀ
+  Eigen::MatrixXd scaled_shifts_;   // scaled_shifts(C, row_scale_)
+  Eigen::VectorXd F_;               // F at (mu_, lambda_)
   double mu_unit_ = 1;
   Eigen::MatrixXd full_contact_;  // G D⁻¹ Gᵀ over the reachable columns
   Eigen::VectorXd row_scale_;     // unit_row_scale(G)

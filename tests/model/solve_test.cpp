@@ -485,6 +485,34 @@ TEST(SolveCoulomb, BodyHeldByContactAlonePushedAlongThePlaneStartsFrictionless) 
   }
 }
 
+// The same brick with x held on its long sides (y = 0 and y = 1) instead, sheared by 0.3 of its
+// pressure with F = 0.5 or 0.9: far from tipping (the pressure's centre needs 0.3 beside the axis,
+// half the width). Coulomb's frictionless first solve balanced the loads' orthogonal projection onto
+// what the normal multipliers reach, in the motions' basis: the slide, and the tilt about the
+// centroid's axis with its tangential trace. Its Newton steps on μ stalled at 3.5e-5 of the loads and
+// the brick was refused as tipping (holed plates and cylinders of a random campaign, sheared by 3-15%
+// of their pressure, were refused so too). It now balances the motions whose work on the tangential
+// multipliers is orthogonal to the slide's, the tilt about an axis in the foundation's plane
+// (balance_conditions in dual_qp_solver.cpp), and friction holds the slide from the second solve on.
+TEST(SolveCoulomb, BodyHeldByContactAloneOnItsSidesShearedConverges) {
+  for (const double friction : {0.5, 0.9}) {
+    const std::string text =
+        "[mesh]\ngenerator = \"paper_brick\"\nn = 6\n[material]\nyoung = 7e10\npoisson = 0.3\n"
+        "[boundary]\nclamped = []\ncontact = [\"contact\"]\n"
+        "[[boundary.displacement]]\ngroup = \"free\"\nx = 0.0\n"
+        "[[boundary.traction]]\ngroup = \"load_top\"\nvalue = [0.0, 2.1e6, -7e6]\n"
+        "[friction]\nmodel = \"coulomb\"\nlaw = \"constant\"\nvalue = " +
+        std::to_string(friction) + "\n";
+    const Scene scene = parse_scene_text(text, ".");
+    const SolveResult res = solve_scene(scene, make_paper_brick({scene.mesh.n}));
+    ASSERT_TRUE(res.converged) << "F = " << friction << ": " << res.status;
+    EXPECT_GE(res.steps.size(), 3u) << friction;  // friction, not the first solve, holds the slide
+    for (int c : {1, 2})
+      EXPECT_NEAR(res.forces.contact[c], -res.forces.applied[c], 1e-6 * std::abs(res.forces.applied.z()))
+          << "F = " << friction << ", component " << c;
+  }
+}
+
 // An initial gap: the brick lifted by d above the foundation, its clamp moved down by d, is the
 // paper's problem translated — u + d e_z equals the paper's u (the constraint ∫(w_n − d) <= 0
 // carries the gap; the prescribed clamp carries the translation).
