@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <map>
 
 #include <Eigen/Geometry>
@@ -510,6 +511,37 @@ TEST(SolveCoulomb, BodyHeldByContactAloneOnItsSidesShearedConverges) {
     for (int c : {1, 2})
       EXPECT_NEAR(res.forces.contact[c], -res.forces.applied[c], 1e-6 * std::abs(res.forces.applied.z()))
           << "F = " << friction << ", component " << c;
+  }
+}
+
+// A block on an incline, the classic: the brick held by nothing, its weight turned by θ = 20° from
+// the plane's normal. Coulomb friction holds it where F exceeds tan θ, and then carries the weight's
+// component along the slope; 2% below tan θ it slides, and the run is refused as friction too weak.
+TEST(SolveCoulomb, BlockOnAnInclineHoldsOnlyWhereFrictionExceedsTheSlope) {
+  const double theta = 20 * M_PI / 180, weight = 7.7e4;
+  const auto incline = [&](double friction) {
+    const std::string text =
+        "[mesh]\ngenerator = \"paper_brick\"\nn = 4\n[material]\nyoung = 2.1e11\npoisson = 0.3\n"
+        "body_force = [0.0, " +
+        std::to_string(weight * std::sin(theta)) + ", " + std::to_string(-weight * std::cos(theta)) +
+        "]\n[boundary]\nclamped = []\ncontact = [\"contact\"]\n"
+        "[friction]\nmodel = \"coulomb\"\nlaw = \"constant\"\nvalue = " +
+        std::to_string(friction) + "\n";
+    const Scene scene = parse_scene_text(text, ".");
+    return solve_scene(scene, make_paper_brick({scene.mesh.n}));
+  };
+  const SolveResult held = incline(1.02 * std::tan(theta));
+  ASSERT_TRUE(held.converged) << held.status;
+  const double volume = 3.0;
+  EXPECT_NEAR(held.forces.applied.y(), weight * std::sin(theta) * volume, 1e-9 * weight * volume);
+  for (int c : {0, 1, 2})
+    EXPECT_NEAR(held.forces.contact[c], -held.forces.applied[c], 1e-6 * weight * volume) << "component " << c;
+  try {
+    incline(0.98 * std::tan(theta));
+    FAIL() << "a block whose friction is below the slope's tangent held";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("more than the contact's friction carries"), std::string::npos) << what;
   }
 }
 
