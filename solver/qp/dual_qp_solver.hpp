@@ -102,13 +102,16 @@ class DualQpSolver {
   // solve to solve, Broyden-updated, measured again when a step fails, when a full step cut ‖F‖ less
   // than tenfold (the active sets moved under Broyden's secant) or when the reachable rows change:
   // rows no multiplier can move under these radii, a slide without friction, are left to the caller
-  // in equality_residual()) and halving; where no halving lowers ‖F‖ but the step overshoots the
-  // maximum of the concave dual φ (F = ∇φ) along it, that maximum is searched for (false position on
-  // Fᵀs) and taken; along motions no contact force responds to yet (a body above its gaps) μ jumps to
-  // the next touch, or to φ's maximum along the jump where it lies before,
-  // to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (‖e‖ at least 1e-4·‖G‖‖λ‖; 1e-7 where the inner solves' rounding stops the descent),
-  // the inner solves to min(rtol/100, 1e-8). Where these steps leave the loads unbalanced, the augmented Lagrangian
-  // takes over from their best iterate (solve_with_augmented_lagrangian). μ is warm-started too.
+  // in equality_residual(), and the conditions kept are the motions whose work on the multipliers
+  // left out is orthogonal to theirs, so the answer does not depend on the motions' basis) and
+  // halving; where no halving lowers ‖F‖ but the step overshoots the maximum of the concave dual φ
+  // (F = ∇φ) along it, that maximum is searched for (false position on Fᵀs) and taken; along motions
+  // no contact force responds to yet (a body above its gaps) μ jumps to the next touch, or to φ's
+  // maximum along the jump where it lies before; to ‖F‖ <= max(rtol, 1e-9)·‖e‖ (‖e‖ at least
+  // 1e-4·‖G‖‖λ‖; 1e-7 where the inner solves' rounding stops the descent even at their tightest),
+  // the inner solves to min(rtol/100, 1e-8), tightened where the descent stops. Where these steps
+  // leave the loads unbalanced, the augmented Lagrangian takes over from their best iterate
+  // (solve_with_augmented_lagrangian). μ is warm-started too.
   void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);
   bool has_equality() const { return G_.rows() > 0; }
   const Eigen::VectorXd& equality_multiplier() const { return mu_; }  // μ of the last solve
@@ -156,7 +159,7 @@ class DualQpSolver {
   Eigen::MatrixXd G_;                // equality constraints (0 rows: none)
   Eigen::VectorXd e_, mu_;           // their right-hand side and multiplier
   Eigen::MatrixXd jacobian_;         // dF/dμ as last measured and updated (empty: not yet)
-  Eigen::MatrixXd reach_projector_;  // onto the part of F the last solve's multipliers could move
+  Eigen::MatrixXd reach_projector_;  // onto the balance conditions of the last solve (P = C Cᵀ)
   double equality_residual_ = 0;
 };
 
