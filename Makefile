@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab bench-matrix-free robustness robustness-coulomb ball-sweep stress fuzz sanitize clean
+.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab bench-matrix-free robustness robustness-coulomb random-bodies ball-sweep stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -101,6 +101,12 @@ robustness: build
 # The same bodies and laws with Coulomb's bound F·λ_n ($(REPORTS)/robustness_coulomb.md).
 robustness-coulomb: build
 	$(PY) pipeline/robustness.py --bin $(BIN) --model coulomb --out $(REPORTS)/robustness_coulomb.md
+
+# Random bodies, conditions and laws with default settings, each outcome judged against what its loads
+# demand ($(REPORTS)/random_bodies.md; SEEDS="1 80" by default, under a minute).
+SEEDS ?= 1 80
+random-bodies: build
+	$(PY) pipeline/random_bodies.py --bin $(BIN) --seeds $(SEEDS) --out $(REPORTS)/random_bodies.md
 
 # The ball held by contact alone over mesh size, cells, F and a lateral load, one and two BLAS threads
 # ($(REPORTS)/ball_sweep.md; about 4 minutes).

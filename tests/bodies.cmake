@@ -17,3 +17,11 @@ add_test(NAME bodies_free_brick_coarse
 add_test(NAME bodies_stability_rejected
   COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/pipeline/bodies_report.py stability --bin $<TARGET_FILE:contact3d>
           --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/wedge.toml --out ${CMAKE_BINARY_DIR}/bodies/wedge_unstable)
+# Random bodies (pipeline/random_bodies.py), seeds 20 to 35: every outcome agrees with what the loads
+# demand (converge, refuse a frictionless slide, or either). Seed 27, a holed plate held by contact
+# alone with u_x held on its sides and sheared (Coulomb, F = 0.83), was refused as tipping before the
+# equality solve kept the balance conditions that do not depend on the motions' basis.
+add_test(NAME random_bodies_seeds_20_to_35
+  COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/pipeline/random_bodies.py --bin $<TARGET_FILE:contact3d>
+          --seeds 20 35 --out ${CMAKE_BINARY_DIR}/random_bodies/random_bodies.md)
+set_tests_properties(random_bodies_seeds_20_to_35 PROPERTIES TIMEOUT 600)
