@@ -28,6 +28,19 @@ std::string Mesh::describe_groups() const {
   return out;
 }
 
+void orient_mirrored_mesh(Mesh& mesh) {
+  std::size_t negative = 0;
+  for (const auto& t : mesh.tets) {
+    const Eigen::Vector3d& a = mesh.nodes[t[0]];
+    const double six_volume = (mesh.nodes[t[1]] - a).dot((mesh.nodes[t[2]] - a).cross(mesh.nodes[t[3]] - a));
+    if (six_volume > 0) return;  // at least one positive: not a mirror image
+    negative += six_volume < 0;
+  }
+  if (negative == 0) return;
+  for (auto& t : mesh.tets) std::swap(t[0], t[1]);
+  mesh.reoriented_mirrored = true;
+}
+
 std::vector<int> Mesh::triangles_of_group(std::string_view name) const {
   const PhysicalGroup* g = find_group(name, 2);
   if (!g)

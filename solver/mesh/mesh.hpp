@@ -39,6 +39,9 @@ struct Mesh {
   // Read from second-order elements (10-node tets, 6-node triangles) by their corner nodes: the
   // same P1 mesh as gmsh's first order on the same vertices; the other nodes are dropped.
   bool read_by_corner_nodes = false;
+  // Every tetrahedron came negatively oriented — a mirrored mesh (FreeFEM's movemesh3 with a
+  // reflection, a CAD mirror) — and two nodes of each were swapped (orient_mirrored_mesh).
+  bool reoriented_mirrored = false;
 
   // The group of dimension `dim` called `name` (an unnamed group also answers to its number,
   // "4"), or nullptr.
@@ -54,6 +57,11 @@ struct Mesh {
 // none is, kSeveralTetrahedra where two are (an interior face).
 constexpr int kNoTetrahedron = -1, kSeveralTetrahedra = -2;
 std::vector<int> tetrahedra_of_faces(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
+
+// A mesh whose every tetrahedron has a negative volume is a mirror image, consistent in itself: its
+// tets are turned positive by swapping their first two nodes (reoriented_mirrored). A mesh with
+// tets of both signs is tangled and left as it is, for check_tet_orientation to refuse.
+void orient_mirrored_mesh(Mesh& mesh);
 
 // Drops the nodes that no tet or triangle uses (a second-order file's mid-edge nodes, read by the
 // elements' corners) and renumbers the others in their order; node_tags follow, so messages still

@@ -1,5 +1,6 @@
 // One entry point for mesh files: Medit (.mesh/.meshb, FreeFEM's savemesh) or gmsh MSH (any
-// other name), each read by our own strict reader.
+// other name), each read by our own strict reader; a mirrored mesh (every tetrahedron negatively
+// oriented) comes back reoriented.
 #pragma once
 
 #include <string>
@@ -10,6 +11,10 @@
 
 namespace contact3d {
 
-inline Mesh read_mesh_file(const std::string& path) { return is_medit_path(path) ? read_medit(path) : read_msh(path); }
+inline Mesh read_mesh_file(const std::string& path) {
+  Mesh mesh = is_medit_path(path) ? read_medit(path) : read_msh(path);
+  orient_mirrored_mesh(mesh);
+  return mesh;
+}
 
 }  // namespace contact3d

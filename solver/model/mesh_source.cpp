@@ -10,7 +10,6 @@
 
 #include "base/errors.hpp"
 #include "mesh/brick_generator.hpp"
-#include "mesh/msh_reader.hpp"
 #include "mesh/read_mesh.hpp"
 
 namespace contact3d {
@@ -153,7 +152,7 @@ Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work
     const auto msh = work_dir / "mesh.msh";
     std::filesystem::remove(msh);
     run_gmsh(source.geo, source.parameters, msh);
-    return read_msh(msh.string());
+    return read_mesh_file(msh.string());
   }
   if (!source.edp.empty()) {
     require_script(source.edp, "FreeFEM script", source.trusted, freefem_rules());
@@ -161,7 +160,7 @@ Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work
     const auto mesh = work_dir / "mesh.mesh";
     std::filesystem::remove(mesh);
     run_freefem_mesher(source.edp, source.parameters, mesh);
-    return read_medit(mesh.string());
+    return read_mesh_file(mesh.string());
   }
   return read_mesh_file(source.file.string());
 }
