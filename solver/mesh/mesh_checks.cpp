@@ -41,12 +41,17 @@ void check_coordinates_in_range(const Mesh& mesh) {
 
 namespace {
 
+// Each group by the name a scene gives it: its own, or an unnamed one's number (gmsh's physical
+// groups without $PhysicalNames, as FreeFEM's savegmsh writes them), so "4" may not be both.
 void check_group_names(const Mesh& mesh) {
   std::set<std::pair<int, std::string>> seen;
-  for (const auto& g : mesh.groups)
-    if (!seen.insert({g.dim, g.name}).second)
-      throw InputError("the mesh has two physical groups of dimension " + std::to_string(g.dim) + " named '" + g.name +
-                       "'; a scene names groups by name, so each name must be used once per dimension");
+  for (const auto& g : mesh.groups) {
+    const std::string scene_name = g.name.empty() ? std::to_string(g.tag) : g.name;
+    if (!seen.insert({g.dim, scene_name}).second)
+      throw InputError("the mesh has two physical groups of dimension " + std::to_string(g.dim) + " named '" +
+                       scene_name + "' (an unnamed group goes by its number); a scene names groups by name, " +
+                       "so each name must be used once per dimension");
+  }
 }
 
 void check_duplicate_tets(const Mesh& mesh) {

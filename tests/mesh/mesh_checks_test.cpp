@@ -1,0 +1,76 @@
+// Tests of the group-name check in check_mesh_meaning (solver/mesh/mesh_checks.*): unnamed gmsh
+// groups go by their numbers, as a scene names them, so a file without $PhysicalNames (FreeFEM's
+// savegmsh) is accepted and a name used twice that way is refused.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "base/errors.hpp"
+#include "mesh/mesh_checks.hpp"
+#include "mesh/msh_reader.hpp"
+
+namespace contact3d {
+namespace {
+
+// What FreeFEM 4.9 writes for `savegmsh(cube(1, 1, 1), "g")`: MSH 2.2 without $PhysicalNames, the
+// boundary labels 1-6 as physical and elementary tags, the tetrahedra in physical group 0.
+const char* kFreeFemSavegmshCube = R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+8
+1 0 0 0
+2 1 0 0
+3 0 1 0
+4 1 1 0
+5 0 0 1
+6 1 0 1
+7 0 1 1
+8 1 1 1
+$EndNodes
+$Elements
+18
+1 2 2 6 6 5 7 8
+2 2 2 4 4 5 1 7
+3 2 2 6 6 8 6 5
+4 2 2 1 1 1 5 6
+5 2 2 2 2 2 6 8
+6 2 2 1 1 2 1 6
+7 2 2 2 2 8 4 2
+8 2 2 5 5 1 2 4
+9 2 2 3 3 3 4 8
+10 2 2 5 5 3 1 4
+11 2 2 3 3 8 7 3
+12 2 2 4 4 1 3 7
+13 4 2 0 0 5 1 7 8
+14 4 2 0 0 1 5 6 8
+15 4 2 0 0 2 1 6 8
+16 4 2 0 0 1 2 4 8
+17 4 2 0 0 3 1 4 8
+18 4 2 0 0 1 3 7 8
+$EndElements
+)";
+
+TEST(MeshChecks, UnnamedGroupsOfFreeFemsSavegmshGoByTheirNumbers) {
+  const Mesh mesh = parse_msh(kFreeFemSavegmshCube, "cube.msh");
+  ASSERT_EQ(mesh.tets.size(), 6u);
+  const PhysicalGroup* contact = mesh.find_group("5", 2);
+  ASSERT_NE(contact, nullptr) << mesh.describe_groups();
+  EXPECT_EQ(contact->name, "");
+  EXPECT_EQ(mesh.triangles_of_group("5").size(), 2u);  // the face z = 0
+  EXPECT_NO_THROW(check_mesh_meaning(mesh, MeshRoles{{"6"}, {"5"}, {"2"}, {}}));
+}
+
+TEST(MeshChecks, NamedGroupAndUnnamedGroupOfTheSameNumberAreRefused) {
+  std::string text = kFreeFemSavegmshCube;
+  // Name physical surface 3 "4": the scene's "4" would then be both it and unnamed group 4.
+  text.replace(text.find("$Nodes"), 0, "$PhysicalNames\n1\n2 3 \"4\"\n$EndPhysicalNames\n");
+  const Mesh mesh = parse_msh(text, "cube.msh");
+  try {
+    check_mesh_meaning(mesh, MeshRoles{{"6"}, {"5"}, {}, {}});
+    FAIL() << "accepted two groups a scene calls '4'";
+  } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("named '4'"), std::string::npos) << e.what(); }
+}
+
+}  // namespace
+}  // namespace contact3d
