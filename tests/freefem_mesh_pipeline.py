@@ -83,8 +83,9 @@ savemesh(M, "{Path(tmp) / 'mirrored.mesh'}");
             fail(f"{name}: exit {proc.returncode}: {proc.stderr}")
         c = contact_nodes(out)
         if name == "mirrored":
-            if "mirrored" not in str(summary(out)["mesh"]):
-                fail(f"the mirrored mesh's run does not say it was reoriented: {summary(out)['mesh']}")
+            described = str(summary(out)["mesh"])
+            if "mirrored" not in described:
+                fail(f"the mirrored mesh's run does not say it was reoriented: {described}")
             c = {(x, round(1 - y, 9), z): (u1, -u2, u3) for (x, y, z), (u1, u2, u3) in c.items()}
         if c.keys() != b.keys():
             fail(f"{name}: contact nodes differ from the Medit mesh's ({len(c.keys() ^ b.keys())} unmatched)")

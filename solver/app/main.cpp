@@ -135,14 +135,15 @@ int run_solve(const SolveArgs& args) {
   if (!args.quiet && info.blas.threads < info.blas.before)
     fmt::print("BLAS threads: {} of {} (other processes keep {:.1f} of the {} cores busy)\n", info.blas.threads,
                info.blas.before, info.blas.busy_elsewhere, info.blas.cores);
-  const char* const corners_note = " (second-order elements read by their corner nodes: P1)";
-  const char* const mirrored_note = " (every tetrahedron negatively oriented, a mirrored mesh: reoriented)";
-  if (mesh.read_by_corner_nodes) info.mesh_description += corners_note;
-  if (mesh.reoriented_mirrored) info.mesh_description += mirrored_note;
+  // What reading changed, on the mesh line and in summary.json's "mesh".
+  std::string reading_notes;
+  if (mesh.read_by_corner_nodes) reading_notes += " (second-order elements read by their corner nodes: P1)";
+  if (mesh.reoriented_mirrored)
+    reading_notes += " (every tetrahedron negatively oriented, a mirrored mesh: reoriented)";
+  info.mesh_description += reading_notes;
   if (!args.quiet)
-    fmt::print("mesh: {} nodes, {} tets, {} boundary triangles{}{} ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
-               mesh.triangles.size(), mesh.read_by_corner_nodes ? corners_note : "",
-               mesh.reoriented_mirrored ? mirrored_note : "", info.mesh_seconds);
+    fmt::print("mesh: {} nodes, {} tets, {} boundary triangles{} ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
+               mesh.triangles.size(), reading_notes, info.mesh_seconds);
   auto progress = [&](const FixedPointStep& s) {
     if (!args.quiet)
       fmt::print("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s  ({})\n", s.k, s.err,
