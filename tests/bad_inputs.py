@@ -208,7 +208,7 @@ def c_group_misspelt_solve(c):
 
 
 def c_contact_not_in_plane(c):
-    return ["check", c.scene(contact='["load_top"]')], ["load_top", "z = 0"]
+    return ["check", c.scene(contact='["load_top"]')], ["load_top", "z = 0", "none of its triangles faces"]
 
 
 def c_gamma_u_empty(c):
@@ -740,6 +740,17 @@ def c_coulomb_with_slip_bound(c):
 
 def c_contact_not_a_graph(c):
     return ["check", c.scene(contact='["free"]')], ["free", "graph over the plane"]
+
+
+def c_contact_folds_over(c):
+    # the bottom faces the foundation, the top away: one group that folds over itself
+    return ["check", c.scene(contact='["contact", "load_top"]')], ["load_top", "folds over itself"]
+
+
+def c_plane_normal_away_from_body(c):
+    # the brick rests on z = 0 but the plane's normal points down, away from it
+    return (["check", c.scene(), "--set", "contact.plane_normal=[0, 0, -1]"],
+            ["'contact'", "none of its triangles faces the foundation", "contact.plane_normal"])
 
 
 def c_plane_normal_zero(c):

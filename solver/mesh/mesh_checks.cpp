@@ -99,24 +99,44 @@ void check_duplicate_triangles(const Mesh& mesh, const MeshRoles& roles) {
 
 // Γc must be a graph over the foundation plane: its outward normal points down (n_z < 0) on every
 // triangle. A triangle facing up or sideways means the face folds over itself, or rises
-// vertically, above the plane, where the projection onto the cells would count it twice.
+// vertically, above the plane, where the projection onto the cells would count it twice. A group
+// none of whose triangles faces down is the other side of the body, or a plane normal pointing
+// away from the body (contact.plane_normal = [0, 0, -1] under a body resting on z = 0 was reported
+// as one triangle that "folds over itself or rises vertically").
 void check_contact_is_graph(const Mesh& mesh, const std::map<std::array<int, 3>, std::vector<std::size_t>>& wanted,
                             std::map<std::array<int, 3>, int>& count, std::map<std::array<int, 3>, int>& opposite,
                             const std::map<int, std::string>& group_names) {
+  std::size_t facing_down = 0, first_away = 0;
+  Eigen::Vector3d away_normal = Eigen::Vector3d::Zero();
   for (const auto& [face, tris] : wanted) {
     if (count[face] != 1) continue;  // orphans and interior faces are reported below
     const Eigen::Vector3d a = mesh.nodes[face[0]], b = mesh.nodes[face[1]], c = mesh.nodes[face[2]];
     Eigen::Vector3d n = (b - a).cross(c - a);
     if (n.dot(mesh.nodes[opposite[face]] - a) > 0) n = -n;  // outward: away from the tet
-    if (n.z() < -1e-6 * n.norm()) continue;
-    const std::size_t t = tris.front();
-    throw InputError("contact group '" + group_names.at(mesh.triangle_group[t]) + "': triangle " +
-                     std::to_string(mesh.triangle_tags[t]) + " faces away from the foundation (outward normal (" +
-                     number(n.x() / n.norm()) + ", " + number(n.y() / n.norm()) + ", " + number(n.z() / n.norm()) +
-                     ")): Γc must be a graph over the plane z = 0, seen from below — it folds over itself or "
-                     "rises vertically there; put only the part of the surface that faces the foundation in the "
-                     "contact group");
+    if (n.z() < -1e-6 * n.norm()) {
+      ++facing_down;
+    } else if (away_normal.isZero()) {
+      first_away = tris.front();
+      away_normal = n.normalized();
+    }
   }
+  if (away_normal.isZero()) return;
+  const std::string group = group_names.at(mesh.triangle_group[first_away]);
+  auto component = [](double c) { return number(std::abs(c) < 1e-9 ? 0.0 : c); };  // no -0 or 1e-16 of rounding
+  const std::string normal =
+      "(" + component(away_normal.x()) + ", " + component(away_normal.y()) + ", " + component(away_normal.z()) + ")";
+  if (facing_down == 0)
+    throw InputError("contact group '" + group + "': none of its triangles faces the foundation (triangle " +
+                     std::to_string(mesh.triangle_tags[first_away]) + ": outward normal " + normal +
+                     " in the plane's frame, whose +z points from the plane to the body; Γc must be a graph over "
+                     "the plane z = 0, seen from below): either the group is a face of the body that looks away "
+                     "from the foundation, or contact.plane_normal points away from the body (it must point from "
+                     "the foundation plane towards the body)");
+  throw InputError("contact group '" + group + "': triangle " + std::to_string(mesh.triangle_tags[first_away]) +
+                   " faces away from the foundation (outward normal " + normal +
+                   "): Γc must be a graph over the plane z = 0, seen from below — it folds over itself or "
+                   "rises vertically there; put only the part of the surface that faces the foundation in the "
+                   "contact group");
 }
 
 // How many tetrahedra have each of the wanted faces (sorted node triples) as a face, and the fourth

@@ -333,6 +333,45 @@ void flag_friction_where_separated(const Scene& scene, SolveResult& res) {
                         "pressure (the paper's model); friction.model = \"coulomb\" ties it to the pressure");
 }
 
+// No cell presses on the foundation (every λ_n ≤ 0), said with what the run shows of why:
+//  - nothing moves the body (every load and prescribed value zero): a warning, the answer is zero;
+//  - Γc started above the plane and the loads did not bring it down: a warning naming the gap. The
+//    usual cause is the plane's place, not the loads: a mesh in CAD coordinates whose sole lies at
+//    z = 1 m solved with "converged" and zero contact force, with nothing said (the paper's brick
+//    lifted 1 m);
+//  - the loads lift a face that rested on the plane off all over, or leave it touching without
+//    pressing on it: a note.
+void flag_no_contact(const Mesh& mesh, SolveResult& res) {
+  const int r = res.n_cells;
+  if (r == 0 || res.lambda.size() < r || res.lambda.head(r).maxCoeff() > 0 || res.face.nodes.empty()) return;
+  if (res.u.size() == 0 || res.u.cwiseAbs().maxCoeff() == 0) {
+    res.warnings.push_back(
+        "nothing loads the body: every traction, pressure, body force and prescribed displacement of the scene is "
+        "zero, so are the displacement and the contact forces");
+    return;
+  }
+  int lowest = res.face.nodes.front(), closest = lowest;
+  auto height_after = [&](int v) { return res.face.gap[v] + res.u[3 * v + 2]; };  // the mesh is in the plane's frame
+  for (const int v : res.face.nodes) {  // Clamped nodes are not among them (ContactFace::nodes).
+    if (res.face.gap[v] < res.face.gap[lowest]) lowest = v;
+    if (height_after(v) < height_after(closest)) closest = v;
+  }
+  auto tag = [&](int v) { return std::to_string(mesh.node_tags[static_cast<std::size_t>(v)]); };
+  const std::string after = "of its nodes, the one closest to it ends " + number(height_after(closest), 3) +
+                            " above it (node " + tag(closest) + ")";
+  if (res.face.gap[lowest] > 0)
+    res.warnings.push_back("no cell touches the foundation: the contact face starts " +
+                           number(res.face.gap[lowest], 3) + " above the foundation plane at its lowest node (node " +
+                           tag(lowest) + ") and the loads do not close that gap: " + after +
+                           "; if the body should rest on the foundation, put the plane there (contact.plane_point, "
+                           "plane_normal) or move the mesh, and check the mesh's units");
+  else if (height_after(closest) > 0)
+    res.notes.push_back("no cell is in contact: the loads lift the whole contact face off the foundation; " + after);
+  else
+    res.notes.push_back("no cell presses on the foundation: the contact face touches it (node " + tag(closest) +
+                        ") but the loads press nowhere on it");
+}
+
 // Non-penetration holds as averages over the cells R_i (the paper's mixed method), so single nodes
 // inside a cell may penetrate; on a body resolved against its cells by a small fraction of its
 // displacement (the paper's brick at n = 16: 0.7%, the bodies of results/bodies: at most 3.3%). When the body deforms
@@ -656,6 +695,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.forces.contact_at_held_nodes = held_share_of_contact_force(contact_force_in_plane_frame(res), res.forces.contact);
   if (scene.coulomb()) res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
   flag_friction_where_separated(scene, res);
+  flag_no_contact(mesh, res);
   flag_large_strain(mesh, res);
   flag_unresolved_contact(scene, largest_deformation(mesh, res.dofs, w, disc.held.field),
                           disc.held.count() > 0 || res.dofs.has_nonzero_prescribed(), res);

@@ -614,6 +614,50 @@ TEST(SolveContactGeometry, MirroredBrickReorientedGivesTheMirroredSolution) {
   EXPECT_EQ(res.fixed_point.iterations(), paper.fixed_point.iterations());
 }
 
+// A contact face that starts above the plane and never reaches it (the brick lifted 1 cm, its
+// largest displacement about 0.1 mm) converges with no contact force, which is said in a warning
+// naming the gap; loads that lift a face resting on the plane off all over get a note instead, a
+// scene whose loads are all zero a warning that nothing loads the body, and the paper's brick,
+// which touches, none of these.
+namespace {
+bool mentions(const std::vector<std::string>& lines, const std::string& text) {
+  for (const auto& line : lines)
+    if (line.find(text) != std::string::npos) return true;
+  return false;
+}
+}  // namespace
+
+TEST(SolveContactGeometry, NoContactAnywhereIsSaidWithTheGap) {
+  const Scene scene = parse_scene_text(kPaperScene, ".");
+  Mesh lifted = make_paper_brick({scene.mesh.n});
+  for (auto& x : lifted.nodes) x.z() += 0.01;
+  const SolveResult res = solve_scene(scene, lifted);
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_EQ(res.lambda.head(res.n_cells).maxCoeff(), 0.0);
+  EXPECT_TRUE(mentions(res.warnings, "no cell touches the foundation: the contact face starts 0.01 above"))
+      << ::testing::PrintToString(res.warnings);
+
+  Scene pulled = scene;
+  for (auto& t : pulled.tractions) t.value.z() = std::abs(t.value.z());  // both loads pull upwards
+  const SolveResult lifted_off = solve_scene(pulled, make_paper_brick({scene.mesh.n}));
+  ASSERT_TRUE(lifted_off.converged) << lifted_off.status;
+  EXPECT_FALSE(mentions(lifted_off.warnings, "no cell"));
+  EXPECT_TRUE(mentions(lifted_off.notes, "the loads lift the whole contact face off the foundation"))
+      << ::testing::PrintToString(lifted_off.notes);
+
+  Scene unloaded = scene;
+  for (auto& t : unloaded.tractions) t.value.setZero();
+  const SolveResult zero = solve_scene(unloaded, make_paper_brick({scene.mesh.n}));
+  ASSERT_TRUE(zero.converged) << zero.status;
+  EXPECT_EQ(zero.u.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(mentions(zero.warnings, "nothing loads the body")) << ::testing::PrintToString(zero.warnings);
+  EXPECT_FALSE(mentions(zero.notes, "lift"));
+
+  const SolveResult paper = solve_text();
+  EXPECT_FALSE(mentions(paper.warnings, "no cell") || mentions(paper.notes, "no cell") ||
+               mentions(paper.warnings, "nothing loads"));
+}
+
 // A condition on one component is kept when its axis stays an axis of the plane's frame, and
 // refused (naming the group) when the tilt mixes it with the others.
 TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) {
