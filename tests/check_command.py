@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Tests `contact3d check` on a good scene with the committed MSH 2.2 fixture: exit 0, every
 physical group listed with its dimension and element count (counted independently here from
-the file), the tet quality line with a number in (0, 1], the contact face summary and "ok"."""
+the file), the tet quality line with a number in (0, 1], the contact face summary with its initial gap (none on
+the plane; 0.5 m with the plane lowered by contact.plane_point) and "ok"."""
 import argparse
 import os
 import re
@@ -55,6 +56,9 @@ value = 0.3
 """)
 scene.close()
 p = subprocess.run([a.bin, "check", scene.name], capture_output=True, text=True, timeout=60)
+# The same scene on a plane 0.5 m below the body: the whole contact face starts above it.
+lowered = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_point=[0, 0, -0.5]"],
+                         capture_output=True, text=True, timeout=60)
 os.unlink(scene.name)
 out = p.stdout
 print(out, p.stderr)
@@ -70,8 +74,12 @@ for tag, (dim, name) in names.items():
 m = re.search(r"worst tet quality[^:]*:\s*([0-9.eE+-]+)", out)
 if not m or not (0 < float(m.group(1)) <= 1):
     problems.append("no tet quality in (0, 1]")
-if not re.search(r"contact face: \d+ triangles, \d+ contact nodes", out):
-    problems.append("no contact face summary")
+if not re.search(r"contact face: \d+ triangles, \d+ contact nodes.*; on the foundation plane \(no initial gap\)$",
+                 out, re.M):
+    problems.append("no contact face summary resting on the plane")
+if lowered.returncode != 0 or not re.search(
+        r"contact face: .*; initial gap 0\.5 to 0\.5 m \(the whole face starts above the plane", lowered.stdout):
+    problems.append(f"the face 0.5 m above a lowered plane is not said: exit {lowered.returncode}, {lowered.stdout}")
 # The dual a solve would form: 3 multipliers per cell with friction, and the dense route on a face this small.
 m = re.search(r"^dual: (\d+) cells \(H = [0-9.eE+-]+ m\), (\d+) multipliers; the dense Q with its working copies "
               r"[0-9.eE+-]+ [MG]iB, [0-9.eE+-]+ [MG]iB available: solver.schur = \"augmented\"$", out, re.M)

@@ -191,6 +191,20 @@ void print_dual_plan(const DualPlan& plan) {
              plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }
 
+// The contact face's heights above the foundation plane (its initial gap d): a face resting on the
+// plane, or one that starts above it all over — a mesh in CAD coordinates without contact.plane_point.
+std::string describe_initial_gap(const ContactFace& face) {
+  double lowest = INFINITY, highest = 0;
+  for (const int v : face.nodes) {
+    lowest = std::min(lowest, face.gap[static_cast<std::size_t>(v)]);
+    highest = std::max(highest, face.gap[static_cast<std::size_t>(v)]);
+  }
+  if (highest == 0) return "on the foundation plane (no initial gap)";
+  const std::string range = fmt::format("initial gap {:.4g} to {:.4g} m", lowest, highest);
+  return lowest > 0 ? range + " (the whole face starts above the plane: is contact.plane_point where the body rests?)"
+                    : range;
+}
+
 int run_check(const SolveArgs& args) {
   const Scene user_scene = load_scene(args.scene, args.sets);
   const fs::path work = fs::temp_directory_path() / ("contact3d_check_" + std::to_string(::getpid()));
@@ -246,8 +260,8 @@ int run_check(const SolveArgs& args) {
   tet_materials(scene, mesh);
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
-    fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} m², h = {:.4g} m\n", face.triangles.size(),
-               face.nodes.size(), face.area, face.h);
+    fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} m², h = {:.4g} m; {}\n",
+               face.triangles.size(), face.nodes.size(), face.area, face.h, describe_initial_gap(face));
     print_dual_plan(plan_dual(scene, mesh));
   }
   fmt::print("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
