@@ -1,6 +1,7 @@
 #include "model/stability_check.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
@@ -111,6 +112,22 @@ double jacobi_scaled_condition(const DenseView& Q, const DualOperatorFactor& fac
   return smallest > 0 ? largest / smallest : std::numeric_limits<double>::infinity();
 }
 
+// "≈ 1.2e+05", or what an estimate that came out NaN means (never printed as "-nan").
+std::string condition_text(double condition) {
+  return std::isnan(condition) ? std::string("not estimated (see the warning)") : "≈ " + number(condition, 3);
+}
+
+// Q's entries scale as 1/young: with young = 1e200 Pa they are about 1e-200, and the estimate's
+// squares underflow to 0/0 (the run printed "cond(Q) ≈ -nan" and went on). The answer may still be
+// right, so this is a warning, with the likely cause.
+void warn_if_condition_unknown(double q_size, SolveResult& res) {
+  if (!std::isnan(res.stability_condition)) return;
+  res.warnings.push_back("cond(Q) could not be estimated: Q's largest entry is " + number(q_size, 3) +
+                         ", too near double precision's limits for the estimate's squares (they under- or "
+                         "overflow); the scene's material moduli or loads are far from any physical scale, so check "
+                         "their units (material.young in Pa with lengths in m)");
+}
+
 // Lanczos steps of the matrix-free route's stability check (one product by Q each).
 constexpr int kLanczosSteps = 40;
 
@@ -153,7 +170,10 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
   if (!dual.forms_Q()) {
     res.stability_condition = check_stability_without_Q(dual, op, res.partition, q_norm);
     warn_if_ill_conditioned();
-    report.stage("stability (5.1): 𝔹 has full row rank; cond(Q) ≳ " + number(res.stability_condition, 3) +
+    warn_if_condition_unknown(q_norm, res);
+    report.stage("stability (5.1): 𝔹 has full row rank; cond(Q) " +
+                 (std::isfinite(res.stability_condition) ? "≳ " + number(res.stability_condition, 3)
+                                                         : condition_text(res.stability_condition)) +
                  " (Lanczos, " + std::to_string(kLanczosSteps) + " products)");
     return nullptr;
   }
@@ -172,7 +192,8 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
   if (res.stability_condition > kIllConditionedDual && qp.scaling == QpScaling::Jacobi && check.factor)
     res.stability_condition_scaled = jacobi_scaled_condition(dual.Q(), *check.factor);
   warn_if_ill_conditioned();
-  report.stage("stability (5.1): cond(Q) ≈ " + number(res.stability_condition, 3) +
+  warn_if_condition_unknown(dual.Q().diagonal().maxCoeff(), res);
+  report.stage("stability (5.1): cond(Q) " + condition_text(res.stability_condition) +
                (res.stability_condition_scaled > 0
                     ? ", Jacobi-scaled (the QP's) ≈ " + number(res.stability_condition_scaled, 3)
                     : std::string()));

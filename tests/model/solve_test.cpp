@@ -658,6 +658,48 @@ TEST(SolveContactGeometry, NoContactAnywhereIsSaidWithTheGap) {
                mentions(paper.warnings, "nothing loads"));
 }
 
+// young = 1e200 Pa makes Q's entries about 1e-200, whose condition estimate underflows to 0/0: the
+// run printed "cond(Q) ≈ -nan" and said nothing. It still solves, with a warning naming Q's size.
+TEST(SolveContactGeometry, ConditionThatUnderflowsIsWarnedAboutNotPrintedAsNan) {
+  const SolveResult res = solve_text({"material.young=1e200"});
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_TRUE(mentions(res.warnings, "cond(Q) could not be estimated: Q's largest entry is"))
+      << ::testing::PrintToString(res.warnings);
+  EXPECT_TRUE(res.u.allFinite());
+  EXPECT_FALSE(mentions(solve_text().warnings, "could not be estimated"));
+}
+
+// The paper's brick with the middle third of its sole taken out of the contact group (in 'free'
+// instead): that part sinks through the plane unresisted, which a warning says, naming the deepest
+// node; the whole sole in contact gives no such warning.
+TEST(SolveContactGeometry, PartOfTheSoleLeftOutOfTheContactGroupIsWarnedAbout) {
+  const Scene scene = parse_scene_text(kPaperScene, ".", {"friction.law=\"none\""});
+  Mesh mesh = make_paper_brick({scene.mesh.n});
+  const int contact = mesh.find_group("contact", 2)->tag, free = mesh.find_group("free", 2)->tag;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    double x = 0;
+    for (const int v : mesh.triangles[t]) x += mesh.nodes[static_cast<std::size_t>(v)].x() / 3;
+    if (mesh.triangle_group[t] == contact && x > 1 && x < 2) mesh.triangle_group[t] = free;
+  }
+  const SolveResult res = solve_scene(scene, mesh);
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_TRUE(mentions(res.warnings, "outside the contact groups end below the foundation plane"))
+      << ::testing::PrintToString(res.warnings);
+  EXPECT_FALSE(mentions(solve_text().warnings, "outside the contact groups"));
+}
+
+// A traction on the contact group itself is applied where the foundation holds the body: said in a
+// warning naming the group and the shared area (the brick's sole: 3 m²); the paper's loads, on
+// faces off Γc, get none.
+TEST(SolveContactGeometry, LoadOnTheContactFaceIsWarnedAbout) {
+  const std::string extra = "\n[[boundary.traction]]\ngroup = \"contact\"\nvalue = [0.0, 0.0, -1e6]\n";
+  const Scene scene = parse_scene_text(std::string(kPaperScene) + extra, ".", {"friction.law=\"none\""});
+  const SolveResult res = solve_scene(scene, make_paper_brick({scene.mesh.n}));
+  EXPECT_TRUE(mentions(res.warnings, "boundary.traction on 'contact' acts on 3 of the contact face"))
+      << ::testing::PrintToString(res.warnings);
+  EXPECT_FALSE(mentions(solve_text().warnings, "of the contact face:"));
+}
+
 // A condition on one component is kept when its axis stays an axis of the plane's frame, and
 // refused (naming the group) when the tilt mixes it with the others.
 TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) {
