@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -146,6 +147,38 @@ void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult&
   }
 }
 
+// Two nodes of the tetrahedra at one place: volumes meshed side by side without being joined (gmsh
+// boxes without BooleanFragments / Coherence). Each moves on its own there, so a load on one goes
+// nowhere near the other: two stacked boxes, 80 such pairs, solved with the top load going straight
+// to the clamp and no contact force, with nothing said. Places are compared rounded to 1e-9 of the
+// mesh's size.
+void warn_if_coincident_nodes(const Mesh& mesh, SolveResult& res) {
+  std::vector<char> used(mesh.nodes.size(), 0);
+  for (const auto& tet : mesh.tets)
+    for (const int v : tet) used[static_cast<std::size_t>(v)] = 1;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (const auto& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double unit = 1e-9 * std::max((hi - lo).norm(), std::numeric_limits<double>::min());
+  std::map<std::array<long long, 3>, std::size_t> at;
+  std::size_t pairs = 0, first_a = 0, first_b = 0;
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
+    if (!used[v]) continue;
+    const Eigen::Vector3d r = ((mesh.nodes[v] - lo) / unit).array().round();
+    const auto [it, fresh] =
+        at.emplace(std::array<long long, 3>{static_cast<long long>(r.x()), static_cast<long long>(r.y()),
+                                            static_cast<long long>(r.z())},
+                   v);
+    if (fresh) continue;
+    if (pairs++ == 0) first_a = it->second, first_b = v;
+  }
+  if (pairs == 0) return;
+  res.warnings.push_back(std::to_string(pairs) + " node(s) of the tetrahedra lie where another one does (e.g. nodes " +
+                         std::to_string(mesh.node_tags[first_a]) + " and " + std::to_string(mesh.node_tags[first_b]) +
+                         "): the mesh's volumes are not joined there and move apart as separate bodies; join them when "
+                         "meshing (gmsh: BooleanFragments or Coherence with OpenCASCADE) unless they are meant to be "
+                         "separate");
+}
+
 // `assemble_K` false: K is left to the ranks of the distributed backend (K_elsewhere).
 Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res, bool assemble_K) {
   check_coordinates_in_range(mesh);
@@ -156,6 +189,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
   warn_if_nearly_incompressible(mesh, disc.materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
+  warn_if_coincident_nodes(mesh, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;

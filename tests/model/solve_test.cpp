@@ -700,6 +700,21 @@ TEST(SolveContactGeometry, LoadOnTheContactFaceIsWarnedAbout) {
   EXPECT_FALSE(mentions(solve_text().warnings, "of the contact face:"));
 }
 
+// One tetrahedron of the brick given its own copy of a node (the mesh split there, as volumes meshed
+// side by side without being joined are): a warning names the pair; the paper's mesh has none.
+TEST(SolveContactGeometry, CoincidentNodesOfUnjoinedVolumesAreWarnedAbout) {
+  const Scene scene = parse_scene_text(kPaperScene, ".", {"friction.law=\"none\""});
+  Mesh mesh = make_paper_brick({scene.mesh.n});
+  const int shared = mesh.tets[0][3];
+  mesh.nodes.push_back(mesh.nodes[static_cast<std::size_t>(shared)]);
+  mesh.node_tags.push_back(mesh.node_tags.size() + 1);
+  mesh.tets[0][3] = static_cast<int>(mesh.nodes.size()) - 1;
+  const SolveResult res = solve_scene(scene, mesh);
+  EXPECT_TRUE(mentions(res.warnings, "1 node(s) of the tetrahedra lie where another one does"))
+      << ::testing::PrintToString(res.warnings);
+  EXPECT_FALSE(mentions(solve_text().warnings, "lie where another one does"));
+}
+
 // A condition on one component is kept when its axis stays an axis of the plane's frame, and
 // refused (naming the group) when the tilt mixes it with the others.
 TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) {
