@@ -371,8 +371,7 @@ Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tract
         tr.has_pressure() ? outward_normals(mesh, tr.group, tris) : std::vector<Eigen::Vector3d>();
     for (std::size_t k = 0; k < tris.size(); ++k) {
       const auto& tri = mesh.triangles[tris[k]];
-      const double area =
-          0.5 * (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).norm();
+      const double area = triangle_area(mesh, tri);
       std::array<Eigen::Vector3d, 3> t;  // the traction at the corners; ∫ t φ_i = |T|/12 (2 t_i + t_j + t_k)
       for (int a = 0; a < 3; ++a) {
         const Eigen::Vector3d& x = mesh.nodes[tri[a]];

@@ -53,6 +53,14 @@ struct Mesh {
   std::vector<int> triangles_of_group(std::string_view name) const;
 };
 
+// The area of a triangle of node indices.
+inline double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {
+  const auto& x = mesh.nodes;
+  return 0.5 * (x[static_cast<std::size_t>(tri[1])] - x[static_cast<std::size_t>(tri[0])])
+                   .cross(x[static_cast<std::size_t>(tri[2])] - x[static_cast<std::size_t>(tri[0])])
+                   .norm();
+}
+
 // For each triangle (node triples, any order): the tetrahedron it is a face of, kNoTetrahedron where
 // none is, kSeveralTetrahedra where two are (an interior face).
 constexpr int kNoTetrahedron = -1, kSeveralTetrahedra = -2;

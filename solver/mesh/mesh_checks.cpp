@@ -106,7 +106,8 @@ void check_duplicate_triangles(const Mesh& mesh, const MeshRoles& roles) {
 void check_contact_is_graph(const Mesh& mesh, const std::map<std::array<int, 3>, std::vector<std::size_t>>& wanted,
                             std::map<std::array<int, 3>, int>& count, std::map<std::array<int, 3>, int>& opposite,
                             const std::map<int, std::string>& group_names) {
-  std::size_t facing_down = 0, first_away = 0;
+  bool any_facing_down = false;
+  std::size_t first_away = 0;
   Eigen::Vector3d away_normal = Eigen::Vector3d::Zero();
   for (const auto& [face, tris] : wanted) {
     if (count[face] != 1) continue;  // orphans and interior faces are reported below
@@ -114,7 +115,7 @@ void check_contact_is_graph(const Mesh& mesh, const std::map<std::array<int, 3>,
     Eigen::Vector3d n = (b - a).cross(c - a);
     if (n.dot(mesh.nodes[opposite[face]] - a) > 0) n = -n;  // outward: away from the tet
     if (n.z() < -1e-6 * n.norm()) {
-      ++facing_down;
+      any_facing_down = true;
     } else if (away_normal.isZero()) {
       first_away = tris.front();
       away_normal = n.normalized();
@@ -125,7 +126,7 @@ void check_contact_is_graph(const Mesh& mesh, const std::map<std::array<int, 3>,
   auto component = [](double c) { return number(std::abs(c) < 1e-9 ? 0.0 : c); };  // no -0 or 1e-16 of rounding
   const std::string normal =
       "(" + component(away_normal.x()) + ", " + component(away_normal.y()) + ", " + component(away_normal.z()) + ")";
-  if (facing_down == 0)
+  if (!any_facing_down)
     throw InputError("contact group '" + group + "': none of its triangles faces the foundation (triangle " +
                      std::to_string(mesh.triangle_tags[first_away]) + ": outward normal " + normal +
                      " in the plane's frame, whose +z points from the plane to the body; Γc must be a graph over "
@@ -216,10 +217,6 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
                      " contact triangle(s) are interior faces, shared by two "
                      "tetrahedra (tags " +
                      tag_list(file_tags(mesh, found.interior)) + "): Γc must be part of the body's boundary");
-}
-
-double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {
-  return 0.5 * (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]).norm();
 }
 
 double area_of(const Mesh& mesh, const std::vector<std::size_t>& triangles) {

@@ -131,12 +131,7 @@ void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult&
   for (const auto& load : scene.tractions) {
     double shared = 0;
     for (const int t : triangles(load.group)) {
-      if (!contact.count(key(t))) continue;
-      const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
-      const Eigen::Vector3d a = mesh.nodes[static_cast<std::size_t>(tri[0])];
-      shared += 0.5 * (mesh.nodes[static_cast<std::size_t>(tri[1])] - a)
-                          .cross(mesh.nodes[static_cast<std::size_t>(tri[2])] - a)
-                          .norm();
+      if (contact.count(key(t))) shared += triangle_area(mesh, mesh.triangles[static_cast<std::size_t>(t)]);
     }
     if (shared > 0)
       res.warnings.push_back(
@@ -405,6 +400,12 @@ void flag_friction_where_separated(const Scene& scene, SolveResult& res) {
                         "pressure (the paper's model); friction.model = \"coulomb\" ties it to the pressure");
 }
 
+// Every cell's λ_n ≤ 0: nothing presses on the foundation (false without cells).
+bool no_cell_presses(const SolveResult& res) {
+  const Eigen::Index r = static_cast<Eigen::Index>(res.partition.cells.size());
+  return r > 0 && res.lambda.size() >= r && res.lambda.head(r).maxCoeff() <= 0;
+}
+
 // No cell presses on the foundation (every λ_n ≤ 0), said with what the run shows of why:
 //  - nothing moves the body (every load and prescribed value zero): a warning, the answer is zero;
 //  - Γc started above the plane and the loads did not bring it down: a warning naming the gap. The
@@ -414,8 +415,7 @@ void flag_friction_where_separated(const Scene& scene, SolveResult& res) {
 //  - the loads lift a face that rested on the plane off all over, or leave it touching without
 //    pressing on it: a note.
 void flag_no_contact(const Mesh& mesh, SolveResult& res) {
-  const int r = res.n_cells;
-  if (r == 0 || res.lambda.size() < r || res.lambda.head(r).maxCoeff() > 0 || res.face.nodes.empty()) return;
+  if (!no_cell_presses(res) || res.face.nodes.empty()) return;
   if (res.u.size() == 0 || res.u.cwiseAbs().maxCoeff() == 0) {
     res.warnings.push_back(
         "nothing loads the body: every traction, pressure, body force and prescribed displacement of the scene is "
@@ -489,10 +489,7 @@ std::string share_of_displacement(double ratio) {
 }
 
 // No cell presses (every λ_n ≤ 0) while nodes penetrate: the approach closed no cell's mean gap.
-bool penetrates_without_pressure(const SolveResult& res) {
-  const Eigen::Index r = static_cast<Eigen::Index>(res.partition.cells.size());
-  return res.wn_plus_inf > 0 && r > 0 && res.lambda.size() >= r && res.lambda.head(r).maxCoeff() <= 0;
-}
+bool penetrates_without_pressure(const SolveResult& res) { return res.wn_plus_inf > 0 && no_cell_presses(res); }
 
 // Non-penetration is enforced on boundary.contact only. A part of the body that rests on the plane
 // but is in no contact group sinks through it with nothing said: a 3 x 1 x 1 brick whose contact

@@ -112,9 +112,9 @@ double jacobi_scaled_condition(const DenseView& Q, const DualOperatorFactor& fac
   return smallest > 0 ? largest / smallest : std::numeric_limits<double>::infinity();
 }
 
-// "≈ 1.2e+05", or what an estimate that came out NaN means (never printed as "-nan").
-std::string condition_text(double condition) {
-  return std::isnan(condition) ? std::string("not estimated (see the warning)") : "≈ " + number(condition, 3);
+// "≈ 1.2e+05" (`relation` "≳" for a bound), or what an estimate that came out NaN means (never "-nan").
+std::string condition_text(double condition, const std::string& relation = "≈") {
+  return std::isnan(condition) ? std::string("not estimated (see the warning)") : relation + " " + number(condition, 3);
 }
 
 // Q's entries scale as 1/young: with young = 1e200 Pa they are about 1e-200, and the estimate's
@@ -171,9 +171,7 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
     res.stability_condition = check_stability_without_Q(dual, op, res.partition, q_norm);
     warn_if_ill_conditioned();
     warn_if_condition_unknown(q_norm, res);
-    report.stage("stability (5.1): 𝔹 has full row rank; cond(Q) " +
-                 (std::isfinite(res.stability_condition) ? "≳ " + number(res.stability_condition, 3)
-                                                         : condition_text(res.stability_condition)) +
+    report.stage("stability (5.1): 𝔹 has full row rank; cond(Q) " + condition_text(res.stability_condition, "≳") +
                  " (Lanczos, " + std::to_string(kLanczosSteps) + " products)");
     return nullptr;
   }

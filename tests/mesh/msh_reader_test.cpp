@@ -120,10 +120,6 @@ double tet_volume(const Mesh& m, const std::array<int, 4>& t) {
   return d.determinant() / 6;
 }
 
-double triangle_area(const Mesh& m, const std::array<int, 3>& t) {
-  return 0.5 * (m.nodes[t[1]] - m.nodes[t[0]]).cross(m.nodes[t[2]] - m.nodes[t[0]]).norm();
-}
-
 // The brick (0,3)x(0,1)x(0,1) of geo/brick.geo meshed with parameter n.
 void check_brick(const Mesh& m, int n) {
   EXPECT_EQ(m.nodes.size(), static_cast<std::size_t>((3 * n + 1) * (n + 1) * (n + 1)));
