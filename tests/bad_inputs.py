@@ -760,6 +760,18 @@ def c_plane_normal_away_from_body(c):
             ["'contact'", "none of its triangles faces the foundation", "contact.plane_normal"])
 
 
+def c_contact_all_clamped(c):
+    # every node of the contact group also clamped: nothing can touch the foundation
+    return (["solve", c.scene(clamped='["clamped", "contact"]'), "--out", c.path("out")],
+            ["every node of the contact groups", "clamped", "no contact node"])
+
+
+def c_plane_point_far(c):
+    # a point of the plane 1e16 along it (a unit slip): the plane is blamed, not the mesh's coordinates
+    return (["check", c.scene(), "--set", "contact.plane_point=[1e16, 0, 0]"],
+            ["contact.plane_point", "from the mesh", "in the mesh's units"])
+
+
 def c_plane_normal_zero(c):
     return ["check", c.scene(), "--set", "contact.plane_normal=[0, 0, 0]"], ["contact.plane_normal", "non-zero"]
 

@@ -24,7 +24,7 @@ set(CONTACT3D_BAD_INPUT_CASES
   pressure_without_value
   displacement_no_component pressure_on_volume_group material_region_not_volume
   friction_model_unknown coulomb_with_slip_bound contact_not_a_graph contact_folds_over
-  plane_normal_away_from_body
+  plane_normal_away_from_body contact_all_clamped plane_point_far
   plane_normal_zero tilted_plane_penetration memory_factor_too_big memory_blas_buffers schur_mumps_in_serial_build
   out_of_core_in_serial_build out_of_core_dir_missing
   qp_rtol_per_err_negative fixed_point_tail_err_one fixed_point_variant_unknown)

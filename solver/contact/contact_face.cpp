@@ -9,6 +9,14 @@
 
 namespace contact3d {
 
+namespace {
+
+bool held_in_every_node(const std::array<int, 3>& tri, const DofMap& dofs) {
+  return std::all_of(tri.begin(), tri.end(), [&](int v) { return dofs.fully_fixed(v); });
+}
+
+}  // namespace
+
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs) {
   ContactFace face;
   if (mesh.nodes.empty()) throw InputError("the mesh has no nodes");
@@ -32,9 +40,17 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
                            " below the foundation plane z = 0 (initial penetration); Γc must lie on or above it");
       std::array<int, 3> key = tri;
       std::sort(key.begin(), key.end());
-      if (seen.insert(key).second) face.triangles.push_back(tri);
+      if (!seen.insert(key).second) continue;
+      if (held_in_every_node(tri, dofs)) {
+        ++face.held_triangles;
+        face.held_area += triangle_area(mesh, tri);
+      } else {
+        face.triangles.push_back(tri);
+      }
     }
   }
+  if (face.triangles.empty())
+    throw InputError("every node of the contact groups lies on the clamped boundary Γu: Γc has no contact node");
   face.contact_index.assign(mesh.nodes.size(), -1);
   face.gap.assign(mesh.nodes.size(), 0.0);
   for (const auto& tri : face.triangles)
@@ -77,8 +93,6 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
       face.contact_index[v] = static_cast<int>(face.nodes.size());
       face.nodes.push_back(static_cast<int>(v));
     }
-  if (face.nodes.empty())
-    throw InputError("every node of the contact groups lies on the clamped boundary Γu: Γc has no contact node");
   return face;
 }
 

@@ -27,11 +27,17 @@ struct ContactFace {
   Eigen::Vector2d h_xy = Eigen::Vector2d::Zero();
   double area = 0;          // of the projection onto the plane
   std::vector<double> gap;  // mesh node -> initial gap d (height z above the plane) on Γc, else 0
+  // Triangles of the contact groups whose three nodes are all held (clamped, or prescribed in every
+  // component) are left out of Γc: nothing there can move, so no cell over them could be matched to a
+  // node of its own (5.1); the condition holds them, and their force is in its reaction.
+  int held_triangles = 0;
+  double held_area = 0;  // their true area
 
   Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }
 };
 
-// Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle).
+// Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle), or if
+// every node of it is held.
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs);
 
 }  // namespace contact3d

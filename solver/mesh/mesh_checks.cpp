@@ -14,8 +14,6 @@
 namespace contact3d {
 namespace {
 
-constexpr double kMaxCoordinate = 1e15;
-
 template <std::size_t N>
 std::array<int, N> sorted(std::array<int, N> a) {
   std::sort(a.begin(), a.end());

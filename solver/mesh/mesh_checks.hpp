@@ -25,6 +25,7 @@ struct MeshRoles {
 };
 
 // Coordinates beyond ±1e15 (run first: every other check computes with them).
+inline constexpr double kMaxCoordinate = 1e15;
 void check_coordinates_in_range(const Mesh& mesh);
 // The other checks above; run after the tetrahedra are known to be positively oriented.
 void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles);

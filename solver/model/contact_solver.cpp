@@ -111,6 +111,26 @@ void warn_if_nearly_incompressible(const Mesh& mesh, const TetMaterials& materia
       "is very fine (contact3d has no mixed u–p formulation): check that the answer changes little when h is halved");
 }
 
+// A Young's modulus above any solid's (diamond's is about 1.2e12 Pa) is a unit slip: young in Pa where
+// output.units says MPa (a mm mesh) makes every displacement a million times too small, and a gap or a
+// slip-dependent coefficient then acts on the wrong scale, with nothing else to say so (the helper's
+// mm brick: largest strain 1.8e-10).
+constexpr double kStiffestSolidPa = 2e12;
+void warn_if_stiffer_than_any_solid(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
+                                    SolveResult& res) {
+  double stiffest = 0;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) stiffest = std::max(stiffest, materials[e].young);
+  const double pascal = pascal_per_stress_unit(scene.output.units);
+  if (!(stiffest * pascal > kStiffestSolidPa)) return;
+  const UnitLabels units = unit_labels(scene.output.units);
+  res.warnings.push_back("young = " + number(stiffest, 4) + " " + units.stress +
+                         " is stiffer than any solid (diamond's is about " + number(1.2e12 / pascal, 2) + " " +
+                         units.stress + "): check that the moduli are in " + units.stress + ", as output.units = \"" +
+                         name_of(scene.output.units, kUnitSystemNames) +
+                         "\" states; a modulus given in a smaller unit makes every displacement as many times too "
+                         "small");
+}
+
 // The model takes the loaded boundary Γp and the contact face Γc apart. A traction or pressure on a
 // group that shares triangles with Γc (the contact group itself, or a load patch cut from the sole)
 // was applied where the foundation holds the body with nothing said; said in a warning with the
@@ -140,6 +160,19 @@ void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult&
           " of the contact face: the model loads Γp and lets the foundation hold Γc, two apart, "
           "so this load goes partly straight into the contact forces; put it on the faces it acts on");
   }
+}
+
+// Two [[boundary.traction]] (or two [[boundary.pressure]]) entries on one group are added: meant where
+// loads are superposed, a slip where one was copied and its group not renamed. Said in a note, so the
+// sum is not a surprise (a traction beside a pressure on one group is the usual way to state both).
+void note_loads_given_twice(const Scene& scene, SolveResult& res) {
+  std::map<std::pair<std::string, bool>, int> entries;  // (group, is a pressure) -> count
+  for (const auto& load : scene.tractions) ++entries[{load.group, load.has_pressure()}];
+  for (const auto& [key, count] : entries)
+    if (count > 1)
+      res.notes.push_back("'" + key.first + "' has " + std::to_string(count) + " [[boundary." +
+                          (key.second ? "pressure" : "traction") +
+                          "]] entries: they are added, and the load there is their sum");
 }
 
 // Two nodes of the tetrahedra at one place: volumes meshed side by side without being joined (gmsh
@@ -183,7 +216,9 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
   warn_if_nearly_incompressible(mesh, disc.materials, res);
+  warn_if_stiffer_than_any_solid(scene, mesh, disc.materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
+  note_loads_given_twice(scene, res);
   warn_if_coincident_nodes(mesh, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
@@ -231,6 +266,11 @@ std::string cell_sizes(const SolveResult& res) {
 // Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
 ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult& res) {
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
+  if (res.face.held_triangles > 0)
+    res.notes.push_back(std::to_string(res.face.held_triangles) + " triangle(s) of the contact groups (area " +
+                        number(res.face.held_area, 3) +
+                        ") have every node clamped or prescribed: that condition holds them, not the contact, so "
+                        "they are left out of Γc and its cells, and the force there is in the condition's reaction");
   // H = k·h means k times the typical element extent in each direction (h_xy), so that an
   // anisotropic contact mesh gets rectangles of the same aspect; a length is used as given.
   res.cell_size = scene.cell_size_relative ? scene.cell_size * res.face.h_xy.x() : scene.cell_size;
@@ -557,11 +597,20 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
 // undeformed face), which describes a body strained by a few percent at most. Far beyond that the
 // answer is the linear model's, not the body's, and the usual cause is a scene in mixed units: young in
 // MPa with lengths in metres strains a steel block a million times too much, and the only other warning
-// was about penetration, which asked for a finer mesh. Said before any other warning.
+// was about penetration, which asked for a finer mesh. Said before any other warning. The other slip,
+// loads in MPa with young in Pa, strains it a million times too little: said in a note below kTinyStrain.
 constexpr double kLargeStrain = 0.1;
+constexpr double kTinyStrain = 1e-9;  // a steel part's own weight strains a 1 cm part by 4e-9
 void flag_large_strain(const Mesh& mesh, SolveResult& res) {
   const StrainPeak peak = largest_strain(mesh, res.u);
   res.largest_strain = peak.value;
+  if (peak.value > 0 && peak.value < kTinyStrain) {
+    res.notes.push_back("the largest strain is " + number(peak.value, 3) +
+                        ", far below a loaded part's usual 1e-5 … 1e-3: check that loads and moduli are in one "
+                        "system of units (loads in MPa with young in Pa make every displacement a million times too "
+                        "small, and a gap or a slip-dependent coefficient then acts on the wrong scale)");
+    return;
+  }
   if (!(peak.value > kLargeStrain)) return;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const int v : mesh.tets[peak.tet]) centre += mesh.nodes[static_cast<std::size_t>(v)] / 4;

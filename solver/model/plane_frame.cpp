@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "model/contact_solver.hpp"
 
 namespace contact3d {
@@ -37,6 +39,17 @@ PrescribedDisplacement rotate_condition(const PrescribedDisplacement& given, con
   return out;
 }
 
+// The mesh is in range (checked before); in the plane's frame a node beyond ±1e15 can only come from
+// contact.plane_point lying that far from the body, which the mesh check would blame on the mesh.
+void require_plane_point_near_mesh(const Mesh& local_mesh, const FoundationFrame& f) {
+  for (const auto& x : local_mesh.nodes)
+    if (!(x.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+      throw InputError("contact.plane_point (" + number(f.point.x()) + ", " + number(f.point.y()) + ", " +
+                       number(f.point.z()) + ") lies " + number(x.norm(), 3) +
+                       " from the mesh, beyond ±1e15 in the plane's frame: give a point of the foundation plane "
+                       "near the body, in the mesh's units");
+}
+
 }  // namespace
 
 PlaneFrameProblem to_plane_frame(const Scene& scene, const Mesh& mesh) {
@@ -45,7 +58,9 @@ PlaneFrameProblem to_plane_frame(const Scene& scene, const Mesh& mesh) {
   PlaneFrameProblem local{scene, mesh};
   local.scene.foundation = FoundationFrame();
   local.scene.user_frame = f;
+  check_coordinates_in_range(mesh);  // the mesh's own coordinates, before the plane's point moves them
   for (auto& x : local.mesh.nodes) x = f.to_local_point(x);
+  require_plane_point_near_mesh(local.mesh, f);
   local.scene.body_force = R * scene.body_force;
   for (auto& t : local.scene.tractions) {  // t(x) = v + G x, x = Rᵀx' + p
     t.value = R * (t.value + t.gradient * f.point);

@@ -452,6 +452,18 @@ UnitLabels unit_labels(UnitSystem units) {
   return {"m", "N", "Pa"};
 }
 
+double pascal_per_stress_unit(UnitSystem units) {
+  switch (units) {
+    case UnitSystem::MillimetreNewtonMegapascal:
+      return 1e6;
+    case UnitSystem::MetreKilonewtonKilopascal:
+      return 1e3;
+    case UnitSystem::MetreNewtonPascal:
+      break;
+  }
+  return 1;
+}
+
 TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
   if (scene.regions.empty()) return TetMaterials(scene.material);
   std::vector<Material> per_tet(mesh.tets.size(), scene.material);

@@ -104,6 +104,7 @@ struct UnitLabels {
   const char *length, *force, *stress;
 };
 UnitLabels unit_labels(UnitSystem units);
+double pascal_per_stress_unit(UnitSystem units);  // 1, 1e6 or 1e3
 
 struct OutputSettings {
   std::filesystem::path dir;  // default results/runs/<scene name> (or --out)

@@ -257,33 +257,59 @@ TEST(Partition, StabilityViolationIsDetected) {
   }
 }
 
-TEST(Partition, LocalStabilityDefectIsRepaired) {
-  // A strip of 3 unit squares whose nodes at x = 0 and x = 1 are clamped (not contact nodes).
-  // With H = 1 the cell [0,1] x [0,1] meets no free node: (5.1) fails structurally. One
-  // unmatched cell out of three is a local defect: it is merged into its neighbour.
+// Flat strip of 3 unit squares with the given nodes clamped (a "clamped" group of triangles over them).
+Flat strip_with_clamped(const std::vector<std::array<int, 3>>& clamped_triangles) {
   Flat f = flat({{0, 0}, {1, 0}, {2, 0}});
   f.mesh.groups.push_back({2, 2, "clamped"});
-  const int a = node_at(f.mesh, 0, 0), b = node_at(f.mesh, 0, 1), c = node_at(f.mesh, 1, 0), d = node_at(f.mesh, 1, 1);
-  for (auto t : {std::array<int, 3>{a, b, c}, std::array<int, 3>{b, c, d}}) {
+  for (const auto& t : clamped_triangles) {
     f.mesh.triangles.push_back(t);
     f.mesh.triangle_tags.push_back(f.mesh.triangles.size());
     f.mesh.triangle_group.push_back(2);
   }
   f.dofs = make_dof_map(f.mesh, {"clamped"});
   f.face = make_contact_face(f.mesh, {"contact"}, f.dofs);
-  ASSERT_EQ(f.face.nodes.size(), 4u);
-  PartitionOptions o{1.0};
+  return f;
+}
+
+TEST(Partition, LocalStabilityDefectIsRepaired) {
+  // The strip's nodes (0,0), (0,1) and (1,0) clamped: the first square keeps one free node, (1,1), and
+  // cells 0.5 wide put two cells on it, so one of the six has no node of its own (five free nodes):
+  // a local defect (one cell), merged into its neighbour.
+  const Mesh m = flat({{0, 0}, {1, 0}, {2, 0}}).mesh;
+  Flat f = strip_with_clamped({{node_at(m, 0, 0), node_at(m, 0, 1), node_at(m, 1, 0)}});
+  ASSERT_EQ(f.face.nodes.size(), 5u);
+  EXPECT_EQ(f.face.held_triangles, 0);
+  PartitionOptions o{0.5};
+  o.cell_size_y = 1.0;
   o.enforce_stability = false;
-  const auto bad = cells_without_own_node(f.face, make_grid_partition(f.mesh, f.face, o));
-  ASSERT_EQ(bad.size(), 1u);
+  const Partition unrepaired = make_grid_partition(f.mesh, f.face, o);
+  ASSERT_EQ(unrepaired.cells.size(), 6u);
+  ASSERT_EQ(cells_without_own_node(f.face, unrepaired).size(), 1u);
   o.enforce_stability = true;
   const Partition p = make_grid_partition(f.mesh, f.face, o);
-  ASSERT_EQ(p.cells.size(), 2u);
+  ASSERT_EQ(p.cells.size(), 5u);
   EXPECT_EQ(p.stability_merges, 1);
-  EXPECT_NEAR(p.cells[0].area, 2.0, 1e-14);  // [0,2] x [0,1]
   EXPECT_NEAR(p.cells[0].lo.x(), 0.0, 1e-14);
-  EXPECT_NEAR(p.cells[0].hi.x(), 2.0, 1e-14);
+  EXPECT_NEAR(p.cells[0].hi.x(), 1.0, 1e-14);  // the first square's two halves, one cell
   EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
+  expect_row_sums_are_areas(f, p);
+}
+
+TEST(Partition, TrianglesHeldInEveryNodeAreLeftOutOfTheFace) {
+  // The strip's nodes at x = 0 and x = 1 clamped: the first square's two triangles cannot move, so
+  // they are not part of Γc (a cell over them could never have a free node, (5.1)); the rest is
+  // partitioned as a strip of two squares.
+  const Mesh m = flat({{0, 0}, {1, 0}, {2, 0}}).mesh;
+  const int a = node_at(m, 0, 0), b = node_at(m, 0, 1), c = node_at(m, 1, 0), d = node_at(m, 1, 1);
+  Flat f = strip_with_clamped({{a, b, c}, {b, c, d}});
+  EXPECT_EQ(f.face.held_triangles, 2);
+  EXPECT_NEAR(f.face.held_area, 1.0, 1e-14);
+  EXPECT_NEAR(f.face.area, 2.0, 1e-14);
+  EXPECT_NEAR(f.face.lo.x(), 1.0, 1e-14);
+  ASSERT_EQ(f.face.nodes.size(), 4u);
+  const Partition p = make_grid_partition(f.mesh, f.face, PartitionOptions{1.0});
+  ASSERT_EQ(p.cells.size(), 2u);
+  EXPECT_EQ(p.stability_merges, 0);
   expect_row_sums_are_areas(f, p);
 }
 

@@ -4,6 +4,7 @@
 // near the end lifted by the end load, symmetry about y = 1/2.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -669,6 +670,36 @@ TEST(SolveContactGeometry, ConditionThatUnderflowsIsWarnedAboutNotPrintedAsNan) 
   EXPECT_FALSE(mentions(solve_text().warnings, "could not be estimated"));
 }
 
+// The paper's steel brick stated in mm-N-MPa but with young still in Pa (2.119e11 "MPa"): a warning
+// names the unit; the same modulus in Pa, as the paper's scene has it, and the brick in MPa with
+// young = 2.119e5, get none.
+TEST(SolveContactGeometry, ModulusStifferThanAnySolidIsWarnedAboutWithItsUnit) {
+  const SolveResult pa_in_mpa = solve_text({"output.units=\"mm-N-MPa\""});
+  EXPECT_TRUE(mentions(pa_in_mpa.warnings, "young = 2.119e+11 MPa is stiffer than any solid"))
+      << ::testing::PrintToString(pa_in_mpa.warnings);
+  EXPECT_FALSE(mentions(solve_text().warnings, "stiffer than any solid"));
+  EXPECT_FALSE(
+      mentions(solve_text({"output.units=\"mm-N-MPa\"", "material.young=2.119e5"}).warnings, "stiffer than any"));
+}
+
+// The paper's loads written in MPa (10, 20, -30) with young still in Pa: strains of about 1e-12, a
+// million times too small, get a note; the paper's loads in Pa (largest strain about 2e-4) none.
+TEST(SolveContactGeometry, StrainFarTooSmallIsNotedAsAPossibleUnitSlip) {
+  std::string text = kPaperScene;
+  for (const auto& [pa, mpa] : {std::pair<std::string, std::string>{"[1e7, 0, 2e7]", "[10.0, 0, 20.0]"},
+                                {"[0, 0, -3e7]", "[0, 0, -30.0]"},
+                                {"slip_bound = 2e7", "slip_bound = 20.0"}}) {
+    const std::size_t at = text.find(pa);
+    ASSERT_NE(at, std::string::npos) << pa;
+    text.replace(at, pa.size(), mpa);
+  }
+  const SolveResult res = solve_scene(parse_scene_text(text, ".", {"friction.law=\"none\""}), make_paper_brick({4}));
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_LT(res.largest_strain, 1e-9);
+  EXPECT_TRUE(mentions(res.notes, "far below a loaded part's usual")) << ::testing::PrintToString(res.notes);
+  EXPECT_FALSE(mentions(solve_text().notes, "far below a loaded part's usual"));
+}
+
 // The paper's brick with the middle third of its sole taken out of the contact group (in 'free'
 // instead): that part sinks through the plane unresisted, which a warning says, naming the deepest
 // node; the whole sole in contact gives no such warning.
@@ -686,6 +717,49 @@ TEST(SolveContactGeometry, PartOfTheSoleLeftOutOfTheContactGroupIsWarnedAbout) {
   EXPECT_TRUE(mentions(res.warnings, "outside the contact groups end below the foundation plane"))
       << ::testing::PrintToString(res.warnings);
   EXPECT_FALSE(mentions(solve_text().warnings, "outside the contact groups"));
+}
+
+// A clamp over part of the sole (a contact group split in two, one half also clamped, as a bolted
+// foot): the triangles held in every node are left out of Γc with a note, and the rest solves with
+// the clamp's reaction taking the force there; before, every cell over them failed (5.1) and the
+// error asked for larger cells, which could never help.
+TEST(SolveContactGeometry, ContactTrianglesUnderAClampAreLeftToTheClamp) {
+  const Scene scene = parse_scene_text(kPaperScene, ".",
+                                       {"friction.law=\"none\"", "boundary.clamped=[\"clamped\", \"bolted\"]",
+                                        "boundary.contact=[\"contact\", \"bolted\"]"});
+  Mesh mesh = make_paper_brick({scene.mesh.n});
+  const int contact = mesh.find_group("contact", 2)->tag;
+  const int bolted = 1 + std::max_element(mesh.groups.begin(), mesh.groups.end(), [](const auto& a, const auto& b) {
+                           return a.tag < b.tag;
+                         })->tag;
+  mesh.groups.push_back({2, bolted, "bolted"});
+  int moved = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    double x = 0;
+    for (const int v : mesh.triangles[t]) x += mesh.nodes[static_cast<std::size_t>(v)].x() / 3;
+    if (mesh.triangle_group[t] == contact && x > 2) mesh.triangle_group[t] = bolted, ++moved;
+  }
+  const SolveResult res = solve_scene(scene, mesh);
+  ASSERT_TRUE(res.converged) << res.status;
+  EXPECT_EQ(res.face.held_triangles, moved);
+  EXPECT_NEAR(res.face.area, 2.0, 1e-12);  // the sole's 3 m² less the bolted 1 m²
+  EXPECT_NEAR(res.face.held_area, 1.0, 1e-12);
+  EXPECT_TRUE(mentions(res.notes, "have every node clamped or prescribed")) << ::testing::PrintToString(res.notes);
+  EXPECT_LT(res.kkt.equilibrium, 1e-10);
+  EXPECT_FALSE(mentions(solve_text().notes, "have every node clamped"));
+}
+
+// The paper's top load given twice (a copied entry): a note says the two are added, and the applied
+// force is their sum; the paper's scene, one entry per group, gets no such note.
+TEST(SolveContactGeometry, TwoTractionsOnOneGroupAreSaidToBeAdded) {
+  const std::string extra = "\n[[boundary.traction]]\ngroup = \"load_top\"\nvalue = [0.0, 0.0, -3e7]\n";
+  const Scene scene = parse_scene_text(std::string(kPaperScene) + extra, ".", {"friction.law=\"none\""});
+  const SolveResult res = solve_scene(scene, make_paper_brick({scene.mesh.n}));
+  EXPECT_TRUE(mentions(res.notes, "'load_top' has 2 [[boundary.traction]] entries: they are added"))
+      << ::testing::PrintToString(res.notes);
+  const SolveResult once = solve_text({"friction.law=\"none\""});
+  EXPECT_FALSE(mentions(once.notes, "entries: they are added"));
+  EXPECT_GT(std::abs(res.forces.applied.z()), 1.5 * std::abs(once.forces.applied.z()));
 }
 
 // A traction on the contact group itself is applied where the foundation holds the body: said in a
