@@ -226,7 +226,7 @@ int run_check(const SolveArgs& args) {
     if (g.dim == 2) {
       for (int t : user_mesh.triangle_group) count += (t == g.tag);
     } else {
-      for (int t : user_mesh.tet_group) count += (t == g.tag);
+      count = user_mesh.tets_of_group(g.tag).size();
     }
     const std::string name = g.name.empty() ? std::to_string(g.tag) : g.name;
     fmt::print("  {:<16} dim {}  {} {}\n", "\"" + name + "\"", g.dim, count, g.dim == 2 ? "triangles" : "tetrahedra");
@@ -323,7 +323,7 @@ int main(int argc, char** argv) {
                     "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
   solve->add_option("--set", args.sets, "override a scene key, e.g. --set friction.param=2e4");
   solve->add_option("--out", args.out, "output folder");
-  solve->add_flag("--quiet", args.quiet, "print nothing but errors");
+  solve->add_flag("--quiet", args.quiet, "print nothing on stdout (errors, warnings and hints still go to stderr)");
   solve->footer("Solver choices (scene keys, also for --set): solver.qp = " + names_list(kQpVariantNames) +
                 "; solver.qp_scaling = " + names_list(kQpScalingNames) + "; solver.qp_precision = " +
                 names_list(kQpPrecisionNames) + "; solver.fixed_point = " + names_list(kFixedPointVariantNames) +

@@ -52,6 +52,17 @@ std::vector<int> Mesh::triangles_of_group(std::string_view name) const {
   return out;
 }
 
+std::vector<std::size_t> Mesh::tets_of_group(int tag) const {
+  std::vector<std::size_t> out;
+  for (std::size_t e = 0; e < tet_group.size(); ++e)
+    if (tet_group[e] == tag) out.push_back(e);
+  for (const auto& [e, t] : tet_extra_groups)
+    if (t == tag) out.push_back(e);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 void drop_unused_nodes(Mesh& mesh) {
   std::vector<int> new_index(mesh.nodes.size(), -1);
   for (const auto& t : mesh.tets)

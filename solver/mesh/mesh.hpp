@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,6 +29,9 @@ struct Mesh {
   std::vector<std::array<int, 4>> tets;  // node indices
   std::vector<std::size_t> tet_tags;     // file element tag of each tet
   std::vector<int> tet_group;            // physical tag of each tet (0 if none)
+  // A tet in more than one volume group (a gmsh volume in two physical groups, e.g. "core" and "all"):
+  // (tet index, tag) for every group after the one tet_group holds.
+  std::vector<std::pair<std::size_t, int>> tet_extra_groups;
 
   // Boundary triangles. A triangle that belongs to several physical groups appears once per group.
   std::vector<std::array<int, 3>> triangles;
@@ -51,6 +55,9 @@ struct Mesh {
   // Indices of the triangles tagged with the named 2-D group (throws InputError naming the
   // available groups if the mesh has no such group).
   std::vector<int> triangles_of_group(std::string_view name) const;
+  // Indices of the tetrahedra in the volume group with physical tag `tag` (tet_group and
+  // tet_extra_groups), ascending.
+  std::vector<std::size_t> tets_of_group(int tag) const;
 };
 
 // The area of a triangle of node indices.

@@ -1055,7 +1055,7 @@ std::size_t Parser::read_element_block41(std::size_t announced, std::size_t so_f
 
   if (is_tet(type)) reserve_more_tets(n);
   if (is_triangle(type)) reserve_more_triangles(n);
-  const std::size_t first_tri = mesh_.triangles.size();
+  const std::size_t first_tri = mesh_.triangles.size(), first_tet = mesh_.tets.size();
   std::array<int, kMaxElementNodes> idx{};
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t tag;
@@ -1078,6 +1078,9 @@ std::size_t Parser::read_element_block41(std::size_t announced, std::size_t so_f
   }
   if (is_second_order(type)) second_order_ = true;
   if (is_triangle(type) && phys.size() > 1) repeat_for_extra_physicals(bpos, etag, first_tri, phys);
+  if (is_tet(type))  // a volume entity in several physical groups: each tet keeps them all
+    for (std::size_t k = 1; k < phys.size(); ++k)
+      for (std::size_t e = first_tet; e < mesh_.tets.size(); ++e) mesh_.tet_extra_groups.emplace_back(e, phys[k]);
   return n;
 }
 
@@ -1222,7 +1225,11 @@ void Parser::keep_element22(int type, std::uint64_t tag, int physical, int eleme
   if (is_second_order(type)) second_order_ = true;
   if (is_tet(type)) {
     const std::array<int, 4> tet{idx[0], idx[1], idx[2], idx[3]};
-    if (prev_tet22_ && elementary == prev_elementary22_ && mesh_.tets.back() == tet) return;
+    if (prev_tet22_ && elementary == prev_elementary22_ && mesh_.tets.back() == tet) {
+      if (physical != 0 && physical != mesh_.tet_group.back())
+        mesh_.tet_extra_groups.emplace_back(mesh_.tets.size() - 1, physical);
+      return;
+    }
     store_element(type, tag, physical, idx);
     prev_tet22_ = true;
     prev_elementary22_ = elementary;

@@ -31,8 +31,11 @@ PrescribedDisplacement rotate_condition(const PrescribedDisplacement& given, con
     axis.cwiseAbs().maxCoeff(&k);
     if (std::abs(axis[k]) < 1 - 1e-12)
       throw InputError("boundary.displacement '" + given.group + "': the condition on " + kAxis[c] +
-                       " alone is not along an axis of the tilted foundation's frame; give all three components "
-                       "(x, y, z) there, or a foundation plane whose normal is a coordinate axis");
+                       " alone is not along an axis of the tilted foundation's frame, so it cannot be stated there "
+                       "(a roller or symmetry condition on that face); giving all three components (x, y, z) "
+                       "instead holds the face in every direction, which is other physics. Mesh the body in the "
+                       "foundation's axes (contact.plane_normal a coordinate axis), where a symmetry plane's "
+                       "normal stays an axis");
     out.value[k] = axis[k] * (*given.value[c] + given.gradient.row(c).dot(f.point));
     out.gradient.row(k) = axis[k] * (R * given.gradient.row(c).transpose()).transpose();
   }

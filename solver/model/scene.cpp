@@ -475,11 +475,12 @@ TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
       throw InputError("material.region '" + region.group +
                        "' is not a volume (3-D) group of the mesh; it has: " + mesh.describe_groups());
     std::size_t count = 0;
-    for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-      if (mesh.tet_group[e] != g->tag) continue;
+    for (const std::size_t e : mesh.tets_of_group(g->tag)) {
       if (region_of[e] >= 0)
         throw InputError("material.region '" + region.group + "' and '" + scene.regions[region_of[e]].group +
-                         "' both claim tetrahedron " + std::to_string(mesh.tet_tags[e]));
+                         "' both claim tetrahedron " + std::to_string(mesh.tet_tags[e]) +
+                         " (their volume groups overlap): give each tetrahedron one material, with regions that "
+                         "do not overlap");
       region_of[e] = static_cast<int>(k);
       per_tet[e] = region.material;
       ++count;

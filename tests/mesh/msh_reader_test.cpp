@@ -365,10 +365,14 @@ TEST(MshReader, EntityWithSeveralPhysicalTags) {
   EXPECT_EQ(m.triangle_tags, std::vector<std::size_t>({1, 2, 1, 2}));
   EXPECT_EQ(m.triangle_group, std::vector<int>({4, 4, 7, 7}));
   EXPECT_EQ(m.triangles_of_group("also"), std::vector<int>({2, 3}));
-  // Tetrahedra: once, with the first physical tag.
+  // Tetrahedra: once, in the first physical group and, by tet_extra_groups, in the other.
   EXPECT_EQ(m.tets.size(), 2u);
   EXPECT_EQ(m.tet_group, std::vector<int>({6, 6}));
   EXPECT_EQ(m.tet_tags, std::vector<std::size_t>({3, 4}));
+  using Extra = std::pair<std::size_t, int>;
+  EXPECT_EQ(m.tet_extra_groups, std::vector<Extra>({{0, 9}, {1, 9}}));
+  EXPECT_EQ(m.tets_of_group(9), std::vector<std::size_t>({0, 1}));
+  EXPECT_EQ(m.tets_of_group(6), std::vector<std::size_t>({0, 1}));
   // Named groups in file order, then the unnamed physical tag 9.
   ASSERT_EQ(m.groups.size(), 4u);
   EXPECT_EQ(m.groups[3].dim, 3);
@@ -913,9 +917,11 @@ TEST(MshReader, Gmsh22BinaryMatchesAscii) {
 TEST(MshReader, Gmsh22BinarySeveralGroupsPerElement) {
   const Mesh m = read_msh(kMultiBinary22);
   EXPECT_EQ(m.nodes.size(), 14u);
-  // gmsh writes each tetrahedron for "body" (43) then "body_again" (44): stored once.
+  // gmsh writes each tetrahedron for "body" (43) then "body_again" (44): stored once, in both groups.
   EXPECT_EQ(m.tets.size(), 24u);
   for (int g : m.tet_group) EXPECT_EQ(g, 43);
+  EXPECT_EQ(m.tets_of_group(44).size(), 24u);
+  EXPECT_EQ(m.tets_of_group(43).size(), 24u);
   double volume = 0;
   for (const auto& t : m.tets) volume += std::abs(tet_volume(m, t));
   EXPECT_NEAR(volume, 1.0, 1e-12);

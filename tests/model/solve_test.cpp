@@ -339,6 +339,29 @@ TEST(SolveUserConditions, MaterialRegionsAssignByVolumeGroup) {
   EXPECT_GT(max_difference(solve_text().u, region.u), 0.1 * stiff.u.cwiseAbs().maxCoeff());
 }
 
+// A volume in two physical groups (gmsh: "core" and also "all"): a region naming either group reaches
+// its tetrahedra (before, only the first group did, and "all" held none); two regions claiming one
+// tetrahedron are refused, naming the overlap.
+TEST(SolveUserConditions, MaterialRegionReachesAVolumeInTwoGroups) {
+  Mesh mesh = make_paper_brick({4});
+  mesh.groups.push_back({3, 7, "all"});
+  mesh.groups.push_back({3, 8, "core"});
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    if (mesh.nodes[static_cast<std::size_t>(mesh.tets[e][0])].x() < 1) mesh.tet_group[e] = 8;
+    mesh.tet_extra_groups.emplace_back(e, 7);
+  }
+  const std::string all = "[[material.region]]\ngroup = \"all\"\nyoung = 1e9\npoisson = 0.3\n";
+  const TetMaterials materials = tet_materials(parse_scene_text(std::string(kPaperScene) + all, "."), mesh);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) ASSERT_EQ(materials[e].young, 1e9) << e;
+  const std::string core = "[[material.region]]\ngroup = \"core\"\nyoung = 7e10\npoisson = 0.33\n";
+  try {
+    tet_materials(parse_scene_text(std::string(kPaperScene) + core + all, "."), mesh);
+    FAIL() << "overlapping regions were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'all' and 'core' both claim tetrahedron"), std::string::npos) << e.what();
+  }
+}
+
 // ν near 1/2 locks linear tetrahedra: a region of ν = 0.499 is warned about, with the tetrahedra
 // it covers; the paper's ν = 0.277 (and 0.45) is not.
 TEST(SolveUserConditions, NearlyIncompressibleMaterialIsWarned) {
@@ -804,7 +827,10 @@ TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) 
   try {
     to_plane_frame(scene, make_paper_brick({4}));
     FAIL() << "a y-only condition under a tilt about x was accepted";
-  } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("'free'"), std::string::npos) << e.what(); }
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'free'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("which is other physics"), std::string::npos) << e.what();
+  }
 }
 
 // Conditions that vary in space keep their values at every point when the frame turns and moves:
