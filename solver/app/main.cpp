@@ -262,6 +262,11 @@ int run_check(const SolveArgs& args) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
     fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} m², h = {:.4g} m; {}\n",
                face.triangles.size(), face.nodes.size(), face.area, face.h, describe_initial_gap(face));
+    if (face.held_triangles > 0)
+      fmt::print(
+          "  and {} triangles (area {:.6g} m²) whose every node is clamped or prescribed: left to that "
+          "condition\n",
+          face.held_triangles, face.held_area);
     print_dual_plan(plan_dual(scene, mesh));
   }
   fmt::print("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
