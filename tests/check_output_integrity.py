@@ -8,7 +8,10 @@ that look like a finished solve, and says why.
    earlier summary.json is gone (RUNNING marks the folder);
 3. interrupted: SIGTERM and SIGINT during a solve -> no summary.json, RUNNING left;
 4. two solves at once on one folder -> the second is refused (exit 2, `another contact3d solve`);
-5. an unwritable file mid-run: summary.json's name taken by a directory -> exit 2 naming it.
+5. an unwritable file mid-run: summary.json's name taken by a directory -> exit 2 naming it;
+6. a run that stops without converging (fixed-point iteration limit 2) -> exit 1, its last iterate
+   written with NOT_CONVERGED beside it naming the exit, and a converged rerun into the same folder
+   removes that marker.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
 import resource
@@ -90,5 +93,15 @@ with tempfile.TemporaryDirectory() as tmp:
     check(p.returncode == 2 and "summary.json" in p.stderr, f"blocked summary.json: {p.returncode} {p.stderr!r}")
     check((out / "RUNNING").exists(), "blocked summary.json: RUNNING must stay")
 
-print(f"{len(failures)} checks failed" if failures else "all 5 cases held")
+    # 6. a run that stops without converging is marked so; a converged rerun clears the mark
+    out = tmp / "unconverged"
+    p = solve(out, extra=["--set", "solver.fixed_point_max_iter=2"])
+    marker = out / "NOT_CONVERGED"
+    check(p.returncode == 1 and marker.exists() and "iteration_limit" in marker.read_text()
+          and (out / "summary.json").exists() and not (out / "RUNNING").exists(),
+          f"unconverged run: exit {p.returncode}, left {sorted(x.name for x in out.iterdir())}")
+    p = solve(out)
+    check(p.returncode == 0 and not marker.exists(), f"converged rerun: exit {p.returncode}, marker {marker.exists()}")
+
+print(f"{len(failures)} checks failed" if failures else "all 6 cases held")
 sys.exit(1 if failures else 0)

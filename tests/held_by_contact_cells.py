@@ -24,6 +24,12 @@
    the equalities' residual measured against the loads' own size); it must converge, the equilibrium
    to 1e-8 and the total friction force below 1e-9 of the normal one.
 
+5. A steel bar 500 x 10 x 40 mm standing free on its 10 mm face (gmsh, h = 5 mm: two elements across),
+   1 MPa on top, Coulomb F = 0.3: cells of 2h lie in one row, whose forces hold no turn about it, and the
+   run was refused as friction overloaded although nothing loads it sideways; the refusal must name the
+   row (exit 2, "one cell wide"), and the default cells must solve it with cells of 1.5h (exit 0), the
+   normal force the load (5000 N) to 1e-6.
+
 Usage: held_by_contact_cells.py BIN SOURCE_DIR WORK_DIR
 Exit 0 when all hold, 1 when one does not.
 """
@@ -72,6 +78,42 @@ def ball(binary, work, fails):
     if s["kkt"]["equilibrium"] > 1e-8 or imbalance > 1e-8:
         fails.append(f"ball, cells auto: equilibrium residual {s['kkt']['equilibrium']:.1e}, load imbalance "
                      f"{imbalance:.1e}")
+
+
+BAR_GEO = """SetFactory("OpenCASCADE");
+DefineConstant[ h = 0.005 ];
+Box(1) = {0, 0, 0, 0.5, 0.01, 0.04};
+Mesh.MeshSizeMax = h;
+e = 1e-6;
+Physical Surface("contact") = Surface In BoundingBox{-e, -e, -e, 1, 1, e};
+Physical Surface("top") = Surface In BoundingBox{-e, -e, 0.04 - e, 1, 1, 0.04 + e};
+Physical Volume("body") = {1};
+"""
+
+
+def bar_on_narrow_face(binary, work, fails):
+    with open(os.path.join(work, "bar.geo"), "w") as f:
+        f.write(BAR_GEO)
+    scene = os.path.join(work, "bar.toml")
+    with open(scene, "w") as f:
+        f.write('[mesh]\ngeo = "bar.geo"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n[boundary]\nclamped = []\n'
+                'contact = ["contact"]\n[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n[friction]\n'
+                'model = "coulomb"\nlaw = "constant"\nvalue = 0.3\n')
+    code, err, _ = solve(binary, scene, os.path.join(work, "bar_2h"), ['contact.cell_size="2h"'])
+    if code != 2 or "one cell wide" not in err:
+        fails.append(f"bar, cells of 2h: exit {code}, expected the refusal (exit 2, 'one cell wide'): {err[-300:]}")
+    code, err, s = solve(binary, scene, os.path.join(work, "bar_auto"))
+    if code != 0:
+        fails.append(f"bar, cells auto: exit {code}: {err[-400:]}")
+        return
+    refinement = s.get("partition_refinement") or {}
+    normal, load = s["contact_force"]["normal"], 1e6 * 0.5 * 0.01
+    print(f"bar, cells auto: {refinement.get('outcome', '')[-60:]}; normal force {normal:.9g} N (load {load:g}), "
+          f"equilibrium {s['kkt']['equilibrium']:.1e}")
+    if "cells of 2h were refused" not in refinement.get("outcome", ""):
+        fails.append(f"bar, cells auto: partition_refinement {refinement}")
+    if abs(normal - load) > 1e-6 * load or s["kkt"]["equilibrium"] > 1e-8:
+        fails.append(f"bar, cells auto: normal force {normal} against {load}, equilibrium {s['kkt']['equilibrium']}")
 
 
 def roller(binary, source, work, fails):
@@ -135,6 +177,7 @@ def main():
     ball(binary, work, fails)
     roller(binary, source, work, fails)
     brick_sliding_free(binary, source, work, fails)
+    bar_on_narrow_face(binary, work, fails)
     for f in fails:
         print("FAIL:", f)
     return 1 if fails else 0

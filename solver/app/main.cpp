@@ -159,7 +159,8 @@ int run_solve(const SolveArgs& args) {
   const SolveResult res = solve_scene(scene, mesh, progress, &stages);
   info.total_seconds = since(t0);
   write_results(out, scene, mesh, res, info);
-  folder->finish();
+  folder->finish(res.converged ? std::string()
+                               : res.status + (res.fixed_point.hint.empty() ? "" : "; " + res.fixed_point.hint));
   if (!args.quiet) {
     fmt::print("{}: n_p={} n_d={} it={} n_mult={} |wn+|_L2={:.2e} |wn+|_inf={:.2e} kkt_max={:.1e} total {:.2f} s\n",
                res.status, res.n_primal, res.n_dual, std::max(1, res.fixed_point.iterations()), res.n_mult,

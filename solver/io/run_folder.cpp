@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "base/errors.hpp"
+#include "io/atomic_file.hpp"
 
 namespace contact3d {
 
@@ -33,7 +34,12 @@ RunFolder::RunFolder(const std::filesystem::path& dir, const std::string& what) 
   if (!marker.flush()) throw InputError("output folder '" + dir.string() + "' cannot be written");
 }
 
-void RunFolder::finish() {
+void RunFolder::finish(const std::string& not_converged) {
+  if (!not_converged.empty())
+    write_file(dir_ / "NOT_CONVERGED", [&](std::ostream& out) {
+      out << "not converged: " << not_converged
+          << "\nthe files hold the last iterate, not a solution (summary.json: converged = false)\n";
+    });
   std::error_code ec;
   std::filesystem::remove(dir_ / "RUNNING", ec);
 }

@@ -2,7 +2,8 @@
 // second solve into the same folder is refused while the first runs), removes the previous run's
 // results (so a failed or killed rerun never leaves a summary.json of another solve behind) and
 // leaves a RUNNING marker; finish() removes the marker once every file, summary.json last, is in
-// place. A folder holds a finished solve iff it has summary.json and no RUNNING file.
+// place. A folder holds a finished solve iff it has summary.json and no RUNNING file, and a converged
+// one iff it has no NOT_CONVERGED file either.
 #pragma once
 
 #include <filesystem>
@@ -19,7 +20,10 @@ class RunFolder {
   RunFolder& operator=(const RunFolder&) = delete;
 
   const std::filesystem::path& path() const { return dir_; }
-  void finish();  // the solve's files are all written: remove the RUNNING marker
+  // The solve's files are all written: remove the RUNNING marker. A run that stopped without
+  // converging (exit 1) first leaves NOT_CONVERGED, naming its exit (`not_converged`), beside its
+  // last iterate, so that its folder is not taken for a solution.
+  void finish(const std::string& not_converged = {});
 
  private:
   std::filesystem::path dir_;
@@ -27,8 +31,8 @@ class RunFolder {
 };
 
 // The files a solve writes into its folder (summary.json first: removed first, written last).
-const char* const kRunOutputs[] = {"summary.json",      "history.csv",  "contact_nodes.csv",
-                                   "contact_cells.csv", "body.vtu",     "contact.vtu",
-                                   "contact_cells.vtu", "solution.pvd", "report.md"};
+const char* const kRunOutputs[] = {"summary.json", "history.csv",  "contact_nodes.csv", "contact_cells.csv",
+                                   "body.vtu",     "contact.vtu",  "contact_cells.vtu", "solution.pvd",
+                                   "report.md",    "NOT_CONVERGED"};
 
 }  // namespace contact3d

@@ -63,6 +63,13 @@ std::vector<std::size_t> Mesh::tets_of_group(int tag) const {
   return out;
 }
 
+std::vector<char> nodes_of_tets(const Mesh& mesh) {
+  std::vector<char> used(mesh.nodes.size(), 0);
+  for (const auto& t : mesh.tets)
+    for (const int v : t) used[static_cast<std::size_t>(v)] = 1;
+  return used;
+}
+
 void drop_unused_nodes(Mesh& mesh) {
   std::vector<int> new_index(mesh.nodes.size(), -1);
   for (const auto& t : mesh.tets)

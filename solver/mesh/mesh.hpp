@@ -60,6 +60,9 @@ struct Mesh {
   std::vector<std::size_t> tets_of_group(int tag) const;
 };
 
+// Whether each node is a vertex of some tetrahedron (a node no element uses is not part of the body).
+std::vector<char> nodes_of_tets(const Mesh& mesh);
+
 // The area of a triangle of node indices.
 inline double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {
   const auto& x = mesh.nodes;

@@ -261,15 +261,20 @@ void check_load_faces(const Mesh& mesh, const MeshRoles& roles) {
   }
 }
 
-// Initial penetration: the body must lie on or above the foundation plane z = 0.
+// Initial penetration: the body — the nodes of its tetrahedra; a node no element uses is not part of
+// it — must lie on or above the foundation plane z = 0.
 void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
-  if (roles.contact.empty() || mesh.nodes.empty()) return;
+  if (roles.contact.empty() || mesh.tets.empty()) return;
+  const std::vector<char> in_body = nodes_of_tets(mesh);
   double lo = INFINITY, hi = -INFINITY;
-  for (const auto& x : mesh.nodes) lo = std::min(lo, x.z()), hi = std::max(hi, x.z());
+  std::size_t deepest = static_cast<std::size_t>(mesh.tets[0][0]);
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
+    if (!in_body[v]) continue;
+    const double z = mesh.nodes[v].z();
+    lo = std::min(lo, z), hi = std::max(hi, z);
+    if (z < mesh.nodes[deepest].z()) deepest = v;
+  }
   const double tol = 1e-9 * std::max(1.0, hi - lo);
-  std::size_t deepest = 0;
-  for (std::size_t v = 1; v < mesh.nodes.size(); ++v)
-    if (mesh.nodes[v].z() < mesh.nodes[deepest].z()) deepest = v;
   if (mesh.nodes[deepest].z() < -tol)
     throw InputError(
         "the body reaches below the foundation plane (initial penetration): node " +

@@ -594,6 +594,10 @@ Mesh Parser::parse() {
   if (!have_nodes_) fail(end_, "the file has no $Nodes section");
   if (!have_elements_) fail(end_, "the file has no $Elements section");
   check_every_partition_present();
+  if (version_ == 22 && !named_.empty() && used_order_.empty())
+    fail(end_, "every element has physical tag 0 although $PhysicalNames names " + std::to_string(named_.size()) +
+                   " group(s): the file was saved with all elements (gmsh's Mesh.SaveAll, -save_all), which in "
+                   "MSH 2.2 drops their physical groups; save it without SaveAll, or as MSH 4.1");
 
   mesh_.groups = named_;
   for (const auto& [dim, tag] : used_order_)

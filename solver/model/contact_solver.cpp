@@ -5,10 +5,8 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -32,6 +30,7 @@
 #include "model/contact_regions.hpp"
 #include "model/dual_route.hpp"
 #include "model/held_by_contact.hpp"
+#include "model/input_warnings.hpp"
 #include "model/plane_frame.hpp"
 #include "model/solution_fields.hpp"
 #include "model/stability_check.hpp"
@@ -91,122 +90,6 @@ struct Discretisation {
   }
 };
 
-// Linear tetrahedra lock volumetrically as ν approaches 1/2 (no mixed u–p form here): the
-// displacement comes out too small on any but very fine meshes. Said once, for the largest ν in use.
-constexpr double kNearlyIncompressible = 0.49;  // bulk / shear modulus ≈ 50
-void warn_if_nearly_incompressible(const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
-  double largest = 0;
-  std::size_t count = 0;
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    const double nu = materials[e].poisson;
-    largest = std::max(largest, nu);
-    if (nu >= kNearlyIncompressible) ++count;
-  }
-  if (count == 0) return;
-  const double bulk_over_shear = 2.0 * (1.0 + largest) / (3.0 * (1.0 - 2.0 * largest));
-  res.warnings.push_back(
-      "nearly incompressible material: ν = " + number(largest) + " on " + std::to_string(count) + " of " +
-      std::to_string(mesh.tets.size()) + " tetrahedra (bulk / shear modulus " + number(bulk_over_shear, 3) +
-      "); linear tetrahedra (P1) lock as ν approaches 1/2, so the displacement comes out too small unless the mesh "
-      "is very fine (contact3d has no mixed u–p formulation): check that the answer changes little when h is halved");
-}
-
-// A Young's modulus above any solid's (diamond's is about 1.2e12 Pa) is a unit slip: young in Pa where
-// output.units says MPa (a mm mesh) makes every displacement a million times too small, and a gap or a
-// slip-dependent coefficient then acts on the wrong scale, with nothing else to say so (the helper's
-// mm brick: largest strain 1.8e-10).
-constexpr double kStiffestSolidPa = 2e12;
-void warn_if_stiffer_than_any_solid(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
-                                    SolveResult& res) {
-  double stiffest = 0;
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e) stiffest = std::max(stiffest, materials[e].young);
-  const double pascal = pascal_per_stress_unit(scene.output.units);
-  if (!(stiffest * pascal > kStiffestSolidPa)) return;
-  const UnitLabels units = unit_labels(scene.output.units);
-  res.warnings.push_back("young = " + number(stiffest, 4) + " " + units.stress +
-                         " is stiffer than any solid (diamond's is about " + number(1.2e12 / pascal, 2) + " " +
-                         units.stress + "): check that the moduli are in " + units.stress + ", as output.units = \"" +
-                         name_of(scene.output.units, kUnitSystemNames) +
-                         "\" states; a modulus given in a smaller unit makes every displacement as many times too "
-                         "small");
-}
-
-// The model takes the loaded boundary Γp and the contact face Γc apart. A traction or pressure on a
-// group that shares triangles with Γc (the contact group itself, or a load patch cut from the sole)
-// was applied where the foundation holds the body with nothing said; said in a warning with the
-// area, per load.
-void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult& res) {
-  auto key = [&](int t) {
-    std::array<int, 3> k = mesh.triangles[static_cast<std::size_t>(t)];
-    std::sort(k.begin(), k.end());
-    return k;
-  };
-  std::set<std::array<int, 3>> contact;
-  // Groups that are missing or not surfaces are left to the checks that name them (check_mesh_meaning).
-  auto triangles = [&](const std::string& group) {
-    return mesh.find_group(group, 2) ? mesh.triangles_of_group(group) : std::vector<int>();
-  };
-  for (const auto& group : scene.contact)
-    for (const int t : triangles(group)) contact.insert(key(t));
-  for (const auto& load : scene.tractions) {
-    double shared = 0;
-    for (const int t : triangles(load.group)) {
-      if (contact.count(key(t))) shared += triangle_area(mesh, mesh.triangles[static_cast<std::size_t>(t)]);
-    }
-    if (shared > 0)
-      res.warnings.push_back(
-          std::string(load.has_pressure() ? "boundary.pressure" : "boundary.traction") + " on '" + load.group +
-          "' acts on " + number(shared, 3) +
-          " of the contact face: the model loads Γp and lets the foundation hold Γc, two apart, "
-          "so this load goes partly straight into the contact forces; put it on the faces it acts on");
-  }
-}
-
-// Two [[boundary.traction]] (or two [[boundary.pressure]]) entries on one group are added: meant where
-// loads are superposed, a slip where one was copied and its group not renamed. Said in a note, so the
-// sum is not a surprise (a traction beside a pressure on one group is the usual way to state both).
-void note_loads_given_twice(const Scene& scene, SolveResult& res) {
-  std::map<std::pair<std::string, bool>, int> entries;  // (group, is a pressure) -> count
-  for (const auto& load : scene.tractions) ++entries[{load.group, load.has_pressure()}];
-  for (const auto& [key, count] : entries)
-    if (count > 1)
-      res.notes.push_back("'" + key.first + "' has " + std::to_string(count) + " [[boundary." +
-                          (key.second ? "pressure" : "traction") +
-                          "]] entries: they are added, and the load there is their sum");
-}
-
-// Two nodes of the tetrahedra at one place: volumes meshed side by side without being joined (gmsh
-// boxes without BooleanFragments / Coherence). Each moves on its own there, so a load on one goes
-// nowhere near the other: two stacked boxes, 80 such pairs, solved with the top load going straight
-// to the clamp and no contact force, with nothing said. Places are compared rounded to 1e-9 of the
-// mesh's size.
-void warn_if_coincident_nodes(const Mesh& mesh, SolveResult& res) {
-  std::vector<char> used(mesh.nodes.size(), 0);
-  for (const auto& tet : mesh.tets)
-    for (const int v : tet) used[static_cast<std::size_t>(v)] = 1;
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  for (const auto& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  const double unit = 1e-9 * std::max((hi - lo).norm(), std::numeric_limits<double>::min());
-  std::map<std::array<long long, 3>, std::size_t> at;
-  std::size_t pairs = 0, first_a = 0, first_b = 0;
-  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
-    if (!used[v]) continue;
-    const Eigen::Vector3d r = ((mesh.nodes[v] - lo) / unit).array().round();
-    const auto [it, fresh] =
-        at.emplace(std::array<long long, 3>{static_cast<long long>(r.x()), static_cast<long long>(r.y()),
-                                            static_cast<long long>(r.z())},
-                   v);
-    if (fresh) continue;
-    if (pairs++ == 0) first_a = it->second, first_b = v;
-  }
-  if (pairs == 0) return;
-  res.warnings.push_back(std::to_string(pairs) + " node(s) of the tetrahedra lie where another one does (e.g. nodes " +
-                         std::to_string(mesh.node_tags[first_a]) + " and " + std::to_string(mesh.node_tags[first_b]) +
-                         "): the mesh's volumes are not joined there and move apart as separate bodies; join them when "
-                         "meshing (gmsh: BooleanFragments or Coherence with OpenCASCADE) unless they are meant to be "
-                         "separate");
-}
-
 // `assemble_K` false: K is left to the ranks of the distributed backend (K_elsewhere).
 Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res, bool assemble_K) {
   check_coordinates_in_range(mesh);
@@ -215,11 +98,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
-  warn_if_nearly_incompressible(mesh, disc.materials, res);
-  warn_if_stiffer_than_any_solid(scene, mesh, disc.materials, res);
-  warn_if_loads_on_contact(scene, mesh, res);
-  note_loads_given_twice(scene, res);
-  warn_if_coincident_nodes(mesh, res);
+  warn_about_inputs(scene, mesh, disc.materials, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
@@ -543,8 +422,9 @@ void flag_penetration_outside_contact(const Mesh& mesh, SolveResult& res) {
   if (!(u_max > 0) || res.face.contact_index.size() != mesh.nodes.size()) return;
   std::size_t below = 0, deepest = 0;
   double depth = 0;  // the mesh is in the plane's frame: a node's height is its z
+  const std::vector<char> in_body = nodes_of_tets(mesh);
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
-    if (res.face.contact_index[v] >= 0) continue;
+    if (res.face.contact_index[v] >= 0 || !in_body[v]) continue;
     const double height = mesh.nodes[v].z() + res.u[static_cast<Eigen::Index>(3 * v + 2)];
     if (height >= -kPenetrationOffContact * u_max) continue;
     ++below;
@@ -691,6 +571,29 @@ long pressed_cells(const ContactOperator& op, const Partition& partition, const 
   return largest > 0 ? (force.array() > 1e-3 * largest).count() : 0;
 }
 
+// A contact face one cell wide: all its cells' centres on one line (within a tenth of a cell's side),
+// so their forces have no arm about it and nothing holds a turn about that line — a bar standing on a
+// face 10 mm wide with cells of 2h = 10 mm, whose balance the QP then cannot meet and whose refusal
+// blamed the friction. (Pressed cells in one row of a wider face are a body the loads tip onto an
+// edge: not this.) Returns the refusal's explanation, or "".
+std::string face_one_cell_wide(const Partition& partition) {
+  const std::size_t n = partition.cells.size();
+  if (n < 2) return "";
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& cell : partition.cells) mean += cell.centroid / static_cast<double>(n);
+  Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
+  for (const auto& cell : partition.cells) spread += (cell.centroid - mean) * (cell.centroid - mean).transpose();
+  spread /= static_cast<double>(n);
+  const double across =
+      std::sqrt(std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(spread).eigenvalues()[0], 0.0));
+  const double side = std::min(partition.hx, partition.hy);
+  if (!(side > 0) || across > 0.1 * side) return "";
+  return "the contact face is one cell wide (its " + std::to_string(n) +
+         " cells lie in one row): their forces have no arm about that row, so nothing holds a turn about it; "
+         "use smaller cells (contact.cell_size, e.g. \"1.5h\") or a finer mesh there, so that the face is "
+         "several cells wide, or prescribe that motion";
+}
+
 // Where the last solve pressed one or two cells, the contact cannot balance a general moment of
 // the loads (its force acts at the cells' centres): said with the refusal below, with what to change.
 std::string too_few_cells(const ContactOperator& op, const Partition& partition, const TrescaStep& tresca) {
@@ -773,23 +676,31 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
        : frictionless_start ? " along the motions with a normal part in the first solve, the frictionless one "
                               "that gives Coulomb's first normal pressure"
                             : "");
+  // On one or two pressed cells the cure may be smaller cells: thrown as ContactZoneTooCoarse, so that
+  // contact.cell_size = "auto" tries cells of 1.5h before refusing (a ball resting on two cells).
+  // The same where the face is one cell wide and a tilt is among the free motions (beside the lift).
+  std::string few = too_few_cells(op, partition, tresca);
+  if (few.empty() && held.count() - held.in_plane_count() >= 2)
+    if (const std::string row = face_one_cell_wide(partition); !row.empty()) few = "; " + row;
+  auto refuse = [&few](const std::string& message) {
+    if (few.empty()) throw InputError(message);
+    throw ContactZoneTooCoarse(message + few);
+  };
   if (held.in_plane_count() && !tresca.history().empty() && !frictionless_start) {
     if ((held.in_plane_combinations.transpose() * left).norm() > 0.5 * left.norm())
-      throw InputError("the body is held by contact alone and nothing prescribed holds " + held.describe_in_plane() +
-                       " in the foundation's plane: friction alone must hold it there, but the loads along it are " +
-                       "more than the contact's friction carries (" + unbalanced + ")" +
-                       (op.with_friction ? "" : ", the contact being frictionless") +
-                       "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
-                       "friction (friction.slip_bound, friction.model) and the loads' directions" +
-                       too_few_cells(op, partition, tresca));
+      refuse("the body is held by contact alone and nothing prescribed holds " + held.describe_in_plane() +
+             " in the foundation's plane: friction alone must hold it there, but the loads along it are " +
+             "more than the contact's friction carries (" + unbalanced + ")" +
+             (op.with_friction ? "" : ", the contact being frictionless") +
+             "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
+             "friction (friction.slip_bound, friction.model) and the loads' directions");
   }
-  throw InputError("the body is held by contact alone (nothing prescribed holds " + held.describe() +
-                   "), but no contact forces balance the loads along it (" + unbalanced +
-                   "): the loads pull the body off the foundation or tip it over an edge of the "
-                   "contact face, or it touches the foundation on too few cells to balance their moments (a "
-                   "contact zone smaller than a few cells, as under a sphere); prescribe that motion, check the "
-                   "loads' directions, or refine the mesh where it touches" +
-                   too_few_cells(op, partition, tresca));
+  refuse("the body is held by contact alone (nothing prescribed holds " + held.describe() +
+         "), but no contact forces balance the loads along it (" + unbalanced +
+         "): the loads pull the body off the foundation or tip it over an edge of the "
+         "contact face, or it touches the foundation on too few cells to balance their moments (a "
+         "contact zone smaller than a few cells, as under a sphere); prescribe that motion, check the "
+         "loads' directions, or refine the mesh where it touches");
 }
 
 // The displacement at the free dofs after one Tresca solve: w = K⁻¹(f − 𝔹ᵀλ), less the rigid

@@ -72,5 +72,22 @@ TEST(MeshChecks, NamedGroupAndUnnamedGroupOfTheSameNumberAreRefused) {
   } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("named '4'"), std::string::npos) << e.what(); }
 }
 
+// A node that no element uses, placed below the plane (a leftover of the mesher): not part of the
+// body, so not an initial penetration; a node of a tetrahedron there still is.
+TEST(MeshChecks, UnusedNodeBelowThePlaneIsNotAPenetration) {
+  Mesh mesh = parse_msh(kFreeFemSavegmshCube, "cube.msh");
+  const MeshRoles roles{{"6"}, {"5"}, {}, {}};
+  mesh.nodes.emplace_back(0.5, 0.5, -0.01);
+  mesh.node_tags.push_back(9);
+  EXPECT_NO_THROW(check_mesh_meaning(mesh, roles));
+  mesh.nodes[0].z() = -0.01;  // node 1, a vertex of the cube's tetrahedra
+  try {
+    check_mesh_meaning(mesh, roles);
+    FAIL() << "a vertex of the body below the plane was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("node 1 lies 0.01 below"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace contact3d

@@ -380,6 +380,25 @@ TEST(MshReader, EntityWithSeveralPhysicalTags) {
   EXPECT_EQ(m.groups[3].name, "");
 }
 
+// gmsh's -save_all in MSH 2.2 writes every element with physical tag 0 beside the $PhysicalNames it
+// still lists: refused at reading with what to do, instead of "contact group has no triangles" later.
+TEST(MshReader, SaveAll22WithoutPhysicalTagsIsRefused) {
+  const std::string text =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+      "$PhysicalNames\n2\n2 1 \"contact\"\n3 2 \"body\"\n$EndPhysicalNames\n"
+      "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
+      "$Elements\n2\n1 2 2 0 1 1 2 3\n2 4 2 0 1 1 2 3 4\n$EndElements\n";
+  const std::string msg = input_error([&] { parse_msh(text, "saveall.msh"); });
+  EXPECT_NE(msg.find("every element has physical tag 0"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("SaveAll"), std::string::npos) << msg;
+  std::string tagged = text;  // the same elements in their groups: read
+  tagged.replace(tagged.find("\n1 2 2 0 1"), 10, "\n1 2 2 1 1");
+  tagged.replace(tagged.find("\n2 4 2 0 1"), 10, "\n2 4 2 2 1");
+  const Mesh m = parse_msh(tagged, "tagged.msh");
+  EXPECT_EQ(m.tets_of_group(2).size(), 1u);
+  EXPECT_EQ(m.triangles_of_group("contact").size(), 1u);
+}
+
 // Sparse node tags (sparse map), parametric nodes, points and lines (skipped), sections the
 // reader does not know ($Comments, $NodeData, $Periodic), no $PhysicalNames.
 const char* kSparse41 =

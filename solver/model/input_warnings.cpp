@@ -1,0 +1,144 @@
+#include "model/input_warnings.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "base/format.hpp"
+
+namespace contact3d {
+namespace {
+
+// Linear tetrahedra lock volumetrically as ν approaches 1/2 (no mixed u–p form here): the
+// displacement comes out too small on any but very fine meshes. Said once, for the largest ν in use.
+constexpr double kNearlyIncompressible = 0.49;  // bulk / shear modulus ≈ 50
+void warn_if_nearly_incompressible(const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
+  double largest = 0;
+  std::size_t count = 0;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const double nu = materials[e].poisson;
+    largest = std::max(largest, nu);
+    if (nu >= kNearlyIncompressible) ++count;
+  }
+  if (count == 0) return;
+  const double bulk_over_shear = 2.0 * (1.0 + largest) / (3.0 * (1.0 - 2.0 * largest));
+  res.warnings.push_back(
+      "nearly incompressible material: ν = " + number(largest) + " on " + std::to_string(count) + " of " +
+      std::to_string(mesh.tets.size()) + " tetrahedra (bulk / shear modulus " + number(bulk_over_shear, 3) +
+      "); linear tetrahedra (P1) lock as ν approaches 1/2, so the displacement comes out too small unless the mesh "
+      "is very fine (contact3d has no mixed u–p formulation): check that the answer changes little when h is halved");
+}
+
+// A Young's modulus above any solid's (diamond's is about 1.2e12 Pa) is a unit slip: young in Pa where
+// output.units says MPa (a mm mesh) makes every displacement a million times too small, and a gap or a
+// slip-dependent coefficient then acts on the wrong scale, with nothing else to say so (the helper's
+// mm brick: largest strain 1.8e-10).
+constexpr double kStiffestSolidPa = 2e12;
+void warn_if_stiffer_than_any_solid(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
+                                    SolveResult& res) {
+  double stiffest = 0;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) stiffest = std::max(stiffest, materials[e].young);
+  const double pascal = pascal_per_stress_unit(scene.output.units);
+  if (!(stiffest * pascal > kStiffestSolidPa)) return;
+  const UnitLabels units = unit_labels(scene.output.units);
+  res.warnings.push_back("young = " + number(stiffest, 4) + " " + units.stress +
+                         " is stiffer than any solid (diamond's is about " + number(1.2e12 / pascal, 2) + " " +
+                         units.stress + "): check that the moduli are in " + units.stress + ", as output.units = \"" +
+                         name_of(scene.output.units, kUnitSystemNames) +
+                         "\" states; a modulus given in a smaller unit makes every displacement as many times too "
+                         "small");
+}
+
+// The model takes the loaded boundary Γp and the contact face Γc apart. A traction or pressure on a
+// group that shares triangles with Γc (the contact group itself, or a load patch cut from the sole)
+// was applied where the foundation holds the body with nothing said; said in a warning with the
+// area, per load.
+void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult& res) {
+  auto key = [&](int t) {
+    std::array<int, 3> k = mesh.triangles[static_cast<std::size_t>(t)];
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  std::set<std::array<int, 3>> contact;
+  // Groups that are missing or not surfaces are left to the checks that name them (check_mesh_meaning).
+  auto triangles = [&](const std::string& group) {
+    return mesh.find_group(group, 2) ? mesh.triangles_of_group(group) : std::vector<int>();
+  };
+  for (const auto& group : scene.contact)
+    for (const int t : triangles(group)) contact.insert(key(t));
+  for (const auto& load : scene.tractions) {
+    double shared = 0;
+    for (const int t : triangles(load.group)) {
+      if (contact.count(key(t))) shared += triangle_area(mesh, mesh.triangles[static_cast<std::size_t>(t)]);
+    }
+    if (shared > 0)
+      res.warnings.push_back(
+          std::string(load.has_pressure() ? "boundary.pressure" : "boundary.traction") + " on '" + load.group +
+          "' acts on " + number(shared, 3) +
+          " of the contact face: the model loads Γp and lets the foundation hold Γc, two apart, "
+          "so this load goes partly straight into the contact forces; put it on the faces it acts on");
+  }
+}
+
+// Two [[boundary.traction]] (or two [[boundary.pressure]]) entries on one group are added: meant where
+// loads are superposed, a slip where one was copied and its group not renamed. Said in a note, so the
+// sum is not a surprise (a traction beside a pressure on one group is the usual way to state both).
+void note_loads_given_twice(const Scene& scene, SolveResult& res) {
+  std::map<std::pair<std::string, bool>, int> entries;  // (group, is a pressure) -> count
+  for (const auto& load : scene.tractions) ++entries[{load.group, load.has_pressure()}];
+  for (const auto& [key, count] : entries)
+    if (count > 1)
+      res.notes.push_back("'" + key.first + "' has " + std::to_string(count) + " [[boundary." +
+                          (key.second ? "pressure" : "traction") +
+                          "]] entries: they are added, and the load there is their sum");
+}
+
+// Two nodes of the tetrahedra at one place: volumes meshed side by side without being joined (gmsh
+// boxes without BooleanFragments / Coherence). Each moves on its own there, so a load on one goes
+// nowhere near the other: two stacked boxes, 80 such pairs, solved with the top load going straight
+// to the clamp and no contact force, with nothing said. Places are compared rounded to 1e-9 of the
+// mesh's size.
+void warn_if_coincident_nodes(const Mesh& mesh, SolveResult& res) {
+  std::vector<char> used(mesh.nodes.size(), 0);
+  for (const auto& tet : mesh.tets)
+    for (const int v : tet) used[static_cast<std::size_t>(v)] = 1;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (const auto& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double unit = 1e-9 * std::max((hi - lo).norm(), std::numeric_limits<double>::min());
+  std::map<std::array<long long, 3>, std::size_t> at;
+  std::size_t pairs = 0, first_a = 0, first_b = 0;
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
+    if (!used[v]) continue;
+    const Eigen::Vector3d r = ((mesh.nodes[v] - lo) / unit).array().round();
+    const auto [it, fresh] =
+        at.emplace(std::array<long long, 3>{static_cast<long long>(r.x()), static_cast<long long>(r.y()),
+                                            static_cast<long long>(r.z())},
+                   v);
+    if (fresh) continue;
+    if (pairs++ == 0) first_a = it->second, first_b = v;
+  }
+  if (pairs == 0) return;
+  res.warnings.push_back(std::to_string(pairs) + " node(s) of the tetrahedra lie where another one does (e.g. nodes " +
+                         std::to_string(mesh.node_tags[first_a]) + " and " + std::to_string(mesh.node_tags[first_b]) +
+                         "): the mesh's volumes are not joined there and move apart as separate bodies; join them when "
+                         "meshing (gmsh: BooleanFragments or Coherence with OpenCASCADE) unless they are meant to be "
+                         "separate");
+}
+
+}  // namespace
+
+void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
+  warn_if_nearly_incompressible(mesh, materials, res);
+  warn_if_stiffer_than_any_solid(scene, mesh, materials, res);
+  warn_if_loads_on_contact(scene, mesh, res);
+  note_loads_given_twice(scene, res);
+  warn_if_coincident_nodes(mesh, res);
+}
+
+}  // namespace contact3d
