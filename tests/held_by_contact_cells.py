@@ -53,20 +53,31 @@ def solve(binary, scene, out, sets=(), threads=None):
     return p.returncode, p.stderr, summary
 
 
-def ball(binary, work, fails):
-    with open(os.path.join(work, "ball.geo"), "w") as f:
-        f.write(SPHERE_GEO)
-    scene = os.path.join(work, "ball.toml")
+def refused_on_2h_then_solved(binary, work, name, geo, scene_text, refusal, fails):
+    """Writes NAME.geo and NAME.toml; the scene with cells of 2h must be refused (exit 2, `refusal` in
+    the message) and with the default cells solved (exit 0). Returns the default run's summary or None."""
+    with open(os.path.join(work, name + ".geo"), "w") as f:
+        f.write(geo)
+    scene = os.path.join(work, name + ".toml")
     with open(scene, "w") as f:
-        f.write('[mesh]\ngeo = "ball.geo"\n[material]\nyoung = 1e8\npoisson = 0.3\nbody_force = [0.0, 0.0, -7.7e4]\n'
-                '[boundary]\nclamped = []\ncontact = ["contact"]\n[[boundary.pressure]]\ngroup = "upper"\nvalue = 1e5\n'
-                '[friction]\nslip_bound = 1e6\nlaw = "constant"\nvalue = 0.3\n')
-    code, err, _ = solve(binary, scene, os.path.join(work, "ball_2h"), ['contact.cell_size="2h"'])
-    if code != 2 or "rests on" not in err:
-        fails.append(f"ball, cells of 2h: exit {code}, expected the refusal (exit 2, 'rests on'): {err[-300:]}")
-    code, err, s = solve(binary, scene, os.path.join(work, "ball_auto"))
+        f.write(scene_text)
+    code, err, _ = solve(binary, scene, os.path.join(work, name + "_2h"), ['contact.cell_size="2h"'])
+    if code != 2 or refusal not in err:
+        fails.append(f"{name}, cells of 2h: exit {code}, expected the refusal (exit 2, {refusal!r}): {err[-300:]}")
+    code, err, s = solve(binary, scene, os.path.join(work, name + "_auto"))
     if code != 0:
-        fails.append(f"ball, cells auto: exit {code}: {err[-400:]}")
+        fails.append(f"{name}, cells auto: exit {code}: {err[-400:]}")
+        return None
+    return s
+
+
+def ball(binary, work, fails):
+    s = refused_on_2h_then_solved(
+        binary, work, "ball", SPHERE_GEO,
+        '[mesh]\ngeo = "ball.geo"\n[material]\nyoung = 1e8\npoisson = 0.3\nbody_force = [0.0, 0.0, -7.7e4]\n'
+        '[boundary]\nclamped = []\ncontact = ["contact"]\n[[boundary.pressure]]\ngroup = "upper"\nvalue = 1e5\n'
+        '[friction]\nslip_bound = 1e6\nlaw = "constant"\nvalue = 0.3\n', "rests on", fails)
+    if s is None:
         return
     refinement = s.get("partition_refinement") or {}
     if not refinement.get("kept_finer") or "cells of 2h were refused" not in refinement.get("outcome", ""):
@@ -92,19 +103,12 @@ Physical Volume("body") = {1};
 
 
 def bar_on_narrow_face(binary, work, fails):
-    with open(os.path.join(work, "bar.geo"), "w") as f:
-        f.write(BAR_GEO)
-    scene = os.path.join(work, "bar.toml")
-    with open(scene, "w") as f:
-        f.write('[mesh]\ngeo = "bar.geo"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n[boundary]\nclamped = []\n'
-                'contact = ["contact"]\n[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n[friction]\n'
-                'model = "coulomb"\nlaw = "constant"\nvalue = 0.3\n')
-    code, err, _ = solve(binary, scene, os.path.join(work, "bar_2h"), ['contact.cell_size="2h"'])
-    if code != 2 or "one cell wide" not in err:
-        fails.append(f"bar, cells of 2h: exit {code}, expected the refusal (exit 2, 'one cell wide'): {err[-300:]}")
-    code, err, s = solve(binary, scene, os.path.join(work, "bar_auto"))
-    if code != 0:
-        fails.append(f"bar, cells auto: exit {code}: {err[-400:]}")
+    s = refused_on_2h_then_solved(
+        binary, work, "bar", BAR_GEO,
+        '[mesh]\ngeo = "bar.geo"\n[material]\nyoung = 2.1e11\npoisson = 0.3\n[boundary]\nclamped = []\n'
+        'contact = ["contact"]\n[[boundary.pressure]]\ngroup = "top"\nvalue = 1e6\n[friction]\n'
+        'model = "coulomb"\nlaw = "constant"\nvalue = 0.3\n', "one cell wide", fails)
+    if s is None:
         return
     refinement = s.get("partition_refinement") or {}
     normal, load = s["contact_force"]["normal"], 1e6 * 0.5 * 0.01
