@@ -14,10 +14,13 @@
 namespace contact3d {
 
 RunFolder::RunFolder(const std::filesystem::path& dir, const std::string& what) : dir_(dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
+  std::error_code ec, made;
+  std::filesystem::create_directories(dir, made);
   if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
     throw InputError("output folder '" + dir.string() + "' cannot be written: it is a file");
+  if (made && !std::filesystem::is_directory(dir, ec))  // the reason it could not be made (a parent's permission)
+    throw InputError("output folder '" + dir.string() + "' cannot be written: it cannot be created (" + made.message() +
+                     ")");
   const std::filesystem::path lock = dir / ".contact3d.lock";
   lock_fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (lock_fd_ < 0) throw InputError("output folder '" + dir.string() + "' cannot be written: " + std::strerror(errno));
