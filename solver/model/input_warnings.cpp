@@ -105,11 +105,10 @@ void note_loads_given_twice(const Scene& scene, SolveResult& res) {
 // to the clamp and no contact force, with nothing said. Places are compared rounded to 1e-9 of the
 // mesh's size.
 void warn_if_coincident_nodes(const Mesh& mesh, SolveResult& res) {
-  std::vector<char> used(mesh.nodes.size(), 0);
-  for (const auto& tet : mesh.tets)
-    for (const int v : tet) used[static_cast<std::size_t>(v)] = 1;
+  const std::vector<char> used = nodes_of_tets(mesh);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  for (const auto& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
+    if (used[v]) lo = lo.cwiseMin(mesh.nodes[v]), hi = hi.cwiseMax(mesh.nodes[v]);
   const double unit = 1e-9 * std::max((hi - lo).norm(), std::numeric_limits<double>::min());
   std::map<std::array<long long, 3>, std::size_t> at;
   std::size_t pairs = 0, first_a = 0, first_b = 0;
