@@ -11,7 +11,9 @@ that look like a finished solve, and says why.
 5. an unwritable file mid-run: summary.json's name taken by a directory -> exit 2 naming it;
 6. a run that stops without converging (fixed-point iteration limit 2) -> exit 1, its last iterate
    written with NOT_CONVERGED beside it naming the exit, and a converged rerun into the same folder
-   removes that marker.
+   removes that marker;
+7. a folder whose steps/ holds a user's own files (`--out .` in a project): only the run's step files
+   (steps/body_<k>.vtu, steps/contact_<k>.vtu) are replaced; the user's files stay.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
 import resource
@@ -103,5 +105,17 @@ with tempfile.TemporaryDirectory() as tmp:
     p = solve(out)
     check(p.returncode == 0 and not marker.exists(), f"converged rerun: exit {p.returncode}, marker {marker.exists()}")
 
-print(f"{len(failures)} checks failed" if failures else "all 6 cases held")
+    # 7. the user's own files under steps/ survive a run; a stale step file of an earlier run does not
+    out = tmp / "project"
+    (out / "steps").mkdir(parents=True)
+    (out / "steps" / "notes.txt").write_text("mine")
+    (out / "steps" / "body_wide.vtu").write_text("mine too")
+    (out / "steps" / "body_099.vtu").write_text("a stale step")
+    p = solve(out)
+    check(p.returncode == 0 and (out / "steps" / "notes.txt").read_text() == "mine"
+          and (out / "steps" / "body_wide.vtu").exists() and not (out / "steps" / "body_099.vtu").exists()
+          and (out / "steps" / "body_001.vtu").exists(),
+          f"user files under steps/: exit {p.returncode}, left {sorted(x.name for x in (out / 'steps').iterdir())}")
+
+print(f"{len(failures)} checks failed" if failures else "all 7 cases held")
 sys.exit(1 if failures else 0)

@@ -16,6 +16,19 @@ std::string step_file(const char* what, int k) {
   return buf;
 }
 
+// body_007.vtu, contact_012.vtu: the names step_file writes (three or more digits).
+bool is_step_file_name(const std::string& name) {
+  const std::string suffix = ".vtu";
+  for (const std::string prefix : {"body_", "contact_"}) {
+    if (name.size() < prefix.size() + 3 + suffix.size() || name.rfind(prefix, 0) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (digits.find_first_not_of("0123456789") == std::string::npos) return true;
+  }
+  return false;
+}
+
 struct TimeStep {
   int k;
   std::string body, contact;  // files relative to the run folder; contact empty without Γc
@@ -38,12 +51,23 @@ void write_pvd(const std::filesystem::path& file, const std::vector<TimeStep>& s
 
 }  // namespace
 
+void remove_step_files(const std::filesystem::path& dir) {
+  const std::filesystem::path steps_dir = dir / "steps";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(steps_dir, ec)) return;
+  std::vector<std::filesystem::path> ours;
+  for (const auto& entry : std::filesystem::directory_iterator(steps_dir, ec))
+    if (entry.is_regular_file(ec) && is_step_file_name(entry.path().filename().string())) ours.push_back(entry.path());
+  for (const auto& file : ours) std::filesystem::remove(file, ec);
+  std::filesystem::remove(steps_dir, ec);  // only when empty
+}
+
 int write_solution_collection(const std::filesystem::path& dir, const VtuContext& ctx) {
   const SolveResult& res = ctx.res;
   const bool has_face = !res.face.triangles.empty();
   const std::filesystem::path steps_dir = dir / "steps";
   std::error_code ec;
-  std::filesystem::remove_all(steps_dir, ec);  // stale steps of an earlier, longer run would mislead
+  remove_step_files(dir);  // stale steps of an earlier, longer run would mislead
   const int count = std::max<int>(1, static_cast<int>(res.steps.size()));
   std::vector<TimeStep> steps;
   if (resolved(ctx.scene.output.steps, ctx.mesh.nodes.size()) == StepOutput::Final || res.steps.empty() ||

@@ -15,4 +15,8 @@ namespace contact3d {
 // Returns the number of time steps written.
 int write_solution_collection(const std::filesystem::path& dir, const VtuContext& ctx);
 
+// Removes an earlier run's step files (steps/body_<k>.vtu, steps/contact_<k>.vtu) and the steps
+// folder if that leaves it empty; any other file a user keeps there stays.
+void remove_step_files(const std::filesystem::path& dir);
+
 }  // namespace contact3d

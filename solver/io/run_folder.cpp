@@ -10,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "io/atomic_file.hpp"
+#include "io/pvd_writer.hpp"
 
 namespace contact3d {
 
@@ -31,7 +32,7 @@ RunFolder::RunFolder(const std::filesystem::path& dir, const std::string& what) 
                      "' right now; wait for it or choose another folder with --out");
   }
   for (const char* name : kRunOutputs) std::filesystem::remove(dir / name, ec);
-  std::filesystem::remove_all(dir / "steps", ec);
+  remove_step_files(dir);
   std::ofstream marker(dir / "RUNNING");
   marker << what << "\npid " << ::getpid() << "\n";
   if (!marker.flush()) throw InputError("output folder '" + dir.string() + "' cannot be written");
