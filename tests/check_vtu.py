@@ -152,6 +152,13 @@ def main():
             check(int(row["status"]) == around.pop(), f"node {row['node']} at ({x}, {y}) has status {row['status']}, "
                   "while all its cells agree on another")
     check(checked > len(nodes) // 4, f"only {checked} nodes lie inside cells of a single status")
+    # Status and pressure tell one story: a separated node carries (almost) no pressure, a node in
+    # contact some (the edge of a pressed zone is in contact, not "separated" at its pressure peak).
+    p_max = max(float(r["pressure"]) for r in nodes)
+    for row in nodes:
+        p, st = float(row["pressure"]), int(row["status"])
+        check((st == 0) == (p <= 1e-6 * p_max), f"node {row['node']}: status {st} with pressure {p:.4g} "
+              f"(peak {p_max:.4g})")
     check({1, 2} <= set(cst), "the brick should have both stick and slip cells")
     # The normal force: λ_n integrated over the cells equals ∫ contact_pressure roughly (both are the same load).
     check(summary["contact_force"]["normal"] > 0, "no normal contact force")

@@ -102,6 +102,11 @@ add_test(NAME freefem_meshed_bodies
 # contact node sinks or lifts by more than 15% of the push (45% when a cell spanned both).
 add_test(NAME bimaterial_cells_split_by_material
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/bimaterial_cells.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+# The edge of a pressed zone: the filleted block's sole-edge nodes (half in open fillet cells) are in
+# contact, and a node is separated exactly where its pressure is (almost) 0 (before: 41 of them were
+# "separated" with up to 207 MPa).
+add_test(NAME contact_status_at_the_edge_of_a_pressed_sole
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/contact_status_edges.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 # `check` says how many regions of Γc the cells keep apart: the filleted block's flat sole and its fillets.
 add_test(NAME check_names_the_regions_of_the_contact_face
          COMMAND contact3d check ${CMAKE_SOURCE_DIR}/pipeline/scenes/filleted_block.toml)

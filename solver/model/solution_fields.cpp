@@ -59,13 +59,13 @@ ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, cons
     nf.radius[v] /= weight[v];
     const double slip = res.frame.to_local(s.u.segment<3>(3 * v)).head<2>().norm();
     nf.friction[v] = scene.frictionless() ? 0.0 : scene.law(slip);
-    // The status of the cells around the node, weighted by their share of its hat function (ties
-    // go to the higher status): averaging the traction vectors instead would call a node between
-    // slipping cells whose λ_t point in different directions "stick".
+    // The status the node's pressure comes from: separated only where no pressed cell carries part
+    // of its hat function (its pressure is then 0), else stick or slip, whichever of those cells
+    // carry more of it (ties go to slip). A majority over all cells would call the edge node of a
+    // pressed sole "separated" while reporting the sole's pressure peak there; averaging the traction
+    // vectors would call a node between slipping cells whose λ_t point different ways "stick".
     const auto& sw = status_weight[v];
-    nf.status[v] = sw[kSlip] >= sw[kStick] && sw[kSlip] >= sw[kSeparated] ? kSlip
-                   : sw[kStick] >= sw[kSeparated]                         ? kStick
-                                                                          : kSeparated;
+    nf.status[v] = sw[kSlip] + sw[kStick] <= 0 ? kSeparated : sw[kSlip] >= sw[kStick] ? kSlip : kStick;
   }
   return nf;
 }

@@ -39,7 +39,7 @@ bool has_friction(int n_cells, const Eigen::VectorXd& lambda);
 // Nodal fields on Γc (zero elsewhere), one value per mesh node.
 struct ContactNodeFields {
   Eigen::VectorXd pressure, traction_t1, traction_t2, radius, friction;
-  std::vector<int> status;  // a node's status is the one its surrounding cells carry most weight for
+  std::vector<int> status;  // separated unless a pressed cell covers part of the node; then stick or slip by weight
 };
 ContactNodeFields contact_node_fields(const Mesh& mesh, const Scene& scene, const SolveResult& res, const StateView& s);
 
