@@ -179,3 +179,9 @@ set_tests_properties(matrix_free_dual_equals_dense_on_three_bodies PROPERTIES TI
 # A second-order gmsh mesh (-order 2) is read by its corners and solves as the order-1 mesh does.
 add_test(NAME second_order_gmsh_mesh
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/second_order_mesh.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+# `check` states lengths in the scene's units (output.units): "mm" with mm-N-MPa, not "m".
+add_test(NAME check_states_lengths_in_the_scene_units
+         COMMAND contact3d check ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set output.units=mm-N-MPa
+                 --set mesh.generator=paper_brick --set mesh.n=2)
+set_tests_properties(check_states_lengths_in_the_scene_units PROPERTIES PASS_REGULAR_EXPRESSION
+                     "area 3 mm², h = 0.5 mm;.*\ndual: 3 cells \\(H = 1 mm\\)")

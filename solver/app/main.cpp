@@ -174,7 +174,7 @@ int run_solve(const SolveArgs& args) {
 }
 
 // The dual problem a solve would form: its size, and the route solver.schur takes for it here.
-void print_dual_plan(const DualPlan& plan) {
+void print_dual_plan(const DualPlan& plan, const std::string& length_unit) {
   const std::string available =
       plan.available_bytes > 0 ? bytes_text(plan.available_bytes) + " available" : "available memory unknown";
   std::string route = "solver.schur = \"" + plan.method + "\"";
@@ -186,22 +186,23 @@ void print_dual_plan(const DualPlan& plan) {
     route +=
         " (Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps "
         "the dense Q)";
-  const std::string sizes = (plan.cell_sizes.empty() ? fmt::format("H = {:.4g} m", plan.cell_size) : plan.cell_sizes) +
-                            describe_regions(plan.regions);
+  const std::string sizes =
+      (plan.cell_sizes.empty() ? fmt::format("H = {:.4g} {}", plan.cell_size, length_unit) : plan.cell_sizes) +
+      describe_regions(plan.regions);
   fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
              plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }
 
 // The contact face's heights above the foundation plane (its initial gap d): a face resting on the
 // plane, or one that starts above it all over — a mesh in CAD coordinates without contact.plane_point.
-std::string describe_initial_gap(const ContactFace& face) {
+std::string describe_initial_gap(const ContactFace& face, const std::string& length_unit) {
   double lowest = INFINITY, highest = 0;
   for (const int v : face.nodes) {
     lowest = std::min(lowest, face.gap[static_cast<std::size_t>(v)]);
     highest = std::max(highest, face.gap[static_cast<std::size_t>(v)]);
   }
   if (highest == 0) return "on the foundation plane (no initial gap)";
-  const std::string range = fmt::format("initial gap {:.4g} to {:.4g} m", lowest, highest);
+  const std::string range = fmt::format("initial gap {:.4g} to {:.4g} {}", lowest, highest, length_unit);
   return lowest > 0 ? range + " (the whole face starts above the plane: is contact.plane_point where the body rests?)"
                     : range;
 }
@@ -261,14 +262,16 @@ int run_check(const SolveArgs& args) {
   tet_materials(scene, mesh);
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
-    fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} m², h = {:.4g} m; {}\n",
-               face.triangles.size(), face.nodes.size(), face.area, face.h, describe_initial_gap(face));
+    const std::string length = unit_labels(scene.output.units).length;
+    fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} {}², h = {:.4g} {}; {}\n",
+               face.triangles.size(), face.nodes.size(), face.area, length, face.h, length,
+               describe_initial_gap(face, length));
     if (face.held_triangles > 0)
       fmt::print(
-          "  and {} triangles (area {:.6g} m²) whose every node is clamped or prescribed: left to that "
+          "  and {} triangles (area {:.6g} {}²) whose every node is clamped or prescribed: left to that "
           "condition\n",
-          face.held_triangles, face.held_area);
-    print_dual_plan(plan_dual(scene, mesh));
+          face.held_triangles, face.held_area, length);
+    print_dual_plan(plan_dual(scene, mesh), length);
   }
   fmt::print("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
   return 0;

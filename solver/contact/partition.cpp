@@ -20,21 +20,23 @@ namespace {
 
 Eigen::Vector2d xy(const Mesh& m, int v) { return m.nodes[v].head<2>(); }
 
+// A cell's area, bounding box and area centroid (∫x dS / area, exact per piece: the vertex average
+// is a clipped trapezoid's or pentagon's centroid only by chance).
 void finish_cell(ContactCell& cell) {
   cell.area = 0;
   Eigen::Vector2d moment = Eigen::Vector2d::Zero();
   cell.lo = Eigen::Vector2d::Constant(INFINITY);
   cell.hi = Eigen::Vector2d::Constant(-INFINITY);
   for (const auto& piece : cell.pieces) {
-    const double a = polygon_area(piece.polygon);
-    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    std::vector<double> xs, ys;
     for (const auto& v : piece.polygon) {
-      c += v.xy;
+      xs.push_back(v.xy.x());
+      ys.push_back(v.xy.y());
       cell.lo = cell.lo.cwiseMin(v.xy);
       cell.hi = cell.hi.cwiseMax(v.xy);
     }
-    moment += a * c / static_cast<double>(piece.polygon.size());
-    cell.area += a;
+    moment += Eigen::Vector2d(integral_linear(piece.polygon, xs), integral_linear(piece.polygon, ys));
+    cell.area += polygon_area(piece.polygon);
   }
   cell.centroid = cell.area > 0 ? Eigen::Vector2d(moment / cell.area) : cell.lo;
 }
@@ -132,8 +134,8 @@ void require_a_node_per_cell_possible(const ContactFace& face, double size_x, do
   const double nodes = static_cast<double>(face.nodes.size());
   if (!(fewest_cells > kCellsRefusedBeforeBuilding)) return;
   if (!(fewest_cells - nodes > std::max(1.0, opt.max_repair_fraction * fewest_cells))) return;
-  throw InputError("contact.cell_size " + number(size_x) + (size_y != size_x ? " x " + number(size_y) : "") +
-                   " m puts at least " + number(fewest_cells, 3) + " cells on the contact face (area " +
+  throw InputError("contact.cell_size " + number(size_x) + (size_y != size_x ? " x " + number(size_y) : "") + " " +
+                   opt.length_unit + " puts at least " + number(fewest_cells, 3) + " cells on the contact face (area " +
                    number(face.area, 4) + "), but it has " + std::to_string(face.nodes.size()) +
                    " free contact nodes and the stability condition (5.1) needs one of its own in every cell: the "
                    "contact mesh's size is h = " +
@@ -151,8 +153,8 @@ GridBoxes grid_boxes(const ContactFace& face, const std::vector<Box>& triangles,
   const double nx = std::max(1.0, std::ceil(extent.x() / opt.cell_size - 1e-9));
   const double ny = std::max(1.0, std::ceil(extent.y() / size_y - 1e-9));
   if (nx * ny > kMaxRectangles)
-    throw InputError("contact.cell_size " + number(opt.cell_size) + " m gives " + number(nx * ny, 3) +
-                     " cells (at most " + number(kMaxRectangles, 3) + "); choose a larger H");
+    throw InputError("contact.cell_size " + number(opt.cell_size) + " " + opt.length_unit + " gives " +
+                     number(nx * ny, 3) + " cells (at most " + number(kMaxRectangles, 3) + "); choose a larger H");
   require_a_node_per_cell_possible(face, opt.cell_size, size_y, opt);
   return GridBoxes::uniform(face.lo, extent, static_cast<int>(nx), static_cast<int>(ny));
 }
@@ -160,10 +162,10 @@ GridBoxes grid_boxes(const ContactFace& face, const std::vector<Box>& triangles,
 }  // namespace
 
 std::string describe_cell_sizes(const Partition& part) {
-  if (!part.graded) return "H = " + number(part.hx) + " x " + number(part.hy) + " m";
+  if (!part.graded) return "H = " + number(part.hx) + " x " + number(part.hy) + " " + part.length_unit;
   return "H from " + number(part.smallest_box.x(), 3) + " x " + number(part.smallest_box.y(), 3) + " to " +
-         number(part.largest_box.x(), 3) + " x " + number(part.largest_box.y(), 3) +
-         " m, following the contact mesh's element size";
+         number(part.largest_box.x(), 3) + " x " + number(part.largest_box.y(), 3) + " " + part.length_unit +
+         ", following the contact mesh's element size";
 }
 
 std::string describe_regions(int regions) {
@@ -195,6 +197,7 @@ class GridPartitionBuilder {
     if (face_.triangles.empty()) throw InputError("the contact face has no triangles");
     if (!region_of_triangle_.empty() && region_of_triangle_.size() != face_.triangles.size())
       throw std::invalid_argument("make_grid_partition: one region per contact triangle expected");
+    part_.length_unit = opt_.length_unit;
     part_.regions =
         std::max(1, static_cast<int>(std::set<int>(region_of_triangle_.begin(), region_of_triangle_.end()).size()));
     lay_out_rectangles();
@@ -401,8 +404,8 @@ class GridPartitionBuilder {
         throw InputError(
             "the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) + " of " +
             std::to_string(part_.cells.size()) + " cells have no free contact node of their own (rectangles " +
-            describe_cell_sizes(part_) + ", contact mesh size h = " + number(face_.h) + " m), e.g." + cells +
-            "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
+            describe_cell_sizes(part_) + ", contact mesh size h = " + number(face_.h) + " " + opt_.length_unit +
+            "), e.g." + cells + "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
       }
       root_of_cell = collect_cells();
     }

@@ -52,6 +52,7 @@ struct PartitionOptions {
   bool split_disconnected = true;    // one cell per connected component of a rectangle ∩ Γc
   bool enforce_stability = true;     // repair or reject partitions failing the matching test
   double max_repair_fraction = 0.1;  // repair (5.1) by merging when at most this many cells fail
+  std::string length_unit = "m";     // the scene's length unit, for messages ("mm" with mm-N-MPa)
 };
 
 struct Partition {
@@ -60,10 +61,11 @@ struct Partition {
   double hx = 0, hy = 0;         // actual rectangle sides (<= H; graded: the coarse grid's)
   bool graded = false;           // rectangles follow a graded contact mesh (grid_boxes.hpp)
   Eigen::Vector2d smallest_box = Eigen::Vector2d::Zero(), largest_box = Eigen::Vector2d::Zero();  // sides
-  int merged_slivers = 0;    // cells merged into a neighbour because they were small
-  int split_cells = 0;       // extra cells created by splitting disconnected rectangles
-  int stability_merges = 0;  // cells merged into a neighbour to satisfy the matching test
-  int regions = 1;           // regions of Γc that no cell spans (triangle_region's distinct values)
+  int merged_slivers = 0;         // cells merged into a neighbour because they were small
+  int split_cells = 0;            // extra cells created by splitting disconnected rectangles
+  int stability_merges = 0;       // cells merged into a neighbour to satisfy the matching test
+  int regions = 1;                // regions of Γc that no cell spans (triangle_region's distinct values)
+  std::string length_unit = "m";  // the unit of its lengths, for messages (PartitionOptions::length_unit)
 };
 
 // `triangle_region`: the region of each contact triangle (its tetrahedron's material and its level,

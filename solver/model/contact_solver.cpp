@@ -157,6 +157,7 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   cells.cell_size = res.cell_size;
   cells.cell_size_y = scene.cell_size_relative ? scene.cell_size * res.face.h_xy.y() : 0.0;
   cells.per_element_size = scene.cell_size_relative ? scene.cell_size : 0.0;
+  cells.length_unit = unit_labels(scene.output.units).length;
   res.partition = make_grid_partition(mesh, res.face, cells, contact_triangle_regions(scene, mesh, res.face));
   ContactOperator op = make_contact_operator(res.face, res.partition, res.dofs, !scene.frictionless());
   res.n_cells = op.r;
@@ -357,7 +358,10 @@ void flag_no_contact(const Mesh& mesh, SolveResult& res) {
                            "; if the body should rest on the foundation, put the plane there (contact.plane_point, "
                            "plane_normal) or move the mesh, and check the mesh's units");
   else if (height_after(closest) > 0)
-    res.notes.push_back("no cell is in contact: the loads lift the whole contact face off the foundation; " + after);
+    res.notes.push_back(
+        "no cell is in contact: the loads and prescribed displacements lift the whole contact face off "
+        "the foundation; " +
+        after);
   else
     res.notes.push_back("no cell presses on the foundation: the contact face touches it (node " + tag(closest) +
                         ") but the loads press nowhere on it");
@@ -478,12 +482,19 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
 // answer is the linear model's, not the body's, and the usual cause is a scene in mixed units: young in
 // MPa with lengths in metres strains a steel block a million times too much, and the only other warning
 // was about penetration, which asked for a finer mesh. Said before any other warning. The other slip,
-// loads in MPa with young in Pa, strains it a million times too little: said in a note below kTinyStrain.
+// loads in MPa with young in Pa, strains it a million times too little: said in a note below kTinyStrain
+// (where no load acts, the note says instead that the prescribed values move the body rigidly).
 constexpr double kLargeStrain = 0.1;
 constexpr double kTinyStrain = 1e-9;  // a steel part's own weight strains a 1 cm part by 4e-9
 void flag_large_strain(const Mesh& mesh, SolveResult& res) {
   const StrainPeak peak = largest_strain(mesh, res.u);
   res.largest_strain = peak.value;
+  if (peak.value > 0 && peak.value < kTinyStrain && res.forces.applied.norm() == 0) {
+    res.notes.push_back("the largest strain is " + number(peak.value, 3) +
+                        ": no load acts and the prescribed displacements move the body rigidly, so nothing strains "
+                        "it");
+    return;
+  }
   if (peak.value > 0 && peak.value < kTinyStrain) {
     res.notes.push_back("the largest strain is " + number(peak.value, 3) +
                         ", far below a loaded part's usual 1e-5 … 1e-3: check that loads and moduli are in one "
@@ -547,15 +558,18 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
   for (std::size_t k = 0; k < face_dofs.dofs.size(); ++k)
     face_field.row(static_cast<Eigen::Index>(k)) = R.row(face_dofs.dofs[k]);
   tresca.add_rigid_motions(std::move(face_field));
-  const std::string note = "held by contact alone: nothing prescribed holds " + disc.held.describe() +
-                           "; K made regular by a spring at " + std::to_string(disc.held.pins.size()) +
-                           " dof(s), the equilibrium along those motions an equality constraint of the dual";
+  const std::string note =
+      "held by contact alone: nothing prescribed holds " + disc.held.describe() + "; K made regular by a spring at " +
+      std::to_string(disc.held.pins.size()) + " dof(s), the equilibrium along those motions" +
+      (disc.centre_in_plane ? std::string(" with a part along the plane's normal") : std::string()) +
+      " an equality constraint of the dual";
   report.stage(note);
   res.notes.push_back(note);
   if (disc.centre_in_plane)
     res.notes.push_back("frictionless contact does not fix " + disc.held.describe_in_plane() +
-                        ": the loads along it must balance, and the displacement is given without a rigid part "
-                        "along it (its mean over the body's nodes, in the least-squares sense)");
+                        ": the loads along it must balance by themselves (checked before the solve), and the "
+                        "displacement is given without a rigid part along it (its mean over the body's nodes, in the "
+                        "least-squares sense)");
 }
 
 // The cells that carry the last solve's normal force: those with more than 1e-3 of the largest

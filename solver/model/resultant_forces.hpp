@@ -25,8 +25,9 @@ struct ResultantForces {
   // contact + contact_at_held_nodes is the whole contact force (the run report's and contact_force's).
   Eigen::Vector3d contact_at_held_nodes = Eigen::Vector3d::Zero();
   std::vector<ReactionForce> reactions;  // the supports' forces on the body (N)
-  // |applied + contact + Σ reactions| / max(|applied|, |contact|, max |reaction|): 0 in exact
-  // equilibrium; of the order of the solver's tolerances otherwise.
+  // |applied + contact + Σ reactions| / max(|applied|, |contact|, max |reaction|, rounding force): 0 in
+  // exact equilibrium; of the order of the solver's tolerances otherwise. The rounding force,
+  // 1e-11·E·L·max|u|, keeps a body that only moves rigidly (every force rounding) from reading ~1.
   double balance = 0;
 };
 

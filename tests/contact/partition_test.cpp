@@ -112,6 +112,23 @@ TEST(Partition, UnitSquareClippingAndHatIntegrals) {
   EXPECT_TRUE(cells_without_own_node(f.face, p).empty());
 }
 
+// A cell's centroid is its area's: ∫x dS / area, where x = Σ x_v φ_v is P1, so ∫x dS = Σ x_v ∫φ_v dS.
+// Irregular grid lines and cells of 0.7 clip the triangles into trapezoids, whose vertex average
+// is not their centroid (the friction torque's arms were off by millimetres on a metre's block).
+TEST(Partition, CellCentroidsAreAreaCentroids) {
+  const Flat f = flat({{0, 0}, {1, 0}, {0, 1}, {1, 1}}, {0.0, 0.83, 2.1});
+  const Partition p = make_grid_partition(f.mesh, f.face, {0.7});
+  const auto rows = cell_node_weights(f.face, p);
+  bool some_piece_is_a_trapezoid = false;
+  for (std::size_t i = 0; i < p.cells.size(); ++i) {
+    Eigen::Vector2d moment = Eigen::Vector2d::Zero();
+    for (auto [node, w] : rows[i]) moment += w * f.mesh.nodes[node].head<2>();
+    EXPECT_NEAR((p.cells[i].centroid - moment / p.cells[i].area).norm(), 0.0, 1e-13) << "cell " << i;
+    for (const auto& piece : p.cells[i].pieces) some_piece_is_a_trapezoid |= piece.polygon.size() == 4;
+  }
+  EXPECT_TRUE(some_piece_is_a_trapezoid);
+}
+
 // Two materials side by side on Γc: no cell averages over both. A rectangle across
 // their interface becomes one cell per region, and a sliver of one region goes to a neighbour of its
 // own region, not into the other's cell (where a cell spans steel and rubber, the steel sinks and the
