@@ -50,9 +50,11 @@ void reserve_blas_buffers() {
   if (!can_map(bytes + kMargin)) {
     const bool one_thread_fits = threads > 1 && can_map(kBufferBytes + kMargin);
     throw InputError("the address-space limit (ulimit -v) leaves " + std::to_string(headroom / kMiB) +
-                     " MiB, and OpenBLAS maps " + std::to_string(kBufferBytes / kMiB) +
-                     " MiB of work space for each of its " + std::to_string(threads) + " threads (" +
-                     std::to_string(bytes / kMiB) + " MiB), waiting forever when it cannot: raise the limit" +
+                     " MiB, and OpenBLAS maps " + std::to_string(kBufferBytes / kMiB) + " MiB of work space " +
+                     (threads == 1 ? std::string("for its one thread")
+                                   : "for each of its " + std::to_string(threads) + " threads (" +
+                                         std::to_string(bytes / kMiB) + " MiB)") +
+                     ", waiting forever when it cannot: raise the limit" +
                      (one_thread_fits ? ", or set OPENBLAS_NUM_THREADS=1" : ""));
   }
   run_on_every_thread();
