@@ -13,7 +13,8 @@ that look like a finished solve, and says why.
    written with NOT_CONVERGED beside it naming the exit, and a converged rerun into the same folder
    removes that marker;
 7. a folder whose steps/ holds a user's own files (`--out .` in a project): only the run's step files
-   (steps/body_<k>.vtu, steps/contact_<k>.vtu) are replaced; the user's files stay.
+   (steps/body_<k>.vtu, steps/contact_<k>.vtu) are replaced, and the .partial files a killed run left
+   are removed; the user's files stay.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
 import resource
@@ -111,9 +112,12 @@ with tempfile.TemporaryDirectory() as tmp:
     (out / "steps" / "notes.txt").write_text("mine")
     (out / "steps" / "body_wide.vtu").write_text("mine too")
     (out / "steps" / "body_099.vtu").write_text("a stale step")
+    (out / "steps" / "contact_004.vtu.partial").write_text("a killed write")
+    (out / "summary.json.partial").write_text("a killed write")
     p = solve(out)
     check(p.returncode == 0 and (out / "steps" / "notes.txt").read_text() == "mine"
           and (out / "steps" / "body_wide.vtu").exists() and not (out / "steps" / "body_099.vtu").exists()
+          and not (out / "steps" / "contact_004.vtu.partial").exists() and not (out / "summary.json.partial").exists()
           and (out / "steps" / "body_001.vtu").exists(),
           f"user files under steps/: exit {p.returncode}, left {sorted(x.name for x in (out / 'steps').iterdir())}")
 

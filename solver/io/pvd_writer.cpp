@@ -16,9 +16,12 @@ std::string step_file(const char* what, int k) {
   return buf;
 }
 
-// body_007.vtu, contact_012.vtu: the names step_file writes (three or more digits).
-bool is_step_file_name(const std::string& name) {
-  const std::string suffix = ".vtu";
+// body_007.vtu, contact_012.vtu: the names step_file writes (three or more digits), and the
+// .partial file a killed write leaves of one (io/atomic_file.hpp).
+bool is_step_file_name(std::string name) {
+  const std::string partial = ".partial", suffix = ".vtu";
+  if (name.size() > partial.size() && name.compare(name.size() - partial.size(), partial.size(), partial) == 0)
+    name.resize(name.size() - partial.size());
   for (const std::string prefix : {"body_", "contact_"}) {
     if (name.size() < prefix.size() + 3 + suffix.size() || name.rfind(prefix, 0) != 0 ||
         name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)

@@ -31,7 +31,10 @@ RunFolder::RunFolder(const std::filesystem::path& dir, const std::string& what) 
     throw InputError("another contact3d solve is writing to '" + dir.string() +
                      "' right now; wait for it or choose another folder with --out");
   }
-  for (const char* name : kRunOutputs) std::filesystem::remove(dir / name, ec);
+  for (const char* name : kRunOutputs) {
+    std::filesystem::remove(dir / name, ec);
+    std::filesystem::remove(dir / (std::string(name) + ".partial"), ec);  // a killed run's unfinished write
+  }
   remove_step_files(dir);
   std::ofstream marker(dir / "RUNNING");
   marker << what << "\npid " << ::getpid() << "\n";
