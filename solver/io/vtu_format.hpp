@@ -2,11 +2,27 @@
 // (.pvd) files, shared by the results writer and the per-step writer.
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <ostream>
 #include <string>
+#include <type_traits>
 
 namespace contact3d::vtu {
+
+// Appends `v` as text: integers exactly, floating point as printf's %.<precision>g would (the
+// stream's precision; the same text as `out << v`, about five times faster through std::to_chars —
+// a body of 390 000 tetrahedra is 5 million numbers per file).
+template <class T>
+void append_number(std::string& text, T v, int precision) {
+  char buf[64];
+  std::to_chars_result r;
+  if constexpr (std::is_floating_point_v<T>)
+    r = std::to_chars(buf, buf + sizeof buf, static_cast<double>(v), std::chars_format::general, precision);
+  else
+    r = std::to_chars(buf, buf + sizeof buf, v);
+  text.append(buf, r.ptr);
+}
 
 // One <DataArray> of `count` tuples; value(i, c) gives component c of tuple i.
 template <class Fn>
@@ -14,10 +30,20 @@ void data_array(std::ostream& out, const std::string& name, int components, std:
                 const std::string& type = "Float64") {
   out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
       << "\" format=\"ascii\">\n";
+  const int precision = static_cast<int>(out.precision());
+  std::string text;
   for (std::size_t i = 0; i < count; ++i) {
-    for (int c = 0; c < components; ++c) out << value(i, c) << ' ';
-    out << '\n';
+    for (int c = 0; c < components; ++c) {
+      append_number(text, value(i, c), precision);
+      text += ' ';
+    }
+    text += '\n';
+    if (text.size() > (1u << 16)) {
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+      text.clear();
+    }
   }
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
   out << "        </DataArray>\n";
 }
 
