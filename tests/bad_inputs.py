@@ -231,6 +231,18 @@ def c_gamma_u_group_empty_solve(c):
     return ["solve", argv[1], "--out", c.path("out"), "--quiet"], facts + ["clamped"]
 
 
+def c_load_group_empty(c):
+    # a pressure on a named surface group without any triangle (a gmsh selection that found no
+    # surface): refused, not dropped from the applied loads in silence
+    lines = c.msh22_lines()
+    i = lines.index("$PhysicalNames")
+    lines[i + 1] = str(int(lines[i + 1]) + 1)
+    lines.insert(i + 2, '2 77 "side"')
+    p = c.write("empty_side.msh", "\n".join(lines))
+    text = open(c.scene(p)).read() + '\n[[boundary.pressure]]\ngroup = "side"\nvalue = 1e6\n'
+    return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["'side'", "no triangles"]
+
+
 def c_poisson_half(c):
     return ["check", c.scene(poisson="0.5")], ["material.poisson", "0.5"]
 

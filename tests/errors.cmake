@@ -6,7 +6,7 @@ set(CONTACT3D_BAD_INPUT_CASES
   msh_empty msh_not_a_mesh msh_missing_file msh_version_3 msh_version_4_0 msh_bad_coordinate
   msh_nan_coordinate msh_unknown_node msh_cubic_tet msh_hexahedron msh_inverted_tet
   msh_zero_volume_tet msh_inverted_tet_solve group_misspelt group_missing_traction group_misspelt_solve
-  contact_not_in_plane gamma_u_empty gamma_u_group_empty gamma_u_group_empty_solve
+  contact_not_in_plane gamma_u_empty gamma_u_group_empty gamma_u_group_empty_solve load_group_empty
   poisson_half poisson_above young_zero
   young_negative slip_bound_negative nan_young inf_poisson inf_slip_bound nan_traction nan_body_force
   nan_param overflowing_body_force overflowing_traction inf_cell_size nan_table_point nan_set_override inf_mesh_parameter unknown_key invalid_toml

@@ -133,8 +133,11 @@ int run_solve(const SolveArgs& args) {
   // Under mpirun the Session gave each rank its share of the machine's cores.
   info.blas = args.ranks == 1 ? fit_blas_threads_to_idle_cores(start) : args.blas_under_mpirun;
   if (!args.quiet && info.blas.threads < info.blas.before)
-    fmt::print("BLAS threads: {} of {} (other processes keep {:.1f} of the {} cores busy)\n", info.blas.threads,
-               info.blas.before, info.blas.busy_elsewhere, info.blas.cores);
+    fmt::print(
+        "BLAS threads: {} of {} ({})\n", info.blas.threads, info.blas.before,
+        info.blas.busy_elsewhere >= 0
+            ? fmt::format("other processes keep {:.1f} of the {} cores busy", info.blas.busy_elsewhere, info.blas.cores)
+            : fmt::format("this rank's share of the {} cores among the {} ranks", info.blas.cores, args.ranks));
   // What reading changed, on the mesh line and in summary.json's "mesh".
   std::string reading_notes;
   if (mesh.read_by_corner_nodes) reading_notes += " (second-order elements read by their corner nodes: P1)";

@@ -284,6 +284,25 @@ void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
         "plane so that the contact face lies on or above it and the body above it");
 }
 
+// A clamp, prescribed displacement or load on a surface group that holds no triangles would act
+// nowhere, silently (a gmsh "Surface In BoundingBox" selection that missed its face: the load vanished
+// from the applied forces with no warning, while an empty contact group was refused).
+void check_condition_groups_not_empty(const Mesh& mesh, const MeshRoles& roles) {
+  std::map<int, std::size_t> triangles_in;
+  for (const int tag : mesh.triangle_group) ++triangles_in[tag];
+  const auto require = [&](const std::vector<std::string>& names, const std::string& what) {
+    for (const auto& name : names)
+      if (const int tag = group_tag(mesh, name); tag >= 0 && triangles_in[tag] == 0)
+        throw InputError(what + " group '" + name +
+                         "' has no triangles in the mesh (a physical surface without elements, e.g. a gmsh "
+                         "'Surface In BoundingBox' selection that found no surface), so its condition would act "
+                         "nowhere; fix the group in the mesh or remove it from the scene");
+  };
+  require(roles.clamped, "boundary.clamped");
+  require(roles.displaced, "boundary.displacement");
+  require(roles.loaded, "load (boundary.traction / pressure)");
+}
+
 // Constrained nodes that all lie on one line (or at one point) leave a rigid rotation free.
 void check_constraints_hold(const Mesh& mesh, const MeshRoles& roles) {
   if (!roles.displaced.empty()) return;  // per-component conditions: require_rigid_motions_fixed decides
@@ -319,6 +338,7 @@ void check_constraints_hold(const Mesh& mesh, const MeshRoles& roles) {
 
 void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles) {
   check_group_names(mesh);
+  check_condition_groups_not_empty(mesh, roles);
   check_duplicate_tets(mesh);
   check_duplicate_triangles(mesh, roles);
   check_contact_faces(mesh, roles);

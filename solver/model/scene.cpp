@@ -312,14 +312,14 @@ void parse_friction(const toml::table* fr, Scene& s) {
   if (!value_of(model, kFrictionModelNames, s.friction_model))
     throw InputError("friction.model must be " + names_list(kFrictionModelNames) + ", got '" + model + "'");
   s.slip_bound = fr ? get_number(*fr, "friction", "slip_bound", 0) : 0;
-  if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (Pa), got " + number(s.slip_bound));
+  if (s.slip_bound < 0) throw InputError("friction.slip_bound must be >= 0 (a stress), got " + number(s.slip_bound));
   if (s.friction_model == FrictionModel::Coulomb && s.slip_bound != 0)
     throw InputError(
         "friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
         "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
   if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
       !fr->contains("slip_bound"))
-    throw InputError("friction.slip_bound (g, Pa) is required with law '" + s.law.name() +
+    throw InputError("friction.slip_bound (g, a stress in the scene's units) is required with law '" + s.law.name() +
                      "' (or model = \"coulomb\", whose bound is the normal pressure)");
 }
 
