@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -233,7 +234,7 @@ void write_kkt(JsonWriter& j, const Scene& scene, const SolveResult& res) {
 }  // namespace
 
 void write_summary_json(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
-                        const RunInfo& info) {
+                        const RunInfo& info, double output_seconds) {
   write_file(file, [&](std::ostream& out) {
     JsonWriter j(out);
     j.begin_object();
@@ -248,6 +249,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     j.begin_object("time_s");
     j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);
     for (const auto& [stage, sec] : res.seconds) j.value(stage, sec);
+    j.value("output", output_seconds);
     j.end_object();
     write_kkt(j, scene, res);
     write_solver_settings(j, scene.solver);
@@ -259,6 +261,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
 
 void write_results(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res,
                    const RunInfo& info) {
+  const auto start = std::chrono::steady_clock::now();
   const ContactNodeFields nf = contact_node_fields(mesh, scene, res, final_state(res));
   write_file(dir / "contact_nodes.csv", [&](std::ostream& out) {
     out << "node,x,y,z,u1,u2,u3,wn,wt_norm,F,pressure,status\n";
@@ -293,7 +296,8 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
   write_state_vtus(dir / "body.vtu", dir / "contact.vtu", ctx, final_state(res));
   if (res.n_cells > 0) write_cells_vtu(dir / "contact_cells.vtu", res);
   write_solution_collection(dir, ctx);
-  write_summary_json(dir / "summary.json", scene, mesh, res, info);
+  const std::chrono::duration<double> output = std::chrono::steady_clock::now() - start;
+  write_summary_json(dir / "summary.json", scene, mesh, res, info, output.count());
 }
 
 }  // namespace contact3d

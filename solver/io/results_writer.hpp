@@ -21,7 +21,9 @@ struct RunInfo {
 
 void write_results(const std::filesystem::path& dir, const Scene& scene, const Mesh& mesh, const SolveResult& res,
                    const RunInfo& info);
+// `output_seconds`: the time the other files took (tables, VTU, the collection), time_s.output;
+// time_s.total ends where writing begins.
 void write_summary_json(const std::filesystem::path& file, const Scene& scene, const Mesh& mesh, const SolveResult& res,
-                        const RunInfo& info);
+                        const RunInfo& info, double output_seconds);
 
 }  // namespace contact3d
