@@ -445,6 +445,21 @@ void flag_penetration_outside_contact(const Mesh& mesh, SolveResult& res) {
                          "to the contact groups");
 }
 
+// The covariance of the centres of `cells` (all cells where empty): its smaller eigenvalue says how
+// far they spread across their narrowest direction.
+Eigen::Matrix2d centroid_spread(const Partition& partition, std::vector<int> cells) {
+  if (cells.empty())
+    for (int i = 0; i < static_cast<int>(partition.cells.size()); ++i) cells.push_back(i);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const int i : cells) mean += partition.cells[i].centroid / static_cast<double>(cells.size());
+  Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
+  for (const int i : cells) {
+    const Eigen::Vector2d d = partition.cells[i].centroid - mean;
+    spread += d * d.transpose() / static_cast<double>(cells.size());
+  }
+  return spread;
+}
+
 // A contact zone about two cells across or less, on a face several times wider: the zone's size and
 // its peak pressure are resolved only to a cell (a Hertz strip 0.77 mm wide on cells of 0.47 mm came out
 // one row of cells, its area 40% short and its peak pressure 41% high, while the penetration stayed
@@ -461,28 +476,16 @@ void flag_narrow_contact_zone(SolveResult& res) {
   if (!(largest > 0)) return;
   for (int i = 0; i < r; ++i)
     if (res.lambda[i] * res.partition.cells[i].area > 1e-3 * largest) pressed.push_back(i);
-  const auto spread_of = [&](const std::vector<int>& cells) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const int i : cells) mean += res.partition.cells[i].centroid / static_cast<double>(cells.size());
-    Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
-    for (const int i : cells) {
-      const Eigen::Vector2d d = res.partition.cells[i].centroid - mean;
-      spread += d * d.transpose() / static_cast<double>(cells.size());
-    }
-    return spread;
-  };
-  std::vector<int> all(static_cast<std::size_t>(r));
-  for (int i = 0; i < r; ++i) all[static_cast<std::size_t>(i)] = i;
   double pressed_area = 0;
   for (const int i : pressed) pressed_area += res.partition.cells[i].area;
   const double side = std::sqrt(pressed_area / static_cast<double>(pressed.size()));
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(spread_of(pressed));
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(centroid_spread(res.partition, pressed));
   const Eigen::Vector2d narrow = eig.eigenvectors().col(0);
   const auto cells_across = [side](double variance) {
     return std::sqrt(12 * std::max(variance, 0.0) / (side * side) + 1);
   };
   const double zone = cells_across(eig.eigenvalues()[0]);
-  const double face = cells_across(narrow.dot(spread_of(all) * narrow));
+  const double face = cells_across(narrow.dot(centroid_spread(res.partition, {}) * narrow));
   if (!(side > 0) || zone > kNarrowZoneCells || face < 2 * zone + 1) return;
   res.warnings.push_back("the contact zone is about " + number(zone, 2) + " cell(s) across at its narrowest (" +
                          std::to_string(pressed.size()) + " pressed cells of about " + number(side, 3) +
@@ -639,13 +642,8 @@ long pressed_cells(const ContactOperator& op, const Partition& partition, const 
 std::string face_one_cell_wide(const Partition& partition) {
   const std::size_t n = partition.cells.size();
   if (n < 2) return "";
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& cell : partition.cells) mean += cell.centroid / static_cast<double>(n);
-  Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
-  for (const auto& cell : partition.cells) spread += (cell.centroid - mean) * (cell.centroid - mean).transpose();
-  spread /= static_cast<double>(n);
-  const double across =
-      std::sqrt(std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(spread).eigenvalues()[0], 0.0));
+  const double across = std::sqrt(
+      std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(centroid_spread(partition, {})).eigenvalues()[0], 0.0));
   const double side = std::min(partition.hx, partition.hy);
   if (!(side > 0) || across > 0.1 * side) return "";
   return "the contact face is one cell wide (its " + std::to_string(n) +
