@@ -454,8 +454,8 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
                  "`solver.fixed_point_tol`; FreeFEM: nodal bounds s_p = g F(φ_p) (lumped quadrature), warm-started "
                  f"Newton per step, stop at err ≤ {sd[0]['ff_fixed_point_tolerance']:g}.\n")
     L.append("rel L2 = ‖u_ff − u_ours‖/‖u_ff‖ in L2(Γc), exact integral of the P1 interpolants over the "
-             "contact triangles (u_n: relative to ‖u_n,ff‖, or to ‖u_ff‖ where FreeFEM's u_n is nil, a sole pressed "
-             "everywhere); max |Δu| = max over contact nodes of the Euclidean nodal difference. "
+             "contact triangles (u_n, u_t: relative to ‖u_n,ff‖, ‖u_t,ff‖, but never to less than 1% of ‖u_ff‖: a sole "
+             "pressed everywhere has almost no u_n); max |Δu| = max over contact nodes of the Euclidean nodal difference. "
              "Forces: FreeFEM Σ m_p λ_p (m_p the boundary mass projected on the plane, ∫ φ_p |n_z| dS; a tangential "
              "component that is prescribed, e.g. on a symmetry plane, carries its reaction there and no multiplier), "
              "contact3d Σ area·λ over cells (λ_n = pressure, λ_t = −tangential traction). "
