@@ -192,3 +192,7 @@ add_test(NAME warns_contact_zone_two_cells_wide
                  --out ${CMAKE_BINARY_DIR}/cli-tests/roller_narrow)
 set_tests_properties(warns_contact_zone_two_cells_wide PROPERTIES PASS_REGULAR_EXPRESSION
                      "warning: the contact zone is about [0-9.]+ cell\\(s\\) across at its narrowest")
+# The penetration against Γc's own displacement: a face that barely moves while the body deforms gets a
+# note that its displacement is resolved only to the cells' averages (bimaterial.toml: 32% of it).
+add_test(NAME notes_penetration_against_the_face_displacement
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/face_penetration_note.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
