@@ -216,13 +216,18 @@ def c_gamma_u_empty(c):
     return ["check", c.scene(clamped="[]", contact="[]")], ["clamped", "contact"]
 
 
-def c_gamma_u_group_empty(c):
-    # a named group without any triangle: an MSH 2.2 file with an extra unused physical name
+def mesh_with_empty_group(c, name, file):
+    """The brick's MSH 2.2 file with an extra physical surface `name` that holds no triangle."""
     lines = c.msh22_lines()
     i = lines.index("$PhysicalNames")
     lines[i + 1] = str(int(lines[i + 1]) + 1)
-    lines.insert(i + 2, '2 77 "nothing"')
-    p = c.write("unused_group.msh", "\n".join(lines))
+    lines.insert(i + 2, f'2 77 "{name}"')
+    return c.write(file, "\n".join(lines))
+
+
+def c_gamma_u_group_empty(c):
+    # a named group without any triangle: an MSH 2.2 file with an extra unused physical name
+    p = mesh_with_empty_group(c, "nothing", "unused_group.msh")
     return ["check", c.scene(p, clamped='["nothing"]')], ["nothing"]
 
 
@@ -234,11 +239,7 @@ def c_gamma_u_group_empty_solve(c):
 def c_load_group_empty(c):
     # a pressure on a named surface group without any triangle (a gmsh selection that found no
     # surface): refused, not dropped from the applied loads in silence
-    lines = c.msh22_lines()
-    i = lines.index("$PhysicalNames")
-    lines[i + 1] = str(int(lines[i + 1]) + 1)
-    lines.insert(i + 2, '2 77 "side"')
-    p = c.write("empty_side.msh", "\n".join(lines))
+    p = mesh_with_empty_group(c, "side", "empty_side.msh")
     text = open(c.scene(p)).read() + '\n[[boundary.pressure]]\ngroup = "side"\nvalue = 1e6\n'
     return ["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"], ["'side'", "no triangles"]
 
