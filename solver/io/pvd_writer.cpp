@@ -69,8 +69,7 @@ int write_solution_collection(const std::filesystem::path& dir, const VtuContext
   const SolveResult& res = ctx.res;
   const bool has_face = !res.face.triangles.empty();
   const std::filesystem::path steps_dir = dir / "steps";
-  std::error_code ec;
-  remove_step_files(dir);  // stale steps of an earlier, longer run would mislead
+  std::error_code ec;  // an earlier run's step files are gone: the RunFolder removed them (remove_step_files)
   const int count = std::max<int>(1, static_cast<int>(res.steps.size()));
   std::vector<TimeStep> steps;
   if (resolved(ctx.scene.output.steps, ctx.mesh.nodes.size()) == StepOutput::Final || res.steps.empty() ||

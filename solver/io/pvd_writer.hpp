@@ -12,7 +12,8 @@
 
 namespace contact3d {
 
-// Returns the number of time steps written.
+// Returns the number of time steps written. `dir` is a RunFolder's, which removed an earlier run's
+// step files (stale steps of a longer run would mislead).
 int write_solution_collection(const std::filesystem::path& dir, const VtuContext& ctx);
 
 // Removes an earlier run's step files (steps/body_<k>.vtu, steps/contact_<k>.vtu) and the steps

@@ -445,6 +445,21 @@ void flag_penetration_outside_contact(const Mesh& mesh, SolveResult& res) {
                          "to the contact groups");
 }
 
+// The cells that carry a normal force: those with more than 1e-3 of the largest cell force (λ_n · area).
+// A balance found by leaning on cells that barely touch does not count them.
+std::vector<int> cells_pressed(const Eigen::VectorXd& lambda, const Partition& partition) {
+  const int r = static_cast<int>(partition.cells.size());
+  std::vector<int> pressed;
+  if (lambda.size() < r) return pressed;
+  Eigen::VectorXd force(r);
+  for (int i = 0; i < r; ++i) force[i] = std::max(lambda[i], 0.0) * partition.cells[static_cast<std::size_t>(i)].area;
+  const double largest = r ? force.maxCoeff() : 0.0;
+  if (!(largest > 0)) return pressed;
+  for (int i = 0; i < r; ++i)
+    if (force[i] > 1e-3 * largest) pressed.push_back(i);
+  return pressed;
+}
+
 // The covariance of the centres of `cells` (all cells where empty): its smaller eigenvalue says how
 // far they spread across their narrowest direction.
 Eigen::Matrix2d centroid_spread(const Partition& partition, std::vector<int> cells) {
@@ -468,14 +483,9 @@ Eigen::Matrix2d centroid_spread(const Partition& partition, std::vector<int> cel
 // k cells has centres spread by side·√((k² − 1)/12).
 constexpr double kNarrowZoneCells = 2.2;
 void flag_narrow_contact_zone(SolveResult& res) {
-  const int r = res.n_cells;
-  if (r < 4 || res.lambda.size() < r) return;
-  std::vector<int> pressed;
-  double largest = 0;
-  for (int i = 0; i < r; ++i) largest = std::max(largest, res.lambda[i] * res.partition.cells[i].area);
-  if (!(largest > 0)) return;
-  for (int i = 0; i < r; ++i)
-    if (res.lambda[i] * res.partition.cells[i].area > 1e-3 * largest) pressed.push_back(i);
+  if (res.n_cells < 4) return;
+  const std::vector<int> pressed = cells_pressed(res.lambda, res.partition);
+  if (pressed.empty()) return;
   double pressed_area = 0;
   for (const int i : pressed) pressed_area += res.partition.cells[i].area;
   const double side = std::sqrt(pressed_area / static_cast<double>(pressed.size()));
@@ -642,17 +652,11 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
                         "least-squares sense)");
 }
 
-// The cells that carry the last solve's normal force: those with more than 1e-3 of the largest
-// cell force (λ_n · area). A balance found by leaning on cells that barely touch, or (Tresca) on the
-// friction of cells out of contact, does not count them.
-long pressed_cells(const ContactOperator& op, const Partition& partition, const TrescaStep& tresca) {
+// How many cells carry the last solve's normal force (cells_pressed; the friction of Tresca cells out of
+// contact does not count either).
+long pressed_cells(const Partition& partition, const TrescaStep& tresca) {
   if (tresca.history().empty()) return 0;
-  const Eigen::VectorXd& lambda = tresca.history().back().lambda;
-  Eigen::VectorXd force(op.r);
-  for (int i = 0; i < op.r; ++i)
-    force[i] = std::max(lambda[i], 0.0) * partition.cells[static_cast<std::size_t>(i)].area;
-  const double largest = force.size() ? force.maxCoeff() : 0.0;
-  return largest > 0 ? (force.array() > 1e-3 * largest).count() : 0;
+  return static_cast<long>(cells_pressed(tresca.history().back().lambda, partition).size());
 }
 
 // A contact face one cell wide: all its cells' centres on one line (within a tenth of a cell's side),
@@ -676,7 +680,7 @@ std::string face_one_cell_wide(const Partition& partition) {
 // Where the last solve pressed one or two cells, the contact cannot balance a general moment of
 // the loads (its force acts at the cells' centres): said with the refusal below, with what to change.
 std::string too_few_cells(const ContactOperator& op, const Partition& partition, const TrescaStep& tresca) {
-  const long pressed = pressed_cells(op, partition, tresca);
+  const long pressed = pressed_cells(partition, tresca);
   if (pressed == 0 || pressed >= 3) return "";  // none: the loads pull it off, said in the message
   return "; the body rests on " + std::to_string(pressed) + " of the " + std::to_string(op.r) +
          " cells of the contact partition, too few to balance the loads' moments about it (a contact zone smaller "
@@ -724,8 +728,7 @@ void require_held(const Discretisation& disc, const ContactOperator& op, const P
       throw ContactZoneTooCoarse(
           "the body is held by contact alone (nothing prescribed holds " + held.describe() +
           "), and the contact forces balance the loads only after a rigid displacement of " + number(rigid, 3) + ", " +
-          number(rigid / size, 3) + " times the body's size: the " +
-          std::to_string(pressed_cells(op, partition, tresca)) +
+          number(rigid / size, 3) + " times the body's size: the " + std::to_string(pressed_cells(partition, tresca)) +
           " cells that carry the contact force cannot hold that motion (a contact zone one cell wide, "
           "as along a line contact, cannot hold a turn about it); refine the mesh where it touches, or use "
           "smaller cells (contact.cell_size), so that the contact zone spans several cells across, or "
