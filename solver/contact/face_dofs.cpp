@@ -17,12 +17,16 @@ FaceDofs::FaceDofs(const ContactFace& face, const DofMap& dof_map, std::size_t n
       if (const int d = dof_map.dof(nodes[j], c); d >= 0) {
         dofs.push_back(d);
         slots.push_back(static_cast<int>(3 * j) + c);
+      } else if (const std::size_t i = 3 * static_cast<std::size_t>(nodes[j]) + c;
+                 i < dof_map.prescribed.size() && dof_map.prescribed[i] != 0) {
+        prescribed.emplace_back(static_cast<int>(3 * j) + c, dof_map.prescribed[i]);
       }
 }
 
 Eigen::VectorXd FaceDofs::scatter(const Eigen::VectorXd& values) const {
   Eigen::VectorXd u_face = Eigen::VectorXd::Zero(size());
   for (std::size_t k = 0; k < slots.size(); ++k) u_face[slots[k]] = values[k];
+  for (const auto& [slot, value] : prescribed) u_face[slot] = value;
   return u_face;
 }
 

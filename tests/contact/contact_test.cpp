@@ -6,6 +6,7 @@
 
 #include "contact/contact_face.hpp"
 #include "contact/contact_operator.hpp"
+#include "contact/face_dofs.hpp"
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
 #include "friction/friction_law.hpp"
@@ -76,6 +77,26 @@ TEST(ContactFace, ContactNodesExcludeClampedOnes) {
   const Chessboard c = chessboard(4);
   EXPECT_EQ(c.face.nodes.size(), std::size_t(12 * 5));  // (3n+1)(n+1) minus the x = 0 row
   EXPECT_NEAR(c.face.area, 3.0, 1e-13);
+}
+
+// The slip of (5.7) is ‖w_t‖ of the whole displacement on Γc: at a face node whose tangential
+// components are prescribed (the brick's end x = 0 moved 2e-5 along x, y held, z free), the prescribed
+// value counts — it was taken as 0, and the coefficient at that edge was that of a node at rest.
+TEST(FaceDofs, PrescribedComponentsSlip) {
+  const Mesh mesh = make_paper_brick({4});
+  PrescribedDisplacement moved{"clamped", {2e-5, 0.0, std::nullopt}};
+  const DofMap dofs = make_dof_map(mesh, {}, {moved});
+  const ContactFace face = make_contact_face(mesh, {"contact"}, dofs);
+  const FaceDofs face_dofs(face, dofs, mesh.nodes.size());
+  const Eigen::VectorXd at_rest = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(face_dofs.dofs.size()));
+  const Eigen::VectorXd slip = face_dofs.slip(face, face_dofs.scatter(at_rest));
+  int on_moved_edge = 0;
+  for (std::size_t k = 0; k < face.nodes.size(); ++k) {
+    const bool moved_node = mesh.nodes[face.nodes[k]].x() == 0.0;
+    on_moved_edge += moved_node;
+    EXPECT_DOUBLE_EQ(slip[static_cast<Eigen::Index>(k)], moved_node ? 2e-5 : 0.0);
+  }
+  EXPECT_EQ(on_moved_edge, 5);  // the x = 0 edge of Γc, its z free: contact nodes
 }
 
 TEST(SlipBound, RadiiAreExactForPiecewiseLinearLaws) {
