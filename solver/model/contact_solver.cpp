@@ -480,8 +480,56 @@ Eigen::Matrix2d centroid_spread(const Partition& partition, std::vector<int> cel
 // one row of cells, its area 40% short and its peak pressure 41% high, while the penetration stayed
 // within bounds and the normal force was right). The width is measured across the pressed cells'
 // centres (cells carrying over 1e-3 of the largest cell force), in cells of their mean size: a row of
-// k cells has centres spread by side·√((k² − 1)/12).
+// k cells has centres spread by side·√((k² − 1)/12). Measured over the whole zone, and around each
+// pressed cell within kNarrowZoneWindow cells (the median of those): a strip that curves (a ring's line
+// contact, one cell wide along a quarter circle) spreads in both directions as a whole, but not locally.
 constexpr double kNarrowZoneCells = 2.2;
+constexpr double kNarrowZoneWindow = 4;         // cells: a full window is ≈ 7 cells across
+constexpr std::size_t kNarrowZoneLocal = 4000;  // pressed cells beyond which only the whole zone is measured
+
+struct ZoneWidth {
+  double zone = INFINITY;  // cells across the pressed cells, along their narrowest direction
+  double face = 0;         // cells across the face's cells along that direction
+  bool narrow() const { return zone <= kNarrowZoneCells && face >= 2 * zone + 1; }
+};
+
+// The widths of `pressed` and of `face` (cell indices) along the pressed cells' narrowest direction.
+ZoneWidth zone_width(const Partition& partition, const std::vector<int>& pressed, const std::vector<int>& face,
+                     double side) {
+  const auto cells_across = [side](double variance) {
+    return std::sqrt(12 * std::max(variance, 0.0) / (side * side) + 1);
+  };
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(centroid_spread(partition, pressed));
+  const Eigen::Vector2d narrow = eig.eigenvectors().col(0);
+  return {cells_across(eig.eigenvalues()[0]), cells_across(narrow.dot(centroid_spread(partition, face) * narrow))};
+}
+
+double median(std::vector<double> values) {
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// The median over the pressed cells of the zone's width within a window around each.
+ZoneWidth local_zone_width(const Partition& partition, const std::vector<int>& pressed, double side) {
+  const double reach = kNarrowZoneWindow * side;
+  const auto near = [&](const std::vector<int>& cells, const Eigen::Vector2d& centre) {
+    std::vector<int> within;
+    for (const int j : cells)
+      if ((partition.cells[j].centroid - centre).norm() <= reach) within.push_back(j);
+    return within;
+  };
+  std::vector<int> all(partition.cells.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  std::vector<double> zones, faces;
+  for (const int i : pressed) {
+    const Eigen::Vector2d& centre = partition.cells[i].centroid;
+    const ZoneWidth w = zone_width(partition, near(pressed, centre), near(all, centre), side);
+    zones.push_back(w.zone), faces.push_back(w.face);
+  }
+  return {median(zones), median(faces)};
+}
+
 void flag_narrow_contact_zone(SolveResult& res) {
   if (res.n_cells < 4) return;
   const std::vector<int> pressed = cells_pressed(res.lambda, res.partition);
@@ -489,15 +537,11 @@ void flag_narrow_contact_zone(SolveResult& res) {
   double pressed_area = 0;
   for (const int i : pressed) pressed_area += res.partition.cells[i].area;
   const double side = std::sqrt(pressed_area / static_cast<double>(pressed.size()));
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(centroid_spread(res.partition, pressed));
-  const Eigen::Vector2d narrow = eig.eigenvectors().col(0);
-  const auto cells_across = [side](double variance) {
-    return std::sqrt(12 * std::max(variance, 0.0) / (side * side) + 1);
-  };
-  const double zone = cells_across(eig.eigenvalues()[0]);
-  const double face = cells_across(narrow.dot(centroid_spread(res.partition, {}) * narrow));
-  if (!(side > 0) || zone > kNarrowZoneCells || face < 2 * zone + 1) return;
-  res.warnings.push_back("the contact zone is about " + number(zone, 2) + " cell(s) across at its narrowest (" +
+  if (!(side > 0)) return;
+  ZoneWidth width = zone_width(res.partition, pressed, {}, side);
+  if (!width.narrow() && pressed.size() <= kNarrowZoneLocal) width = local_zone_width(res.partition, pressed, side);
+  if (!width.narrow()) return;
+  res.warnings.push_back("the contact zone is about " + number(width.zone, 2) + " cell(s) across at its narrowest (" +
                          std::to_string(pressed.size()) + " pressed cells of about " + number(side, 3) +
                          "): its size and its peak pressure are resolved only to a cell, and the pressure there is "
                          "a cell's average; refine the mesh where it touches until the zone spans several cells "
