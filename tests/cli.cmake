@@ -192,7 +192,23 @@ add_test(NAME warns_contact_zone_two_cells_wide
                  --out ${CMAKE_BINARY_DIR}/cli-tests/roller_narrow)
 set_tests_properties(warns_contact_zone_two_cells_wide PROPERTIES PASS_REGULAR_EXPRESSION
                      "warning: the contact zone is about [0-9.]+ cell\\(s\\) across at its narrowest")
+# The same for a strip that curves (pipeline/scenes/ring_strip.toml: an O-ring's quarter circle of line
+# contact, 1.3 cells across): the whole zone spreads in both directions, so it is measured around each
+# pressed cell too.
+add_test(NAME warns_curved_contact_strip_one_cell_wide
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/ring_strip.toml --quiet
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/ring_strip)
+set_tests_properties(warns_curved_contact_strip_one_cell_wide PROPERTIES PASS_REGULAR_EXPRESSION
+                     "warning: the contact zone is about 1\\.[0-9] cell\\(s\\) across at its narrowest")
 # The penetration against Γc's own displacement: a face that barely moves while the body deforms gets a
 # note that its displacement is resolved only to the cells' averages (bimaterial.toml: 32% of it).
 add_test(NAME notes_penetration_against_the_face_displacement
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/face_penetration_note.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+
+# solver.reference_factorization prints the benchmarks' yardstick on the console: the solve's stages
+# against one factorization of K timed in the same process (the printed total also holds both).
+add_test(NAME prints_ratio_to_one_factorization
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
+                 --set solver.reference_factorization=true --out ${CMAKE_BINARY_DIR}/cli-tests/brick-ratio)
+set_tests_properties(prints_ratio_to_one_factorization PROPERTIES PASS_REGULAR_EXPRESSION
+                     "benchmark: solve stages [0-9.]+ s = [0-9.]+ x one factorization of K \\([0-9.]+ s;")
