@@ -32,7 +32,8 @@ Optional table in the scene (all keys optional, command-line options win):
   [crosscheck]
   tolerance = 0.05            # max relative L2(Gc) difference of u (vector), per variant
   force_tolerance = 0.05      # max relative difference of the total contact force (normal;
-                              #   tangential vector when there is friction)
+                              #   tangential vector when there is friction, relative to the larger
+                              #   of the net and the gross friction, the sum of |λ_t| over Γc)
   n = 8                       # mesh parameter `n` used by the cross-check (default: the scene's)
   variants = ["frictionless", "tresca", "slipdep"]   # default: as --variant all
   friction_coefficient = 0.3  # F of the tresca and coulomb_constant variants
@@ -441,7 +442,7 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
     L.append(f"# Cross-check: {scene_path.stem} — contact3d vs FreeFEM reference\n")
     L.append(f"Command: `{' '.join(argv)}`  ")
     L.append(f"Scene: `{os.path.relpath(scene_path, REPO)}`; tolerances: rel L2(Γc) of u ≤ {cfg['tolerance']:g}, "
-             f"contact forces ≤ {cfg['force_tolerance']:g}; \"in contact\": wn > −{cfg['contact_tol']:g}·max|u_ff| on Γc.\n")
+             f"contact forces ≤ {cfg['force_tolerance']:g} (tangential: of the larger of the net and the gross friction Σ|λ_t|·area); \"in contact\": wn > −{cfg['contact_tol']:g}·max|u_ff| on Γc.\n")
     L.append("FreeFEM (`pipeline/freefem/contact_ref.edp`): nodal multipliers at the contact nodes with lumped "
              "boundary mass, semi-smooth Newton (primal-dual active set) to a relative change ≤ "
              "1e-10. contact3d: piecewise-constant multipliers on "
