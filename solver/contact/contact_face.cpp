@@ -25,7 +25,12 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
   }
-  const double plane_tol = 1e-8 * std::max((hi - lo).norm(), 1e-300);
+  // Below the plane by more than plane_tol: an initial penetration, refused. Heights within gap_snap
+  // of the plane are rounding (a face rotated into the plane's frame) and taken as 0; above it they are
+  // the initial gap d, however small: a face lifted 2e-8 on a body of diagonal 3.3 had been put back on
+  // the plane, its normal pressure 3e-4 off.
+  const double diagonal = std::max((hi - lo).norm(), 1e-300);
+  const double plane_tol = 1e-8 * diagonal, gap_snap = 1e-12 * diagonal;
 
   std::set<std::array<int, 3>> seen;
   for (const auto& name : contact_groups) {
@@ -54,8 +59,7 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   face.contact_index.assign(mesh.nodes.size(), -1);
   face.gap.assign(mesh.nodes.size(), 0.0);
   for (const auto& tri : face.triangles)
-    for (int v : tri)
-      face.gap[v] = mesh.nodes[v].z() <= plane_tol ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
+    for (int v : tri) face.gap[v] = mesh.nodes[v].z() <= gap_snap ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
   std::vector<double> shortest, extent_x, extent_y;
   face.lo = mesh.nodes[face.triangles[0][0]].head<2>();
   face.hi = face.lo;

@@ -99,6 +99,18 @@ TEST(FaceDofs, PrescribedComponentsSlip) {
   EXPECT_EQ(on_moved_edge, 5);  // the x = 0 edge of Γc, its z free: contact nodes
 }
 
+// Heights above the plane are the initial gap d however small; only rounding (1e-12 of the mesh's
+// diagonal) is put on the plane. A brick lifted 2e-8 (diagonal 3.3) was put back on it.
+TEST(ContactFace, SmallLiftIsAGapAndRoundingIsNot) {
+  for (const double lift : {2e-8, 1e-13}) {
+    Mesh mesh = make_paper_brick({4});
+    for (auto& x : mesh.nodes) x.z() += lift;
+    const DofMap dofs = make_dof_map(mesh, {"clamped"});
+    const ContactFace face = make_contact_face(mesh, {"contact"}, dofs);
+    for (const int v : face.nodes) EXPECT_EQ(face.gap[v], lift > 1e-10 ? mesh.nodes[v].z() : 0.0) << lift;
+  }
+}
+
 TEST(SlipBound, RadiiAreExactForPiecewiseLinearLaws) {
   const Chessboard c = chessboard(2);
   FrictionLaw ramp;
