@@ -212,3 +212,7 @@ add_test(NAME prints_ratio_to_one_factorization
                  --set solver.reference_factorization=true --out ${CMAKE_BINARY_DIR}/cli-tests/brick-ratio)
 set_tests_properties(prints_ratio_to_one_factorization PROPERTIES PASS_REGULAR_EXPRESSION
                      "benchmark: solve stages [0-9.]+ s = [0-9.]+ x one factorization of K \\([0-9.]+ s;")
+# A body held by contact alone that starts 1 mm above the plane is brought down by the loads: the
+# same answer less 1 mm along z, and a note saying so.
+add_test(NAME held_body_starting_above_the_plane
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/held_body_with_gap.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})

@@ -689,6 +689,15 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
       " an equality constraint of the dual";
   report.stage(note);
   res.notes.push_back(note);
+  // A body held by contact alone that starts above the plane is brought down onto it by the loads:
+  // said, since its displacement then holds that rigid approach (a probe's block 1 mm up came out 1 mm
+  // lower with nothing said; a prescribed approach that leaves a gap is warned elsewhere).
+  double lowest = INFINITY;
+  for (const int v : res.face.nodes) lowest = std::min(lowest, res.face.gap[static_cast<std::size_t>(v)]);
+  if (lowest > 0 && std::isfinite(lowest))
+    res.notes.push_back("the contact face starts " + number(lowest, 3) +
+                        " above the foundation plane at its lowest node; held by contact alone, the body is brought "
+                        "down onto it by the loads, and its displacement includes that rigid approach");
   if (disc.centre_in_plane)
     res.notes.push_back("frictionless contact does not fix " + disc.held.describe_in_plane() +
                         ": the loads along it must balance by themselves (checked before the solve), and the "
