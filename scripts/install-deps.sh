@@ -4,7 +4,7 @@
 set -euo pipefail
 PKGS=(build-essential cmake pkg-config libeigen3-dev libsuitesparse-dev libopenblas0-pthread
       libopenblas-pthread-dev libtomlplusplus-dev libcli11-dev libfmt-dev libgtest-dev
-      libbenchmark-dev gmsh freefem++ libfreefem++ python3-numpy python3-matplotlib python3-meshio python3-pyflakes
+      libbenchmark-dev gmsh freefem++ libfreefem++ python3-numpy python3-scipy python3-matplotlib python3-meshio python3-pyflakes
       python3-getfem  # GetFEM: the independent Coulomb-friction oracle (tests/cli.cmake)
       python3-vtk9    # VTK's own XML reader for the ParaView collection test (tests/vtu_meshio.cmake)
       clang-format)   # the C++ layout check (tests/lint.cmake)
