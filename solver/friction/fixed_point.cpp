@@ -396,7 +396,19 @@ std::string format_g(double v) {
   return buf;
 }
 
-std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
+// err within this factor of the QPs' tolerance is their rounding: a stall there is no verdict on the law.
+constexpr double kRoundingFloor = 1e3;
+
+// `best_err`: the smallest err of the run. A stall at the QP solves' rounding (the L-block asked for
+// fixed_point_tol = 1e-12 reached 4.5e-12 with QPs to 1e-12 and wandered up to 6e-11) is said as such,
+// not as a law too steep for the iteration.
+std::string hint_for(FixedPointStatus status, double q, double final_rtol, double best_err) {
+  const bool at_rounding = best_err <= kRoundingFloor * final_rtol;
+  if ((status == FixedPointStatus::Stagnation || (status == FixedPointStatus::IterationLimit && !(q < 1))) &&
+      at_rounding)
+    return "err fell to " + format_g(best_err) + " and then stalled at the rounding of the QP solves (each to " +
+           format_g(final_rtol) + "), not for the law: a solver.fixed_point_tol below about " +
+           format_g(10 * best_err) + " cannot be reached here; ask for that or more";
   switch (status) {
     case FixedPointStatus::Converged:
       return "";
@@ -404,7 +416,7 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol) {
       if (std::isnan(q))  // fewer than three steps: no rate observed yet
         return "the iteration limit came before a contraction rate could be observed: raise "
                "solver.fixed_point_max_iter";
-      if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol);
+      if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol, best_err);
       return "the successive approximations contract slowly (q = " + format_g(q) +
              "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"aitken\" (relaxation from the start)";
     case FixedPointStatus::Stagnation:
@@ -698,7 +710,9 @@ class FixedPointRun {
     result_.distance_bound = status == FixedPointStatus::Converged && result_.history.size() == 1 ? err
                              : q < 1                                                              ? q / (1 - q) * err
                                      : std::numeric_limits<double>::infinity();
-    result_.hint = hint_for(status, q, rtol_);
+    double best_err = err;
+    for (const auto& step : result_.history) best_err = std::min(best_err, step.err);
+    result_.hint = hint_for(status, q, rtol_, best_err);
     return std::move(result_);  // the run ends here
   }
 

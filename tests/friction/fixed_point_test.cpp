@@ -168,6 +168,28 @@ TEST(FixedPoint, StagnationOnlyWhenTheMapDoesNotContract) {
   EXPECT_NE(r.hint.find("does not contract"), std::string::npos);
 }
 
+// A tolerance below what the inner solves can give: a contraction whose every evaluation carries a
+// rounding of 3e-12 that no tighter QP removes stalls near it. The hint says so, not that the law is
+// too steep (the L-block asked for 1e-12 was told its map "does not contract").
+TEST(FixedPoint, StallAtTheQpRoundingIsSaidAsSuch) {
+  const SlipMap rounded = [flip = 0](const Eigen::VectorXd& phi, double) mutable {
+    const Eigen::VectorXd star = Eigen::VectorXd::LinSpaced(phi.size(), 1.0, 2.0);
+    SlipEvaluation e;
+    flip = 1 - flip;
+    e.slip = star + 0.3 * (phi - star) + (flip ? 3e-12 : -3e-12) * Eigen::VectorXd::Ones(phi.size());
+    e.qp_iterations = 1;
+    e.hessian_products = 2;
+    return e;
+  };
+  FixedPointSettings s = settings();
+  s.tol = 1e-14;
+  s.max_iterations = 200;
+  const FixedPointResult r = solve_fixed_point(rounded, 3, s, 1e-6);
+  EXPECT_NE(r.status, FixedPointStatus::Converged);
+  EXPECT_NE(r.hint.find("rounding of the QP solves"), std::string::npos) << r.hint;
+  EXPECT_EQ(r.hint.find("does not contract"), std::string::npos) << r.hint;
+}
+
 TEST(FixedPoint, NoStagnationWhileTheIteratesTravelOneWay) {
   // A front that feeds on itself (G = φ + φ²/20 + 1, capped at 40, as slip spreading over a large
   // face): err rises for three steps after its minimum while every residual points the same way,
