@@ -1,5 +1,7 @@
 #include "friction/slip_bound.hpp"
 
+#include <algorithm>
+
 namespace contact3d {
 namespace {
 
@@ -18,6 +20,12 @@ double integrate_law(Polygon poly, const Eigen::Vector3d& phi, const FrictionLaw
   for (double b : breaks) {
     if (poly.empty()) break;
     const std::vector<double> values = vertex_values(poly, phi);
+    // φ ≡ b on the whole piece (a face held at rest at a law's breakpoint 0, or moved by exactly t0):
+    // both clips below would keep all of it and count it twice (radii of 2·F(0)·g); it is F(b)'s.
+    if (std::all_of(values.begin(), values.end(), [b](double v) { return v == b; })) {
+      total += integral_of_linear_composed(poly, values, F);
+      return total;
+    }
     std::vector<double> below(values.size()), above(values.size());
     for (std::size_t k = 0; k < values.size(); ++k) {
       below[k] = values[k] - b;

@@ -147,6 +147,24 @@ TEST(SlipBound, RadiiAreExactForPiecewiseLinearLaws) {
   for (int i = 0; i < r.size(); ++i) EXPECT_NEAR(r[i], 0.3 * 2e7, 1e-6);
 }
 
+// φ constant on a cell at one of the law's breakpoints — a face at rest (φ ≡ 0) under a table starting
+// at t = 0, a face moved by exactly t0 under the ramp — gives that value's radius F(b)·g once: it was
+// clipped into both sides of b and counted twice (2·F(0)·g, 1.2e7 for 0.3·2e7).
+TEST(SlipBound, ConstantSlipAtABreakpointIsCountedOnce) {
+  const Chessboard c = chessboard(2);
+  FrictionLaw table;
+  table.kind = FrictionLaw::Kind::Table;
+  table.points = {{0, 0.3}, {2e-5, 0.2}};
+  FrictionLaw ramp;
+  ramp.kind = FrictionLaw::Kind::Ramp;
+  ramp.param = 6e4;
+  for (const auto& [law, slip] : {std::pair{table, 0.0}, std::pair{ramp, ramp.t0}}) {
+    const Eigen::VectorXd phi = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(c.mesh.nodes.size()), slip);
+    const Eigen::VectorXd radius = disc_radii(c.face, c.partition, law, 2e7, phi);
+    for (Eigen::Index i = 0; i < radius.size(); ++i) EXPECT_NEAR(radius[i], law(slip) * 2e7, 1e-6) << law.name();
+  }
+}
+
 TEST(FrictionLaw, RampMatchesEquation61) {
   FrictionLaw law;
   law.kind = FrictionLaw::Kind::Ramp;
