@@ -556,6 +556,10 @@ def main():
             PF = (Pp - p0) @ R.T if np.ptp(Pp[:, 2]) > 1e-12 or abs(Pp[:, 2]).max() > 1e-12 else Pp
             poly = [tuple(p[:2]) for p in PF]
             A, c = poly_area_centroid(poly)
+            # a sliver's shoelace centroid is rounding (wavy at h = 0.04, cells of 0.08: a 1.7e-14 m²
+            # piece fell outside every triangle): its vertices' mean instead
+            if A < 1e-9 * max(np.ptp(PF[:, 0]) * np.ptp(PF[:, 1]), 1e-300) or not (min(p[0] for p in poly) <= c[0] <= max(p[0] for p in poly)):
+                c = (float(np.mean([p[0] for p in poly])), float(np.mean([p[1] for p in poly])))
             # find triangle containing c (vectorised barycentrics)
             lam = bary_all(np.array(c))
             ok = np.where((lam.min(1) > -1e-9))[0]

@@ -6,7 +6,9 @@ with symmetry planes, a curved face with a gap, pressure and gravity (capblock, 
 contact_cells.vtu), a face cut by a hole (clipped cells), a body held by contact alone under Coulomb
 friction. Each must agree to 1e-6 relative in u on Γc and in the body, λ and the disc radii (they agree
 to 1e-9 … 1e-11). Negative case: the oracle taking prescribed components as 0 in the slip, the defect
-fixed in b8b6335, must disagree with today's solver (4.7e-2 in λ_t)."""
+fixed in b8b6335, must disagree with today's solver (4.7e-2 in λ_t), and so must the oracle taking the
+slip as 0 at Γc's vertices held in all three components though moved along the plane (fixed after
+f40e2db)."""
 import os
 import subprocess
 import sys
@@ -47,15 +49,19 @@ with tempfile.TemporaryDirectory() as tmp:
     if run([binary, "mesh", "brick", "--n", "4", "-o", brick]).returncode != 0:
         sys.exit("FAIL: contact3d mesh brick")
     moved_end = os.path.join(source, "tests", "scenes", "brick_moved_end.toml")
+    in_plane = os.path.join(source, "tests", "scenes", "brick_end_moved_in_plane.toml")
     failures = [
         case("brick_moved_end", moved_end, mesh=brick),
         case("capblock", os.path.join(scenes, "capblock.toml"), sets=["mesh.parameters.h=0.05"], cells="vtu"),
         case("holed", os.path.join(scenes, "holed.toml")),
         case("free_brick_coulomb", os.path.join(scenes, "free_brick.toml"), sets=["mesh.parameters.n=4"]),
+        case("brick_end_moved_in_plane", in_plane, mesh=brick),
         case("negative_slip_without_prescribed", moved_end, mesh=brick, oracle_args=["--slip-free-dofs-only"],
+             expect_agreement=False),
+        case("negative_held_vertices_at_rest", in_plane, mesh=brick, oracle_args=["--phi-zero-held"],
              expect_agreement=False),
     ]
 failures = [f for f in failures if f]
 if failures:
     sys.exit("FAIL:\n" + "\n".join(failures))
-print("ok: contact3d and the discrete oracle agree on every case, and disagree on the negative one")
+print("ok: contact3d and the discrete oracle agree on every case, and disagree on the negative ones")

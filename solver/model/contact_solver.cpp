@@ -229,10 +229,18 @@ void time_reference_factorizations(const Eigen::SparseMatrix<double>& K, StageCl
   }
 }
 
-// F̄_i(φ) = ∫_{R_i} F(φ_h) dS / meas(R_i) per cell, for φ at the contact nodes.
+// F̄_i(φ) = ∫_{R_i} F(φ_h) dS / meas(R_i) per cell, for φ at the contact nodes (the fixed point's
+// unknowns) and, at Γc's vertices held in all three components, their prescribed slip ‖(u1, u2)‖: φ_h is
+// the P1 interpolant of ‖w_t‖ over all of Γc, and a held vertex moved along the plane slips (it was taken
+// as 0: an end moved by (2e-5, −1e-5, 0) kept F(0) = 0.3 at its edge for 0.263, λ_t 3% off).
 Eigen::VectorXd mean_coefficient(const Scene& scene, const Mesh& mesh, const SolveResult& res,
                                  const Eigen::VectorXd& phi_contact) {
   Eigen::VectorXd phi_nodes = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.nodes.size()));
+  const std::vector<double>& held = res.dofs.prescribed;
+  for (const auto& tri : res.face.triangles)
+    for (const int v : tri)
+      if (const std::size_t i = 3 * static_cast<std::size_t>(v); res.face.contact_index[v] < 0 && i + 1 < held.size())
+        phi_nodes[v] = std::hypot(held[i], held[i + 1]);
   for (std::size_t k = 0; k < res.face.nodes.size(); ++k) phi_nodes[res.face.nodes[k]] = phi_contact[k];
   return disc_radii(res.face, res.partition, scene.law, 1.0, phi_nodes);
 }
