@@ -615,10 +615,15 @@ def main():
     for pi_, pc in enumerate(parts):
         sel = (comp == pc) & used
         ctr = X[sel].mean(0)
-        for c in range(3):
-            R6[3 * np.where(sel)[0] + c, 6 * pi_ + c] = 1.0
+        # along and about the plane's frame axes: the motions in the plane (held by friction alone)
+        # apart from those with a normal part, whatever the plane's tilt (along the user's axes a free
+        # body on an incline mixed the slide into the frictionless first solve's equalities)
+        frame_axes = np.array([t1, t2, nrm])
+        for j, ax in enumerate(frame_axes):
+            for c in range(3):
+                R6[3 * np.where(sel)[0] + c, 6 * pi_ + j] = ax[c]
         Xc_ = X - ctr
-        for j, ax in enumerate(np.eye(3)):
+        for j, ax in enumerate(frame_axes):
             col = np.cross(ax[None, :], Xc_)
             col[~sel] = 0
             R6[:, 6 * pi_ + 3 + j] = col.ravel()
