@@ -229,28 +229,35 @@ void time_reference_factorizations(const Eigen::SparseMatrix<double>& K, StageCl
   }
 }
 
-// F̄_i(φ) = ∫_{R_i} F(φ_h) dS / meas(R_i) per cell, for φ at the contact nodes (the fixed point's
-// unknowns) and, at Γc's vertices held in all three components, their prescribed slip ‖(u1, u2)‖: φ_h is
-// the P1 interpolant of ‖w_t‖ over all of Γc, and a held vertex moved along the plane slips (it was taken
-// as 0: an end moved by (2e-5, −1e-5, 0) kept F(0) = 0.3 at its edge for 0.263, λ_t 3% off).
-Eigen::VectorXd mean_coefficient(const Scene& scene, const Mesh& mesh, const SolveResult& res,
+// The part of φ_h that never changes: at Γc's vertices held in all three components (no contact nodes,
+// so no unknowns of the fixed point) their prescribed slip ‖(u1, u2)‖ (FaceDofs::scatter puts the
+// prescribed values in), 0 at every other mesh node. A held vertex moved along the plane slips (it was
+// taken as 0: an end moved by (2e-5, −1e-5, 0) kept F(0) = 0.3 at its edge for 0.263, λ_t 3% off).
+Eigen::VectorXd held_vertex_slip(const FaceDofs& face_dofs, const ContactFace& face, std::size_t n_mesh_nodes) {
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n_mesh_nodes));
+  const Eigen::VectorXd held =
+      face_dofs.scatter(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(face_dofs.dofs.size())));
+  for (std::size_t j = 0; j < face_dofs.nodes.size(); ++j)
+    if (const int v = face_dofs.nodes[j]; face.contact_index[v] < 0)
+      phi[v] = std::hypot(held[static_cast<Eigen::Index>(3 * j)], held[static_cast<Eigen::Index>(3 * j + 1)]);
+  return phi;
+}
+
+// F̄_i(φ) = ∫_{R_i} F(φ_h) dS / meas(R_i) per cell: φ_h the P1 interpolant over all of Γc of φ at the
+// contact nodes (the fixed point's unknowns) and, elsewhere, `phi_nodes` as given (held_vertex_slip).
+Eigen::VectorXd mean_coefficient(const Scene& scene, const SolveResult& res, Eigen::VectorXd phi_nodes,
                                  const Eigen::VectorXd& phi_contact) {
-  Eigen::VectorXd phi_nodes = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.nodes.size()));
-  const std::vector<double>& held = res.dofs.prescribed;
-  for (const auto& tri : res.face.triangles)
-    for (const int v : tri)
-      if (const std::size_t i = 3 * static_cast<std::size_t>(v); res.face.contact_index[v] < 0 && i + 1 < held.size())
-        phi_nodes[v] = std::hypot(held[i], held[i + 1]);
   for (std::size_t k = 0; k < res.face.nodes.size(); ++k) phi_nodes[res.face.nodes[k]] = phi_contact[k];
   return disc_radii(res.face, res.partition, scene.law, 1.0, phi_nodes);
 }
 
 // The radii c_i = F̄_i(φ)·g_i of (5.3); zeros when frictionless (unused).
-RadiusRule radius_rule(const Scene& scene, const Mesh& mesh, const SolveResult& res) {
+RadiusRule radius_rule(const Scene& scene, const Mesh& mesh, const SolveResult& res, const FaceDofs& face_dofs) {
   if (scene.frictionless())
     return [r = res.n_cells](const Eigen::VectorXd&, const Eigen::VectorXd&) { return Eigen::VectorXd::Zero(r); };
-  return [&scene, &mesh, &res](const Eigen::VectorXd& phi_contact, const Eigen::VectorXd& g) {
-    return Eigen::VectorXd(mean_coefficient(scene, mesh, res, phi_contact).cwiseProduct(g));
+  return [&scene, &res, held = held_vertex_slip(face_dofs, res.face, mesh.nodes.size())](
+             const Eigen::VectorXd& phi_contact, const Eigen::VectorXd& g) {
+    return Eigen::VectorXd(mean_coefficient(scene, res, held, phi_contact).cwiseProduct(g));
   };
 }
 
@@ -299,8 +306,9 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
 double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult& res, const TrescaStep& tresca) {
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
   const Eigen::VectorXd& u_face = tresca.last_face_displacement();  // the last solve's u on Γc: no new K⁻¹ solve
-  const Eigen::VectorXd bound =
-      mean_coefficient(scene, mesh, res, face_dofs.slip(res.face, u_face)).cwiseProduct(tresca.normal_pressure());
+  const Eigen::VectorXd bound = mean_coefficient(scene, res, held_vertex_slip(face_dofs, res.face, mesh.nodes.size()),
+                                                 face_dofs.slip(res.face, u_face))
+                                    .cwiseProduct(tresca.normal_pressure());
   const double scale = std::max(res.radius.cwiseAbs().maxCoeff(), bound.cwiseAbs().maxCoeff());
   return scale > 0 ? (res.radius - bound).cwiseAbs().maxCoeff() / scale : 0.0;
 }
@@ -1252,7 +1260,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
                          op.with_friction, q_norm, scene.solver.qp)
           : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp, std::move(q_factor));
   qp.report_progress_to(&report);
-  TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res),
+  TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res, face_dofs),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));
   if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
