@@ -10,6 +10,7 @@
 
 #include "linalg/dual_operator.hpp"
 #include "linalg/symmetric_product.hpp"
+#include "qp/equality_newton.hpp"
 #include "qp/hybrid_qp.hpp"
 #include "qp/reduced_cg.hpp"
 #include "qp/ssn.hpp"
@@ -268,6 +269,7 @@ class DualQpSolver::EqualitySolve {
       jump_to_next_touch(unseen_shift());  // nothing touches yet
     F_scale_ = balance_scale();
     target_ = std::max(rtol_, 1e-9) * F_scale_;
+    if (reach(F_) > target_) try_joint_newton();
     if (s_.jacobian_.rows() != k_ && reach(F_) > target_) measure_jacobian();
     best_mu_ = s_.mu_, best_lambda_ = lambda_, best_F_ = F_;
     for (int step = 0; step < kMaxEqualitySteps && reach(F_) > target_ && !inner_failed_; ++step, remember_best()) {
@@ -330,6 +332,33 @@ class DualQpSolver::EqualitySolve {
   }
   // The level below which the loads count as balanced: the target, or the inner solves' noise floor.
   double settled() const { return std::max(target_, kEqualityNoiseFloor * F_scale_); }
+
+  // Newton steps on λ and μ together (equality_newton.hpp), where Q is dense and the QP takes Newton
+  // steps: each costs a reduced factorization where a step on μ alone costs a whole QP solve. Taken
+  // where they balance the loads with λ solving its QP (true); otherwise the steps on μ go on from
+  // where they were, the joint steps' work counted.
+  bool try_joint_newton() {
+    const QpVariant variant = s_.settings_.variant;
+    if (s_.qp_.matrix_free() || conditions_.cols() == 0 || !(variant == QpVariant::Auto || variant == QpVariant::Ssn))
+      return false;
+    s_.set_linear_term(s_.h_ - s_.G_.transpose() * s_.mu_);
+    const BoxDiscQP problem = s_.solved_problem();
+    const bool scaled = s_.jacobi_.has_value();
+    const Eigen::MatrixXd G = scaled ? Eigen::MatrixXd(s_.G_ * s_.jacobi_->scale().asDiagonal()) : s_.G_;
+    EqualityNewtonSettings settings;
+    settings.rtol = inner_rtol_;
+    settings.balance_target = target_;
+    settings.single_precision = uses_single_products(s_.settings_.precision, s_.qp_.size());
+    const EqualityNewtonResult joint = solve_equality_newton(
+        problem, G, s_.e_, conditions_, scaled ? s_.jacobi_->to_scaled(lambda_) : lambda_, settings);
+    add_counts(total_, joint.work);
+    if (!joint.converged) return false;
+    s_.mu_ += joint.mu_shift;
+    lambda_ = scaled ? s_.jacobi_->from_scaled(joint.lambda) : joint.lambda;
+    F_ = s_.G_ * lambda_ - s_.e_;
+    s_.jacobian_ = -joint.response;
+    return true;
+  }
 
   // F(μ) = Gλ(μ) − e, λ(μ) warm-started from what `lam` holds (and left there).
   Eigen::VectorXd balance_at(const Eigen::VectorXd& mu, Eigen::VectorXd& lam) {

@@ -111,7 +111,9 @@ class DualQpSolver {
   // 1e-4·‖G‖‖λ‖; 1e-7 where the inner solves' rounding stops the descent even at their tightest),
   // the inner solves to min(rtol/100, 1e-8), tightened where the descent stops. Where these steps
   // leave the loads unbalanced, the augmented Lagrangian takes over from their best iterate
-  // (solve_with_augmented_lagrangian). μ is warm-started too.
+  // (solve_with_augmented_lagrangian). μ is warm-started too. On a dense Q with Newton steps in the QP
+  // ("auto", "ssn"), semismooth Newton steps on λ and μ together (equality_newton.hpp) go first,
+  // from the first inner solve; the steps on μ alone only where they do not converge.
   void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);
   bool has_equality() const { return G_.rows() > 0; }
   const Eigen::VectorXd& equality_multiplier() const { return mu_; }  // μ of the last solve

@@ -86,7 +86,8 @@ bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd&
 // solve_reduced() for the columns of B at once: the factor (or the bordered solver's factor and
 // cache) and Q read once for all of them instead of once per column — a body of many parts held by
 // contact asks for k = 6 per part (144 for 24 loose blocks).
-bool RadiusSensitivity::solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y) {
+bool RadiusSensitivity::solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, double refined_to,
+                                              int refinements) {
   if (qp_.matrix_free()) {
     Y.resize(B.rows(), B.cols());
     for (Eigen::Index j = 0; j < B.cols(); ++j) {
@@ -103,20 +104,20 @@ bool RadiusSensitivity::solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::M
            : factor_ ? factor_->solve_columns(R)
                      : single_factor_->solve_columns(R);
   };
-  // Refined in double while the corrections shrink and are more than kRefinedCorrection of the answer
+  // Refined in double while the corrections shrink and are more than `refined_to` of the answer
   // (in each column), at most kMaxRefinements steps: a single factor of an ill-conditioned Q cuts the
   // error by only about cond(Q)·ε_single per step, and the equality loop's Newton steps on μ are only
   // as good as this Jacobian. One step, as before, where Q is well conditioned.
   Y = solve(B);
   double last = INFINITY;
-  for (int step = 0; step < kMaxRefinements; ++step) {
+  for (int step = 0; step < refinements; ++step) {
     const Eigen::MatrixXd correction = solve(B - reduced_block_product(qp_, step_.directions, Y));
     products_ += static_cast<int>(B.cols());
     const double size = (correction.colwise().norm().array() / Y.colwise().norm().array().max(1e-300)).maxCoeff();
     if (!(size < last)) break;  // not contracting: the answer stays
     Y += correction;
     last = size;
-    if (size <= kRefinedCorrection) break;
+    if (size <= refined_to) break;
   }
   return true;
 }
@@ -168,6 +169,15 @@ bool RadiusSensitivity::prepare_equality() {
   GDZ_.compute(GDZ_matrix_);
   Z_ = std::move(Z);  // only once complete: a failed solve leaves it unprepared
   return true;
+}
+
+std::optional<Eigen::MatrixXd> RadiusSensitivity::solve_columns(const Eigen::MatrixXd& B, double correction,
+                                                                int refinements) {
+  if (!ok_) return std::nullopt;
+  if (step_.directions.empty()) return Eigen::MatrixXd(0, B.cols());
+  Eigen::MatrixXd Y;
+  if (!solve_reduced_columns(B, Y, correction, refinements) || !Y.allFinite()) return std::nullopt;
+  return Y;
 }
 
 std::optional<Eigen::MatrixXd> RadiusSensitivity::equality_response() {

@@ -72,13 +72,20 @@ class RadiusSensitivity {
   std::optional<Eigen::MatrixXd> equality_response();
   // dμ of the last apply() (size k; empty without equality constraints).
   const Eigen::VectorXd& equality_change() const { return dmu_; }
+  // The active sets it holds, and A⁻¹B for the columns of B (A = Dᵀ Q D + diag(shift) of those sets)
+  // refined in double until a correction is at most `correction` of the answer, at most `refinements`
+  // steps; none where A cannot be solved. The joint Newton steps of equality_newton.hpp use them.
+  const ReducedStep& active_sets() const { return step_; }
+  std::optional<Eigen::MatrixXd> solve_columns(const Eigen::MatrixXd& B, double correction, int refinements);
 
  private:
   bool factor_reduced_matrix();
   bool bordered_ready();
   // False when no route is left (the lazily made factor failed).
   bool solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd& y);
-  bool solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y);  // the same for B's columns at once
+  // The same for B's columns at once, refined to `refined_to` in at most `refinements` steps.
+  bool solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, double refined_to = kRefinedCorrection,
+                             int refinements = kMaxRefinements);
   bool solve_reduced_by_cg(const Eigen::VectorXd& b, Eigen::VectorXd& y);
   void remember(Eigen::VectorXd p, Eigen::VectorXd Ap);  // adds a solution to the recycled basis
   bool prepare_equality();                               // Z and G D Z, on the first apply()
