@@ -218,8 +218,8 @@ add_test(NAME held_body_starting_above_the_plane
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/held_body_with_gap.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 # An independent implementation of the same discrete problem (pipeline/discrete_oracle.py, Python and
 # scipy, no code shared with the solver) agrees with contact3d to 1e-6 (they meet at 1e-9 … 1e-12) on an
-# end moved along Γc (partly and wholly prescribed), capblock's many features, clipped cells and a body
-# held by contact alone, and the oracle with either slip defect (fixed in b8b6335, f907c74) put back
+# end moved along Γc (partly and wholly prescribed), capblock's many features, clipped cells, a body
+# held by contact alone and a mesh of two parts each held by its own contact (merged cells), and the oracle with either slip defect (fixed in b8b6335, f907c74) put back
 # disagrees (the negative cases).
 add_test(NAME discrete_oracle_agrees_with_the_solver
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/discrete_oracle_cases.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})

@@ -56,6 +56,8 @@ with tempfile.TemporaryDirectory() as tmp:
         case("holed", os.path.join(scenes, "holed.toml")),
         case("free_brick_coulomb", os.path.join(scenes, "free_brick.toml"), sets=["mesh.parameters.n=4"]),
         case("brick_end_moved_in_plane", in_plane, mesh=brick),
+        # two parts, each held by its own contact (Coulomb), with cells merged at a sole's edge
+        case("pads_two_parts_held", os.path.join(scenes, "pads.toml"), cells="vtu"),
         case("negative_slip_without_prescribed", moved_end, mesh=brick, oracle_args=["--slip-free-dofs-only"],
              expect_agreement=False),
         case("negative_held_vertices_at_rest", in_plane, mesh=brick, oracle_args=["--phi-zero-held"],
