@@ -31,12 +31,12 @@ SCENE = ROOT / "pipeline" / "scenes" / "slab.toml"
 STAGES = ["assembly", "contact", "factorization", "dual", "stability", "dual_solve"]
 
 
-def run(binary, out, sets, mesh=None, timeout=None):
-    """One solve; returns (summary dict or None on timeout, peak RSS MiB, wall s, exit code)."""
+def run(binary, out, sets, mesh=None, timeout=None, scene=SCENE):
+    """One solve of `scene`; returns (summary dict or None on timeout, peak RSS MiB, wall s, exit code)."""
     # Cells of 2h throughout: the default contact.cell_size = "auto" solves a case a second time with cells
     # of 1.5h where the penetration exceeds 10% (a slab thinner than a cell may); this benchmark measures
     # one solve.
-    args = c3d.run.solve_command(binary, SCENE, out, ["solver.reference_factorization=true", 'contact.cell_size="2h"',
+    args = c3d.run.solve_command(binary, scene, out, ["solver.reference_factorization=true", 'contact.cell_size="2h"',
                                                       *sets], mesh=mesh)
     Path(out).mkdir(parents=True, exist_ok=True)
     t0 = time.monotonic()

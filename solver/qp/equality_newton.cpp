@@ -28,8 +28,13 @@ constexpr int kRefinements = 8;
 // the same way as in the step before (the sets sweep the contact zone's edge ring by ring). The merit
 // may rise all through such a sweep: on the free plate with 4 800 multipliers and a frictionless
 // solve, ‖F₁‖ went 0.41 → 0.63 → 0.56 while the cells in contact fell 1 101 → 559 in 21 steps, and the
-// steps converged after 53 (4.8 s, where the steps on μ alone took 13 s).
+// steps converged after 53 (4.8 s, where the steps on μ alone took 13 s). They are also given up
+// after kMaxSteepRises steps (the first excepted: its start has F₁ = 0) that more than double ‖F‖:
+// the sets then flip between two states (the free slab, 2 × 2 × 0.05 m with 4 800 multipliers: ‖F₁‖
+// 0.46 → 1.15 → 0.41 → 1.11 → 0.38 …, where a cycle was seen only at the eighth step).
 constexpr int kMaxStepsWithoutProgress = 20;
+constexpr double kSteepRise = 2.0;
+constexpr int kMaxSteepRises = 2;
 
 // A fingerprint of the active sets (which multipliers move, and along which pair).
 std::size_t fingerprint(const std::vector<Direction>& d) {
@@ -71,6 +76,7 @@ class JointNewton {
     double best = INFINITY;
     int since_best = 0;
     long last_move = 0;  // the change in the number of free directions at the last step
+    int steep_rises = 0;
     for (int step = 0; std::isfinite(merit_); ++step) {
       if (converged()) return result_;
       if (step == settings_.max_steps) break;
@@ -80,12 +86,14 @@ class JointNewton {
       ++result_.work.iterations;
       ++result_.work.newton_steps;
       const long moved = static_cast<long>(last_directions_.size()) - directions_before;
+      const double merit_before = merit_;
       take_full_step(x_target, delta_target);
+      steep_rises += step > 0 && merit_ > kSteepRise * kSteepRise * merit_before;  // ‖F‖ more than doubled
       const bool sweeping = moved != 0 && (moved > 0) == (last_move > 0);
       since_best = merit_ < best || sweeping ? 0 : since_best + 1;
       best = std::min(best, merit_);
       last_move = moved;
-      if (since_best >= kMaxStepsWithoutProgress || cycled_) break;
+      if (since_best >= kMaxStepsWithoutProgress || cycled_ || steep_rises >= kMaxSteepRises) break;
     }
     result_.converged = false;
     return result_;
@@ -170,7 +178,6 @@ class JointNewton {
     delta_ = delta_target;
     merit_ = merit(x_, Qx_, delta_);
   }
-
   const BoxDiscQP& qp_;
   const Eigen::MatrixXd& G_;
   const Eigen::VectorXd& e_;
