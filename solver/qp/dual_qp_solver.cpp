@@ -210,6 +210,11 @@ BoxDiscQP with_penalty(const BoxDiscQP& problem, const Eigen::MatrixXd& A) {
   return penalized;
 }
 
+// G in the variables the QP solvers work on: G S where the problem is Jacobi-scaled (λ = S x).
+Eigen::MatrixXd in_solved_variables(const Eigen::MatrixXd& G, const std::optional<JacobiScaledQP>& jacobi) {
+  return jacobi ? Eigen::MatrixXd(G * jacobi->scale().asDiagonal()) : G;
+}
+
 // G D⁻¹ Gᵀ (D = diag Q): how the equalities' residual responds to a rigid shift when every cell is
 // in full contact (the step along motions the Jacobian is blind to).
 Eigen::MatrixXd full_contact_response(const Eigen::MatrixXd& G, const Eigen::VectorXd& q_diagonal) {
@@ -344,7 +349,7 @@ class DualQpSolver::EqualitySolve {
     s_.set_linear_term(s_.h_ - s_.G_.transpose() * s_.mu_);
     const BoxDiscQP problem = s_.solved_problem();
     const bool scaled = s_.jacobi_.has_value();
-    const Eigen::MatrixXd G = scaled ? Eigen::MatrixXd(s_.G_ * s_.jacobi_->scale().asDiagonal()) : s_.G_;
+    const Eigen::MatrixXd G = in_solved_variables(s_.G_, s_.jacobi_);
     EqualityNewtonSettings settings;
     settings.rtol = inner_rtol_;
     settings.balance_target = target_;
@@ -572,7 +577,7 @@ QpResult DualQpSolver::solve_with_augmented_lagrangian(const Eigen::VectorXd& ra
                                                        long budget) {
   QpResult total;
   total.status = QpStatus::IterationLimit;
-  const Eigen::MatrixXd PG = P * (jacobi_ ? Eigen::MatrixXd(G_ * jacobi_->scale().asDiagonal()) : G_);
+  const Eigen::MatrixXd PG = P * in_solved_variables(G_, jacobi_);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(PG, Eigen::ComputeThinU);
   Eigen::Index rank = 0;
   while (rank < svd.singularValues().size() && svd.singularValues()[rank] > 1e-12 * svd.singularValues()[0]) ++rank;

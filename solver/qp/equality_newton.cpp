@@ -131,7 +131,6 @@ class JointNewton {
     result_.converged = true;
     result_.lambda = std::move(x);
     result_.mu_shift = delta_;
-    result_.balance = left;
     result_.work.status = QpStatus::Converged;
     return true;
   }

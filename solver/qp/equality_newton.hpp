@@ -8,8 +8,9 @@
 //   y = y₀ − Z δ,   Z = A⁻¹DᵀGᵀ,   (Cᵀ G D Z C) δ' = Cᵀ(G(λ_fixed + D y₀) − e),   δ = C δ',
 // k + 1 reduced solves with one factor (through the factor of Q where the QP's Newton steps go,
 // radius_sensitivity.hpp), instead of a QP solve per step. The steps are taken whole, as a
-// primal-dual active set method takes them; they are given up where ‖F₁‖² + (‖F₂‖ / ‖G‖)² stops
-// falling. Dense Q only (the reduced systems need its entries).
+// primal-dual active set method takes them; they are given up on a cycle of the active sets, on steps
+// that more than double ‖F₁‖² + (‖F₂‖ / ‖G‖)², or where that merit makes no progress (equality_newton.cpp).
+// Dense Q only (the reduced systems need its entries).
 #pragma once
 
 #include <Eigen/Core>
@@ -32,7 +33,6 @@ struct EqualityNewtonResult {
   Eigen::VectorXd mu_shift;  // δμ: the answer's multiplier is μ + δμ, the problem's linear term being h − Gᵀμ
   Eigen::MatrixXd response;  // G D Z at the last step (the equality loop's Jacobian is its negative)
   QpResult work;             // Newton steps and products
-  double balance = INFINITY;  // ‖P_C(Gλ − e)‖ at the answer
 };
 
 // `problem`: the QP for the current μ (its linear term h − Gᵀμ), Jacobi-scaled or not; `G` (k × m) in
