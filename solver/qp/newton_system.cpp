@@ -67,6 +67,32 @@ Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Dir
   return out;
 }
 
+ReducedOperator::ReducedOperator(const BoxDiscQP& qp, const std::vector<Direction>& d) {
+  const auto k = static_cast<Eigen::Index>(d.size());
+  if (!qp.Q || k == 0 || 2 * k > qp.size()) return;
+  A_.setZero(k, k);
+  reduced_matrix(qp, d, A_);
+}
+
+Eigen::MatrixXf ReducedOperator::single_entries(const BoxDiscQP& qp, const std::vector<Direction>& d) const {
+  if (kept()) return A_.cast<float>();
+  Eigen::MatrixXf A;
+  reduced_matrix(qp, d, A);
+  return A;
+}
+
+Eigen::VectorXd ReducedOperator::product(const BoxDiscQP& qp, const std::vector<Direction>& d,
+                                         const Eigen::VectorXd& y) const {
+  if (!kept()) return reduced_product(qp, d, y);
+  return A_.selfadjointView<Eigen::Lower>() * y;
+}
+
+Eigen::MatrixXd ReducedOperator::block_product(const BoxDiscQP& qp, const std::vector<Direction>& d,
+                                               const Eigen::MatrixXd& Y) const {
+  if (!kept()) return reduced_block_product(qp, d, Y);
+  return A_.selfadjointView<Eigen::Lower>() * Y;
+}
+
 Eigen::VectorXd restrict_to(const std::vector<Direction>& d, const Eigen::VectorXd& v) {
   Eigen::VectorXd y(static_cast<Eigen::Index>(d.size()));
   for (std::size_t j = 0; j < d.size(); ++j)

@@ -44,9 +44,8 @@ RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd&
 
 bool RadiusSensitivity::factor_reduced_matrix() {
   if (single_precision_) {
-    Eigen::MatrixXf A;
-    reduced_matrix(qp_, step_.directions, A);
-    single_factor_.emplace(std::move(A));
+    refinement_ = ReducedOperator(qp_, step_.directions);
+    single_factor_.emplace(refinement_.single_entries(qp_, step_.directions));
     return single_factor_->ok();
   }
   Eigen::MatrixXd A;
@@ -79,7 +78,7 @@ bool RadiusSensitivity::solve_reduced(const Eigen::VectorXd& b, Eigen::VectorXd&
     return bordered ? qp_.bordered->solve(rhs) : factor_ ? factor_->solve(rhs) : single_factor_->solve(rhs);
   };
   y = solve(b);
-  y += solve(b - reduced_product(qp_, step_.directions, y));
+  y += solve(b - refinement_.product(qp_, step_.directions, y));
   return true;
 }
 
@@ -111,7 +110,7 @@ bool RadiusSensitivity::solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::M
   Y = solve(B);
   double last = INFINITY;
   for (int step = 0; step < refinements; ++step) {
-    const Eigen::MatrixXd correction = solve(B - reduced_block_product(qp_, step_.directions, Y));
+    const Eigen::MatrixXd correction = solve(B - refinement_.block_product(qp_, step_.directions, Y));
     products_ += static_cast<int>(B.cols());
     const double size = (correction.colwise().norm().array() / Y.colwise().norm().array().max(1e-300)).maxCoeff();
     if (!(size < last)) break;  // not contracting: the answer stays

@@ -100,6 +100,7 @@ class RadiusSensitivity {
   long bordered_preparation_ = -1;
   std::optional<DenseCholesky> factor_;
   std::optional<SingleCholesky> single_factor_;
+  ReducedOperator refinement_;  // the refinement's products (kept in double beside a single factor)
   // Matrix-free: earlier solutions p_j of the reduced system, A-orthonormal, with A p_j.
   std::vector<Eigen::VectorXd> recycled_, recycled_products_;
   int products_ = 0;
