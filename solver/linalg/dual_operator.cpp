@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <random>
 #include <span>
 #include <stdexcept>
@@ -136,30 +138,17 @@ DualOperator make_dual_operator_augmented(SparseCholesky& K_aug, const Eigen::Sp
 
 namespace {
 
-template <class Product>
-double power_iteration(Eigen::Index size, const Product& product, int iterations) {
-  if (size == 0) return 0;
-  Eigen::VectorXd x = Eigen::VectorXd::Ones(size).normalized();
-  double lambda = 0;
-  for (int k = 0; k < iterations; ++k) {
-    const Eigen::VectorXd y = product(x);
-    const double norm = y.norm();
-    if (norm == 0) return 0;
-    lambda = x.dot(y);
-    x = y / norm;
-  }
-  return std::max(lambda, product(x).norm());
-}
+using Product = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 
-}  // namespace
+// The norm estimate's stopping test is read from this many products on (dual operators: the test
+// holds after 4 to 6, each a read of Q; a few more make a missed top eigenvalue less likely).
+constexpr int kMinNormSteps = 10;
 
-double estimate_norm(Eigen::Index size, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
-                     int iterations) {
-  return power_iteration(size, product, iterations);
-}
-
-SpectrumEstimate lanczos_extremes(Eigen::Index size,
-                                  const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product, int steps) {
+// Up to `steps` Lanczos steps (fully reorthogonalised) from a fixed pseudo-random start, and the
+// extreme Ritz values. With `top_tolerance` > 0 it stops (after kMinNormSteps) once the largest Ritz pair (θ, y) has
+// the residual ‖Q y − θ y‖ = β_k |s_k| <= top_tolerance · θ: an eigenvalue then lies within that of θ (the
+// tridiagonal's eigenvectors, k × k, cost nothing beside a product).
+SpectrumEstimate lanczos(Eigen::Index size, const Product& product, int steps, double top_tolerance) {
   SpectrumEstimate out;
   if (size == 0 || steps <= 0) return out;
   steps = static_cast<int>(std::min<Eigen::Index>(steps, size));
@@ -168,6 +157,14 @@ SpectrumEstimate lanczos_extremes(Eigen::Index size,
   Eigen::MatrixXd V(size, steps);  // the Lanczos basis
   V.col(0) = Eigen::VectorXd::NullaryExpr(size, [&] { return uniform(random); }).normalized();
   Eigen::VectorXd alpha(steps), beta = Eigen::VectorXd::Zero(steps);
+  const auto tridiagonal = [&](int n) {
+    Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i) {
+      T(i, i) = alpha[i];
+      if (i + 1 < n) T(i, i + 1) = T(i + 1, i) = beta[i];
+    }
+    return T;
+  };
   int k = 0;
   for (; k < steps; ++k) {
     Eigen::VectorXd w = product(V.col(k));
@@ -177,28 +174,54 @@ SpectrumEstimate lanczos_extremes(Eigen::Index size,
       w -= V.leftCols(k + 1) * (V.leftCols(k + 1).transpose() * w);
     if (k + 1 == steps) break;
     beta[k] = w.norm();
-    if (!(beta[k] > 1e-14 * std::abs(alpha[k]))) break;  // an invariant subspace: the Ritz values are exact
+    if (!(beta[k] > 1e-14 * std::abs(alpha[k]))) break;  // an invariant subspace (or NaN): the Ritz values are exact
+    if (top_tolerance > 0 && k + 1 >= kMinNormSteps) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(tridiagonal(k + 1));
+      const Eigen::Index top = k;  // eigenvalues ascending
+      if (ritz.info() == Eigen::Success &&
+          beta[k] * std::abs(ritz.eigenvectors()(k, top)) <= top_tolerance * ritz.eigenvalues()[top])
+        break;
+    }
     V.col(k + 1) = w / beta[k];
   }
-  const int n = k + 1;  // the steps taken (the loop leaves by a break, k < steps)
-  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i) {
-    T(i, i) = alpha[i];
-    if (i + 1 < n) T(i, i + 1) = T(i + 1, i) = beta[i];
+  const int n = std::min(k + 1, steps);  // the steps taken
+  if (!alpha.head(n).allFinite() || !beta.head(n).allFinite()) {
+    out.largest = out.smallest = std::numeric_limits<double>::quiet_NaN();
+    return out;
   }
-  const Eigen::VectorXd ritz = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(T, Eigen::EigenvaluesOnly).eigenvalues();
+  const Eigen::VectorXd ritz =
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(tridiagonal(n), Eigen::EigenvaluesOnly).eigenvalues();
   out.smallest = ritz.minCoeff();
   out.largest = ritz.maxCoeff();
   return out;
 }
 
+// ‖Q‖ to this share: callers add a 5% margin.
+constexpr double kNormTolerance = 1e-3;
+
+double largest_eigenvalue(Eigen::Index size, const Product& product, int steps) {
+  return lanczos(size, product, steps, kNormTolerance).largest;
+}
+
+}  // namespace
+
+double estimate_norm(Eigen::Index size, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product,
+                     int iterations) {
+  return largest_eigenvalue(size, product, iterations);
+}
+
+SpectrumEstimate lanczos_extremes(Eigen::Index size,
+                                  const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& product, int steps) {
+  return lanczos(size, product, steps, 0.0);
+}
+
 double estimate_norm(const DenseView& Q, int iterations) {
-  return power_iteration(
+  return largest_eigenvalue(
       Q.rows(), [&](const Eigen::VectorXd& x) { return symmetric_product(Q, x); }, iterations);
 }
 
 double estimate_norm(const SingleSymmetric& Q_single, double scale, int iterations) {
-  return power_iteration(
+  return largest_eigenvalue(
       Q_single.size, [&](const Eigen::VectorXd& x) { return symmetric_product(Q_single, scale, x); }, iterations);
 }
 

@@ -39,7 +39,7 @@ constexpr double kIllConditionedDual = 1e10;
 }
 
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
-// estimate of cond(Q) (power iterations on Q, subspace iteration on Q⁻¹) and the Cholesky factor it
+// estimate of cond(Q) (Lanczos steps on Q, subspace iteration on Q⁻¹) and the Cholesky factor it
 // used, which the QP's Newton steps go on solving with (qp/bordered_newton.hpp); when its Cholesky fails or is
 // near-singular, a pivoted LDLᵀ names the cells whose rows are dependent (and throws). With `single`
 // (the QP's single-precision products are on: large Q) the factor for the subspace iteration is
@@ -78,7 +78,7 @@ StabilityCheck check_stability(const DenseView& Q, double lambda_max, const Part
     if (factor->in_double->ok()) {
       const Eigen::VectorXd d = relative_pivots(factor->in_double->pivots(), Q);
       if (d.minCoeff() > 1e-11 * d.maxCoeff()) {
-        // cond(Q) = λmax / λmin: λmax by power iterations on Q, λmin with the factor.
+        // cond(Q) = λmax / λmin: λmax by Lanczos steps on Q (estimate_norm), λmin with the factor.
         return {lambda_max / smallest_eigenvalue(*factor->in_double, Q), std::move(factor)};
       }
     }
@@ -101,7 +101,7 @@ StabilityCheck check_stability(const DenseView& Q, double lambda_max, const Part
 }
 
 // cond(D^{-1/2} Q D^{-1/2}), D = diag Q: the condition of the problem the Jacobi-scaled QP solves,
-// by power iterations on it and subspace iteration through the stability check's factor of Q.
+// by Lanczos steps on it and subspace iteration through the stability check's factor of Q.
 double jacobi_scaled_condition(const DenseView& Q, const DualOperatorFactor& factor) {
   const Eigen::VectorXd scale = Q.diagonal().cwiseSqrt().cwiseInverse();
   const double largest = estimate_norm(Q.rows(), [&](const Eigen::VectorXd& x) {

@@ -18,7 +18,7 @@ namespace contact3d {
 // Stability (5.1) and its warning; cond(Q) on the progress line (res.stability_condition, and
 // res.stability_condition_scaled where the Jacobi-scaled QP's condition is what counts). Returns the
 // factor of Q for the QP's Newton steps when they are to use it and it fits in memory beside the dual
-// solve's copies (`dual_bytes`: what those copies take). ‖Q‖ (power iteration) is estimated on the way
+// solve's copies (`dual_bytes`: what those copies take). ‖Q‖ (Lanczos, estimate_norm) is estimated on the way
 // (`q_norm`), through a single-precision copy where the QP's products are single, which the check then
 // factors. On the matrix-free route (no Q formed): 𝔹's rank and Lanczos estimates instead, no factor.
 std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual, double& q_norm,

@@ -14,7 +14,7 @@ namespace contact3d {
 
 class JacobiScaledQP {
  public:
-  // The scaled problem's ‖Q̂‖ by power iteration in double, or left for the caller to set (set_norm)
+  // The scaled problem's ‖Q̂‖ by Lanczos steps (estimate_norm) in double, or left for the caller to set (set_norm)
   // when it estimates it from a single-precision copy.
   explicit JacobiScaledQP(const BoxDiscQP& qp, bool estimate_norm = true);
   void set_norm(double q_norm) { qp_.q_norm = q_norm; }

@@ -443,6 +443,32 @@ TEST(FastPaths, LanczosBracketsTheSpectrumFromInside) {
   EXPECT_NEAR(all.smallest, exact.minCoeff(), 1e-6 * exact.minCoeff());
 }
 
+// estimate_norm stops its Lanczos steps once the top Ritz pair's residual is 1e-3 of it: on a
+// spectrum like a dual operator's (a few large eigenvalues above a continuum) within 1e-3 from below
+// in far fewer than its 50 products, and on a clustered top (a slow power iteration) still within it.
+TEST(FastPaths, NormEstimateStopsOnceTheTopRitzPairHasConverged) {
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal;
+  const int n = 400;
+  const Eigen::MatrixXd G = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(random); });
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(G);
+  const Eigen::MatrixXd U = qr.householderQ();
+  for (const double top_gap : {0.5, 1e-3}) {
+    Eigen::VectorXd spectrum = Eigen::VectorXd::LinSpaced(n, 1e-4, 1.0);
+    spectrum[n - 1] = 10.0;
+    spectrum[n - 2] = 10.0 * (1 - top_gap);
+    const Eigen::MatrixXd A = U * spectrum.asDiagonal() * U.transpose();
+    int products = 0;
+    const double estimate = estimate_norm(n, [&](const Eigen::VectorXd& v) {
+      ++products;
+      return Eigen::VectorXd(A * v);
+    });
+    EXPECT_LE(estimate, 10.0 * (1 + 1e-12)) << top_gap;
+    EXPECT_GT(estimate, 10.0 * (1 - 2e-3)) << top_gap;
+    EXPECT_LT(products, 50) << top_gap;
+  }
+}
+
 TEST(FastPaths, FrictionlessIsOneQpWithoutFixedPoint) {
   const Scene scene = parse_scene_text(kBrick, ".", {"friction.slip_bound=0.0", "solver.qp=\"ssn\""});
   const SolveResult res = solve_scene(scene, make_paper_brick({4}));
