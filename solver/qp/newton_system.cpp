@@ -67,18 +67,11 @@ Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Dir
   return out;
 }
 
-ReducedOperator::ReducedOperator(const BoxDiscQP& qp, const std::vector<Direction>& d) {
+void ReducedOperator::keep(const BoxDiscQP& qp, const std::vector<Direction>& d) {
   const auto k = static_cast<Eigen::Index>(d.size());
-  if (!qp.Q || k == 0 || 2 * k > qp.size()) return;
+  if (kept() || !qp.Q || k == 0 || 2 * k > qp.size()) return;
   A_.setZero(k, k);
   reduced_matrix(qp, d, A_);
-}
-
-Eigen::MatrixXf ReducedOperator::single_entries(const BoxDiscQP& qp, const std::vector<Direction>& d) const {
-  if (kept()) return A_.cast<float>();
-  Eigen::MatrixXf A;
-  reduced_matrix(qp, d, A);
-  return A;
 }
 
 Eigen::VectorXd ReducedOperator::product(const BoxDiscQP& qp, const std::vector<Direction>& d,

@@ -77,24 +77,24 @@ Eigen::VectorXd reduced_product(const BoxDiscQP& qp, const std::vector<Direction
                                 bool single = false);
 // The same for the columns of Y at once (BoxDiscQP::apply_block).
 Eigen::MatrixXd reduced_block_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::MatrixXd& Y);
-// The reduced operator A = Dᵀ Q D + diag(shift) for a factorization and the products of its
-// refinement in double. Where the directions are few beside m (k <= m / 2) A is kept in double: a
-// product then reads its k² / 2 entries instead of Q's m² / 2 (a refinement step of the joint Newton
-// steps of a free plate, k = 300 … 1 800 of m = 4 800, read all of Q for each of its columns before).
-// Elsewhere its products go through Q (reduced_product). It holds no reference: every call takes the
-// problem and the directions it was made for (so that its holder may be moved).
+// The products of the reduced operator A = Dᵀ Q D + diag(shift) in an iterative refinement in
+// double: through Q (reduced_product) until keep(), then, where the directions are few beside m
+// (k <= m / 2), through A's entries gathered once and kept in double — a product then reads k² / 2
+// entries instead of Q's m² / 2. The sensitivity's blocked reduced solves keep them
+// (radius_sensitivity.hpp: the joint Newton steps of a free plate, k = 300 … 1 800 of m = 4 800,
+// refine k + 1 columns at once, and a product through Q was most of a step's time). The QP's own
+// Newton steps do not: on the clamped slab with 10 092 multipliers that cost 112 MiB of peak memory
+// and no time, and on the free plate it gained nothing measurable. It holds no reference: every call
+// takes the problem and the directions it is for (so that its holder may be moved).
 class ReducedOperator {
  public:
-  ReducedOperator() = default;
-  ReducedOperator(const BoxDiscQP& qp, const std::vector<Direction>& d);
+  void keep(const BoxDiscQP& qp, const std::vector<Direction>& d);
   bool kept() const { return A_.size() > 0; }
-  // A's lower triangle in single precision, for SingleCholesky.
-  Eigen::MatrixXf single_entries(const BoxDiscQP& qp, const std::vector<Direction>& d) const;
   Eigen::VectorXd product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& y) const;
   Eigen::MatrixXd block_product(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::MatrixXd& Y) const;
 
  private:
-  Eigen::MatrixXd A_;  // lower triangle (the upper one 0), where kept
+  Eigen::MatrixXd A_;  // lower triangle (the upper one 0), once kept
 };
 
 // Dᵀ v (the reduced right-hand side of a full-size v) and D y (a reduced vector in full size).

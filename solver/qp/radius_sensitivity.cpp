@@ -44,8 +44,9 @@ RadiusSensitivity::RadiusSensitivity(const BoxDiscQP& qp, const Eigen::VectorXd&
 
 bool RadiusSensitivity::factor_reduced_matrix() {
   if (single_precision_) {
-    refinement_ = ReducedOperator(qp_, step_.directions);
-    single_factor_.emplace(refinement_.single_entries(qp_, step_.directions));
+    Eigen::MatrixXf A;
+    reduced_matrix(qp_, step_.directions, A);
+    single_factor_.emplace(std::move(A));
     return single_factor_->ok();
   }
   Eigen::MatrixXd A;
@@ -107,6 +108,9 @@ bool RadiusSensitivity::solve_reduced_columns(const Eigen::MatrixXd& B, Eigen::M
   // (in each column), at most kMaxRefinements steps: a single factor of an ill-conditioned Q cuts the
   // error by only about cond(Q)·ε_single per step, and the equality loop's Newton steps on μ are only
   // as good as this Jacobian. One step, as before, where Q is well conditioned.
+  // Several columns refined together (the joint Newton steps of equality_newton.hpp: k + 1 of them,
+  // a first product through Q being most of a step's time): A's entries kept in double for them.
+  if (single_factor_) refinement_.keep(qp_, step_.directions);
   Y = solve(B);
   double last = INFINITY;
   for (int step = 0; step < refinements; ++step) {

@@ -25,8 +25,7 @@ double projected_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambd
 // `flops` in products by the m x m Q (2m² flops each).
 double flops_in_products(double flops, int m) { return m > 0 ? flops / (2.0 * m * static_cast<double>(m)) : 0.0; }
 
-// Iterative refinement in double (each refinement one product by the reduced operator `A`, through
-// Q or its kept entries: newton_system.hpp) of `approximate`, a solver of
+// Iterative refinement in double (each refinement one product by Q) of `approximate`, a solver of
 // the reduced system in single precision or through the bordered factor, until the residual is
 // `target` of the right-hand side, or stops falling once below kRefinedResidual (rounding). Where
 // the refinement stalls above that (`approximate` too inaccurate: a single factor of an
@@ -48,9 +47,9 @@ double newton_refinement_target(double rtol) { return std::min(kRefinedResidual,
 // `approximate` (flexible: reduced_cg.hpp), to `target` of ‖b‖; true when the residual of x + e,
 // recomputed in double at the end (CG's recursive one drifts), gets there or below kRefinedResidual.
 template <class ApproximateSolve>
-bool refine_by_pcg(const BoxDiscQP& qp, const std::vector<Direction>& d, const ReducedOperator& A,
-                   const ApproximateSolve& approximate, double target, const Eigen::VectorXd& b,
-                   const Eigen::VectorXd& r, Eigen::VectorXd& x, int& products) {
+bool refine_by_pcg(const BoxDiscQP& qp, const std::vector<Direction>& d, const ApproximateSolve& approximate,
+                   double target, const Eigen::VectorXd& b, const Eigen::VectorXd& r, Eigen::VectorXd& x,
+                   int& products) {
   const double b_norm = b.norm();
   Eigen::VectorXd e;  // from zero: no product for its start
   // By reference: `approximate` may hold a factor (LowRankUpdatedSolve), which must not be copied.
@@ -59,21 +58,21 @@ bool refine_by_pcg(const BoxDiscQP& qp, const std::vector<Direction>& d, const R
   };
   products += solve_reduced_cg(qp, d, r, target * b_norm, kMaxPcgIterations, e, precondition).iterations;
   x += e;
-  const Eigen::VectorXd left = b - A.product(qp, d, x);
+  const Eigen::VectorXd left = b - reduced_product(qp, d, x);
   ++products;
   return left.allFinite() && left.norm() <= std::max(target, kRefinedResidual) * b_norm;
 }
 
 template <class ApproximateSolve>
-bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, const ReducedOperator& A,
-                      const ApproximateSolve& approximate, double target, Eigen::VectorXd& y, int& products) {
+bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, const ApproximateSolve& approximate,
+                      double target, Eigen::VectorXd& y, int& products) {
   const Eigen::VectorXd b = y;
   const double b_norm = b.norm();
   Eigen::VectorXd x = approximate(b);
   Eigen::VectorXd best_x, best_r;
   double before = INFINITY;
   for (int it = 0; it <= kMaxRefinements; ++it) {
-    const Eigen::VectorXd r = b - A.product(qp, d, x);
+    const Eigen::VectorXd r = b - reduced_product(qp, d, x);
     ++products;
     if (!r.allFinite()) return false;
     const double left = r.norm();
@@ -87,7 +86,7 @@ bool refine_in_double(const BoxDiscQP& qp, const std::vector<Direction>& d, cons
     before = left;
     x += approximate(r);
   }
-  if (best_x.size() == 0 || !refine_by_pcg(qp, d, A, approximate, target, b, best_r, best_x, products)) return false;
+  if (best_x.size() == 0 || !refine_by_pcg(qp, d, approximate, target, b, best_r, best_x, products)) return false;
   y = best_x;
   return true;
 }
@@ -128,7 +127,7 @@ bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d
     const Eigen::VectorXd x = solve(y);
     if (!x.allFinite()) return false;
     y = x;
-  } else if (!refine_in_double(qp, d, ReducedOperator(), solve, target, y, products)) {
+  } else if (!refine_in_double(qp, d, solve, target, y, products)) {
     return false;
   }
   return true;
@@ -140,11 +139,12 @@ bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d
 // caller then solves in double.
 bool solve_reduced_in_single(const BoxDiscQP& qp, const std::vector<Direction>& d, double target, Eigen::VectorXd& y,
                              int& products) {
-  const ReducedOperator A(qp, d);
-  const SingleCholesky chol(A.single_entries(qp, d));
+  Eigen::MatrixXf A;
+  reduced_matrix(qp, d, A);
+  const SingleCholesky chol(std::move(A));
   if (!chol.ok()) return false;
   return refine_in_double(
-      qp, d, A, [&](const Eigen::VectorXd& v) { return chol.solve(v); }, target, y, products);
+      qp, d, [&](const Eigen::VectorXd& v) { return chol.solve(v); }, target, y, products);
 }
 
 // An inexact Newton step on a matrix-free Q: CG from the current iterate `lambda` to a residual of

@@ -1,7 +1,7 @@
-// ReducedOperator (newton_system.hpp): where it keeps Dᵀ Q D + diag(shift) in double (few directions
-// beside m), its products and single-precision entries are those computed through Q, for a
-// Jacobi-scaled problem with a low-rank term and every kind of direction; where it does not keep
-// them (many directions, or a matrix-free Q) it goes through Q itself.
+// ReducedOperator (newton_system.hpp): once it keeps Dᵀ Q D + diag(shift) in double (few directions
+// beside m), its products are those computed through Q, for a Jacobi-scaled problem with a low-rank
+// term and every kind of direction; before keep(), or where it does not keep them (many directions,
+// or a matrix-free Q), it goes through Q itself.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -44,20 +44,18 @@ TEST(ReducedOperator, KeptEntriesGiveTheProductsThroughQ) {
   std::vector<Direction> d = mixed_directions(qp, 4);
   ASSERT_TRUE(has_shifted_pair(d));
   d.resize(static_cast<std::size_t>(qp.size() / 3));  // k <= m / 2: kept
-  const ReducedOperator A(qp, d);
-  ASSERT_TRUE(A.kept());
+  ReducedOperator A;
   const auto k = static_cast<Eigen::Index>(d.size());
   const Eigen::VectorXd y = random_vector(k, 5);
   const Eigen::VectorXd through_Q = reduced_product(qp, d, y);
+  EXPECT_FALSE(A.kept());  // through Q until asked
+  EXPECT_EQ(A.product(qp, d, y), through_Q);
+  A.keep(qp, d);
+  ASSERT_TRUE(A.kept());
   EXPECT_LT((A.product(qp, d, y) - through_Q).norm(), 1e-12 * through_Q.norm());
   const Eigen::MatrixXd Y = Eigen::MatrixXd::Random(k, 4);
   const Eigen::MatrixXd block_through_Q = reduced_block_product(qp, d, Y);
   EXPECT_LT((A.block_product(qp, d, Y) - block_through_Q).norm(), 1e-12 * block_through_Q.norm());
-  Eigen::MatrixXf single;
-  reduced_matrix(qp, d, single);
-  const Eigen::MatrixXf lower = single.triangularView<Eigen::Lower>();
-  const Eigen::MatrixXf kept = A.single_entries(qp, d).triangularView<Eigen::Lower>();
-  EXPECT_LT((kept - lower).norm(), 1e-6f * lower.norm());
 }
 
 TEST(ReducedOperator, ManyDirectionsOrAMatrixFreeQGoThroughQ) {
@@ -65,7 +63,8 @@ TEST(ReducedOperator, ManyDirectionsOrAMatrixFreeQGoThroughQ) {
   rq.use_operator();
   const std::vector<Direction> all = mixed_directions(rq.qp, 6);
   ASSERT_GT(2 * all.size(), static_cast<std::size_t>(rq.qp.size()));  // more than m / 2
-  const ReducedOperator many(rq.qp, all);
+  ReducedOperator many;
+  many.keep(rq.qp, all);
   EXPECT_FALSE(many.kept());
   const Eigen::VectorXd y = random_vector(static_cast<Eigen::Index>(all.size()), 7);
   EXPECT_EQ(many.product(rq.qp, all, y), reduced_product(rq.qp, all, y));
@@ -73,5 +72,7 @@ TEST(ReducedOperator, ManyDirectionsOrAMatrixFreeQGoThroughQ) {
   const BoxDiscQP matrix_free = matrix_free_copy(rq);
   std::vector<Direction> few = all;
   few.resize(10);
-  EXPECT_FALSE(ReducedOperator(matrix_free, few).kept());
+  ReducedOperator on_matrix_free;
+  on_matrix_free.keep(matrix_free, few);
+  EXPECT_FALSE(on_matrix_free.kept());
 }
