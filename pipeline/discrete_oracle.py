@@ -28,6 +28,7 @@ contact3d's own state, and a KKT audit of contact3d's (u, lambda) in the oracle'
 """
 import sys, os, json, math, argparse, tomllib, csv
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import xml.etree.ElementTree as ET
@@ -307,6 +308,21 @@ def solve_qp(Q, b, r, rad, lam0=None, tol=1e-14, maxit=200000, eqG=None):
 
 
 
+def newton_direction(J, F):
+    """least-squares solution of J d = -F: SVD-based (gelsd), else complete orthogonal (gelsy); None where
+    J or F is not finite or LAPACK fails on both (the caller then keeps its iterate and reports its residual)."""
+    if not (np.isfinite(J).all() and np.isfinite(F).all()):
+        return None
+    try:
+        return np.linalg.lstsq(J, -F, rcond=None)[0]
+    except (np.linalg.LinAlgError, SystemError):
+        pass
+    try:
+        return scipy.linalg.lstsq(J, -F, lapack_driver='gelsy')[0]
+    except (np.linalg.LinAlgError, SystemError, ValueError):
+        return None
+
+
 def ssn_polish(Q, b, r, rad, G, e, y, mu, iters=60, tol=1e-15):
     """semismooth Newton on F = [l - P(l - g(Ql - b + G'mu)); G l - e] (scaled variables), from (y, mu)."""
     m = len(b); k = G.shape[0]
@@ -342,7 +358,9 @@ def ssn_polish(Q, b, r, rad, G, e, y, mu, iters=60, tol=1e-15):
         J[:m, :m] = np.eye(m) - Dd @ (np.eye(m) - gam * Q)
         J[:m, m:] = gam * Dd @ G.T
         J[m:, :m] = G
-        d = np.linalg.lstsq(J, -F, rcond=None)[0]
+        d = newton_direction(J, F)
+        if d is None:  # LAPACK failed on J twice (the free plate at 3 468 multipliers): keep the iterate
+            break
         t = 1.0
         while t > 1e-6:
             yn = y + t * d[:m]; mun = mu + t * d[m:]
