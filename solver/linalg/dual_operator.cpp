@@ -184,7 +184,7 @@ SpectrumEstimate lanczos(Eigen::Index size, const Product& product, int steps, d
     }
     V.col(k + 1) = w / beta[k];
   }
-  const int n = std::min(k + 1, steps);  // the steps taken
+  const int n = k + 1;  // the steps taken (the loop leaves by a break, k < steps)
   if (!alpha.head(n).allFinite() || !beta.head(n).allFinite()) {
     out.largest = out.smallest = std::numeric_limits<double>::quiet_NaN();
     return out;
