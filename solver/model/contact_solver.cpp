@@ -1272,6 +1272,7 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
               "the displacement of every step (" + gib(8.0 * 3 * mesh.nodes.size() * tresca.history().size()) + ")");
   report.stage("recovery: displacement, residuals, forces");
   recover(scene, mesh, disc, op, *dual, tresca, res);
+  res.qp_bordered_factor_in_double = qp.newton_factor_switched_to_double();
   clock.lap("postprocess");
   record_steps(scene, *dual, disc, tresca, res);
   clock.lap("step_fields");

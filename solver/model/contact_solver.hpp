@@ -76,7 +76,10 @@ struct SolveResult {
   int qp_iterations = 0;             // MPGP iterations and Newton steps of every QP solve
   int qp_newton_steps = 0;           // of which semismooth Newton steps (each a dense Cholesky of the free size)
   int qp_bordered_newton_steps = 0;  // of which solved through the factor of Q (solver.qp_newton_systems)
-  int qp_coarse_products = 0;        // of n_mult, columns of the matrix-free Newton steps' blocked coarse products
+  // Whether those steps switched from the single factor of Q to one in double (bordered_newton.hpp:
+  // cond(Q) too large for single's refinement to contract).
+  bool qp_bordered_factor_in_double = false;
+  int qp_coarse_products = 0;  // of n_mult, columns of the matrix-free Newton steps' blocked coarse products
   // Products Q·v in single precision (solver.qp_precision): through Q's float copy, or matrix-free
   // through the factor's.
   int qp_single_products = 0;

@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "base/memory.hpp"
 #include "linalg/blas.hpp"
 
 namespace contact3d {
@@ -278,16 +279,84 @@ class BorderedNewtonWith final : public BorderedNewton {
   double reduced_flops_since_fill_ = 0;  // the refused steps' reduced factorizations since the last fill
 };
 
+// Products by Q a refinement of a good single factor takes (the first residual and one correction,
+// cond(Q)·ε_single ≲ 1e-5). Each one beyond it is charged to the single factor, priced together with
+// the approximate solve that comes with it (two triangular solves with the single factor, single-
+// threaded in OpenBLAS, and two products with the cache): 8.8 ms against 1.7 ms for a product on the
+// free thin slab at m = 4 800 (2 BLAS threads), which a factor in double makes exact.
+constexpr int kProductsOfAGoodRefinement = 2;
+constexpr double kRefinementStepInProducts = 5;
+// dpotrf's and dtrsm's flop rate over a product's (dsymv: memory-bound), measured at m = 4 800 on
+// the 2-core machine: 2.8 on two BLAS threads (0.48 s for m³/3 flops, 1.7 ms for 2m²), 3.7 on one.
+constexpr double kFactorOverProductRate = 3;
+
+// The bordered solver on a single factor of Q that switches, once, to a factor of Q in double: when
+// the products its refinements took beyond kProductsOfAGoodRefinement have cost as much as factoring Q
+// in double and filling that factor's cache again (priced in products), and the memory for both is
+// there. Holders of a prepared system see preparations() move on at the switch and prepare again.
+class SwitchingBorderedNewton final : public BorderedNewton {
+ public:
+  SwitchingBorderedNewton(std::unique_ptr<BorderedNewton> single, DenseViewPtr Q, Eigen::VectorXd scale)
+      : current_(std::move(single)), Q_(Q), scale_(std::move(scale)) {}
+
+  bool prepare(const std::vector<Direction>& d) override {
+    ++preparations_;
+    if (!current_->prepare(d)) return false;
+    prepare_flops_ = current_->prepare_flops();
+    return true;
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const override { return current_->solve_columns(B); }
+  double prepare_flops() const override { return prepare_flops_; }
+  bool exact() const override { return current_->exact(); }
+  int cached_units() const override { return current_->cached_units(); }
+  long preparations() const override { return preparations_; }
+  bool switched_to_double() const override { return switched_; }
+
+  void record_refinement(int products) override {
+    if (switched_ || gave_up_) return;
+    excess_products_ += kRefinementStepInProducts * std::max(0, products - kProductsOfAGoodRefinement);
+    const double m = static_cast<double>(scale_.size()), cached = current_->cached_units();
+    // Factoring Q in double (m³/3 flops) and caching L⁻¹e_i again for as many unit vectors (m² each).
+    const double switch_in_products = (m / 3.0 + cached) / (2.0 * kFactorOverProductRate);
+    if (excess_products_ >= switch_in_products) switch_to_double(m, cached);
+  }
+
+ private:
+  void switch_to_double(double m, double cached) {
+    gave_up_ = true;  // whatever happens, tried once
+    const double bytes = sizeof(double) * m * (m + cached);
+    const double available = static_cast<double>(available_memory_bytes());
+    if (available > 0 && bytes > 0.5 * available) return;
+    auto factor = std::make_shared<DualOperatorFactor>();
+    factor->in_double.emplace(Eigen::MatrixXd(*Q_));
+    if (!factor->in_double->ok()) return;
+    current_ = std::make_unique<BorderedNewtonWith<double>>(factor, factor->in_double->lower(), scale_);
+    switched_ = true;
+    ++preparations_;  // the system prepared on the single factor is gone
+  }
+
+  std::unique_ptr<BorderedNewton> current_;
+  DenseViewPtr Q_;
+  Eigen::VectorXd scale_;
+  double prepare_flops_ = 0;
+  long preparations_ = 0;
+  double excess_products_ = 0;  // charged to the single factor so far, in products by Q
+  bool switched_ = false, gave_up_ = false;
+};
+
 }  // namespace
 
 std::unique_ptr<BorderedNewton> make_bordered_newton(std::shared_ptr<const DualOperatorFactor> factor,
-                                                     const Eigen::VectorXd& scale) {
+                                                     const Eigen::VectorXd& scale, DenseViewPtr Q) {
   if (!factor || !(factor->scale > 0) || !(scale.array() > 0).all()) return nullptr;
   if (factor->in_double && factor->in_double->ok() && factor->in_double->lower().rows() == scale.size())
     return std::make_unique<BorderedNewtonWith<double>>(factor, factor->in_double->lower(), scale);
-  if (factor->in_single && factor->in_single->ok() && factor->in_single->lower().rows() == scale.size())
-    return std::make_unique<BorderedNewtonWith<float>>(factor, factor->in_single->lower(), scale);
-  return nullptr;
+  if (!factor->in_single || !factor->in_single->ok() || factor->in_single->lower().rows() != scale.size())
+    return nullptr;
+  auto single = std::make_unique<BorderedNewtonWith<float>>(factor, factor->in_single->lower(), scale);
+  if (!Q || (*Q).rows() != scale.size()) return single;
+  return std::make_unique<SwitchingBorderedNewton>(std::move(single), Q, scale);
 }
 
 }  // namespace contact3d

@@ -17,7 +17,11 @@
 // few change from one step to the next, on a brick with a small contact zone k is small and the
 // reduced matrix wins.
 // In single precision (a single factor of Q) the answer is approximate; the caller refines it in
-// double (ssn.cpp).
+// double (ssn.cpp) and reports the products each refinement took (record_refinement). Where cond(Q)
+// · ε_single nears 1 (the free thin slab: 1.5e7 · 6e-8) a refinement step hardly contracts and every
+// solve ends in preconditioned CG; given Q, the solver then factors Q once in double and goes on
+// with that factor (exact, no refinement) once the products spent beyond a good refinement's have
+// cost as much as that factorization and its cache would (ski rental, as in prepare()).
 #pragma once
 
 #include <memory>
@@ -26,6 +30,7 @@
 #include <Eigen/Core>
 
 #include "linalg/dense_cholesky.hpp"
+#include "linalg/dense_view.hpp"
 #include "qp/newton_system.hpp"
 
 namespace contact3d {
@@ -51,11 +56,18 @@ class BorderedNewton {
   // Calls of prepare() so far, successful or not: a holder of a prepared system (the QP's Newton
   // step, RadiusSensitivity) whose count has moved on must prepare it again before solve().
   virtual long preparations() const = 0;
+  // The products by Q that refining one solve in double took (the caller's iterative refinement and
+  // CG). Only a solver that can switch to a factor in double acts on it.
+  virtual void record_refinement(int /*products*/) {}
+  // Whether the solver has switched from its single factor to one of Q in double.
+  virtual bool switched_to_double() const { return false; }
 };
 
 // For the QP on S Q S (S = diag(scale): the Jacobi scaling, jacobi_scaling.hpp; ones for the plain
 // problem) from a factor of Q. The factor is shared: it lives as long as the solver that uses it.
+// With `Q` (the matrix the factor is of, which must outlive the solver) a single factor may be
+// replaced by one of Q in double when its refinements stall (see the top of this file).
 std::unique_ptr<BorderedNewton> make_bordered_newton(std::shared_ptr<const DualOperatorFactor> factor,
-                                                     const Eigen::VectorXd& scale);
+                                                     const Eigen::VectorXd& scale, DenseViewPtr Q = nullptr);
 
 }  // namespace contact3d

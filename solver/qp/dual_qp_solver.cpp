@@ -48,8 +48,8 @@ DualQpSolver::DualQpSolver(const DenseView& Q, const Eigen::VectorXd& h, int r, 
     if (jacobi_) jacobi_->set_norm(1.05 * estimate_norm(single_, single_scale_));
   }
   if (settings.newton_systems == NewtonSystems::Auto)
-    bordered_ = make_bordered_newton(std::move(factor),
-                                     jacobi_ ? jacobi_->scale() : Eigen::VectorXd(Eigen::VectorXd::Ones(qp_.size())));
+    bordered_ = make_bordered_newton(
+        std::move(factor), jacobi_ ? jacobi_->scale() : Eigen::VectorXd(Eigen::VectorXd::Ones(qp_.size())), qp_.Q);
 }
 
 DualQpSolver::DualQpSolver(MatrixFreeQ Q, const Eigen::VectorXd& h, int r, bool with_friction, double q_norm,

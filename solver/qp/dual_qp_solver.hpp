@@ -116,6 +116,9 @@ class DualQpSolver {
   // from the first inner solve; the steps on μ alone only where they do not converge.
   void set_equality(Eigen::MatrixXd G, Eigen::VectorXd e);
   bool has_equality() const { return G_.rows() > 0; }
+  // Whether the Newton steps' solver through the factor of Q switched from single to double
+  // (bordered_newton.hpp: its refinements stalled).
+  bool newton_factor_switched_to_double() const { return bordered_ && bordered_->switched_to_double(); }
   const Eigen::VectorXd& equality_multiplier() const { return mu_; }  // μ of the last solve
   // ‖Gλ − e‖ of the last solve over max(‖e‖, 1e-4·‖G‖‖λ‖): the loads along the motions, or where they are
   // only rounding (a symmetric body's slide) the contact forces' size along them.

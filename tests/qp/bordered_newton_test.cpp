@@ -4,7 +4,9 @@
 // double and in single precision; the cache of L⁻¹ e_i carried from one active set to the next; the
 // route declined where the reduced matrix is cheaper, and taken once the factorizations it would
 // have spared cost as much as its cache (ski rental); the semismooth Newton solver's answer
-// unchanged by it; and a factor too inaccurate to refine, whose steps preconditioned CG finishes.
+// unchanged by it; a factor too inaccurate to refine, whose steps preconditioned CG finishes; and,
+// given Q, the switch from such a single factor to one of Q in double once its refinements cost as
+// much (a good single factor kept).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -251,4 +253,60 @@ TEST(BorderedNewton, StalledRefinementIsFinishedByPreconditionedCg) {
   ASSERT_EQ(through.status, QpStatus::Converged);
   EXPECT_GT(through.bordered_steps, 0);
   EXPECT_LT((bordered - reference).norm(), 1e-8 * reference.norm());
+}
+
+// The factor of 3Q in single, given Q: its refinements stall (see above), and once their products
+// cost as much as factoring Q in double the solver switches to that factor, exact from then on; the
+// answer is the same.
+TEST(BorderedNewton, SwitchesToAFactorOfQInDoubleOnceStalledRefinementsCostAsMuch) {
+  WithSingleCopy c;
+  RandomQp& rq = c.rq;
+  ASSERT_EQ(c.plain.status, QpStatus::Converged);
+  const Eigen::MatrixXd three_Q = 3 * rq.Q;
+  auto solver = make_bordered_newton(single_factor(three_Q, 3 * rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()),
+                                     DenseViewPtr(&rq.Q));
+  ASSERT_FALSE(solver->exact());
+  rq.qp.bordered = solver.get();
+  Eigen::VectorXd bordered;
+  const QpResult through = solve_ssn(rq.qp, bordered, c.settings);
+  ASSERT_EQ(through.status, QpStatus::Converged);
+  EXPECT_GT(through.bordered_steps, 0);
+  EXPECT_TRUE(solver->switched_to_double());
+  EXPECT_TRUE(solver->exact());
+  EXPECT_LT((bordered - c.reference).norm(), 1e-8 * c.reference.norm());
+}
+
+// A single factor of Q itself (this Q is well conditioned) refines in a step or two: never switched.
+TEST(BorderedNewton, KeepsAGoodSingleFactor) {
+  WithSingleCopy c;
+  RandomQp& rq = c.rq;
+  auto solver =
+      make_bordered_newton(single_factor(rq.Q, rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()), DenseViewPtr(&rq.Q));
+  rq.qp.bordered = solver.get();
+  Eigen::VectorXd bordered;
+  const QpResult through = solve_ssn(rq.qp, bordered, c.settings);
+  ASSERT_EQ(through.status, QpStatus::Converged);
+  EXPECT_GT(through.bordered_steps, 0);
+  EXPECT_FALSE(solver->switched_to_double());
+  EXPECT_LT((bordered - c.reference).norm(), 1e-8 * c.reference.norm());
+}
+
+// The switch drops the system prepared on the single factor: preparations() moves on, so that a
+// holder (RadiusSensitivity) prepares again, and the system prepared then is solved to double's rounding.
+TEST(BorderedNewton, SwitchMakesHoldersPrepareAgain) {
+  RandomQp rq = few_point_discs(200, 7);
+  const ReducedStep step = split_active_sets(rq.qp, mostly_touching(rq.qp, 3), projection_scale(rq.qp));
+  const Eigen::VectorXd b = random_vector(static_cast<int>(step.directions.size()), 4);
+  auto solver =
+      make_bordered_newton(single_factor(rq.Q, rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()), DenseViewPtr(&rq.Q));
+  ASSERT_TRUE(solver->prepare(step.directions));
+  const long prepared = solver->preparations();
+  solver->record_refinement(2);  // a good refinement costs nothing
+  EXPECT_FALSE(solver->switched_to_double());
+  solver->record_refinement(1000);
+  ASSERT_TRUE(solver->switched_to_double());
+  EXPECT_GT(solver->preparations(), prepared);
+  ASSERT_TRUE(solver->prepare(step.directions));
+  const Eigen::VectorXd reference = reduced_solve(rq.qp, step.directions, b);
+  EXPECT_LT((solver->solve(b) - reference).norm(), 1e-10 * reference.norm());
 }
