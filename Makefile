@@ -11,7 +11,7 @@ export OPENBLAS_NUM_THREADS ?= 2
 # Generated reports go to results/runs/; `PUBLISH=1` regenerates the committed ones in results/ on purpose.
 REPORTS := $(if $(PUBLISH),results,results/runs)
 
-.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab bench-free-plate bench-matrix-free robustness robustness-coulomb random-bodies ball-sweep stress fuzz sanitize clean
+.PHONY: deps deps-mpi build build-mpi bench-mpi pipeline test tables crosscheck crosscheck-capblock crosscheck-slab figures coulomb-getfem hertz validation bench bench-slab bench-free-plate bench-free-slab bench-matrix-free robustness robustness-coulomb random-bodies ball-sweep stress fuzz sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -93,6 +93,10 @@ bench-slab: build
 # A plate lying free, held by contact alone: the equality-constrained dual over h ($(REPORTS)/bench/free_plate.md).
 bench-free-plate: build
 	$(PY) pipeline/bench_free_plate.py --bin $(BIN) --out $(REPORTS)/bench
+
+# The slab of bench-slab lying free, held by contact alone ($(REPORTS)/bench/free_slab.md).
+bench-free-slab: build
+	$(PY) pipeline/bench_free_plate.py --body slab --bin $(BIN) --out $(REPORTS)/bench
 
 # The matrix-free dual (Q never formed) against the dense route on a brick and the slab ($(REPORTS)/bench/matrix_free.md).
 bench-matrix-free: build

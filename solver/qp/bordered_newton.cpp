@@ -283,7 +283,7 @@ class BorderedNewtonWith final : public BorderedNewton {
 // cond(Q)·ε_single ≲ 1e-5). Each one beyond it is charged to the single factor, priced together with
 // the approximate solve that comes with it (two triangular solves with the single factor, single-
 // threaded in OpenBLAS, and two products with the cache): 8.8 ms against 1.7 ms for a product on the
-// free thin slab at m = 4 800 (2 BLAS threads), which a factor in double makes exact.
+// free thin slab at m = 4 800 (2 BLAS threads), which a factor in double spares.
 constexpr int kProductsOfAGoodRefinement = 2;
 constexpr double kRefinementStepInProducts = 5;
 // dpotrf's and dtrsm's flop rate over a product's (dsymv: memory-bound), measured at m = 4 800 on
@@ -308,13 +308,16 @@ class SwitchingBorderedNewton final : public BorderedNewton {
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const override { return current_->solve_columns(B); }
   double prepare_flops() const override { return prepare_flops_; }
-  bool exact() const override { return current_->exact(); }
+  // Refined by the caller also after the switch (one or two products, cond(Q)·ε_double): the
+  // equality loop's inner solves ask for 1e-12, which a solve in double with cond(Q) = 6e6 misses
+  // (the free slab at 2 523 multipliers: its Newton steps stalled, MPGP took 15 900 iterations).
+  bool exact() const override { return false; }
   int cached_units() const override { return current_->cached_units(); }
   long preparations() const override { return preparations_; }
   bool switched_to_double() const override { return switched_; }
 
   void record_refinement(int products) override {
-    if (switched_ || gave_up_) return;
+    if (tried_) return;
     excess_products_ += kRefinementStepInProducts * std::max(0, products - kProductsOfAGoodRefinement);
     const double m = static_cast<double>(scale_.size()), cached = current_->cached_units();
     // Factoring Q in double (m³/3 flops) and caching L⁻¹e_i again for as many unit vectors (m² each).
@@ -324,7 +327,7 @@ class SwitchingBorderedNewton final : public BorderedNewton {
 
  private:
   void switch_to_double(double m, double cached) {
-    gave_up_ = true;  // whatever happens, tried once
+    tried_ = true;  // whatever happens, once
     const double bytes = sizeof(double) * m * (m + cached);
     const double available = static_cast<double>(available_memory_bytes());
     if (available > 0 && bytes > 0.5 * available) return;
@@ -342,7 +345,7 @@ class SwitchingBorderedNewton final : public BorderedNewton {
   double prepare_flops_ = 0;
   long preparations_ = 0;
   double excess_products_ = 0;  // charged to the single factor so far, in products by Q
-  bool switched_ = false, gave_up_ = false;
+  bool switched_ = false, tried_ = false;
 };
 
 }  // namespace

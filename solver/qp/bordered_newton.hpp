@@ -18,10 +18,11 @@
 // reduced matrix wins.
 // In single precision (a single factor of Q) the answer is approximate; the caller refines it in
 // double (ssn.cpp) and reports the products each refinement took (record_refinement). Where cond(Q)
-// · ε_single nears 1 (the free thin slab: 1.5e7 · 6e-8) a refinement step hardly contracts and every
-// solve ends in preconditioned CG; given Q, the solver then factors Q once in double and goes on
-// with that factor (exact, no refinement) once the products spent beyond a good refinement's have
-// cost as much as that factorization and its cache would (ski rental, as in prepare()).
+// · ε_single nears 1 (the free thin slab: 1.5e7 · 6e-8) a refinement step hardly contracts (10–16
+// products a solve instead of 2–4); given Q, the solver then factors Q once in double and goes on
+// with that factor (its solves still refined, in one or two products) once the products spent beyond
+// a good refinement's have cost as much as that factorization and its cache would (ski rental, as in
+// prepare()).
 #pragma once
 
 #include <memory>
