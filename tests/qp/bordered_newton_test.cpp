@@ -255,39 +255,40 @@ TEST(BorderedNewton, StalledRefinementIsFinishedByPreconditionedCg) {
   EXPECT_LT((bordered - reference).norm(), 1e-8 * reference.norm());
 }
 
+namespace {
+
+// Semismooth Newton through a single factor of `factored` (Q, or a multiple of it that stands for an
+// inaccurate factor), given Q itself to switch to: whether it switched, the answer checked as above.
+bool switched_solving_through(WithSingleCopy& c, double factored) {
+  RandomQp& rq = c.rq;
+  const Eigen::MatrixXd multiple = factored * rq.Q;
+  auto solver = make_bordered_newton(single_factor(multiple, factored * rq.qp.q_norm),
+                                     Eigen::VectorXd::Ones(rq.qp.size()), DenseViewPtr(&rq.Q));
+  rq.qp.bordered = solver.get();
+  Eigen::VectorXd bordered;
+  const QpResult through = solve_ssn(rq.qp, bordered, c.settings);
+  EXPECT_EQ(through.status, QpStatus::Converged);
+  EXPECT_GT(through.bordered_steps, 0);
+  EXPECT_LT((bordered - c.reference).norm(), 1e-8 * c.reference.norm());
+  return solver->switched_to_double();
+}
+
+}  // namespace
+
 // The factor of 3Q in single, given Q: its refinements stall (see above), and once their products
 // cost as much as factoring Q in double the solver switches to that factor (its solves still refined
 // by the caller, in a product or two); the answer is the same.
 TEST(BorderedNewton, SwitchesToAFactorOfQInDoubleOnceStalledRefinementsCostAsMuch) {
   WithSingleCopy c;
-  RandomQp& rq = c.rq;
   ASSERT_EQ(c.plain.status, QpStatus::Converged);
-  const Eigen::MatrixXd three_Q = 3 * rq.Q;
-  auto solver = make_bordered_newton(single_factor(three_Q, 3 * rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()),
-                                     DenseViewPtr(&rq.Q));
-  ASSERT_FALSE(solver->exact());
-  rq.qp.bordered = solver.get();
-  Eigen::VectorXd bordered;
-  const QpResult through = solve_ssn(rq.qp, bordered, c.settings);
-  ASSERT_EQ(through.status, QpStatus::Converged);
-  EXPECT_GT(through.bordered_steps, 0);
-  EXPECT_TRUE(solver->switched_to_double());
-  EXPECT_LT((bordered - c.reference).norm(), 1e-8 * c.reference.norm());
+  EXPECT_TRUE(switched_solving_through(c, 3));
 }
 
 // A single factor of Q itself (this Q is well conditioned) refines in a step or two: never switched.
 TEST(BorderedNewton, KeepsAGoodSingleFactor) {
   WithSingleCopy c;
-  RandomQp& rq = c.rq;
-  auto solver =
-      make_bordered_newton(single_factor(rq.Q, rq.qp.q_norm), Eigen::VectorXd::Ones(rq.qp.size()), DenseViewPtr(&rq.Q));
-  rq.qp.bordered = solver.get();
-  Eigen::VectorXd bordered;
-  const QpResult through = solve_ssn(rq.qp, bordered, c.settings);
-  ASSERT_EQ(through.status, QpStatus::Converged);
-  EXPECT_GT(through.bordered_steps, 0);
-  EXPECT_FALSE(solver->switched_to_double());
-  EXPECT_LT((bordered - c.reference).norm(), 1e-8 * c.reference.norm());
+  ASSERT_EQ(c.plain.status, QpStatus::Converged);
+  EXPECT_FALSE(switched_solving_through(c, 1));
 }
 
 // The switch drops the system prepared on the single factor: preparations() moves on, so that a
