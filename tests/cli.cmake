@@ -170,6 +170,12 @@ endif()
 add_test(NAME newton_steps_through_the_factor_of_Q_give_the_same_answer
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_newton_systems.py $<TARGET_FILE:contact3d>
                  ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/newton-systems)
+# A single-precision factor of Q too inaccurate to refine is switched to one in double (the free slab at
+# 2 523 multipliers), its products stay within twice those of a factor in double from the start, and the
+# answer is the same.
+add_test(NAME bordered_factor_switches_to_double_with_the_same_answer
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_factor_switch.py $<TARGET_FILE:contact3d>
+                 ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/factor-switch)
 # The matrix-free dual (Q never formed, Newton steps by CG) gives the dense route's answer on the capped
 # block, the hexagonal prism and the thin slab, and its Newton steps beat MPGP alone there.
 add_test(NAME matrix_free_dual_equals_dense_on_three_bodies
