@@ -34,8 +34,7 @@ def solve(binary, source, out, precision):
 def main():
     binary, source, work = sys.argv[1], sys.argv[2], Path(sys.argv[3])
     (sa, ua), (sd, ud) = (solve(binary, source, work / p, p) for p in ("auto", "double"))
-    scale = max(max(abs(x) for x in v) for v in ud.values())
-    diff = max(abs(a - b) for n in ud for a, b in zip(ua[n], ud[n])) / scale
+    diff = c3d.run.largest_difference(ua, ud)
     print(f"auto: n_mult {sa['n_mult']}, switched {sa.get('qp_bordered_factor_in_double')}; double: n_mult "
           f"{sd['n_mult']}, switched {sd.get('qp_bordered_factor_in_double')}; largest u difference {diff:.1e} of max |u|")
     failures = []

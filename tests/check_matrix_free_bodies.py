@@ -35,8 +35,7 @@ def main():
     for scene, sets in CASES:
         sd, ud = solve(binary, source, scene, work / f"{scene}_dense", sets)
         sm, um = solve(binary, source, scene, work / f"{scene}_matrix_free", [*sets, 'solver.schur="matrix_free"'])
-        scale = max(max(abs(x) for x in v) for v in ud.values())
-        diff = max(abs(a - b) for n in ud for a, b in zip(ud[n], um[n])) / scale
+        diff = c3d.run.largest_difference(um, ud)
         print(f"{scene}: steps {sd['fixed_point_iterations']} / {sm['fixed_point_iterations']}, n_mult {sd['n_mult']} / "
               f"{sm['n_mult']}, Newton steps {sd['qp_newton_steps']} / {sm['qp_newton_steps']}, route "
               f"{sm['schur_method']}, largest u difference {diff:.1e} of max |u|")
@@ -67,7 +66,7 @@ def main():
             # 2 000 multipliers on; the slab here has fewer): used, and the dense route's answer.
             ss, us = solve(binary, source, scene, work / f"{scene}_matrix_free_single",
                            [*sets, 'solver.schur="matrix_free"', 'solver.qp_precision="mixed"'])
-            single_diff = max(abs(a - b) for n in ud for a, b in zip(ud[n], us[n])) / scale
+            single_diff = c3d.run.largest_difference(us, ud)
             print(f"{scene}: single products on the matrix-free dual: {ss['qp_single_products']} of n_mult "
                   f"{ss['n_mult']}, largest u difference {single_diff:.1e} of max |u|")
             if not (ss["converged"] and ss["qp_single_products"] > 0 and single_diff < 1e-5):

@@ -36,8 +36,7 @@ def main():
             runs[route] = solve(binary, source, work / f"{precision}_{route}",
                                 [f'solver.qp_precision="{precision}"', f'solver.qp_newton_systems="{route}"'])
         (sa, ua), (sr, ur) = runs["auto"], runs["reduced"]
-        scale = max(max(abs(x) for x in v) for v in ur.values())
-        diff = max(abs(a - b) for n in ur for a, b in zip(ua[n], ur[n])) / scale
+        diff = c3d.run.largest_difference(ua, ur)
         print(f"qp_precision={precision}: steps {sa['fixed_point_iterations']} / {sr['fixed_point_iterations']}, "
               f"Newton steps {sa['qp_newton_steps']} ({sa['qp_newton_steps_bordered']} bordered) / "
               f"{sr['qp_newton_steps']} ({sr['qp_newton_steps_bordered']}), largest u difference {diff:.1e} of max |u|")

@@ -42,3 +42,10 @@ def face_displacements(out):
     """u on Γc of a finished solve in folder `out`: {node id: [u1, u2, u3]} from contact_nodes.csv."""
     with open(Path(out) / "contact_nodes.csv") as f:
         return {r["node"]: [float(r[k]) for k in ("u1", "u2", "u3")] for r in csv.DictReader(f)}
+
+
+def largest_difference(u, reference):
+    """The largest difference of two face_displacements() over the reference's nodes, relative to the
+    reference's largest component."""
+    scale = max(max(abs(x) for x in v) for v in reference.values())
+    return max(abs(a - b) for n in reference for a, b in zip(u[n], reference[n])) / scale

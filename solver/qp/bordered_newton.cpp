@@ -314,7 +314,7 @@ class SwitchingBorderedNewton final : public BorderedNewton {
   bool exact() const override { return false; }
   int cached_units() const override { return current_->cached_units(); }
   long preparations() const override { return preparations_; }
-  bool switched_to_double() const override { return switched_; }
+  bool switched_to_double() const override { return current_->exact(); }  // the single factor's is not
 
   void record_refinement(int products) override {
     if (tried_) return;
@@ -327,7 +327,7 @@ class SwitchingBorderedNewton final : public BorderedNewton {
 
  private:
   void switch_to_double(double m, double cached) {
-    tried_ = true;  // whatever happens, once
+    tried_ = true;
     const double bytes = sizeof(double) * m * (m + cached);
     const double available = static_cast<double>(available_memory_bytes());
     if (available > 0 && bytes > 0.5 * available) return;
@@ -335,7 +335,6 @@ class SwitchingBorderedNewton final : public BorderedNewton {
     factor->in_double.emplace(Eigen::MatrixXd(*Q_));
     if (!factor->in_double->ok()) return;
     current_ = std::make_unique<BorderedNewtonWith<double>>(factor, factor->in_double->lower(), scale_);
-    switched_ = true;
     ++preparations_;  // the system prepared on the single factor is gone
   }
 
@@ -345,7 +344,7 @@ class SwitchingBorderedNewton final : public BorderedNewton {
   double prepare_flops_ = 0;
   long preparations_ = 0;
   double excess_products_ = 0;  // charged to the single factor so far, in products by Q
-  bool switched_ = false, tried_ = false;
+  bool tried_ = false;          // the switch, taken or refused (memory, a failed factorization), is tried once
 };
 
 }  // namespace

@@ -127,13 +127,12 @@ bool solve_reduced_bordered(const BoxDiscQP& qp, const std::vector<Direction>& d
     const Eigen::VectorXd x = solve(y);
     if (!x.allFinite()) return false;
     y = x;
-  } else {
-    const int before = products;
-    const bool refined = refine_in_double(qp, d, solve, target, y, products);
-    qp.bordered->record_refinement(products - before);  // may switch it to a factor in double
-    return refined;
+    return true;
   }
-  return true;
+  const int before = products;
+  const bool refined = refine_in_double(qp, d, solve, target, y, products);
+  qp.bordered->record_refinement(products - before);  // may switch it to a factor in double
+  return refined;
 }
 
 // The reduced system solved by a single-precision Cholesky factorization refined in double: for
