@@ -129,18 +129,25 @@ add_test(NAME warns_ill_conditioned_dual_single_check
                  --out ${CMAKE_BINARY_DIR}/cli-tests/slab-1h-single --quiet)
 set_tests_properties(warns_ill_conditioned_dual_single_check PROPERTIES PASS_REGULAR_EXPRESSION
                      "warning: the dual operator Q is ill-conditioned \\(cond\\(Q\\) ≈ [0-9.]+e\\+1[5-7]\\)")
-# contact.cell_size = "auto" (the default) solves the slab again with cells of 1.5h, since cells of 2h
-# (twice its thickness at h = 0.1) let it penetrate by 81% of its displacement; a cell size the scene
-# gives is kept.
+# contact.cell_size = "auto" (the default) solves a scene again with cells of 1.5h where cells of 2h
+# leave its contact zone unresolved: the two pads (0.3 thick, cells of 0.15) penetrate by 17%;
+# a body thinner than a cell of 2h (the slab at h = 0.1, 0.05 thick under cells of about 0.19) starts
+# on cells of 1.5h instead of being solved twice; a cell size the scene gives is kept.
 add_test(NAME auto_cells_solve_again_where_contact_is_unresolved
-         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/slab.toml --set mesh.parameters.h=0.1
-                 --out ${CMAKE_BINARY_DIR}/cli-tests/slab-auto-cells)
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/pads.toml
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/pads-auto-cells)
 set_tests_properties(auto_cells_solve_again_where_contact_is_unresolved PROPERTIES PASS_REGULAR_EXPRESSION
                      "contact zone unresolved: cells of H = [0-9.]+ \\(2h\\) let nodes penetrate by [0-9.]+% .*solving again with cells of 1.5h")
+add_test(NAME auto_cells_start_a_thin_body_on_smaller_cells
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/slab.toml --set mesh.parameters.h=0.1
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/slab-auto-cells)
+set_tests_properties(auto_cells_start_a_thin_body_on_smaller_cells PROPERTIES PASS_REGULAR_EXPRESSION
+                     "contact.cell_size = \"auto\": the body is 0.05 m thick over most of Γc \\(the median\\), less than 0.8 of a cell of 2h \\(H = [0-9.]+ m\\), inside which it would bend and penetrate: cells of 1.5h from the start"
+                     FAIL_REGULAR_EXPRESSION "solving again")
 add_test(NAME explicit_cells_are_kept
          COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/slab.toml --set mesh.parameters.h=0.1
                  --set contact.cell_size=\"2h\" --out ${CMAKE_BINARY_DIR}/cli-tests/slab-2h-cells)
-set_tests_properties(explicit_cells_are_kept PROPERTIES FAIL_REGULAR_EXPRESSION "solving again")
+set_tests_properties(explicit_cells_are_kept PROPERTIES FAIL_REGULAR_EXPRESSION "solving again|from the start")
 add_test(NAME no_warning_on_the_paper_brick
          COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
                  --out ${CMAKE_BINARY_DIR}/cli-tests/brick-n4-warnings --quiet)

@@ -198,7 +198,9 @@ void write_contact(JsonWriter& j, const SolveResult& res) {
   j.value("max_penetration", res.wn_plus_inf);       // max nodal (w_n − d)⁺ on Γc
   j.value("penetration_ratio", res.penetration_ratio);  // max_penetration / the largest nodal displacement
   j.value("largest_strain", res.largest_strain);        // largest principal strain in absolute value (warned above 10%)
-  if (const PartitionRefinement& pr = res.refinement; pr.tried) {  // contact.cell_size = "auto" solved twice
+  if (const PartitionRefinement& pr = res.refinement; pr.started_finer) {  // "auto" found the body thin
+    j.begin_object("partition_refinement").value("started_finer", true).value("outcome", pr.outcome).end_object();
+  } else if (pr.tried) {  // contact.cell_size = "auto" solved twice
     j.begin_object("partition_refinement").value("first_cell_size", pr.first_cell_size);
     j.value("first_penetration_ratio", pr.first_penetration_ratio).value("first_seconds", pr.first_seconds);
     j.value("kept_finer", pr.kept_finer).value("reused_factor", pr.reused_factor);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "base/errors.hpp"
 
@@ -80,24 +79,6 @@ Mesh make_paper_brick(const BrickSize& s) {
     m.triangle_group.push_back(tag);
   }
   return m;
-}
-
-std::vector<std::array<int, 3>> boundary_faces(const Mesh& m) {
-  // Key: sorted node triple; value: the face as seen from its tet (outward), and a count.
-  std::map<std::array<int, 3>, std::pair<std::array<int, 3>, int>> faces;
-  static const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-  for (const auto& t : m.tets)
-    for (const auto& lf : kFace) {
-      std::array<int, 3> f{t[lf[0]], t[lf[1]], t[lf[2]]};
-      std::array<int, 3> key = f;
-      std::sort(key.begin(), key.end());
-      auto [it, inserted] = faces.try_emplace(key, f, 0);
-      ++it->second.second;
-    }
-  std::vector<std::array<int, 3>> out;
-  for (const auto& [key, val] : faces)
-    if (val.second == 1) out.push_back(val.first);
-  return out;
 }
 
 }  // namespace contact3d

@@ -16,7 +16,4 @@ struct BrickSize {
 
 Mesh make_paper_brick(const BrickSize& size);
 
-// Boundary faces (faces of exactly one tet), oriented outward.
-std::vector<std::array<int, 3>> boundary_faces(const Mesh& mesh);
-
 }  // namespace contact3d

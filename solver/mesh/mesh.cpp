@@ -113,4 +113,31 @@ std::vector<int> tetrahedra_of_faces(const Mesh& mesh, const std::vector<std::ar
   return out;
 }
 
+std::vector<std::array<int, 3>> boundary_faces(const Mesh& m) {
+  // Every tet's four faces as seen from it (outward), sorted by their node triples: a boundary face
+  // is one whose triple appears once. (Sorting, not a map: a million tetrahedra in a fraction of a second.)
+  static const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  struct Face {
+    std::array<int, 3> key, outward;
+  };
+  std::vector<Face> faces;
+  faces.reserve(4 * m.tets.size());
+  for (const auto& t : m.tets)
+    for (const auto& lf : kFace) {
+      Face f{{}, {t[lf[0]], t[lf[1]], t[lf[2]]}};
+      f.key = f.outward;
+      std::sort(f.key.begin(), f.key.end());
+      faces.push_back(f);
+    }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
+  std::vector<std::array<int, 3>> out;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j == i + 1) out.push_back(faces[i].outward);
+    i = j;
+  }
+  return out;
+}
+
 }  // namespace contact3d

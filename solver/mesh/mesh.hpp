@@ -76,6 +76,10 @@ inline double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {
 constexpr int kNoTetrahedron = -1, kSeveralTetrahedra = -2;
 std::vector<int> tetrahedra_of_faces(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
 
+// The body's boundary: the faces of exactly one tetrahedron, oriented outward (their normal by the
+// right-hand rule points out of the body).
+std::vector<std::array<int, 3>> boundary_faces(const Mesh& mesh);
+
 // A mesh whose every tetrahedron has a negative volume is a mirror image, consistent in itself: its
 // tets are turned positive by swapping their first two nodes (reoriented_mirrored). A mesh with
 // tets of both signs is tangled and left as it is, for check_tet_orientation to refuse.

@@ -39,6 +39,9 @@ struct SolveStep {
 // scene was solved again with cells of 1.5h (refine_unresolved_contact).
 struct PartitionRefinement {
   bool tried = false;
+  // Or the body was thinner than a cell of 2h over Γc (contact/face_thickness.hpp), and the one solve
+  // took cells of 1.5h from the start; the other fields stay as they are.
+  bool started_finer = false;
   double first_cell_size = 0;          // H of the first solve (m)
   double first_penetration_ratio = 0;  // its SolveResult::penetration_ratio
   double first_seconds = 0;            // its stages, also added into SolveResult::seconds

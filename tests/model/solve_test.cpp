@@ -127,17 +127,24 @@ TEST(SolvePaperBrick, PenetrationWithoutAnyContactForceIsWarnedAsSuch) {
 }
 
 // contact.cell_size = "auto" (the default) solves again with cells of 1.5h where 2h leaves the contact
-// zone unresolved, and keeps the answer that penetrates less; a resolved body is solved once.
+// zone unresolved — a brick on a V-shaped sole (0.1 m rise per m) pressed 4 cm onto its ridge, whose
+// contact zone is a strip about two cells of 2h wide — and keeps the answer that penetrates less; a
+// resolved body is solved once.
 TEST(SolvePaperBrick, AutoCellSizeSolvesAgainWithSmallerCellsWhereTheContactZoneIsUnresolved) {
   const SolveResult brick = solve_text({"friction.law=\"none\""});
   EXPECT_FALSE(brick.refinement.tried) << brick.penetration_ratio;
+  EXPECT_FALSE(brick.refinement.started_finer);
 
-  const Scene scene = parse_scene_text(kPaperScene, ".", {"friction.law=\"none\""});
-  const Mesh plate = make_paper_brick({4, 3.0, 1.0, 0.02});
-  const SolveResult fixed =
-      solve_scene(parse_scene_text(kPaperScene, ".", {"friction.law=\"none\"", "contact.cell_size=\"2h\""}), plate);
-  const SolveResult automatic = solve_scene(scene, plate);
+  const std::vector<std::string> pressed = {"friction.law=\"none\"", "boundary.clamped=[]", "boundary.traction=[]",
+                                            "boundary.displacement=[{group=\"load_top\", x=0.0, y=0.0, z=-0.04}]"};
+  Mesh ridge = make_paper_brick({4});
+  for (Eigen::Vector3d& x : ridge.nodes) x.z() += 0.1 * std::abs(x.x() - 1.5) * (1 - x.z());
+  std::vector<std::string> with_2h = pressed;
+  with_2h.push_back("contact.cell_size=\"2h\"");
+  const SolveResult fixed = solve_scene(parse_scene_text(kPaperScene, ".", with_2h), ridge);
+  const SolveResult automatic = solve_scene(parse_scene_text(kPaperScene, ".", pressed), ridge);
   ASSERT_TRUE(automatic.converged);
+  EXPECT_FALSE(automatic.refinement.started_finer);  // 1 m thick: not thin
   ASSERT_TRUE(automatic.refinement.tried);
   EXPECT_DOUBLE_EQ(automatic.refinement.first_cell_size, fixed.cell_size);
   EXPECT_DOUBLE_EQ(automatic.refinement.first_penetration_ratio, fixed.penetration_ratio);
@@ -152,6 +159,26 @@ TEST(SolvePaperBrick, AutoCellSizeSolvesAgainWithSmallerCellsWhereTheContactZone
   }
   ASSERT_FALSE(automatic.notes.empty());
   EXPECT_NE(automatic.notes.back().find("1.5h"), std::string::npos) << automatic.notes.back();
+}
+
+// A body thinner than a cell of 2h over its contact face bends inside the cell, and the cell
+// averages let it penetrate (PenetrationInsideCellsIsWarnedOnlyWhereTheBodyIsThinnerThanACell: a
+// plate 0.02 thick under cells of 0.5): "auto" measures the thickness first and solves it once, on
+// cells of 1.5h, the same answer as asking for them.
+TEST(SolvePaperBrick, AutoCellSizeStartsAThinBodyOnSmallerCells) {
+  const Mesh plate = make_paper_brick({4, 3.0, 1.0, 0.02});
+  const SolveResult automatic = solve_scene(parse_scene_text(kPaperScene, ".", {"friction.law=\"none\""}), plate);
+  const SolveResult asked =
+      solve_scene(parse_scene_text(kPaperScene, ".", {"friction.law=\"none\"", "contact.cell_size=\"1.5h\""}), plate);
+  ASSERT_TRUE(automatic.converged);
+  EXPECT_TRUE(automatic.refinement.started_finer);
+  EXPECT_FALSE(automatic.refinement.tried);
+  EXPECT_EQ(automatic.n_cells, asked.n_cells);
+  EXPECT_DOUBLE_EQ(automatic.cell_size, asked.cell_size);
+  EXPECT_LT((automatic.u - asked.u).cwiseAbs().maxCoeff(), 1e-12 * asked.u.cwiseAbs().maxCoeff());
+  ASSERT_FALSE(automatic.notes.empty());
+  EXPECT_NE(automatic.notes.back().find("0.02 m thick"), std::string::npos) << automatic.notes.back();
+  EXPECT_NE(automatic.notes.back().find("1.5h from the start"), std::string::npos) << automatic.notes.back();
 }
 
 TEST(SolvePaperBrick, FrictionlessAndConstantAreSingleSolves) {

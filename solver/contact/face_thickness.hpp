@@ -1,0 +1,34 @@
+// FaceThickness: how thick the body is above its contact face, against the size of its elements
+// there. From the centroid of each contact triangle a ray goes up, along the foundation's normal (+z
+// in the solve's frame), to the first boundary face of the body it meets (a face whose outward
+// normal points up: the top, or the floor of a cavity); its length is the body's thickness there.
+// A body thinner than a cell bends inside it, and the cell averages of (5.4) then let its nodes
+// penetrate: contact.cell_size = "auto" starts such a body on smaller cells instead of solving it
+// twice (model/contact_solver.cpp, kThinBodyCells).
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace contact3d {
+
+struct FaceThickness {
+  // Area-weighted median over the contact triangles of the thickness above them (m); infinity when
+  // no ray met a face (not expected of a closed body).
+  double median = std::numeric_limits<double>::infinity();
+  double thinnest = std::numeric_limits<double>::infinity();  // the smallest thickness measured (m)
+  // The contact triangles' typical element size: √(h_x·h_y) of the medians of their x- and y-extents,
+  // the h of "cell_size = 2h" (ContactFace::h_xy, without its lower bound by the shortest edges).
+  double element_size = 0;
+  int triangles = 0;  // contact triangles (each triangle once)
+  int measured = 0;   // of them, those whose ray met a face
+};
+
+// The thickness above the triangles of the named contact groups (which must exist: Mesh's
+// triangles_of_group throws InputError otherwise). The mesh is in the foundation's frame.
+FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::string>& contact_groups);
+
+}  // namespace contact3d
