@@ -21,7 +21,14 @@ Eigen::MatrixXd symmetric_block_product(const DenseView& Q, const Eigen::MatrixX
   if (V.rows() != n) throw std::invalid_argument("symmetric_product: block rows differ from Q");
   const double alpha = 1, beta = 0;
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, k);
-  if (n > 0 && k > 0) dsymm_("L", "L", &n, &k, &alpha, Q.data(), &lda, V.data(), &n, &beta, out.data(), &n);
+  if (n == 0 || k == 0) return out;
+  if (k <= kColumnsByProducts) {
+    const int one = 1;
+    for (int j = 0; j < k; ++j)
+      dsymv_("L", &n, &alpha, Q.data(), &lda, V.col(j).data(), &one, &beta, out.col(j).data(), &one);
+    return out;
+  }
+  dsymm_("L", "L", &n, &k, &alpha, Q.data(), &lda, V.data(), &n, &beta, out.data(), &n);
   return out;
 }
 

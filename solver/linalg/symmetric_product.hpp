@@ -15,7 +15,12 @@ namespace contact3d {
 // Q v.
 Eigen::VectorXd symmetric_product(const DenseView& Q, const Eigen::VectorXd& v);
 // Q V for several columns at once (BLAS dsymm: Q is read once for all of them, where a product per
-// column reads it per column).
+// column reads it per column). Up to kColumnsByProducts columns, one dsymv each instead: dsymm first
+// copies the triangle it reads into a full panel, which costs more than a few passes over it (Q of
+// 4 464 rows, one thread: 7 columns 30 ms by dsymm, 20 ms by 7 dsymv; 1 column 18 against 3.2 ms;
+// 13 columns 31 against 42 ms) — a body held by contact alone refines its six motions' Jacobian (7
+// columns) a few hundred times.
+inline constexpr int kColumnsByProducts = 8;
 Eigen::MatrixXd symmetric_block_product(const DenseView& Q, const Eigen::MatrixXd& V);
 
 // A symmetric size × size matrix in single precision of which one triangle is stored (column-major,

@@ -99,3 +99,21 @@ TEST(EqualityNewton, UnbalancedLoadsAreNotReportedAsConverged) {
   EXPECT_FALSE(result.converged);
   EXPECT_GT(result.work.newton_steps, 0);
 }
+
+// A tolerance below rounding (nothing can meet rtol = 1e-20 with the balance exactly zero): once the
+// active sets settle, a step solves the same linear system again, so the steps are given up after a
+// few that do not halve the merit — not after twenty, each a new least value by rounding (a pressed
+// plate held by contact alone spent 1 587 products so, kMaxSettledStepsWithoutProgress).
+TEST(EqualityNewton, GivesUpSoonOnceTheActiveSetsSettleAtRounding) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    EqualityCase c = make_case(seed);
+    EqualityNewtonSettings settings;
+    settings.rtol = 1e-20;
+    settings.balance_target = 0;
+    const EqualityNewtonResult result =
+        solve_equality_newton(c.rq.qp, c.G, c.e, Eigen::MatrixXd::Identity(2, 2), mpgp_solution(c.rq.qp), settings);
+    EXPECT_FALSE(result.converged) << "seed " << seed;
+    EXPECT_GT(result.work.newton_steps, 1) << "seed " << seed;
+    EXPECT_LE(result.work.newton_steps, 10) << "seed " << seed;
+  }
+}
