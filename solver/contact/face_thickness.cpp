@@ -32,6 +32,9 @@ class UpwardFaces {
     };
     nx_ = buckets(extent.x());
     ny_ = buckets(extent.y());
+    // About one bucket per face; a footprint degenerate in one direction must not ask for 4096².
+    const long most = 4 * static_cast<long>(faces_.size()) + 16;
+    if (static_cast<long>(nx_) * ny_ > most) ny_ = static_cast<int>(std::max(1L, most / nx_));
     grid_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
     for (std::size_t i = 0; i < faces_.size(); ++i) {
       Eigen::Vector2d flo = mesh.nodes[faces_[i][0]].head<2>(), fhi = flo;

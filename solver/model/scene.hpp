@@ -133,7 +133,8 @@ struct Scene {
   double cell_size = 2;  // H: a length in m, or a multiple of h when relative
   bool cell_size_relative = true;
   // contact.cell_size = "auto" (the default): cells of 2h, and the scene is solved again with cells of
-  // 1.5h when 2h leaves the contact zone unresolved (model/contact_solver.hpp, refine_unresolved_contact).
+  // 1.5h when 2h leaves the contact zone unresolved (model/contact_solver.hpp, refine_unresolved_contact);
+  // a body thinner than a cell of 2h over Γc starts on cells of 1.5h (thin_body_over_contact).
   bool cell_size_auto = true;
   // [contact] plane_point (m, default origin) and plane_normal (towards the body, default +z).
   FoundationFrame foundation;
