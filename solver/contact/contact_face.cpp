@@ -17,6 +17,25 @@ bool held_in_every_node(const std::array<int, 3>& tri, const DofMap& dofs) {
 
 }  // namespace
 
+Eigen::Vector2d median_extents(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles) {
+  if (triangles.empty()) return Eigen::Vector2d::Zero();
+  std::vector<double> extent_x, extent_y;
+  for (const auto& tri : triangles) {
+    Eigen::Vector2d tlo = mesh.nodes[tri[0]].head<2>(), thi = tlo;
+    for (int k = 1; k < 3; ++k) {
+      tlo = tlo.cwiseMin(mesh.nodes[tri[k]].head<2>());
+      thi = thi.cwiseMax(mesh.nodes[tri[k]].head<2>());
+    }
+    extent_x.push_back(thi.x() - tlo.x());
+    extent_y.push_back(thi.y() - tlo.y());
+  }
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  return {median(extent_x), median(extent_y)};
+}
+
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs) {
   ContactFace face;
   if (mesh.nodes.empty()) throw InputError("the mesh has no nodes");
@@ -60,7 +79,7 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   face.gap.assign(mesh.nodes.size(), 0.0);
   for (const auto& tri : face.triangles)
     for (int v : tri) face.gap[v] = mesh.nodes[v].z() <= gap_snap ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
-  std::vector<double> shortest, extent_x, extent_y;
+  std::vector<double> shortest;
   face.lo = mesh.nodes[face.triangles[0][0]].head<2>();
   face.hi = face.lo;
   for (const auto& tri : face.triangles) {
@@ -73,24 +92,13 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
       if (!dofs.fully_fixed(tri[k])) face.contact_index[tri[k]] = 0;
     }
     shortest.push_back(e);
-    Eigen::Vector2d tlo = mesh.nodes[tri[0]].head<2>(), thi = tlo;
-    for (int k = 1; k < 3; ++k) {
-      tlo = tlo.cwiseMin(mesh.nodes[tri[k]].head<2>());
-      thi = thi.cwiseMax(mesh.nodes[tri[k]].head<2>());
-    }
-    extent_x.push_back(thi.x() - tlo.x());
-    extent_y.push_back(thi.y() - tlo.y());
     const Eigen::Vector2d a = mesh.nodes[tri[1]].head<2>() - mesh.nodes[tri[0]].head<2>();
     const Eigen::Vector2d b = mesh.nodes[tri[2]].head<2>() - mesh.nodes[tri[0]].head<2>();
     face.area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
   }
   std::nth_element(shortest.begin(), shortest.begin() + shortest.size() / 2, shortest.end());
   face.h = shortest[shortest.size() / 2];
-  auto median = [](std::vector<double>& v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
-  face.h_xy = Eigen::Vector2d(std::max(face.h, median(extent_x)), std::max(face.h, median(extent_y)));
+  face.h_xy = median_extents(mesh, face.triangles).cwiseMax(face.h);
   if (!(face.area > 0)) throw InputError("the contact groups have zero total area (degenerate triangles)");
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
     if (face.contact_index[v] == 0) {

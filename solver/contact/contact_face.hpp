@@ -36,6 +36,10 @@ struct ContactFace {
   Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }
 };
 
+// The medians of the triangles' x- and y-extents in the plane: their typical element size per
+// direction (ContactFace::h_xy is these, at least h; FaceThickness takes them too). Zero for none.
+Eigen::Vector2d median_extents(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
+
 // Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle), or if
 // every node of it is held.
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs);

@@ -1,5 +1,7 @@
 #include "contact/face_thickness.hpp"
 
+#include "contact/contact_face.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -89,11 +91,6 @@ class UpwardFaces {
   std::vector<std::vector<int>> grid_;
 };
 
-double median_of(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 // The value below which lies half the total weight.
 double weighted_median(std::vector<std::pair<double, double>> value_weight) {
   std::sort(value_weight.begin(), value_weight.end());
@@ -129,21 +126,17 @@ FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::st
   }
   const double above = 1e-12 * (hi - lo).norm();  // rounding: the contact triangle's own plane
   const UpwardFaces upward(mesh);
-  std::vector<double> extent_x, extent_y;
   std::vector<std::pair<double, double>> thickness_area;
   for (const auto& tri : triangles) {
     const Eigen::Vector3d &a = mesh.nodes[tri[0]], &b = mesh.nodes[tri[1]], &c = mesh.nodes[tri[2]];
-    const Eigen::Vector3d tlo = a.cwiseMin(b).cwiseMin(c), thi = a.cwiseMax(b).cwiseMax(c);
-    extent_x.push_back(thi.x() - tlo.x());
-    extent_y.push_back(thi.y() - tlo.y());
     const Eigen::Vector3d centroid = (a + b + c) / 3;
     const double top = upward.lowest_above(centroid, above);
     if (!std::isfinite(top)) continue;
     const double projected_area = 0.5 * std::abs((b - a).cross(c - a).z());
     thickness_area.emplace_back(top - centroid.z(), projected_area);
-    out.thinnest = std::min(out.thinnest, top - centroid.z());
   }
-  out.element_size = std::sqrt(median_of(extent_x) * median_of(extent_y));
+  const Eigen::Vector2d extents = median_extents(mesh, triangles);
+  out.element_size = std::sqrt(extents.x() * extents.y());
   out.measured = static_cast<int>(thickness_area.size());
   if (!thickness_area.empty()) out.median = weighted_median(std::move(thickness_area));
   return out;

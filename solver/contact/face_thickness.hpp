@@ -19,9 +19,8 @@ struct FaceThickness {
   // Area-weighted median over the contact triangles of the thickness above them (m); infinity when
   // no ray met a face (not expected of a closed body).
   double median = std::numeric_limits<double>::infinity();
-  double thinnest = std::numeric_limits<double>::infinity();  // the smallest thickness measured (m)
-  // The contact triangles' typical element size: √(h_x·h_y) of the medians of their x- and y-extents,
-  // the h of "cell_size = 2h" (ContactFace::h_xy, without its lower bound by the shortest edges).
+  // The contact triangles' typical element size: √(h_x·h_y) of median_extents (contact_face.hpp), the
+  // h of "cell_size = 2h" (ContactFace::h_xy, without its lower bound by the shortest edges).
   double element_size = 0;
   int triangles = 0;  // contact triangles (each triangle once)
   int measured = 0;   // of them, those whose ray met a face

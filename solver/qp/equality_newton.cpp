@@ -158,12 +158,11 @@ class JointNewton {
     Eigen::MatrixXd B(static_cast<Eigen::Index>(step.directions.size()), k + 1);
     B.col(0) = restrict_to(step.directions, at_delta.h - apply(step.lambda_fixed));
     B.rightCols(k) = restrict_columns(step.directions, G_.transpose());
-    const bool settled = same_directions(step.directions, last_directions_);
-    settled_ = settled;
-    if (!settled) cycled_ = !seen_.insert(fingerprint(step.directions)).second;
+    settled_ = same_directions(step.directions, last_directions_);
+    if (!settled_) cycled_ = !seen_.insert(fingerprint(step.directions)).second;
     last_directions_ = step.directions;
     const std::optional<Eigen::MatrixXd> Y =
-        reduced.solve_columns(B, settled ? kRefinedSettled : kRefinedWhileMoving, kRefinements);
+        reduced.solve_columns(B, settled_ ? kRefinedSettled : kRefinedWhileMoving, kRefinements);
     result_.work.hessian_products += reduced.products();
     if (!Y) return false;
     const Eigen::VectorXd y0 = Y->col(0);

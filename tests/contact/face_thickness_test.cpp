@@ -18,21 +18,18 @@ TEST(FaceThickness, AFlatPlateIsItsThicknessEverywhere) {
   EXPECT_EQ(t.triangles, t.measured);
   EXPECT_GT(t.triangles, 0);
   EXPECT_NEAR(t.median, 0.02, 1e-14);
-  EXPECT_NEAR(t.thinnest, 0.02, 1e-14);
   EXPECT_NEAR(t.element_size, 0.25, 1e-14);
 }
 
 // The top tilted to z = 0.1 (1 + x) over x in [0, 3]: the thickness at a triangle's centroid is that
 // plane's height there (P1 faces reproduce a plane exactly), so the area-weighted median is the
-// height at the median x = 1.5 to within a triangle's width, and the thinnest is over the first column.
+// height at the median x = 1.5 to within a triangle's width.
 TEST(FaceThickness, ATiltedTopGivesTheHeightOverTheMedianPoint) {
   Mesh brick = make_paper_brick({4, 3.0, 1.0, 0.1});
   for (Eigen::Vector3d& x : brick.nodes) x.z() *= 1 + x.x();
   const FaceThickness t = measure_face_thickness(brick, {"contact"});
   EXPECT_EQ(t.triangles, t.measured);
   EXPECT_NEAR(t.median, 0.1 * 2.5, 0.1 * 0.25);
-  EXPECT_GT(t.thinnest, 0.1);
-  EXPECT_LT(t.thinnest, 0.1 * (1 + 0.25));
 }
 
 // A sole lifted above the plane (an initial gap) does not count: the thickness is measured from Γc
