@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "model/solution_checks.hpp"
 
 namespace contact3d {
 
@@ -261,6 +263,140 @@ void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held) {
 
 void add_pin_springs(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, ContactHeldMotions& held) {
   held.pin_springs = stiffness_diagonal_at(mesh, dofs, materials, held.pins);
+}
+
+namespace {
+
+// How many cells carry the last solve's normal force (cells_pressed; the friction of Tresca cells out of
+// contact does not count either).
+long pressed_cells(const Partition& partition, const TrescaStep& tresca) {
+  if (tresca.history().empty()) return 0;
+  return static_cast<long>(cells_pressed(tresca.history().back().lambda, partition).size());
+}
+
+// A contact face one cell wide: all its cells' centres on one line (within a tenth of a cell's side),
+// so their forces have no arm about it and nothing holds a turn about that line — a bar standing on a
+// face 10 mm wide with cells of 2h = 10 mm, whose balance the QP then cannot meet and whose refusal
+// blamed the friction. (Pressed cells in one row of a wider face are a body the loads tip onto an
+// edge: not this.) Returns the refusal's explanation, or "".
+std::string face_one_cell_wide(const Partition& partition) {
+  const std::size_t n = partition.cells.size();
+  if (n < 2) return "";
+  const double across = std::sqrt(
+      std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(centroid_spread(partition, {})).eigenvalues()[0], 0.0));
+  const double side = std::min(partition.hx, partition.hy);
+  if (!(side > 0) || across > 0.1 * side) return "";
+  return "the contact face is one cell wide (its " + std::to_string(n) +
+         " cells lie in one row): their forces have no arm about that row, so nothing holds a turn about it; "
+         "use smaller cells (contact.cell_size, e.g. \"1.5h\") or a finer mesh there, so that the face is "
+         "several cells wide, or prescribe that motion";
+}
+
+// Where the last solve pressed one or two cells, the contact cannot balance a general moment of
+// the loads (its force acts at the cells' centres): said with the refusal below, with what to change.
+std::string too_few_cells(const ContactOperator& op, const Partition& partition, const TrescaStep& tresca) {
+  const long pressed = pressed_cells(partition, tresca);
+  if (pressed == 0 || pressed >= 3) return "";  // none: the loads pull it off, said in the message
+  return "; the body rests on " + std::to_string(pressed) + " of the " + std::to_string(op.r) +
+         " cells of the contact partition, too few to balance the loads' moments about it (a contact zone smaller "
+         "than a cell, as under a sphere): refine the mesh where it touches, or use smaller cells "
+         "(contact.cell_size), so that the contact zone spans several cells";
+}
+
+// A rigid displacement of the body held by contact alone more than this many times its size: the
+// contact balanced the loads only by moving it along a motion it cannot hold (a linear model's
+// rigid motion that large is no answer).
+constexpr double kLargestRigidMotion = 10;
+
+}  // namespace
+
+void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
+                  const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
+                  const TrescaStep& tresca) {
+  // An inner QP that did not converge leaves the loads unbalanced whatever the friction: the run then
+  // ends as the dual QP's failure (FixedPointStatus::InnerSolverFailed), not as this input error.
+  const bool balanced = qp.equality_residual() <= 1e-6 && !tresca.history().empty();
+  if (balanced || (!tresca.history().empty() && tresca.last_qp().status == QpStatus::Breakdown)) {
+    // Balanced on one or two cells, the loads' moments lean on forces under 1e-3 of the contact's at
+    // cells that barely touch, or on the friction of cells out of contact (Tresca): no answer either,
+    // the nodes penetrating by many times the deformation.
+    if (const std::string few = too_few_cells(op, partition, tresca); !few.empty())
+      throw ContactZoneTooCoarse("the body is held by contact alone (nothing prescribed holds " + held.describe() +
+                                 ")" + few);
+    // Balanced, but only after a rigid motion many times the body's size, which a linear model's
+    // answer cannot be: the displacement is then rounding (a frictionless half-cylinder pressed on its
+    // side, whose lateral slide was among the equalities before equality_motions(), moved along it by
+    // 8e11 times its size: equilibrium residual 18, and the run said "converged").
+    const double rigid = (motions * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
+    const double size = held.size;  // the largest extent of a part held by contact
+    if (!(rigid <= kLargestRigidMotion * size))
+      throw ContactZoneTooCoarse(
+          "the body is held by contact alone (nothing prescribed holds " + held.describe() +
+          "), and the contact forces balance the loads only after a rigid displacement of " + number(rigid, 3) + ", " +
+          number(rigid / size, 3) + " times the body's size: the " + std::to_string(pressed_cells(partition, tresca)) +
+          " cells that carry the contact force cannot hold that motion (a contact zone one cell wide, "
+          "as along a line contact, cannot hold a turn about it); refine the mesh where it touches, or use "
+          "smaller cells (contact.cell_size), so that the contact zone spans several cells across, or "
+          "prescribe that motion (boundary.displacement)");
+    return;
+  }
+  const std::size_t solves = tresca.history().size();
+  // Coulomb's first solve is frictionless (every disc's radius 0): the loads along the in-plane motions
+  // are left to the friction of the solves after it, so a run that stopped there failed along the
+  // others, and its share of the loads left unbalanced is theirs.
+  const bool frictionless_start =
+      op.with_friction && solves == 1 && !(tresca.history().back().radius.array() > 0).any() && held.in_plane_count();
+  double unbalanced_share = qp.equality_residual();
+  // The generalized forces along the free motions that the contact leaves over, Rᵀ(𝔹ᵀλ − f).
+  Eigen::VectorXd left;
+  if (!tresca.history().empty()) {
+    const Eigen::MatrixXd& R = held.field;
+    left = (op.B * R).transpose() * tresca.history().back().lambda - R.transpose() * f;
+  }
+  if (frictionless_start && left.norm() > 0)
+    unbalanced_share *= (held.normal_combinations.transpose() * left).norm() / left.norm();
+  const std::string in_solve = solves > 1 ? " in solve " + std::to_string(solves) +
+                                                " of the successive approximations, "
+                                                "with its slips' friction coefficients"
+                               : frictionless_start
+                                   ? " along the motions with a normal part in the first solve, the frictionless one "
+                                     "that gives Coulomb's first normal pressure"
+                                   : "";
+  const std::string unbalanced = number(100 * unbalanced_share, 3) + "% of them left unbalanced" + in_solve;
+  // On one or two pressed cells the cure may be smaller cells: thrown as ContactZoneTooCoarse, so that
+  // contact.cell_size = "auto" tries cells of 1.5h before refusing (a ball resting on two cells).
+  // The same where the face is one cell wide and a tilt is among the free motions (beside the lift).
+  std::string few = too_few_cells(op, partition, tresca);
+  if (few.empty() && held.count() - held.in_plane_count() >= 2)
+    if (const std::string row = face_one_cell_wide(partition); !row.empty()) few = "; " + row;
+  auto refuse = [&few](const std::string& message) {
+    if (few.empty()) throw InputError(message);
+    throw ContactZoneTooCoarse(message + few);
+  };
+  if (held.in_plane_count() && !tresca.history().empty() && !frictionless_start) {
+    // The share of the in-plane loads (the tangential force and the torque about the normal) left
+    // over, not of all loads: a torque 30% beyond what friction carries, beside a large normal
+    // load, read "4.55% of them left unbalanced".
+    const Eigen::VectorXd left_in_plane = held.in_plane_combinations.transpose() * left;
+    const Eigen::VectorXd loads_in_plane = held.in_plane_combinations.transpose() * (held.field.transpose() * f);
+    const std::string in_plane_unbalanced = loads_in_plane.norm() > 0
+                                                ? number(100 * left_in_plane.norm() / loads_in_plane.norm(), 3) +
+                                                      "% of the loads along it left unbalanced" + in_solve
+                                                : unbalanced;
+    if (left_in_plane.norm() > 0.5 * left.norm())
+      refuse("the body is held by contact alone and nothing prescribed holds " + held.describe_in_plane() +
+             " in the foundation's plane: friction alone must hold it there, but the loads along it are " +
+             "more than the contact's friction carries (" + in_plane_unbalanced + ")" +
+             (op.with_friction ? "" : ", the contact being frictionless") +
+             "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
+             "friction (friction.slip_bound, friction.model) and the loads' directions");
+  }
+  refuse("the body is held by contact alone (nothing prescribed holds " + held.describe() +
+         "), but no contact forces balance the loads along it (" + unbalanced +
+         "): the loads pull the body off the foundation or tip it over an edge of the "
+         "contact face, or it touches the foundation on too few cells to balance their moments (a "
+         "contact zone smaller than a few cells, as under a sphere); prescribe that motion, check the "
+         "loads' directions, or refine the mesh where it touches");
 }
 
 }  // namespace contact3d

@@ -20,10 +20,15 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "base/errors.hpp"
+#include "contact/contact_operator.hpp"
 #include "contact/foundation_frame.hpp"
+#include "contact/partition.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
+#include "friction/tresca_step.hpp"
 #include "mesh/mesh.hpp"
+#include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
 
@@ -75,5 +80,23 @@ void add_pin_springs(Eigen::SparseMatrix<double>& K, ContactHeldMotions& held);
 // The same springs for a K assembled elsewhere (the distributed backend's ranks add them): K's
 // diagonal at the pins from the elements, recorded in `held` only.
 void add_pin_springs(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials, ContactHeldMotions& held);
+
+// A refusal of a body held by contact alone whose cure is smaller cells: its contact zone spans too
+// few of them to hold the loads' moments. With contact.cell_size = "auto" the scene is solved again
+// with cells of 1.5h before the refusal is given (refine_refused_cells).
+struct ContactZoneTooCoarse : InputError {
+  using InputError::InputError;
+};
+
+// After the dual solve of a body held by contact alone: an InputError (a ContactZoneTooCoarse where
+// smaller cells may cure it) when the contact forces could not balance the loads along the free
+// motions — the loads pull the body off the foundation or tilt it about an edge of the contact face,
+// push it along the plane harder than friction holds, or the body touches on too few cells to balance
+// their moments — or balanced them only after a rigid displacement many times the body's size.
+// `motions`: the rigid motions among the dual's equalities (held.field, or its combinations with a
+// normal part where frictionless), `f` the loads on the free dofs.
+void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
+                  const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
+                  const TrescaStep& tresca);
 
 }  // namespace contact3d
