@@ -648,7 +648,7 @@ def main(argv=None) -> int:
     ap.add_argument("--tolerance", type=float, default=None, help="max relative L2(Gc) difference of u")
     ap.add_argument("--force-tolerance", type=float, default=None, help="max relative difference of contact forces")
     ap.add_argument("--contact-tol", type=float, default=None, help="'in contact' threshold relative to max|u|")
-    ap.add_argument("--report", default=None, help="markdown report (default results/crosscheck/<scene>.md)")
+    ap.add_argument("--report", default=None, help="markdown report (default results/runs/crosscheck/<scene>.md; the committed ones in results/crosscheck/ are written only when named here)")
     ap.add_argument("--workdir", default=None, help="scratch folder (default build/crosscheck beside --bin)")
     ap.add_argument("--set", action="append", help="extra --set KEY=VALUE passed to contact3d")
     ap.add_argument("--freefem", default="FreeFem++")
@@ -745,7 +745,7 @@ def main(argv=None) -> int:
                 msg = f"{mesh_label(n)} {v}: {e}"
                 log(f"error: {msg}")
                 errors.append(msg)
-    report = Path(args.report) if args.report else REPO / "results" / "crosscheck" / f"{scene_path.stem}.md"
+    report = Path(args.report) if args.report else REPO / "results" / "runs" / "crosscheck" / f"{scene_path.stem}.md"
     if cases or errors:
         write_report(report.resolve(), scene_path, cases, errors, cfg, [Path(sys.argv[0]).name] + (argv or sys.argv[1:]))
         log(f"report: {report}")
