@@ -274,7 +274,34 @@ class DualQpSolver::EqualitySolve {
       jump_to_next_touch(unseen_shift());  // nothing touches yet
     F_scale_ = balance_scale();
     target_ = std::max(rtol_, 1e-9) * F_scale_;
+    const Eigen::VectorXd start_mu = s_.mu_, start_lambda = lambda_, start_F = F_;
+    const Eigen::MatrixXd start_jacobian = s_.jacobian_;
+    const double start_inner_rtol = inner_rtol_;
     if (reach(F_) > target_) try_joint_newton();
+    step_on_mu();
+    // The joint steps' best iterate is a start the steps on μ may still fail from (a block on an
+    // incline at 1.02 times the friction it needs: 1.54% of the in-plane loads left unbalanced, where
+    // from the QP's own start they balance): then they go again from that start, as before.
+    if (from_joint_best_ && (inner_failed_ || reach(F_) > settled())) {
+      s_.mu_ = start_mu, lambda_ = start_lambda, F_ = start_F;
+      inner_rtol_ = start_inner_rtol;
+      inner_failed_ = fresh_jacobian_ = slow_full_step_ = searched_since_descent_ = false;
+      s_.jacobian_ = start_jacobian;
+      step_on_mu();
+    }
+    if (!inner_failed_ && reach(F_) > settled()) fall_back_to_augmented_lagrangian();
+    s_.set_linear_term(s_.h_ - s_.G_.transpose() * s_.mu_);  // the problem of the answer (for radius_sensitivity)
+    s_.equality_residual_ = F_.norm() / F_scale_;
+    if (inner_failed_)
+      total_.status = QpStatus::Breakdown;
+    else if (reach(F_) > settled())
+      total_.status = QpStatus::IterationLimit;
+    return total_;
+  }
+
+  // Newton steps on μ (the Jacobian measured, or Broyden-updated along accepted steps) from (μ, λ, F)
+  // until the loads are balanced to the target; ends at the least unbalanced iterate.
+  void step_on_mu() {
     if (s_.jacobian_.rows() != k_ && reach(F_) > target_) measure_jacobian();
     best_mu_ = s_.mu_, best_lambda_ = lambda_, best_F_ = F_;
     for (int step = 0; step < kMaxEqualitySteps && reach(F_) > target_ && !inner_failed_; ++step, remember_best()) {
@@ -310,14 +337,6 @@ class DualQpSolver::EqualitySolve {
       if (!tighten_inner_solves()) break;
     }
     if (reach(F_) > reach(best_F_) && !inner_failed_) s_.mu_ = best_mu_, lambda_ = best_lambda_, F_ = best_F_;
-    if (!inner_failed_ && reach(F_) > settled()) fall_back_to_augmented_lagrangian();
-    s_.set_linear_term(s_.h_ - s_.G_.transpose() * s_.mu_);  // the problem of the answer (for radius_sensitivity)
-    s_.equality_residual_ = F_.norm() / F_scale_;
-    if (inner_failed_)
-      total_.status = QpStatus::Breakdown;
-    else if (reach(F_) > settled())
-      total_.status = QpStatus::IterationLimit;
-    return total_;
   }
 
  private:
@@ -341,7 +360,8 @@ class DualQpSolver::EqualitySolve {
   // Newton steps on λ and μ together (equality_newton.hpp), where Q is dense and the QP takes Newton
   // steps: each costs a reduced factorization where a step on μ alone costs a whole QP solve. Taken
   // where they balance the loads with λ solving its QP (true); otherwise the steps on μ go on from
-  // where they were, the joint steps' work counted.
+  // where they were, or from the joint steps' best iterate where it is much better (its λ(μ) solved
+  // again), the joint steps' work counted.
   bool try_joint_newton() {
     const QpVariant variant = s_.settings_.variant;
     if (s_.qp_.matrix_free() || conditions_.cols() == 0 || !(variant == QpVariant::Auto || variant == QpVariant::Ssn))
@@ -357,7 +377,15 @@ class DualQpSolver::EqualitySolve {
     const EqualityNewtonResult joint = solve_equality_newton(
         problem, G, s_.e_, conditions_, scaled ? s_.jacobi_->to_scaled(lambda_) : lambda_, settings);
     add_counts(total_, joint.work);
-    if (!joint.converged) return false;
+    if (!joint.converged) {
+      if (joint.improved) {  // the steps on μ go on from its best iterate, λ(μ) solved there
+        from_joint_best_ = true;
+        s_.mu_ += joint.mu_shift;
+        lambda_ = scaled ? s_.jacobi_->from_scaled(joint.lambda) : joint.lambda;
+        F_ = balance_at(s_.mu_, lambda_);
+      }
+      return false;
+    }
     s_.mu_ += joint.mu_shift;
     lambda_ = scaled ? s_.jacobi_->from_scaled(joint.lambda) : joint.lambda;
     F_ = s_.G_ * lambda_ - s_.e_;
@@ -556,6 +584,7 @@ class DualQpSolver::EqualitySolve {
   bool slow_full_step_ = false;          // the last accepted step was a full one that cut ‖P F‖ less than tenfold
   bool fresh_jacobian_ = false;          // the Jacobian was measured since the last accepted step
   bool searched_since_descent_ = false;  // maximize_along taken since the last accepted step
+  bool from_joint_best_ = false;         // the steps on μ start from the joint steps' best iterate
   // The best iterate (least unbalanced) is what a solve that does not converge ends with: jumps to
   // the next touch may unbalance the loads for a while (the body tips onto another cell).
   Eigen::VectorXd best_mu_, best_lambda_, best_F_;

@@ -32,13 +32,16 @@ struct EqualityNewtonResult {
   Eigen::VectorXd lambda;    // feasible (projected), in the problem's variables
   Eigen::VectorXd mu_shift;  // δμ: the answer's multiplier is μ + δμ, the problem's linear term being h − Gᵀμ
   Eigen::MatrixXd response;  // G D Z at the last step (the equality loop's Jacobian is its negative)
-  QpResult work;             // Newton steps and products
+  // Not converged, but its least-merit iterate (then in lambda and mu_shift) has under a quarter of the
+  // start's merit: a start for the caller's own steps on μ, which would otherwise begin again from theirs.
+  bool improved = false;
+  QpResult work;  // Newton steps and products
 };
 
 // `problem`: the QP for the current μ (its linear term h − Gᵀμ), Jacobi-scaled or not; `G` (k × m) in
 // its variables; `conditions` C (k × r, orthonormal columns) the balance conditions to meet; `start` a
 // feasible λ. Converged when both tests of EqualityNewtonSettings hold; otherwise the caller keeps its
-// own iterate (the result is then only the work done).
+// own iterate, or takes the least-merit one where it is `improved`.
 EqualityNewtonResult solve_equality_newton(const BoxDiscQP& problem, const Eigen::MatrixXd& G, const Eigen::VectorXd& e,
                                            const Eigen::MatrixXd& conditions, const Eigen::VectorXd& start,
                                            const EqualityNewtonSettings& settings);
