@@ -87,7 +87,8 @@ TEST(EqualityNewton, MeetsOnlyTheKeptConditions) {
 }
 
 // Loads the constraint set cannot balance (the lift pulls the body down: every normal entry of the
-// row positive, e negative): no convergence is claimed.
+// row positive, e negative): no convergence is claimed, and no best iterate is handed over (every
+// step leaves the loads as unbalanced as the start: the caller keeps its own iterate).
 TEST(EqualityNewton, UnbalancedLoadsAreNotReportedAsConverged) {
   EqualityCase c = make_case(5);
   c.e[0] = -1e6;
@@ -98,31 +99,17 @@ TEST(EqualityNewton, UnbalancedLoadsAreNotReportedAsConverged) {
       solve_equality_newton(c.rq.qp, c.G, c.e, Eigen::MatrixXd::Identity(2, 2), mpgp_solution(c.rq.qp), settings);
   EXPECT_FALSE(result.converged);
   EXPECT_GT(result.work.newton_steps, 0);
+  EXPECT_FALSE(result.improved);
 }
 
 // A tolerance below rounding (nothing can meet rtol = 1e-20 with the balance exactly zero): once the
 // active sets settle, a step solves the same linear system again, so the steps are given up after a
 // few that do not halve the merit — not after twenty, each a new least value by rounding (a pressed
-// plate held by contact alone spent 1 587 products so, kMaxSettledStepsWithoutProgress).
-TEST(EqualityNewton, GivesUpSoonOnceTheActiveSetsSettleAtRounding) {
-  for (unsigned seed = 1; seed <= 4; ++seed) {
-    EqualityCase c = make_case(seed);
-    EqualityNewtonSettings settings;
-    settings.rtol = 1e-20;
-    settings.balance_target = 0;
-    const EqualityNewtonResult result =
-        solve_equality_newton(c.rq.qp, c.G, c.e, Eigen::MatrixXd::Identity(2, 2), mpgp_solution(c.rq.qp), settings);
-    EXPECT_FALSE(result.converged) << "seed " << seed;
-    EXPECT_GT(result.work.newton_steps, 1) << "seed " << seed;
-    EXPECT_LE(result.work.newton_steps, 10) << "seed " << seed;
-  }
-}
-
-// Steps given up short of an unreachable tolerance hand over their least-merit iterate (`improved`):
-// it balances the loads and solves the QP for its shifted linear term, so the caller's steps on μ go on
-// from there instead of from the start (a free plate with 13 467 multipliers: 812 s → 33 s for its
-// frictionless solve, model of this test the active sets flipping at rounding).
-TEST(EqualityNewton, StepsGivenUpHandOverTheirBestIterate) {
+// plate held by contact alone spent 1 587 products so, kMaxSettledStepsWithoutProgress). Given up,
+// they hand over their least-merit iterate (`improved`): it balances the loads and solves the QP for
+// its shifted linear term, so the caller's steps on μ go on from there instead of from the start (a
+// free plate with 13 467 multipliers whose active sets flipped at its zone's edge: 812 s → 33 s).
+TEST(EqualityNewton, GivesUpSoonOnceTheActiveSetsSettleAtRoundingAndHandsOverItsBest) {
   for (unsigned seed = 1; seed <= 4; ++seed) {
     EqualityCase c = make_case(seed);
     EqualityNewtonSettings settings;
@@ -131,7 +118,9 @@ TEST(EqualityNewton, StepsGivenUpHandOverTheirBestIterate) {
     const Eigen::VectorXd start = mpgp_solution(c.rq.qp);
     const EqualityNewtonResult result =
         solve_equality_newton(c.rq.qp, c.G, c.e, Eigen::MatrixXd::Identity(2, 2), start, settings);
-    ASSERT_FALSE(result.converged) << "seed " << seed;
+    EXPECT_FALSE(result.converged) << "seed " << seed;
+    EXPECT_GT(result.work.newton_steps, 1) << "seed " << seed;
+    EXPECT_LE(result.work.newton_steps, 10) << "seed " << seed;
     ASSERT_TRUE(result.improved) << "seed " << seed;
     EXPECT_TRUE(is_feasible(c.rq.qp, result.lambda));
     EXPECT_LT((c.G * result.lambda - c.e).norm(), 1e-8 * (c.G * start - c.e).norm()) << "seed " << seed;
@@ -140,18 +129,4 @@ TEST(EqualityNewton, StepsGivenUpHandOverTheirBestIterate) {
     const Eigen::VectorXd independent = mpgp_solution(shifted);
     EXPECT_LT((result.lambda - independent).norm(), 1e-7 * independent.norm()) << "seed " << seed;
   }
-}
-
-// A start that nothing improves on is not handed over: the loads pull the body off, every step
-// leaves them as unbalanced, and the caller keeps its own iterate.
-TEST(EqualityNewton, NoBestIterateWhereNothingImproves) {
-  EqualityCase c = make_case(5);
-  c.e[0] = -1e6;
-  EqualityNewtonSettings settings;
-  settings.rtol = 1e-10;
-  settings.balance_target = 1e-9;
-  const EqualityNewtonResult result =
-      solve_equality_newton(c.rq.qp, c.G, c.e, Eigen::MatrixXd::Identity(2, 2), mpgp_solution(c.rq.qp), settings);
-  EXPECT_FALSE(result.converged);
-  EXPECT_FALSE(result.improved);
 }
