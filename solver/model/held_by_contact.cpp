@@ -9,7 +9,11 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "contact/contact_operator.hpp"
+#include "contact/partition.hpp"
+#include "friction/tresca_step.hpp"
 #include "model/solution_checks.hpp"
+#include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
 

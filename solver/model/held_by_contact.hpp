@@ -21,16 +21,17 @@
 #include <Eigen/SparseCore>
 
 #include "base/errors.hpp"
-#include "contact/contact_operator.hpp"
 #include "contact/foundation_frame.hpp"
-#include "contact/partition.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
-#include "friction/tresca_step.hpp"
 #include "mesh/mesh.hpp"
-#include "qp/dual_qp_solver.hpp"
 
 namespace contact3d {
+
+struct ContactOperator;
+struct Partition;
+class DualQpSolver;
+class TrescaStep;
 
 // The free motions of one connected part of the mesh (the whole body when the mesh is one part):
 // a mesh of several disconnected parts (no node shared) has each part's own rigid motions.

@@ -134,7 +134,7 @@ double largest_deformation(const Mesh& mesh, const DofMap& dofs, const Eigen::Ve
 // times" past 1000%.
 std::string share_of_displacement(double ratio) {
   const double percent = 100 * ratio;
-  if (ratio > 10) return number(ratio, 2) + " times";
+  if (!(ratio <= 10)) return number(ratio, 2) + " times";  // NaN too: lround would not print it
   return (percent < 10 ? number(percent, 2) : std::to_string(std::lround(percent))) + "% of";
 }
 

@@ -3,6 +3,7 @@
 // the body's deformation with its rigid motion taken out.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,7 @@ TEST(SolutionChecks, PenetrationShareIsAPercentUpToTenfoldThenAFactor) {
   EXPECT_EQ(share_of_displacement(1.5), "150% of");  // not "1.5e+02% of"
   EXPECT_EQ(share_of_displacement(10), "1000% of");
   EXPECT_EQ(share_of_displacement(3.1e5), "3.1e+05 times");
+  EXPECT_EQ(share_of_displacement(std::nan("")), "nan times");  // printed, not a rounded garbage percent
 }
 
 TEST(SolutionChecks, DeformationLeavesOutTheRigidMotionsItIsGiven) {
