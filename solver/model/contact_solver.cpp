@@ -139,6 +139,23 @@ void require_free_contact_rows(const ContactOperator& op, const Partition& part)
   }
 }
 
+// A cell as large as the whole face (a length meant in another unit, or "20h" on a small face): the
+// contact then holds only as the face's average — one normal and one friction force for all of Γc —
+// and the run would converge to that without a word. Faces of a handful of nodes are left alone.
+void warn_if_one_cell_covers_the_face(SolveResult& res, const std::string& unit) {
+  constexpr std::size_t kFewNodes = 9;
+  if (res.partition.cells.size() != 1 || res.face.nodes.size() <= kFewNodes) return;
+  const Eigen::Vector2d extent = res.face.hi - res.face.lo;
+  const double ratio = res.cell_size / extent.maxCoeff();
+  res.warnings.push_back("contact.cell_size: one cell of H = " + number(res.cell_size, 3) + " " + unit +
+                         " covers the whole contact face (" + number(extent.x(), 3) + " x " + number(extent.y(), 3) +
+                         " " + unit + (ratio >= 2 ? ", " + number(ratio, 2) + " times its extent" : std::string()) +
+                         ", " + count(static_cast<long long>(res.face.nodes.size())) +
+                         " contact nodes): non-penetration and friction hold only as the face's averages, so nodes "
+                         "may penetrate and the contact pressure is one value; the method wants cells of about 2h "
+                         "(contact.cell_size = \"auto\", the default)");
+}
+
 // Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
 ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult& res) {
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
@@ -156,6 +173,7 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   cells.per_element_size = scene.cell_size_relative ? scene.cell_size : 0.0;
   cells.length_unit = unit_labels(scene.output.units).length;
   res.partition = make_grid_partition(mesh, res.face, cells, contact_triangle_regions(scene, mesh, res.face));
+  warn_if_one_cell_covers_the_face(res, cells.length_unit);
   ContactOperator op = make_contact_operator(res.face, res.partition, res.dofs, !scene.frictionless());
   res.n_cells = op.r;
   res.n_dual = op.rows();
@@ -557,7 +575,7 @@ namespace {
 
 void describe_contact(Progress& report, const SolveResult& res, const ContactOperator& op) {
   report.stage("contact: " + count(res.face.triangles.size()) + " triangles and " + count(res.face.nodes.size()) +
-               " nodes on Γc; " + count(op.r) + " cells of T_H (" + cell_sizes(res) +
+               " nodes on Γc; " + count(op.r) + (op.r == 1 ? " cell" : " cells") + " of T_H (" + cell_sizes(res) +
                describe_regions(res.partition.regions) + "), " + count(op.rows()) + " multipliers");
 }
 

@@ -752,6 +752,16 @@ TEST(SolveContactGeometry, ModulusStifferThanAnySolidIsWarnedAboutWithItsUnit) {
       mentions(solve_text({"output.units=\"mm-N-MPa\"", "material.young=2.119e5"}).warnings, "stiffer than any"));
 }
 
+// contact.cell_size = 5 on the paper's brick (its face about 1 x 3): the face is one cell, the contact
+// one average, and the run says so with the ratio; the default cells (2h) get no such warning.
+TEST(SolveContactGeometry, OneCellOverTheWholeFaceIsWarnedAbout) {
+  const SolveResult one_cell = solve_text({"contact.cell_size=5.0"});
+  ASSERT_EQ(one_cell.n_cells, 1);
+  EXPECT_TRUE(mentions(one_cell.warnings, "one cell of H = 5 m covers the whole contact face"))
+      << ::testing::PrintToString(one_cell.warnings);
+  EXPECT_FALSE(mentions(solve_text().warnings, "covers the whole contact face"));
+}
+
 // The paper's loads written in MPa (10, 20, -30) with young still in Pa: strains of about 1e-12, a
 // million times too small, get a note; the paper's loads in Pa (largest strain about 2e-4) none.
 TEST(SolveContactGeometry, StrainFarTooSmallIsNotedAsAPossibleUnitSlip) {
