@@ -67,6 +67,7 @@ from oracle.errors import SideFailed, children_cpu, finite_or_fail, log
 from oracle.meshes import make_mesh, read_mesh, write_moved_mesh
 from oracle.laws import expand_variants, law_F, law_label, perturb_law, scene_law_depends_on_slip, slipdep_law, variant_friction
 from oracle.freefem import ff_checks, freefem_driver, run_freefem, toml_dump
+from oracle.held_motions import motions_held_by_friction_alone
 from oracle.compare import body_difference, compare, read_csv, read_vtu_points_and_displacement
 
 REPO = Path(__file__).resolve().parent.parent
@@ -282,6 +283,13 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
             prob["displacement"] = [(t, mask, val, [0.0] * 9) for t, mask, val, _ in prob["displacement"]]
         else:
             prob[feature] = []
+    sliding = motions_held_by_friction_alone(mesh, prob)
+    if sliding:
+        raise SideFailed(f"{scene_path}: the FreeFEM reference cannot hold {' and '.join(sliding)}: the prescribed "
+                         "conditions leave it free and it moves no contact node along the foundation's normal, so "
+                         "only friction holds it (or nothing), and the reference's frictionless Newton start is "
+                         "singular; contact3d solves such a body on its own (`contact3d solve`), the cross-check "
+                         "needs a condition holding that motion (e.g. a symmetry plane)")
     case = {"scene": name, "n": params.get("n"), "variant": variant,
             "mesh_label": mesh_label(n if n is not None else params.get("n")), "friction": label, "slip_bound_s": s,
             "ff_law": ff_law,

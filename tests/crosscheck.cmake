@@ -229,3 +229,14 @@ add_test(NAME crosscheck_tilted_twisted_puck_detects_dropped_gradients
 set_tests_properties(crosscheck_tilted_twisted_puck_detects_dropped_gradients PROPERTIES TIMEOUT 120 LABELS crosscheck
   PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: twisted_puck_tilted scene coulomb: relative L2\\(Gc\\) difference of u .* exceeds tolerance"
   FAIL_REGULAR_EXPRESSION "error:")
+
+# A body whose slide along the foundation only friction holds (tests/scenes/brick_free_to_slide.toml:
+# the brick's end on a roller) is refused before FreeFEM runs — its frictionless Newton start would
+# be singular and spend its 100 steps failing (a cylinder of 5 000 nodes: 75 s) — with the motion named.
+add_test(NAME crosscheck_refuses_a_body_held_by_friction_alone
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d>
+          --scene ${CMAKE_SOURCE_DIR}/tests/scenes/brick_free_to_slide.toml --variant frictionless
+          --workdir ${CONTACT3D_CC_WORK}/free-to-slide --report ${CONTACT3D_CC_WORK}/free-to-slide.md)
+set_tests_properties(crosscheck_refuses_a_body_held_by_friction_alone PROPERTIES TIMEOUT 60 LABELS crosscheck
+  PASS_REGULAR_EXPRESSION "the FreeFEM reference cannot hold a translation along \\(0, 1, 0\\)"
+  FAIL_REGULAR_EXPRESSION "FreeFEM: [0-9]+ Newton steps")
