@@ -128,6 +128,7 @@ void write_work(JsonWriter& j, const SolveResult& res) {
       .value("qp_iterations", res.qp_iterations)
       .value("qp_newton_steps", res.qp_newton_steps)
       .value("qp_newton_steps_bordered", res.qp_bordered_newton_steps)
+      .value("qp_rounding_stops", res.qp_rounding_stops)
       .value("qp_bordered_factor_in_double", res.qp_bordered_factor_in_double)
       .value("qp_single_products", res.qp_single_products)
       .value("qp_coarse_products", res.qp_coarse_products);

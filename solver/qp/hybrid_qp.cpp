@@ -24,6 +24,12 @@ bool NewtonRoundGate::admit(double pg) {
   return true;
 }
 
+bool RoundingFloor::reached(double pg, double rtol) {
+  const bool stalled = pg <= kRoundingSlack * rtol && pg > kRoundGain * best_round_end_;
+  best_round_end_ = std::min(best_round_end_, pg);
+  return stalled;
+}
+
 int default_window(const BoxDiscQP& qp) {
   return qp.matrix_free() ? kMinWindow : std::max(kMinWindow, qp.size() / 256);
 }
@@ -40,6 +46,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
   ++total.hessian_products;
   NewtonRoundGate newton_rounds(qp.matrix_free() || qp.has_low_rank() ? std::numeric_limits<int>::max()
                                                                       : settings.max_newton_rounds);
+  RoundingFloor floor;
   while (total.iterations < settings.max_iterations) {
     MpgpSettings mpgp;
     mpgp.rtol = settings.rtol;
@@ -57,6 +64,11 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
       ssn.damped_step_budget = window;  // a damped step must not cost more than an MPGP window
       add_work(total, solve_ssn(qp, lambda, ssn));
       if (total.status == QpStatus::Converged) return total;
+      if (floor.reached(total.projected_gradient, settings.rtol)) {
+        total.status = QpStatus::Converged;
+        ++total.rounding_stops;
+        return total;
+      }
     }
     pg_before = total.projected_gradient;
   }

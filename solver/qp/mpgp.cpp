@@ -238,6 +238,7 @@ void add_counts(QpResult& total, const QpResult& part) {
   total.newton_steps += part.newton_steps;
   total.bordered_steps += part.bordered_steps;
   total.coarse_products += part.coarse_products;
+  total.rounding_stops += part.rounding_stops;
 }
 
 }  // namespace contact3d

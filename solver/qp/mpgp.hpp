@@ -53,6 +53,7 @@ struct QpResult {
   int bordered_steps = 0;         // of which solved through the factor of Q (bordered_newton.hpp)
   int coarse_products = 0;        // of the products, columns of blocked solves for the two-level CG (reduced_cg.hpp)
   double projected_gradient = 0;  // final ‖gᴾ‖ / ‖h‖
+  int rounding_stops = 0;         // solves stopped at their rounding floor, a little above rtol (hybrid_qp.hpp)
 };
 
 // For a solve made of several: adds `part`'s counts to `total` and takes its status and final gradient.

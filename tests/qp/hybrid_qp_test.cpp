@@ -184,3 +184,45 @@ TEST(HybridQp, IllConditionedQpToATightToleranceTakesFurtherNewtonRounds) {
   }
   EXPECT_EQ(converged, 6);
 }
+
+TEST(HybridQp, RoundingFloorIsTwoNewtonRoundsEndingAtTheSameLevelNearTheTarget) {
+  RoundingFloor floor;
+  EXPECT_FALSE(floor.reached(1.04e-12, 1e-12));  // one round: nothing to compare with
+  EXPECT_TRUE(floor.reached(1.03e-12, 1e-12));   // the next one no lower: the floor
+  RoundingFloor converging;
+  EXPECT_FALSE(converging.reached(8e-12, 1e-12));
+  EXPECT_FALSE(converging.reached(3e-12, 1e-12));  // each round lower: not a floor
+  EXPECT_FALSE(converging.reached(1.5e-12, 1e-12));
+  RoundingFloor far_above;
+  EXPECT_FALSE(far_above.reached(1e-9, 1e-12));
+  EXPECT_FALSE(far_above.reached(1e-9, 1e-12));  // stalled, but far from the target: not accepted
+}
+
+TEST(HybridQp, ATargetBelowRoundingStopsAtTheFloorWithTheSameMinimiser) {
+  // The QP of the test above asked 1e-16, below what its products and Newton systems resolve:
+  // MPGP's windows would wait for a dip of the noise; the hybrid stops where two Newton rounds end
+  // at the same level (within ten times the target) and says so in rounding_stops.
+  constexpr int m = 400;
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    RandomQp a = make_random_qp(m, false, seed, -100, 1e-7);
+    Eigen::VectorXd solution(m), gradient = Eigen::VectorXd::Zero(m);
+    for (int i = 0; i < m; ++i) {
+      solution[i] = i % 4 < 2 ? 1.0 + 0.1 * (i % 3) : 0.0;
+      if (i % 4 == 2) gradient[i] = 0.5;
+    }
+    a.qp.h = a.Q * solution - gradient;
+    a.qp.Q = &a.Q;
+    a.qp.q_norm = 1.05 * estimate_norm(a.Q);
+    Eigen::VectorXd lambda;
+    HybridSettings hs;
+    hs.rtol = 1e-16;
+    hs.window = 1;
+    hs.max_iterations = 3000;
+    const QpResult r = solve_hybrid(a.qp, lambda, hs);
+    EXPECT_EQ(r.status, QpStatus::Converged) << "seed " << seed;
+    EXPECT_EQ(r.rounding_stops, 1) << "seed " << seed;
+    EXPECT_LE(r.projected_gradient, RoundingFloor::kRoundingSlack * hs.rtol) << "seed " << seed;
+    EXPECT_LT((lambda - solution).norm(), 1e-13 * solution.norm()) << "seed " << seed;
+    EXPECT_TRUE(is_feasible(a.qp, lambda)) << "seed " << seed;
+  }
+}
