@@ -2,7 +2,8 @@
 """Tests `contact3d check` on a good scene with the committed MSH 2.2 fixture: exit 0, every
 physical group listed with its dimension and element count (counted independently here from
 the file), the tet quality line with a number in (0, 1], the contact face summary with its initial gap (none on
-the plane; 0.5 m with the plane lowered by contact.plane_point) and "ok"."""
+the plane; 0.5 m with the plane lowered by contact.plane_point, said to start above it; 1e-9 m, rounding,
+not said to) and "ok"."""
 import argparse
 import os
 import re
@@ -59,6 +60,9 @@ p = subprocess.run([a.bin, "check", scene.name], capture_output=True, text=True,
 # The same scene on a plane 0.5 m below the body: the whole contact face starts above it.
 lowered = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_point=[0, 0, -0.5]"],
                          capture_output=True, text=True, timeout=60)
+# A plane 1e-9 m below: a face that touches up to rounding (a meshed cylinder's tangent line) rests on it.
+grazing = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_point=[0, 0, -1e-9]"],
+                         capture_output=True, text=True, timeout=60)
 os.unlink(scene.name)
 out = p.stdout
 print(out, p.stderr)
@@ -80,6 +84,8 @@ if not re.search(r"contact face: \d+ triangles, \d+ contact nodes.*; on the foun
 if lowered.returncode != 0 or not re.search(
         r"contact face: .*; initial gap 0\.5 to 0\.5 m \(the whole face starts above the plane", lowered.stdout):
     problems.append(f"the face 0.5 m above a lowered plane is not said: exit {lowered.returncode}, {lowered.stdout}")
+if grazing.returncode != 0 or "initial gap 1e-09 to 1e-09 m" not in grazing.stdout or "starts above" in grazing.stdout:
+    problems.append(f"a face 1e-9 m above the plane (rounding) is said to start above it: {grazing.stdout}")
 # The dual a solve would form: 3 multipliers per cell with friction, and the dense route on a face this small.
 m = re.search(r"^dual: (\d+) cells \(H = [0-9.eE+-]+ m\), (\d+) multipliers; the dense Q with its working copies "
               r"[0-9.eE+-]+ [MG]iB, [0-9.eE+-]+ [MG]iB available: solver.schur = \"augmented\"$", out, re.M)

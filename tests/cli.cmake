@@ -229,6 +229,10 @@ set_tests_properties(prints_ratio_to_one_factorization PROPERTIES PASS_REGULAR_E
 # same answer less 1 mm along z, and a note saying so.
 add_test(NAME held_body_starting_above_the_plane
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/held_body_with_gap.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+# A body held by contact alone twisted to 97% of its friction's hold converges by default, its friction
+# torque the applied one (an accelerated input the QP cannot solve restarts from the plain step).
+add_test(NAME twisted_cross_held_by_friction_near_its_limit
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/twisted_cross.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 # An independent implementation of the same discrete problem (pipeline/discrete_oracle.py, Python and
 # scipy, no code shared with the solver) agrees with contact3d to 1e-6 (they meet at 1e-9 … 1e-12) on an
 # end moved along Γc (partly and wholly prescribed), capblock's many features, clipped cells, a body

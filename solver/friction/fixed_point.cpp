@@ -466,7 +466,10 @@ class FixedPointRun {
       const double rtol_k = step_tolerance(k, exact_k);
       const SlipEvaluation eval = G_(x_, rtol_k);
       const FixedPointStep step = record(k, eval, rtol_k, t0);
-      if (!eval.ok) return finish(FixedPointStatus::InnerSolverFailed);
+      if (!eval.ok) {
+        if (!restart_after_unsolvable_input(k)) return finish(FixedPointStatus::InnerSolverFailed);
+        continue;
+      }
       if (step.err <= settings_.tol) {
         if (accepted_as_converged(rtol_k, exact_k)) return finish(FixedPointStatus::Converged);
         made_by_ = FixedPointUpdate::Repeat;  // the same x again, with a tighter QP
@@ -574,6 +577,25 @@ class FixedPointRun {
     result_.plain_fallback_step = k;
     best_err_ = INFINITY;
     return false;
+  }
+
+  // A step whose input an acceleration made (relaxed, Newton, mixed, predicted) and whose QP failed:
+  // the input, off the map's own iterates, asked what no contact force can give — on a body held by
+  // contact alone under Coulomb's law, radii F·λ_n from an extrapolated pressure whose friction
+  // cannot hold the loads' turn (a cross-shaped block twisted to 97% of its capacity: a predicted
+  // input left 7.97% of the torque unbalanced, where the plain steps converge in 14). The run goes on
+  // with the paper's plain step from the last input that solved, x = G(x_prev), and plain steps from
+  // there (plain_fallback_step); false where there is no such input (the failure is the map's own).
+  bool restart_after_unsolvable_input(int k) {
+    const bool accelerated_input = made_by_ == FixedPointUpdate::Relaxed || made_by_ == FixedPointUpdate::Newton ||
+                                   made_by_ == FixedPointUpdate::Mixed || made_by_ == FixedPointUpdate::Predicted;
+    if (!accelerated_input || previous_gx_.size() != x_.size() || result_.plain_fallback_step > 0) return false;
+    residuals_.pop_back();  // the failed solve's G(x) − x says nothing of the map
+    step_lengths_.pop_back();
+    x_ = previous_gx_;
+    result_.plain_fallback_step = k;
+    made_by_ = FixedPointUpdate::Restart;
+    return true;
   }
 
   // The next input x from x_k and G(x_k), by the variant's update; made_by_ says which.

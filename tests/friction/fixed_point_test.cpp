@@ -709,5 +709,49 @@ TEST(FixedPoint, FinalStepQpToleranceIsBoundedOnBothSides) {
   EXPECT_DOUBLE_EQ(final_step_qp_rtol(s, 1e-6), 1e-6);
 }
 
+// An input that no solve can take (Coulomb's radii from an extrapolated pressure that cannot hold a
+// twisted body held by contact alone): the map fails on the first input an acceleration made, which
+// is not a plain iterate G(x) of the last input that solved. The run goes on from that plain iterate
+// with plain steps and reaches the plain run's fixed point; a failure on a plain input still ends it.
+TEST(FixedPoint, AnAcceleratedInputThatCannotBeSolvedRestartsFromThePlainStep) {
+  const int n = 30;
+  const SlipMap front = jump_front(n);
+  struct Watch {
+    Eigen::VectorXd last_plain;  // G of the last input that solved
+    int failures = 0;
+  };
+  auto watch = std::make_shared<Watch>();
+  SlipMap fails_off_the_plain_iterates = [front, watch](const Eigen::VectorXd& phi, double rtol) {
+    const bool plain_input = phi.isZero(0) || (watch->last_plain.size() && phi == watch->last_plain);
+    if (!plain_input && watch->failures == 0) {
+      ++watch->failures;
+      SlipEvaluation failed;
+      failed.ok = false;
+      failed.slip = phi;
+      return failed;
+    }
+    SlipEvaluation e = front(phi, rtol);
+    watch->last_plain = e.slip;
+    return e;
+  };
+  const FixedPointResult plain = solve_fixed_point(front, n, settings(FixedPointVariant::Plain), 1e-6);
+  const FixedPointResult r =
+      solve_fixed_point(fails_off_the_plain_iterates, n, settings(FixedPointVariant::Accelerated), 1e-6);
+  ASSERT_EQ(watch->failures, 1);
+  ASSERT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_EQ(steps_made_by(r, FixedPointUpdate::Restart), 1);
+  EXPECT_GT(r.plain_fallback_step, 0);
+  EXPECT_LT((r.phi - plain.phi).lpNorm<Eigen::Infinity>(), 1e-12);
+
+  // The map failing on its very first plain input: nothing to restart from.
+  SlipMap fails_at_once = [front](const Eigen::VectorXd& phi, double rtol) {
+    SlipEvaluation e = front(phi, rtol);
+    e.ok = phi.isZero(0);
+    return e;
+  };
+  EXPECT_EQ(solve_fixed_point(fails_at_once, n, settings(FixedPointVariant::Accelerated), 1e-6).status,
+            FixedPointStatus::InnerSolverFailed);
+}
+
 }  // namespace
 }  // namespace contact3d
