@@ -395,6 +395,16 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
              "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
              "friction (friction.slip_bound, friction.model) and the loads' directions");
   }
+  // No cell presses at all: the loads lift the whole body off (a pull on its top, as plain as that),
+  // said before the list of causes that fit a body that does touch.
+  const bool lifted_off =
+      !tresca.history().empty() && op.r > 0 && !(tresca.history().back().lambda.head(op.r).maxCoeff() > 0);
+  if (lifted_off)
+    refuse("the body is held by contact alone (nothing prescribed holds " + held.describe() +
+           "), and the loads lift it off the foundation: no cell presses (" + unbalanced +
+           "); the contact can only push, so loads that pull the body off the plane have nothing to balance "
+           "them — check the loads' directions and signs (a pressure is positive into the "
+           "body), or prescribe that motion (boundary.displacement)");
   refuse("the body is held by contact alone (nothing prescribed holds " + held.describe() +
          "), but no contact forces balance the loads along it (" + unbalanced +
          "): the loads pull the body off the foundation or tip it over an edge of the "
