@@ -44,6 +44,35 @@ QpResult solve_and_compare(unsigned seed, int size, bool friction, int window) {
   return r;
 }
 
+// Q of rank deficiency 100 shifted by 1e-7 (cond about 1e10), m = 400, h made so that `solution` is
+// the minimiser with a quarter of the multipliers degenerate (λ_i = 0 with a zero gradient), solved by
+// the hybrid from zero at `rtol`, one-iteration MPGP windows, at most 3 000 iterations.
+struct DegenerateSolve {
+  QpResult result;
+  Eigen::VectorXd lambda, solution;
+  bool feasible = false;
+};
+DegenerateSolve solve_degenerate_ill_conditioned(unsigned seed, double rtol) {
+  constexpr int m = 400;
+  RandomQp a = make_random_qp(m, false, seed, -100, 1e-7);
+  DegenerateSolve out;
+  out.solution.resize(m);
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(m);
+  for (int i = 0; i < m; ++i) {
+    out.solution[i] = i % 4 < 2 ? 1.0 + 0.1 * (i % 3) : 0.0;
+    if (i % 4 == 2) gradient[i] = 0.5;
+  }
+  a.qp.h = a.Q * out.solution - gradient;
+  a.use_operator();
+  HybridSettings hs;
+  hs.rtol = rtol;
+  hs.window = 1;
+  hs.max_iterations = 3000;
+  out.result = solve_hybrid(a.qp, out.lambda, hs);
+  out.feasible = is_feasible(a.qp, out.lambda);
+  return out;
+}
+
 }  // namespace
 
 TEST(HybridQp, MatchesMpgpOnRandomQps) {
@@ -155,32 +184,16 @@ TEST(HybridQp, NewtonRoundsBeyondTheFreeOnesOnlyWhileTheyConverge) {
 }
 
 TEST(HybridQp, IllConditionedQpToATightToleranceTakesFurtherNewtonRounds) {
-  // Q of rank deficiency 100 shifted by 1e-7 (cond about 1e10), rtol 1e-12 (what the equality loop
-  // of a body held by contact alone asks) and a quarter of the multipliers degenerate (λ_i = 0 with a
-  // zero gradient), which Newton settles a few at a time. With at most three Newton rounds, MPGP
+  // solve_degenerate_ill_conditioned at rtol 1e-12 (what the equality loop of a body held by contact
+  // alone asks): its degenerate multipliers Newton settles a few at a time. With at most three Newton rounds, MPGP
   // alone crawled after them: 2 of these 6 stopped at 3 000 iterations, ‖gᴾ‖ 3e-12 and 2e-9.
   // Further rounds, each starting lower, finish all six.
-  constexpr int m = 400;
   int converged = 0;
   for (unsigned seed = 1; seed <= 6; ++seed) {
-    RandomQp a = make_random_qp(m, false, seed, -100, 1e-7);
-    Eigen::VectorXd solution(m), gradient = Eigen::VectorXd::Zero(m);
-    for (int i = 0; i < m; ++i) {
-      solution[i] = i % 4 < 2 ? 1.0 + 0.1 * (i % 3) : 0.0;
-      if (i % 4 == 2) gradient[i] = 0.5;
-    }
-    a.qp.h = a.Q * solution - gradient;
-    a.qp.Q = &a.Q;
-    a.qp.q_norm = 1.05 * estimate_norm(a.Q);
-    Eigen::VectorXd lambda;
-    HybridSettings hs;
-    hs.rtol = 1e-12;
-    hs.window = 1;
-    hs.max_iterations = 3000;
-    const QpResult r = solve_hybrid(a.qp, lambda, hs);
-    converged += r.status == QpStatus::Converged;
-    EXPECT_LT((lambda - solution).norm(), 1e-10 * solution.norm()) << "seed " << seed;
-    EXPECT_TRUE(is_feasible(a.qp, lambda)) << "seed " << seed;
+    const DegenerateSolve d = solve_degenerate_ill_conditioned(seed, 1e-12);
+    converged += d.result.status == QpStatus::Converged;
+    EXPECT_LT((d.lambda - d.solution).norm(), 1e-10 * d.solution.norm()) << "seed " << seed;
+    EXPECT_TRUE(d.feasible) << "seed " << seed;
   }
   EXPECT_EQ(converged, 6);
 }
@@ -202,27 +215,12 @@ TEST(HybridQp, ATargetBelowRoundingStopsAtTheFloorWithTheSameMinimiser) {
   // The QP of the test above asked 1e-16, below what its products and Newton systems resolve:
   // MPGP's windows would wait for a dip of the noise; the hybrid stops where two Newton rounds end
   // at the same level (within ten times the target) and says so in rounding_stops.
-  constexpr int m = 400;
   for (unsigned seed = 1; seed <= 6; ++seed) {
-    RandomQp a = make_random_qp(m, false, seed, -100, 1e-7);
-    Eigen::VectorXd solution(m), gradient = Eigen::VectorXd::Zero(m);
-    for (int i = 0; i < m; ++i) {
-      solution[i] = i % 4 < 2 ? 1.0 + 0.1 * (i % 3) : 0.0;
-      if (i % 4 == 2) gradient[i] = 0.5;
-    }
-    a.qp.h = a.Q * solution - gradient;
-    a.qp.Q = &a.Q;
-    a.qp.q_norm = 1.05 * estimate_norm(a.Q);
-    Eigen::VectorXd lambda;
-    HybridSettings hs;
-    hs.rtol = 1e-16;
-    hs.window = 1;
-    hs.max_iterations = 3000;
-    const QpResult r = solve_hybrid(a.qp, lambda, hs);
-    EXPECT_EQ(r.status, QpStatus::Converged) << "seed " << seed;
-    EXPECT_EQ(r.rounding_stops, 1) << "seed " << seed;
-    EXPECT_LE(r.projected_gradient, RoundingFloor::kRoundingSlack * hs.rtol) << "seed " << seed;
-    EXPECT_LT((lambda - solution).norm(), 1e-13 * solution.norm()) << "seed " << seed;
-    EXPECT_TRUE(is_feasible(a.qp, lambda)) << "seed " << seed;
+    const DegenerateSolve d = solve_degenerate_ill_conditioned(seed, 1e-16);
+    EXPECT_EQ(d.result.status, QpStatus::Converged) << "seed " << seed;
+    EXPECT_EQ(d.result.rounding_stops, 1) << "seed " << seed;
+    EXPECT_LE(d.result.projected_gradient, RoundingFloor::kRoundingSlack * 1e-16) << "seed " << seed;
+    EXPECT_LT((d.lambda - d.solution).norm(), 1e-13 * d.solution.norm()) << "seed " << seed;
+    EXPECT_TRUE(d.feasible) << "seed " << seed;
   }
 }
