@@ -397,9 +397,7 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
   }
   // No cell presses at all: the loads lift the whole body off (a pull on its top, as plain as that),
   // said before the list of causes that fit a body that does touch.
-  const bool lifted_off =
-      !tresca.history().empty() && op.r > 0 && !(tresca.history().back().lambda.head(op.r).maxCoeff() > 0);
-  if (lifted_off)
+  if (!tresca.history().empty() && pressed_cells(partition, tresca) == 0)
     refuse("the body is held by contact alone (nothing prescribed holds " + held.describe() +
            "), and the loads lift it off the foundation: no cell presses (" + unbalanced +
            "); the contact can only push, so loads that pull the body off the plane have nothing to balance "

@@ -65,9 +65,15 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
       add_work(total, solve_ssn(qp, lambda, ssn));
       if (total.status == QpStatus::Converged) return total;
       if (floor.reached(total.projected_gradient, settings.rtol)) {
-        total.status = QpStatus::Converged;
-        ++total.rounding_stops;
-        return total;
+        // A round that ends on its slow steps reports the ‖gᴾ‖ from before its last step: the stop is
+        // judged at the λ handed back.
+        total.projected_gradient = relative_projected_gradient(qp, lambda, h_norm);
+        ++total.hessian_products;
+        if (total.projected_gradient <= RoundingFloor::kRoundingSlack * settings.rtol) {
+          total.status = QpStatus::Converged;
+          ++total.rounding_stops;
+          return total;
+        }
       }
     }
     pg_before = total.projected_gradient;
