@@ -233,6 +233,11 @@ add_test(NAME held_body_starting_above_the_plane
 # torque the applied one (an accelerated input the QP cannot solve restarts from the plain step).
 add_test(NAME twisted_cross_held_by_friction_near_its_limit
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/twisted_cross.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+# Friction at (and just above) its limit along a slide only friction holds is said: a brick on a 20°
+# incline with F = tan 20°, 1.0001 tan 20° and 1.05 tan 20°, the share of friction's hold against the
+# one its cells give.
+add_test(NAME friction_at_its_limit_is_said
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/friction_limit.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 # An independent implementation of the same discrete problem (pipeline/discrete_oracle.py, Python and
 # scipy, no code shared with the solver) agrees with contact3d to 1e-6 (they meet at 1e-9 … 1e-12) on an
 # end moved along Γc (partly and wholly prescribed), capblock's many features, clipped cells, a body

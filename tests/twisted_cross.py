@@ -29,4 +29,12 @@ if summary["status"] != "converged":
 torque = abs(summary["friction_torque"])
 if abs(torque - applied) > 1e-6 * applied:
     sys.exit(f"FAIL: friction torque {torque:.6g} N mm, applied {applied:.6g}")
-print(f"ok: converged in {summary['fixed_point_iterations']} steps, friction torque {torque:.6g} = applied {applied:.6g} N mm")
+# The share of friction's hold the twist takes, 97% by the scene's construction (Coulomb's bound on a
+# uniform pressure): measured by the run over all turns and slides, it must be that, and not warned.
+share = summary.get("friction_hold_share")
+if share is None or not 0.96 <= share <= 0.99:
+    sys.exit(f"FAIL: friction_hold_share {share}, expected about 0.97")
+if any("its limit" in w for w in summary["warnings"]):
+    sys.exit("FAIL: friction at 97% of its hold warned as at its limit")
+print(f"ok: converged in {summary['fixed_point_iterations']} steps, friction torque {torque:.6g} = applied {applied:.6g} N mm, "
+      f"{100 * share:.2f}% of friction's hold")

@@ -196,7 +196,9 @@ void write_contact(JsonWriter& j, const SolveResult& res) {
   j.value("tangential", std::hypot(cr.t1, cr.t2)).end_object();
   if (has_friction(res))
     j.value("friction_torque", cr.friction_torque);  // foundation's friction on the body about Γc's centroid, along n
-  j.value("max_penetration", res.wn_plus_inf);       // max nodal (w_n − d)⁺ on Γc
+  if (res.friction_hold_share >= 0)  // the loads' share of friction's hold along a slide or turn only it holds
+    j.value("friction_hold_share", res.friction_hold_share);
+  j.value("max_penetration", res.wn_plus_inf);          // max nodal (w_n − d)⁺ on Γc
   j.value("penetration_ratio", res.penetration_ratio);  // max_penetration / the largest nodal displacement
   j.value("largest_strain", res.largest_strain);        // largest principal strain in absolute value (warned above 10%)
   if (const PartitionRefinement& pr = res.refinement; pr.started_finer) {  // "auto" found the body thin

@@ -381,6 +381,34 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
                         "least-squares sense)");
 }
 
+// At this share of friction's hold along a slide or turn that only friction holds, the answer's place
+// along it is undetermined (at 1) or hangs on the last digits of the loads and the friction coefficient.
+constexpr double kFrictionAtItsLimit = 0.999;
+
+// A body held by contact alone whose loads take friction to its limit along an in-plane motion: every
+// pressed cell slides at its bound against that motion, and any further slide along it solves the
+// problem as well — the answer is one of many, said (a block on an incline of slope F, which converged
+// with nothing said).
+void warn_if_friction_at_its_limit(const ContactHeldMotions& held, const ContactOperator& op, const TrescaStep& tresca,
+                                   SolveResult& res) {
+  if (!op.with_friction || held.in_plane_count() == 0) return;
+  const FrictionHold hold = friction_hold(held, op, tresca);
+  res.friction_hold_share = hold.share;
+  if (hold.share < kFrictionAtItsLimit) return;
+  const bool at_limit = hold.share >= 1 - 1e-6;  // the QP's radii are met to about this
+  res.warnings.push_back(
+      (at_limit ? std::string("friction is at its limit")
+                : "friction is within " + number(100 * (1 - hold.share), 2) + "% of its limit") +
+      ": along " + hold.motion + " the loads take " + number(100 * hold.share, 6) +
+      "% of the most the friction can hold along it (every cell with a friction bound slides at it, all against "
+      "that motion), so how far the body slides along it is " +
+      (at_limit ? "not determined — a further slide along it solves the problem as well — and the displacement given "
+                  "is one answer of many"
+                : "barely determined: it hangs on the last digits of the loads and the friction coefficient") +
+      "; for a determined answer lower the tangential loads or raise the friction coefficient, or prescribe that "
+      "motion (boundary.displacement)");
+}
+
 // The displacement at the free dofs after one Tresca solve: w = K⁻¹(f − 𝔹ᵀλ), less the rigid
 // motions Rμ that the contact alone holds (held_by_contact.hpp).
 Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& disc, const TrescaStep::Solve& solve) {
@@ -763,7 +791,10 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
-  if (disc.held.count()) require_held(disc.held, disc.equality_motions(), disc.f, op, res.partition, qp, tresca);
+  if (disc.held.count()) {
+    require_held(disc.held, disc.equality_motions(), disc.f, op, res.partition, qp, tresca);
+    warn_if_friction_at_its_limit(disc.held, op, tresca, res);
+  }
   clock.lap("dual_solve");
 
   stage.enter("recovery",

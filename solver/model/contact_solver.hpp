@@ -79,6 +79,9 @@ struct SolveResult {
   int qp_iterations = 0;             // MPGP iterations and Newton steps of every QP solve
   int qp_newton_steps = 0;           // of which semismooth Newton steps (each a dense Cholesky of the free size)
   int qp_bordered_newton_steps = 0;  // of which solved through the factor of Q (solver.qp_newton_systems)
+  // Bodies held by contact alone with friction: the largest share of friction's hold the loads take along
+  // a slide or turn only friction holds (friction_hold, held_by_contact.hpp); −1 where there is none.
+  double friction_hold_share = -1;
   int qp_rounding_stops = 0;  // QP solves (or inner solves) stopped at their rounding floor, within 10x their tolerance
   // Whether those steps switched from the single factor of Q to one in double (bordered_newton.hpp:
   // cond(Q) too large for single's refinement to contract).

@@ -227,6 +227,7 @@ ContactHeldMotions contact_held_motions(const Mesh& mesh, const DofMap& dofs, bo
     in_plane.push_back(std::move(in_plane_p));
   }
   if (held.parts.empty()) return held;
+  held.user_frame = user_frame;
   held.normal_combinations = block_diagonal(normal);
   held.in_plane_combinations = block_diagonal(in_plane);
   held.field.resize(dofs.n_free, held.normal_combinations.rows());
@@ -409,6 +410,91 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
          "contact face, or it touches the foundation on too few cells to balance their moments (a "
          "contact zone smaller than a few cells, as under a sphere); prescribe that motion, check the "
          "loads' directions, or refine the mesh where it touches");
+}
+
+namespace {
+
+using CellMotions = std::vector<Eigen::Matrix<double, 2, Eigen::Dynamic>>;  // per cell, 2 × q
+
+// Σ_i c_i ‖V_i a‖: the most work friction bounded by the radii c can do along the motion a.
+double most_friction_work(const CellMotions& V, const Eigen::VectorXd& c, const Eigen::VectorXd& a) {
+  double sum = 0;
+  for (std::size_t i = 0; i < V.size(); ++i) sum += c[static_cast<Eigen::Index>(i)] * (V[i] * a).norm();
+  return sum;
+}
+
+// min Σ_i c_i ‖V_i a‖ subject to bᵀa = 1 (V_i: 2 × q, the in-plane motions' tangential motion of cell
+// i): iteratively reweighted least squares, each step the minimiser of Σ w_i ‖V_i a‖² on the constraint
+// with w_i = c_i / ‖V_i a‖ of the step before (monotone, as Weiszfeld's). Returns the minimum's a.
+Eigen::VectorXd least_friction_work(const CellMotions& V, const Eigen::VectorXd& c, const Eigen::VectorXd& b) {
+  const Eigen::Index q = b.size();
+  Eigen::VectorXd a = b / b.squaredNorm();
+  double value = most_friction_work(V, c, a);
+  for (int step = 0; step < 200; ++step) {
+    const double floor = 1e-12 * a.norm();  // a cell the motion barely moves keeps a finite weight
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(q, q);
+    for (std::size_t i = 0; i < V.size(); ++i) {
+      const double moved = std::max((V[i] * a).norm(), floor);
+      M += (c[static_cast<Eigen::Index>(i)] / moved) * V[i].transpose() * V[i];
+    }
+    const Eigen::VectorXd Mb = M.completeOrthogonalDecomposition().solve(b);
+    if (!(b.dot(Mb) > 0)) break;
+    const Eigen::VectorXd next = Mb / b.dot(Mb);
+    const double next_value = most_friction_work(V, c, next);
+    if (!(next_value < value)) break;
+    const bool settled = value - next_value <= 1e-12 * value;
+    a = next, value = next_value;
+    if (settled) break;
+  }
+  return a;
+}
+
+// The in-plane combination `a` (coefficients of held.in_plane_combinations' columns) as one motion of
+// the part it moves most, named in the user's axes.
+std::string name_in_plane_motion(const ContactHeldMotions& held, const Eigen::VectorXd& a) {
+  const Eigen::VectorXd coefficients = held.in_plane_combinations * a;  // of the free motions, all parts
+  Eigen::Index col = 0, best = -1;
+  double largest = -1;
+  for (std::size_t p = 0; p < held.parts.size(); ++p) {
+    const Eigen::Index k = held.parts[p].free.count();
+    if (const double n = coefficients.segment(col, k).norm(); n > largest)
+      largest = n, best = static_cast<Eigen::Index>(p);
+    col += k;
+  }
+  col = 0;
+  for (Eigen::Index p = 0; p < best; ++p) col += held.parts[static_cast<std::size_t>(p)].free.count();
+  const PartMotions& part = held.parts[static_cast<std::size_t>(best)];
+  const Eigen::Matrix<double, 6, 1> local = part.free.motions * coefficients.segment(col, part.free.count());
+  Eigen::Matrix<double, 6, 1> global;
+  global << held.user_frame.to_global(local.head<3>()), held.user_frame.to_global(local.tail<3>());
+  const std::string label = part.label();
+  return (label.empty() ? "" : label + ": ") + part.named.describe(global);
+}
+
+}  // namespace
+
+FrictionHold friction_hold(const ContactHeldMotions& held, const ContactOperator& op, const TrescaStep& tresca) {
+  FrictionHold hold;
+  if (!op.with_friction || held.in_plane_count() == 0 || tresca.history().empty()) return hold;
+  const Eigen::VectorXd& lambda = tresca.history().back().lambda;
+  const Eigen::VectorXd& radius = tresca.history().back().radius;
+  const Eigen::MatrixXd moved = op.B * (held.field * held.in_plane_combinations);  // rows: multipliers
+  const MultiplierLayout layout = op.layout();
+  CellMotions V(static_cast<std::size_t>(op.r));
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(held.in_plane_count());  // Σ V_iᵀ λ_t,i
+  for (int i = 0; i < op.r; ++i) {
+    Eigen::Matrix<double, 2, Eigen::Dynamic>& Vi = V[static_cast<std::size_t>(i)];
+    Vi.resize(2, held.in_plane_count());
+    Vi.row(0) = moved.row(layout.t1(i));
+    Vi.row(1) = moved.row(layout.t2(i));
+    b += Vi.transpose() * Eigen::Vector2d(lambda[layout.t1(i)], lambda[layout.t2(i)]);
+  }
+  if (!(b.norm() > 0) || !(radius.maxCoeff() > 0)) return hold;
+  const Eigen::VectorXd a = least_friction_work(V, radius, b);
+  // bᵀa = 1: the loads' work along a is 1, the most friction can do along it this.
+  hold.share = std::min(1.0, 1.0 / most_friction_work(V, radius, a));
+  hold.motion = name_in_plane_motion(held, a);
+  return hold;
 }
 
 }  // namespace contact3d

@@ -54,6 +54,7 @@ struct ContactHeldMotions {
   std::vector<int> pins;                  // k free dofs with a spring, where R's rows are best conditioned
   std::vector<double> pin_springs;        // the springs added to K's diagonal there (K_s = K + Σ s_p e_p e_pᵀ)
   double size = 1;                        // the largest extent of a part with free motions
+  FoundationFrame user_frame;             // the user's axes, for naming a combination of the motions
   int count() const { return static_cast<int>(field.cols()); }
   int in_plane_count() const { return static_cast<int>(in_plane_combinations.cols()); }
   // "a translation along (0, 0, 1)" and so on, one per motion, joined by " and " (each part's after
@@ -99,5 +100,18 @@ struct ContactZoneTooCoarse : InputError {
 void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
                   const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
                   const TrescaStep& tresca);
+
+// How hard the loads lean on friction along the in-plane motions (a slide, a turn about the normal):
+// over their combinations r, the largest ratio of the work the friction forces do along r, Σ λ_t,i ·
+// (𝔹_t r)_i (equal to the tangential loads' by equilibrium), to the most they could do along it,
+// Σ c_i ‖(𝔹_t r)_i‖ with c_i the discs' radii — the minimum of a sum of norms under one linear
+// constraint, solved by reweighted least squares. A share of 1 is friction at its limit: every pressed
+// cell slides at its bound, all against r, and any further rigid slide along r solves the problem as
+// well (the answer's place along r is one of many).
+struct FrictionHold {
+  double share = 0;    // in [0, 1]; 0 where no in-plane motion is free or nothing pushes along them
+  std::string motion;  // the combination r that takes the largest share, named in the user's axes
+};
+FrictionHold friction_hold(const ContactHeldMotions& held, const ContactOperator& op, const TrescaStep& tresca);
 
 }  // namespace contact3d
