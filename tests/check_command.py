@@ -3,7 +3,8 @@
 physical group listed with its dimension and element count (counted independently here from
 the file), the tet quality line with a number in (0, 1], the contact face summary with its initial gap (none on
 the plane; 0.5 m with the plane lowered by contact.plane_point, said to start above it; 1e-9 m, rounding,
-not said to) and "ok"."""
+not said to; the plane 1e-9 m above the face, rounding, taken as touching, and 1e-3 m above it refused as
+an initial penetration) and "ok"."""
 import argparse
 import os
 import re
@@ -63,6 +64,12 @@ lowered = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_po
 # A plane 1e-9 m below: a face that touches up to rounding (a meshed cylinder's tangent line) rests on it.
 grazing = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_point=[0, 0, -1e-9]"],
                          capture_output=True, text=True, timeout=60)
+# A plane 1e-9 m above the face (a plane point given to 10 digits): rounding, the face taken as on it
+# (refused as an initial penetration before); 1e-3 m above it is one.
+rounded = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_point=[0, 0, 1e-9]"],
+                         capture_output=True, text=True, timeout=60)
+pushed_in = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_point=[0, 0, 1e-3]"],
+                           capture_output=True, text=True, timeout=60)
 os.unlink(scene.name)
 out = p.stdout
 print(out, p.stderr)
@@ -86,6 +93,10 @@ if lowered.returncode != 0 or not re.search(
     problems.append(f"the face 0.5 m above a lowered plane is not said: exit {lowered.returncode}, {lowered.stdout}")
 if grazing.returncode != 0 or "initial gap 1e-09 to 1e-09 m" not in grazing.stdout or "starts above" in grazing.stdout:
     problems.append(f"a face 1e-9 m above the plane (rounding) is said to start above it: {grazing.stdout}")
+if rounded.returncode != 0 or "on the foundation plane (no initial gap)" not in rounded.stdout:
+    problems.append(f"a face 1e-9 m below the plane (rounding) is refused: {rounded.stdout} {rounded.stderr}")
+if pushed_in.returncode != 2 or "initial penetration" not in pushed_in.stderr:
+    problems.append(f"a face 1e-3 m below the plane is not refused: exit {pushed_in.returncode}")
 # The dual a solve would form: 3 multipliers per cell with friction, and the dense route on a face this small.
 m = re.search(r"^dual: (\d+) cells \(H = [0-9.eE+-]+ m\), (\d+) multipliers; the dense Q with its working copies "
               r"[0-9.eE+-]+ [MG]iB, [0-9.eE+-]+ [MG]iB available: solver.schur = \"augmented\"$", out, re.M)

@@ -30,6 +30,11 @@
    row (exit 2, "one cell wide"), and the default cells must solve it with cells of 1.5h (exit 0), the
    normal force the load (5000 N) to 1e-6.
 
+6. The brick of item 3, frictionless, on one cell over its whole contact face (contact.cell_size = 10 m):
+   its top moved down 1e-5 m and no load: the prescribed top holds the lift and the tilts, and the free
+   slides and turn lie in the plane, so one cell is enough; the normal force is E A δ / H to 1e-6. Refused before as resting "on 1 of the 1 cells ... too few to balance the loads'
+   moments"; it must converge (with the one-cell warning), the equilibrium to 1e-8.
+
 Usage: held_by_contact_cells.py BIN SOURCE_DIR WORK_DIR
 Exit 0 when all hold, 1 when one does not.
 """
@@ -173,6 +178,26 @@ def brick_sliding_free(binary, source, work, fails):
                          f"friction force {tangential:.1e} of {normal:.2e}")
 
 
+def brick_on_one_cell(binary, source, work, fails):
+    """Item 6: one cell, the lift and tilts prescribed; only in-plane motions are free."""
+    scene = os.path.join(source, "pipeline", "scenes", "paper_brick.toml")
+    sets = ["mesh.parameters.n=4", "boundary.clamped=[]", 'boundary.displacement=[{group="load_top", z=-1e-5}]',
+            "boundary.traction=[]", "friction.slip_bound=0", "contact.cell_size=10.0"]
+    code, err, s = solve(binary, scene, os.path.join(work, "brick_one_cell"), sets)
+    if code != 0:
+        fails.append(f"brick on one cell: exit {code}: {err[-400:]}")
+        return
+    one_cell = any("one cell of H" in w for w in s["warnings"])
+    print(f"brick on one cell: {s['status']}, equilibrium {s['kkt']['equilibrium']:.1e}, "
+          f"normal force {s['contact_force']['normal']:.6g} N, one-cell warning {one_cell}")
+    uniaxial = 21.19e10 * 3.0 * 1e-5 / 1.0  # E A δ / H: the brick 3 x 1 x 1 squeezed 1e-5, free to widen
+    if abs(s["contact_force"]["normal"] - uniaxial) > 1e-6 * uniaxial:
+        fails.append(f"brick on one cell: normal force {s['contact_force']['normal']} N, E A delta / H {uniaxial} N")
+    if s["status"] != "converged" or s["kkt"]["equilibrium"] > 1e-8 or not one_cell:
+        fails.append(f"brick on one cell: {s['status']}, equilibrium {s['kkt']['equilibrium']:.1e}, "
+                     f"one-cell warning {one_cell}")
+
+
 def main():
     binary, source, work = sys.argv[1], os.path.abspath(sys.argv[2]), sys.argv[3]
     os.makedirs(work, exist_ok=True)
@@ -181,6 +206,7 @@ def main():
     roller(binary, source, work, fails)
     brick_sliding_free(binary, source, work, fails)
     bar_on_narrow_face(binary, work, fails)
+    brick_on_one_cell(binary, source, work, fails)
     for f in fails:
         print("FAIL:", f)
     return 1 if fails else 0

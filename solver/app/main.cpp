@@ -25,6 +25,7 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "base/memory.hpp"
+#include "contact/face_dofs.hpp"
 #include "contact/partition.hpp"
 #include "distributed/backend.hpp"
 #include "io/results_writer.hpp"
@@ -35,6 +36,7 @@
 #include "mesh/read_mesh.hpp"
 #include "model/contact_solver.hpp"
 #include "model/held_by_contact.hpp"
+#include "model/input_warnings.hpp"
 #include "model/mesh_source.hpp"
 #include "model/plane_frame.hpp"
 #include "model/scene.hpp"
@@ -214,6 +216,7 @@ void print_dual_plan(const DualPlan& plan, const std::string& length_unit) {
   const std::string sizes =
       (plan.cell_sizes.empty() ? fmt::format("H = {:.4g} {}", plan.cell_size, length_unit) : plan.cell_sizes) +
       describe_regions(plan.regions);
+  if (!plan.thin_body.empty()) fmt::print("contact.cell_size = \"auto\": {}\n", plan.thin_body);
   fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
              plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }
@@ -300,9 +303,12 @@ int run_check(const SolveArgs& args) {
                                         "loads along them must balance by themselves): " +
                                             held.describe_in_plane()
                                       : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
-  tet_materials(scene, mesh);
+  SolveResult warned;  // the warnings a solve gives on its input, before it starts
+  warn_about_inputs(scene, mesh, tet_materials(scene, mesh), warned);
+  for (const auto& w : warned.warnings) std::cerr << "warning: " << w << "\n";
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
+    if (held.count()) require_free_parts_on_contact_face(held, FaceDofs(face, dofs, mesh.nodes.size()).dofs);
     const std::string length = unit_labels(scene.output.units).length;
     fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} {}², h = {:.4g} {}; {}\n",
                face.triangles.size(), face.nodes.size(), face.area, length, face.h, length,

@@ -6,6 +6,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "mesh/mesh_checks.hpp"
 
 namespace contact3d {
 
@@ -44,12 +45,13 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
   }
-  // Below the plane by more than plane_tol: an initial penetration, refused. Heights within gap_snap
-  // of the plane are rounding (a face rotated into the plane's frame) and taken as 0; above it they are
-  // the initial gap d, however small: a face lifted 2e-8 on a body of diagonal 3.3 had been put back on
-  // the plane, its normal pressure 3e-4 off.
+  // Below the plane by more than plane_tol: an initial penetration, refused; less, rounding of the mesh's
+  // coordinates (a mesh written with 8 digits and turned onto the plane sat 5.6e-8 m below it on a body of
+  // 0.6 m, and a plane point given to 10 digits 1e-9 m above a face, both refused), taken as 0. Heights
+  // above the plane by more than gap_snap are the initial gap d, however small: a face lifted 2e-8 on a
+  // body of diagonal 3.3 had been put back on the plane, its normal pressure 3e-4 off.
   const double diagonal = std::max((hi - lo).norm(), 1e-300);
-  const double plane_tol = 1e-8 * diagonal, gap_snap = 1e-12 * diagonal;
+  const double plane_tol = kPenetrationRounding * diagonal, gap_snap = 1e-12 * diagonal;
 
   std::set<std::array<int, 3>> seen;
   for (const auto& name : contact_groups) {
@@ -78,7 +80,10 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   face.contact_index.assign(mesh.nodes.size(), -1);
   face.gap.assign(mesh.nodes.size(), 0.0);
   for (const auto& tri : face.triangles)
-    for (int v : tri) face.gap[v] = mesh.nodes[v].z() <= gap_snap ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
+    for (int v : tri) {
+      face.gap[v] = mesh.nodes[v].z() <= gap_snap ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
+      face.rounded_up = std::max(face.rounded_up, -mesh.nodes[v].z());
+    }
   std::vector<double> shortest;
   face.lo = mesh.nodes[face.triangles[0][0]].head<2>();
   face.hi = face.lo;

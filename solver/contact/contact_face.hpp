@@ -31,7 +31,8 @@ struct ContactFace {
   // component) are left out of Γc: nothing there can move, so no cell over them could be matched to a
   // node of its own (5.1); the condition holds them, and their force is in its reaction.
   int held_triangles = 0;
-  double held_area = 0;  // their true area
+  double held_area = 0;   // their true area
+  double rounded_up = 0;  // the deepest node below the plane within rounding (kept off the refusal), taken as on it
 
   Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }
 };

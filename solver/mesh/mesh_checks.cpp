@@ -266,15 +266,14 @@ void check_load_faces(const Mesh& mesh, const MeshRoles& roles) {
 void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
   if (roles.contact.empty() || mesh.tets.empty()) return;
   const std::vector<char> in_body = nodes_of_tets(mesh);
-  double lo = INFINITY, hi = -INFINITY;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
   std::size_t deepest = static_cast<std::size_t>(mesh.tets[0][0]);
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
     if (!in_body[v]) continue;
-    const double z = mesh.nodes[v].z();
-    lo = std::min(lo, z), hi = std::max(hi, z);
-    if (z < mesh.nodes[deepest].z()) deepest = v;
+    lo = lo.cwiseMin(mesh.nodes[v]), hi = hi.cwiseMax(mesh.nodes[v]);
+    if (mesh.nodes[v].z() < mesh.nodes[deepest].z()) deepest = v;
   }
-  const double tol = 1e-9 * std::max(1.0, hi - lo);
+  const double tol = kPenetrationRounding * (hi - lo).norm();
   if (mesh.nodes[deepest].z() < -tol)
     throw InputError(
         "the body reaches below the foundation plane (initial penetration): node " +

@@ -26,6 +26,10 @@ struct MeshRoles {
 
 // Coordinates beyond ±1e15 (run first: every other check computes with them).
 inline constexpr double kMaxCoordinate = 1e15;
+// Below the foundation plane by at most this share of the body's diagonal is rounding of the mesh's
+// coordinates (8 significant digits, a float writer, a turn onto the plane), not an initial penetration:
+// such nodes are taken as on the plane.
+inline constexpr double kPenetrationRounding = 1e-6;
 void check_coordinates_in_range(const Mesh& mesh);
 // The other checks above; run after the tetrahedra are known to be positively oriented.
 void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles);

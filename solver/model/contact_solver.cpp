@@ -164,6 +164,10 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
                         number(res.face.held_area, 3) +
                         ") have every node clamped or prescribed: that condition holds them, not the contact, so "
                         "they are left out of Γc and its cells, and the force there is in the condition's reaction");
+  if (res.face.rounded_up > 0)
+    res.notes.push_back("nodes of the contact face lie up to " + number(res.face.rounded_up, 3) +
+                        " below the foundation plane, within the rounding of the mesh's coordinates (" +
+                        number(kPenetrationRounding, 1) + " of its size): taken as on it");
   // H = k·h means k times the typical element extent in each direction (h_xy), so that an
   // anisotropic contact mesh gets rectangles of the same aspect; a length is used as given.
   res.cell_size = scene.cell_size_relative ? scene.cell_size * res.face.h_xy.x() : scene.cell_size;
@@ -560,11 +564,17 @@ SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Di
 
 }  // namespace
 
+namespace {
+Scene with_refined_cells(const Scene& scene);
+std::optional<std::string> thin_body_over_contact(const Scene& scene, const Mesh& mesh);
+}  // namespace
+
 DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
   reserve_blas_buffers();  // as the solve does: the memory it plans with is what the solve will see
   SolveResult res;
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
-  const ContactOperator op = contact_stage(scene, mesh, res);
+  const std::optional<std::string> thin = thin_body_over_contact(scene, mesh);  // the cells the solve starts on
+  const ContactOperator op = contact_stage(thin ? with_refined_cells(scene) : scene, mesh, res);
   const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
   const DualMethod resolved = resolved_dual_method(scene.solver.dual_method);
   const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
@@ -577,6 +587,7 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
   plan.dense_bytes = memory.bytes;
   plan.available_bytes = memory.available;
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
+  plan.thin_body = thin.value_or("");
   return plan;
 }
 
@@ -721,11 +732,17 @@ std::unique_ptr<DualProblem> dual_problem(DualMethod method, const DualProblemIn
   return dual;
 }
 
-// The stages of one solve in the foundation plane's frame (the README's data flow). `kept`: where the
-// factor of K is kept for a second solve with other cells (contact.cell_size = "auto"), or null.
-SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress& report,
-                         RunningStage& stage, KeptFactor* kept = nullptr) {
-  SolveResult res;
+// A refusal with the run's warnings so far appended.
+std::string with_warnings_before(const std::string& refusal, const std::vector<std::string>& warnings) {
+  std::string text = refusal + " (warned before this, which may be its cause: ";
+  for (std::size_t i = 0; i < warnings.size(); ++i) text += (i ? "; " : "") + warnings[i];
+  return text + ")";
+}
+
+// The stages of one solve in the foundation plane's frame (the README's data flow), into `res`. `kept`:
+// where the factor of K is kept for a second solve with other cells (contact.cell_size = "auto"), or null.
+void run_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress& report,
+                RunningStage& stage, KeptFactor* kept, SolveResult& res) {
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
   DualMethod method = resolved_dual_method(scene.solver.dual_method);
@@ -736,7 +753,10 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
   report.stage("  " + count(res.n_primal) + " unknowns, " +
                (K_on_ranks ? "K assembled by the " + count(distributed::ranks()) + " ranks with the factorization"
                            : "nnz(K) = " + count(disc.K.nonZeros())));
-  if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, std::move(res), report);
+  if (scene.contact.empty()) {
+    res = solve_without_contact(scene, mesh, disc, clock, std::move(res), report);
+    return;
+  }
 
   stage.enter("contact", "the contact face and its partition");
   const ContactOperator op = contact_stage(scene, mesh, res);
@@ -819,6 +839,24 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
     dual->release_factor();                    // two big factors need not fit at once
     const Eigen::SparseMatrix<double>& K = disc.stiffness(mesh, res.dofs);  // assembled again if released
     time_reference_factorizations(K, clock);
+  }
+}
+
+// run_stages, whose refusal carries the warnings given before it: they often name its cause (two stacked
+// boxes not joined, refused as a part with no node on Γc, or young = 210 meant in GPa, refused for a
+// rigid displacement thousands of times the body's size — their warnings were lost with the run).
+// A refusal that contact.cell_size = "auto" retries with smaller cells passes unchanged.
+SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress& report,
+                         RunningStage& stage, KeptFactor* kept = nullptr) {
+  SolveResult res;
+  try {
+    run_stages(scene, mesh, on_step, report, stage, kept, res);
+  } catch (const ContactZoneTooCoarse& e) {
+    if (res.warnings.empty() || scene.cell_size_auto) throw;
+    throw ContactZoneTooCoarse(with_warnings_before(e.what(), res.warnings));
+  } catch (const InputError& e) {
+    if (res.warnings.empty()) throw;
+    throw InputError(with_warnings_before(e.what(), res.warnings));
   }
   return res;
 }

@@ -136,6 +136,7 @@ struct DualPlan {
   int regions = 1;                              // parts of Γc no cell spans (model/contact_regions.hpp)
   double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
   std::string method;
+  std::string thin_body;  // contact.cell_size = "auto" found the body thin and starts on cells of 1.5h: why
 };
 DualPlan plan_dual(const Scene& scene, const Mesh& mesh);
 

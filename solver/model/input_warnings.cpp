@@ -35,24 +35,34 @@ void warn_if_nearly_incompressible(const Mesh& mesh, const TetMaterials& materia
       "is very fine (contact3d has no mixed u–p formulation): check that the answer changes little when h is halved");
 }
 
-// A Young's modulus above any solid's (diamond's is about 1.2e12 Pa) is a unit slip: young in Pa where
-// output.units says MPa (a mm mesh) makes every displacement a million times too small, and a gap or a
-// slip-dependent coefficient then acts on the wrong scale, with nothing else to say so (the helper's
-// mm brick: largest strain 1.8e-10).
-constexpr double kStiffestSolidPa = 2e12;
-void warn_if_stiffer_than_any_solid(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
-                                    SolveResult& res) {
-  double stiffest = 0;
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e) stiffest = std::max(stiffest, materials[e].young);
+// A Young's modulus above any solid's (diamond's is about 1.2e12 Pa) or below the softest gels' (about
+// 1 kPa) is a unit slip: young in Pa where output.units says MPa (a mm mesh) makes every displacement a
+// million times too small, and a gap or a slip-dependent coefficient then acts on the wrong scale, with
+// nothing else to say so (the helper's mm brick: largest strain 1.8e-10); young = 210 meant in GPa makes
+// it a billion times too large, and a body held by contact alone was refused for a rigid displacement
+// thousands of times its size, blaming the contact cells.
+constexpr double kStiffestSolidPa = 2e12, kSoftestSolidPa = 1e3;
+void warn_if_beyond_any_solid(const Scene& scene, const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
+  double stiffest = 0, softest = INFINITY;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    stiffest = std::max(stiffest, materials[e].young);
+    softest = std::min(softest, materials[e].young);
+  }
   const double pascal = pascal_per_stress_unit(scene.output.units);
-  if (!(stiffest * pascal > kStiffestSolidPa)) return;
   const UnitLabels units = unit_labels(scene.output.units);
-  res.warnings.push_back("young = " + number(stiffest, 4) + " " + units.stress +
-                         " is stiffer than any solid (diamond's is about " + number(1.2e12 / pascal, 2) + " " +
-                         units.stress + "): check that the moduli are in " + units.stress + ", as output.units = \"" +
-                         name_of(scene.output.units, kUnitSystemNames) +
-                         "\" states; a modulus given in a smaller unit makes every displacement as many times too "
-                         "small");
+  const std::string check = std::string(": check that the moduli are in ") + units.stress + ", as output.units = \"" +
+                            name_of(scene.output.units, kUnitSystemNames) + "\" states; a modulus given in a ";
+  if (stiffest * pascal > kStiffestSolidPa)
+    res.warnings.push_back("young = " + number(stiffest, 4) + " " + units.stress +
+                           " is stiffer than any solid (diamond's is about " + number(1.2e12 / pascal, 2) + " " +
+                           units.stress + ")" + check +
+                           "smaller unit makes every displacement as many times too small");
+  if (softest * pascal < kSoftestSolidPa)
+    res.warnings.push_back("young = " + number(softest, 4) + " " + units.stress +
+                           " is softer than any solid but the softest gels (about " + number(1e3 / pascal, 2) + " " +
+                           units.stress + ")" + check + "larger unit (GPa instead of " + units.stress +
+                           ") makes every displacement as many "
+                           "times too large");
 }
 
 // The model takes the loaded boundary Γp and the contact face Γc apart. A traction or pressure on a
@@ -134,7 +144,7 @@ void warn_if_coincident_nodes(const Mesh& mesh, SolveResult& res) {
 
 void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
   warn_if_nearly_incompressible(mesh, materials, res);
-  warn_if_stiffer_than_any_solid(scene, mesh, materials, res);
+  warn_if_beyond_any_solid(scene, mesh, materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
   note_loads_given_twice(scene, res);
   warn_if_coincident_nodes(mesh, res);

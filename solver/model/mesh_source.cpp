@@ -1,5 +1,6 @@
 #include "model/mesh_source.hpp"
 
+#include <cctype>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -9,6 +10,7 @@
 #include <unistd.h>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 #include "mesh/brick_generator.hpp"
 #include "mesh/read_mesh.hpp"
 
@@ -117,6 +119,40 @@ void check_script_is_safe(const std::filesystem::path& script, const std::filesy
   }
 }
 
+// The script's code without comments, with that of the files it includes (from its folder, as far as
+// they can be read).
+std::string code_with_includes(const std::filesystem::path& script, const ScriptRules& rules, int depth = 0) {
+  std::ifstream in(script);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  std::string code = without_comments(buf.str());
+  if (depth >= 16) return code;
+  const std::string own = code;
+  for (auto it = std::sregex_iterator(own.begin(), own.end(), rules.include); it != std::sregex_iterator(); ++it)
+    code += "\n" + code_with_includes(script.parent_path() / (*it)[1].str(), rules, depth + 1);
+  return code;
+}
+
+// Each of mesh.parameters must be a name the script reads: gmsh's -setnumber and FreeFEM's -name value
+// set what the script never mentions without a word (mesh.parameters.hh = 0.02 meshed at the script's
+// own h = 0.08, exit 0).
+void require_parameters_read(const std::filesystem::path& script, const std::map<std::string, double>& parameters,
+                             const ScriptRules& rules) {
+  const std::string code = code_with_includes(script, rules);
+  const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (const auto& [name, value] : parameters) {
+    bool mentioned = false;
+    for (std::size_t at = code.find(name); at != std::string::npos && !mentioned; at = code.find(name, at + 1))
+      mentioned =
+          (at == 0 || !word(code[at - 1])) && (at + name.size() == code.size() || !word(code[at + name.size()]));
+    if (!mentioned)
+      throw InputError("mesh.parameters." + name + " = " + number(value) + ": the " + rules.kind + " '" +
+                       script.string() + "' never mentions '" + name +
+                       "', so it would be ignored and the mesh made with the script's own values; check the name "
+                       "against the variables the script reads");
+  }
+}
+
 void require_script(const std::filesystem::path& script, const char* kind, bool trusted, const ScriptRules& rules) {
   if (!std::filesystem::exists(script))
     throw InputError(std::string(kind) + " '" + script.string() + "' does not exist");
@@ -148,6 +184,7 @@ Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work
   if (!source.generator.empty()) return make_paper_brick(BrickSize{source.n});
   if (!source.geo.empty()) {
     require_script(source.geo, "gmsh script", source.trusted, gmsh_rules());
+    require_parameters_read(source.geo, source.parameters, gmsh_rules());
     std::filesystem::create_directories(work_dir);
     const auto msh = work_dir / "mesh.msh";
     std::filesystem::remove(msh);
@@ -156,6 +193,7 @@ Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work
   }
   if (!source.edp.empty()) {
     require_script(source.edp, "FreeFEM script", source.trusted, freefem_rules());
+    require_parameters_read(source.edp, source.parameters, freefem_rules());
     std::filesystem::create_directories(work_dir);
     const auto mesh = work_dir / "mesh.mesh";
     std::filesystem::remove(mesh);
