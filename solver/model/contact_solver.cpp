@@ -564,33 +564,6 @@ SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Di
 
 }  // namespace
 
-namespace {
-Scene with_refined_cells(const Scene& scene);
-std::optional<std::string> thin_body_over_contact(const Scene& scene, const Mesh& mesh);
-}  // namespace
-
-DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
-  reserve_blas_buffers();  // as the solve does: the memory it plans with is what the solve will see
-  SolveResult res;
-  res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
-  const std::optional<std::string> thin = thin_body_over_contact(scene, mesh);  // the cells the solve starts on
-  const ContactOperator op = contact_stage(thin ? with_refined_cells(scene) : scene, mesh, res);
-  const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
-  const DualMethod resolved = resolved_dual_method(scene.solver.dual_method);
-  const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
-  DualPlan plan;
-  plan.cells = op.r;
-  plan.multipliers = op.rows();
-  plan.cell_size = res.cell_size;
-  if (res.partition.graded) plan.cell_sizes = describe_cell_sizes(res.partition);
-  plan.regions = res.partition.regions;
-  plan.dense_bytes = memory.bytes;
-  plan.available_bytes = memory.available;
-  plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
-  plan.thin_body = thin.value_or("");
-  return plan;
-}
-
 std::pair<double, double> normal_violation(const Mesh& mesh, const ContactFace& face, const Eigen::VectorXd& u) {
   double l2sq = 0, inf = 0;
   for (const auto& tri : face.triangles) {
@@ -998,6 +971,28 @@ SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const Pro
 }
 
 }  // namespace
+
+DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
+  reserve_blas_buffers();  // as the solve does: the memory it plans with is what the solve will see
+  SolveResult res;
+  res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
+  const std::optional<std::string> thin = thin_body_over_contact(scene, mesh);  // the cells the solve starts on
+  const ContactOperator op = contact_stage(thin ? with_refined_cells(scene) : scene, mesh, res);
+  const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
+  const DualMethod resolved = resolved_dual_method(scene.solver.dual_method);
+  const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
+  DualPlan plan;
+  plan.cells = op.r;
+  plan.multipliers = op.rows();
+  plan.cell_size = res.cell_size;
+  if (res.partition.graded) plan.cell_sizes = describe_cell_sizes(res.partition);
+  plan.regions = res.partition.regions;
+  plan.dense_bytes = memory.bytes;
+  plan.available_bytes = memory.available;
+  plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
+  plan.thin_body = thin.value_or("");
+  return plan;
+}
 
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress* progress) {
   if (!scene.foundation.is_identity()) {  // a tilted or shifted foundation: solve in its frame
