@@ -218,6 +218,12 @@ set_tests_properties(warns_curved_contact_strip_one_cell_wide PROPERTIES PASS_RE
 add_test(NAME notes_penetration_against_the_face_displacement
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/face_penetration_note.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 
+# A ramp law given rising with the slip (high below low: swapped, or slip-strengthening) is warned.
+add_test(NAME warns_ramp_rising_with_slip
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
+                 --set friction.high=0.2 --set friction.low=0.4 --out ${CMAKE_BINARY_DIR}/cli-tests/ramp-rising)
+set_tests_properties(warns_ramp_rising_with_slip PROPERTIES PASS_REGULAR_EXPRESSION
+                     "warning: friction.high = 0.2 is below friction.low = 0.4: the coefficient rises")
 # solver.reference_factorization prints the benchmarks' yardstick on the console: the solve's stages
 # against one factorization of K timed in the same process (the printed total also holds both).
 add_test(NAME prints_ratio_to_one_factorization

@@ -140,6 +140,17 @@ void warn_if_coincident_nodes(const Mesh& mesh, SolveResult& res) {
                          "separate");
 }
 
+// The ramp law (6.1) falls from `high` at small slips to `low`: given the other way round it rises with
+// the slip (slip-strengthening), which a user may mean but more often swapped the two (accepted with
+// nothing said before).
+void warn_if_ramp_rises_with_slip(const Scene& scene, SolveResult& res) {
+  const FrictionLaw& law = scene.law;
+  if (law.kind != FrictionLaw::Kind::Ramp || !(law.high < law.low)) return;
+  res.warnings.push_back("friction.high = " + number(law.high) + " is below friction.low = " + number(law.low) +
+                         ": the coefficient rises from " + number(law.high) + " to " + number(law.low) +
+                         " as the slip grows (the paper's law (6.1) falls from high to low); if not meant, swap them");
+}
+
 }  // namespace
 
 void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
@@ -148,6 +159,7 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
   warn_if_loads_on_contact(scene, mesh, res);
   note_loads_given_twice(scene, res);
   warn_if_coincident_nodes(mesh, res);
+  warn_if_ramp_rises_with_slip(scene, res);
 }
 
 }  // namespace contact3d
