@@ -832,6 +832,11 @@ def c_schur_mumps_in_serial_build(c):
              "--set", "mesh.n=2", "--set", "solver.schur=mumps"], ["solver.schur", "mumps", "make build-mpi"])
 
 
+def c_check_schur_mumps_in_serial_build(c):
+    # check refuses it as solve does (it printed ok, and solve refused only after meshing and assembly).
+    return (["check", c.scene(), "--set", "solver.schur=mumps"], ["solver.schur", "mumps", "make build-mpi"])
+
+
 def c_out_of_core_in_serial_build(c):
     # MUMPS's out-of-core mode asked of the serial binary (CHOLMOD keeps its factor in memory).
     return (["solve", c.scene(), "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick",

@@ -14,7 +14,11 @@ that look like a finished solve, and says why.
    removes that marker;
 7. a folder whose steps/ holds a user's own files (`--out .` in a project): only the run's step files
    (steps/body_<k>.vtu, steps/contact_<k>.vtu) are replaced, and the .partial files a killed run left
-   are removed; the user's files stay.
+   are removed; the user's files stay;
+8. the meshers' files an earlier run left (mesh.msh, gmsh.log) are removed by a run that did not write
+   them, unless it reads that mesh.msh itself;
+9. a solve killed while gmsh meshes takes gmsh with it (an orphaned gmsh wrote mesh.msh into the folder
+   after a later run had finished there).
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
 import resource
@@ -121,5 +125,47 @@ with tempfile.TemporaryDirectory() as tmp:
           and (out / "steps" / "body_001.vtu").exists(),
           f"user files under steps/: exit {p.returncode}, left {sorted(x.name for x in (out / 'steps').iterdir())}")
 
-print(f"{len(failures)} checks failed" if failures else "all 7 cases held")
+
+    # 8. the meshers' files of an earlier run: a gmsh run, then a run of a mesh file into the same folder
+    # -> the earlier mesh.msh and gmsh.log are gone; a run that reads that mesh.msh itself keeps it
+    out = tmp / "mesher_files"
+    gmsh_run = [binary, "solve", str(scene), "--out", str(out), "--quiet", "--set", "mesh.parameters.n=4"]
+    p = subprocess.run(gmsh_run, capture_output=True, text=True)
+    check(p.returncode == 0 and (out / "mesh.msh").exists(), f"gmsh run: exit {p.returncode} {p.stderr[-300:]}")
+    own = tmp / "own.msh"
+    own.write_bytes((out / "mesh.msh").read_bytes())
+    p = subprocess.run([binary, "solve", str(scene), "--mesh", str(own), "--out", str(out), "--quiet"],
+                       capture_output=True, text=True)
+    check(p.returncode == 0 and not (out / "mesh.msh").exists() and not (out / "gmsh.log").exists(),
+          f"a mesh file's run left {sorted(x.name for x in out.iterdir())}")
+    subprocess.run(gmsh_run, capture_output=True, text=True)
+    p = subprocess.run([binary, "solve", str(scene), "--mesh", str(out / "mesh.msh"), "--out", str(out), "--quiet"],
+                       capture_output=True, text=True)
+    check(p.returncode == 0 and (out / "mesh.msh").exists(), f"the mesh read was removed: exit {p.returncode}")
+
+    # 9. a solve killed while gmsh meshes: gmsh dies with it (it wrote mesh.msh into the folder afterwards)
+    out = tmp / "killed_meshing"
+    slab = root / "pipeline" / "scenes" / "slab.toml"
+    run = subprocess.Popen([binary, "solve", str(slab), "--out", str(out), "--quiet", "--set",
+                            "mesh.parameters.h=0.0175"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    mesher = None
+    for _ in range(200):
+        found = subprocess.run(["pgrep", "-P", str(run.pid), "gmsh"], capture_output=True, text=True).stdout.split()
+        if found:
+            mesher = int(found[0])
+            break
+        time.sleep(0.05)
+    run.kill()
+    run.wait()
+    alive = False
+    if mesher is not None:
+        time.sleep(1.0)
+        try:
+            state = Path(f"/proc/{mesher}/status").read_text()
+            alive = "State:\tZ" not in state  # a zombie is dead, waiting for init to reap it
+        except FileNotFoundError:
+            alive = False
+    check(mesher is not None and not alive, f"gmsh {'never seen' if mesher is None else 'outlived the killed solve'}")
+
+print(f"{len(failures)} checks failed" if failures else "all 9 cases held")
 sys.exit(1 if failures else 0)

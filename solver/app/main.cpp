@@ -79,6 +79,24 @@ Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::
   return load_scene_mesh(src, work_dir);
 }
 
+// The meshers' files in the output folder that this run did not write — an earlier run's gmsh mesh.msh
+// and gmsh.log beside a solve of a mesh file — would sit beside its results as if they were its mesh:
+// removed, unless one of them is the mesh this run read.
+void remove_other_runs_mesh_files(const fs::path& out, const Scene& scene, const std::string& mesh_override) {
+  const bool by_gmsh = mesh_override.empty() && !scene.mesh.geo.empty();
+  const bool by_freefem = mesh_override.empty() && !scene.mesh.edp.empty();
+  const fs::path read = !mesh_override.empty() ? fs::path(mesh_override) : scene.mesh.file;
+  for (const auto& [name, ours] : {std::pair{"mesh.msh", by_gmsh},
+                                   {"gmsh.log", by_gmsh},
+                                   {"mesh.mesh", by_freefem},
+                                   {"freefem.log", by_freefem}}) {
+    std::error_code ec;
+    const fs::path file = out / name;
+    if (ours || !fs::exists(file, ec) || (!read.empty() && fs::equivalent(file, read, ec))) continue;
+    fs::remove(file, ec);
+  }
+}
+
 // Γu, when named, must hold at least one triangle, and so must every displacement group (a named
 // but empty group would silently prescribe nothing).
 void require_constrained_triangles(const Scene& scene, const Mesh& mesh) {
@@ -151,6 +169,7 @@ int run_solve(const SolveArgs& args) {
   if (!folder) folder.emplace(out, "contact3d solve " + args.scene);
   RunInfo info;
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
+  remove_other_runs_mesh_files(out, scene, args.mesh);
   info.mesh_seconds = since(t0);
   require_constrained_triangles(scene, mesh);
   // Under mpirun the Session gave each rank its share of the machine's cores.

@@ -13,9 +13,8 @@ Session::~Session() = default;
 void Session::serve() {}
 
 std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput&, StageClock&, const MumpsOptions&) {
-  throw InputError(
-      "solver.schur = \"mumps\" or \"mumps_petsc\" needs the distributed build: `make build-mpi`, then `mpirun -np P "
-      "build-mpi/contact3d solve SCENE`");
+  // Refused before any work by model/contact_solver.cpp's require_backend; a safety net here.
+  throw InputError("the distributed backend (MUMPS) is not in this build: `make build-mpi`");
 }
 
 int ranks() { return 1; }

@@ -515,8 +515,14 @@ DualMethod resolved_dual_method(DualMethod method) {
   return distributed::available() ? DualMethod::Mumps : DualMethod::Augmented;
 }
 
-// solver.out_of_core_dir is MUMPS's (direct route): refused, before any work, where it cannot act.
-void require_backend_for_out_of_core(const Scene& scene, DualMethod method) {
+// The backend the settings ask for, refused before any work where it cannot act (and by `check`): MUMPS
+// in the serial build (refused once only after meshing and assembly, while check said ok), MUMPS's
+// out-of-core mode (solver.out_of_core_dir) on another route or without a contact face.
+void require_backend(const Scene& scene, DualMethod method) {
+  if (is_mumps(method) && !scene.contact.empty() && !distributed::available())
+    throw InputError("solver.schur = \"" + std::string(name_of(method, kDualMethodNames)) +
+                     "\" needs the distributed build: `make build-mpi`, then `mpirun -np P build-mpi/contact3d solve "
+                     "SCENE`");
   if (scene.solver.out_of_core_dir.empty()) return;
   if (method != DualMethod::Mumps)
     throw InputError(
@@ -719,7 +725,7 @@ void run_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
   DualMethod method = resolved_dual_method(scene.solver.dual_method);
-  require_backend_for_out_of_core(scene, method);
+  require_backend(scene, method);
   const bool K_on_ranks = method == DualMethod::Mumps && !scene.contact.empty();
   Discretisation disc = discretise(scene, mesh, res, !K_on_ranks);
   clock.lap("assembly");
@@ -980,6 +986,7 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
   const ContactOperator op = contact_stage(thin ? with_refined_cells(scene) : scene, mesh, res);
   const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
   const DualMethod resolved = resolved_dual_method(scene.solver.dual_method);
+  require_backend(scene, resolved);
   const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
   DualPlan plan;
   plan.cells = op.r;

@@ -1,11 +1,13 @@
 #include "model/mesh_source.hpp"
 
 #include <cctype>
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <sstream>
 
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -37,9 +39,14 @@ std::string tail_of(const std::filesystem::path& log, std::size_t chars = 800) {
 void run_mesher(std::vector<std::string> args, const std::filesystem::path& script,
                 const std::filesystem::path& product, const std::filesystem::path& log) {
   const std::string program = args.front();
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("cannot start " + program + " (fork failed)");
   if (pid == 0) {
+    // The mesher dies with the solve: a solve killed while gmsh meshed left gmsh running, and it wrote its
+    // mesh.msh into the folder after a later run had finished there.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);  // the solve died before the line above
     std::FILE* f = std::fopen(log.c_str(), "w");
     if (f) {
       dup2(fileno(f), 1);
@@ -180,6 +187,26 @@ void run_freefem_mesher(const std::filesystem::path& edp, const std::map<std::st
   run_mesher(args, edp, out_mesh, out_mesh.parent_path() / "freefem.log");
 }
 
+namespace {
+
+// A mesh a mesher just wrote. On a full disk gmsh cuts its file short and still exits 0: a reading error
+// there is said as the full disk it is (it read as "line 11289: unexpected end of file").
+Mesh read_written_mesh(const std::filesystem::path& file, const std::string& mesher) {
+  try {
+    return read_mesh_file(file.string());
+  } catch (const InputError& e) {
+    std::error_code ec;
+    const std::filesystem::space_info space = std::filesystem::space(file.parent_path(), ec);
+    if (!ec && space.available < (1u << 20))
+      throw InputError("cannot write '" + file.string() + "': no space left on its device (" +
+                       std::to_string(space.available) + " bytes free); " + mesher + " wrote the mesh cut short (" +
+                       e.what() + "); free space or choose another output folder");
+    throw;
+  }
+}
+
+}  // namespace
+
 Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work_dir) {
   if (!source.generator.empty()) return make_paper_brick(BrickSize{source.n});
   if (!source.geo.empty()) {
@@ -189,7 +216,7 @@ Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work
     const auto msh = work_dir / "mesh.msh";
     std::filesystem::remove(msh);
     run_gmsh(source.geo, source.parameters, msh);
-    return read_mesh_file(msh.string());
+    return read_written_mesh(msh, "gmsh");
   }
   if (!source.edp.empty()) {
     require_script(source.edp, "FreeFEM script", source.trusted, freefem_rules());
@@ -198,7 +225,7 @@ Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work
     const auto mesh = work_dir / "mesh.mesh";
     std::filesystem::remove(mesh);
     run_freefem_mesher(source.edp, source.parameters, mesh);
-    return read_mesh_file(mesh.string());
+    return read_written_mesh(mesh, "FreeFEM");
   }
   return read_mesh_file(source.file.string());
 }

@@ -507,7 +507,12 @@ Scene load_scene(const std::filesystem::path& path, const std::vector<std::strin
   if (!in) throw InputError("cannot open scene file '" + path.string() + "'");
   std::stringstream buf;
   buf << in.rdbuf();
-  Scene s = parse_scene_text(buf.str(), path.parent_path(), overrides);
+  Scene s;
+  try {
+    s = parse_scene_text(buf.str(), path.parent_path(), overrides);
+  } catch (const InputError& e) {  // which file, where a command line names several (the scene, --mesh)
+    throw InputError("scene '" + path.string() + "': " + e.what());
+  }
   s.source = path;
   return s;
 }
