@@ -52,6 +52,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
     mpgp.rtol = settings.rtol;
     mpgp.max_iterations = std::min(window, settings.max_iterations - total.iterations);
     mpgp.progress = settings.progress;
+    mpgp.earlier = &total;
     add_work(total, solve_mpgp(qp, lambda, mpgp));
     if (total.status != QpStatus::IterationLimit) return total;  // converged, or a breakdown
     const bool mpgp_is_slow = total.projected_gradient > 0.1 * pg_before;
@@ -59,6 +60,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
       SsnSettings ssn;
       ssn.rtol = settings.rtol;
       ssn.progress = settings.progress;
+      ssn.earlier = &total;
       ssn.stop_when_linear = true;
       ssn.fallback_to_mpgp = false;
       ssn.damped_step_budget = window;  // a damped step must not cost more than an MPGP window

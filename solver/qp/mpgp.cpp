@@ -18,11 +18,13 @@ std::string to_string(QpStatus s) {
   return "?";
 }
 
-std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress) {
+std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress,
+                              const QpResult* earlier) {
+  const int iterations = so_far.iterations + (earlier ? earlier->iterations : 0);
+  const int products = so_far.hessian_products + (earlier ? earlier->hessian_products : 0);
   char buf[160];
   std::snprintf(buf, sizeof buf, "  qp (%s): iteration %d, %d products, projected gradient %.2e (target %.0e), %.1f s",
-                method, so_far.iterations, so_far.hessian_products, so_far.projected_gradient, rtol,
-                progress.elapsed());
+                method, iterations, products, so_far.projected_gradient, rtol, progress.elapsed());
   return buf;
 }
 
@@ -103,7 +105,7 @@ class Mpgp {
       if (const std::optional<QpStatus> stop = stopping_test()) return *stop;
       if (settings_.progress)
         settings_.progress->beat(
-            [&] { return qp_heartbeat_line("mpgp", result_, settings_.rtol, *settings_.progress); });
+            [&] { return qp_heartbeat_line("mpgp", result_, settings_.rtol, *settings_.progress, settings_.earlier); });
       const Eigen::VectorXd before = lambda_;  // g is valid here
       const bool proportional = chopped_sq_ <= settings_.gamma * settings_.gamma * free_sq_;
       if (!(proportional ? conjugate_gradient_or_expansion(before) : proportioning(before))) return QpStatus::Breakdown;

@@ -34,6 +34,8 @@ enum class ExpansionKind {
 inline constexpr int kSingleFalseStops = 2;
 inline constexpr int kSingleRefreshEvery = 50;
 
+struct QpResult;
+
 struct MpgpSettings {
   double rtol = 1e-6;  // ‖gᴾ‖ <= rtol ‖h‖
   int max_iterations = 100000;
@@ -41,6 +43,9 @@ struct MpgpSettings {
   double alpha_scale = 1.8;  // ᾱ = alpha_scale / ‖Q‖ (must be < 2)
   ExpansionKind expansion = ExpansionKind::FullGradient;
   Progress* progress = nullptr;  // heartbeat: iterations and ‖gᴾ‖/‖h‖ every few seconds (none: silent)
+  // The same QP's work before this call (the hybrid's earlier windows and Newton rounds): counted in the
+  // heartbeat, which otherwise restarted at "iteration 0, 1 products" 13 s into a solve.
+  const QpResult* earlier = nullptr;
 };
 
 struct QpResult {
@@ -62,7 +67,8 @@ void add_work(QpResult& total, const QpResult& part);
 void add_counts(QpResult& total, const QpResult& part);
 
 // The heartbeat line of an inner QP solve: "qp (mpgp): iteration 1200, ‖gᴾ‖/‖h‖ = 3.2e-04 → 1e-06, 4.1 s".
-std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress);
+std::string qp_heartbeat_line(const char* method, const QpResult& so_far, double rtol, const Progress& progress,
+                              const QpResult* earlier = nullptr);
 
 // Solves from the warm start `lambda` (projected first); on return `lambda` holds the result.
 QpResult solve_mpgp(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const MpgpSettings& settings);

@@ -282,7 +282,8 @@ class SemismoothNewton {
 
   void heartbeat() const {
     if (settings_.progress)
-      settings_.progress->beat([&] { return qp_heartbeat_line("ssn", result_, settings_.rtol, *settings_.progress); });
+      settings_.progress->beat(
+          [&] { return qp_heartbeat_line("ssn", result_, settings_.rtol, *settings_.progress, settings_.earlier); });
   }
 
   // The minimiser over the directions the active sets of z leave free (`target`), and the step's

@@ -27,10 +27,11 @@
 namespace contact3d {
 
 struct SsnSettings {
-  double rtol = 1e-6;            // same criterion as MpgpSettings::rtol
-  int max_newton = 40;           // Newton steps before falling back to MPGP
-  int max_iterations = 100000;   // for the MPGP fallback
-  Progress* progress = nullptr;  // heartbeat (none: silent)
+  double rtol = 1e-6;                 // same criterion as MpgpSettings::rtol
+  int max_newton = 40;                // Newton steps before falling back to MPGP
+  int max_iterations = 100000;        // for the MPGP fallback
+  Progress* progress = nullptr;       // heartbeat (none: silent)
+  const QpResult* earlier = nullptr;  // the same QP's work before this call, counted in the heartbeat
   // For the hybrid solver (qp/hybrid_qp.hpp): return (status IterationLimit) once the steps stop
   // paying (SlowNewtonSteps), and return instead of running MPGP when Newton fails.
   bool stop_when_linear = false;

@@ -2,7 +2,7 @@
 // MPGP on random QPs, also when every round goes through Newton steps; MPGP alone where it
 // converges within its first window; and the reduced symmetric Newton step of solve_ssn on a QP
 // large enough for the LAPACK path; when a Newton round ends (SlowNewtonSteps); further rounds only
-// while they converge (NewtonRoundGate). (Its speed on slabs
+// while they converge (NewtonRoundGate); its heartbeat counts the whole solve. (Its speed on slabs
 // is measured by `make bench-slab`.)
 #include <gtest/gtest.h>
 
@@ -52,7 +52,7 @@ struct DegenerateSolve {
   Eigen::VectorXd lambda, solution;
   bool feasible = false;
 };
-DegenerateSolve solve_degenerate_ill_conditioned(unsigned seed, double rtol) {
+DegenerateSolve solve_degenerate_ill_conditioned(unsigned seed, double rtol, Progress* progress = nullptr) {
   constexpr int m = 400;
   RandomQp a = make_random_qp(m, false, seed, -100, 1e-7);
   DegenerateSolve out;
@@ -68,6 +68,7 @@ DegenerateSolve solve_degenerate_ill_conditioned(unsigned seed, double rtol) {
   hs.rtol = rtol;
   hs.window = 1;
   hs.max_iterations = 3000;
+  hs.progress = progress;
   out.result = solve_hybrid(a.qp, out.lambda, hs);
   out.feasible = is_feasible(a.qp, out.lambda);
   return out;
@@ -223,4 +224,29 @@ TEST(HybridQp, ATargetBelowRoundingStopsAtTheFloorWithTheSameMinimiser) {
     EXPECT_LT((d.lambda - d.solution).norm(), 1e-13 * d.solution.norm()) << "seed " << seed;
     EXPECT_TRUE(d.feasible) << "seed " << seed;
   }
+}
+
+TEST(HybridQp, HeartbeatCountsTheWholeSolve) {
+  // The heartbeat of a hybrid solve counts the work of every MPGP window and Newton round before it:
+  // each window's line restarted at its own count ("iteration 0, 1 products" 13 s into a solve).
+  std::vector<std::string> lines;
+  Progress progress([](const std::string&) {}, [&](const std::string& line) { lines.push_back(line); }, 0.0);
+  const QpResult r = solve_degenerate_ill_conditioned(3, 1e-16, &progress).result;
+  std::vector<int> iterations, products;
+  bool newton_line = false;
+  for (const std::string& line : lines) {
+    int it = 0, prod = 0;
+    ASSERT_EQ(std::sscanf(line.c_str() + line.find("iteration"), "iteration %d, %d products", &it, &prod), 2) << line;
+    iterations.push_back(it);
+    products.push_back(prod);
+    newton_line = newton_line || line.find("qp (ssn)") != std::string::npos;
+  }
+  ASSERT_GE(lines.size(), 3u);
+  EXPECT_TRUE(newton_line);
+  EXPECT_TRUE(std::is_sorted(iterations.begin(), iterations.end()));
+  EXPECT_TRUE(std::is_sorted(products.begin(), products.end()));
+  EXPECT_LE(iterations.back(), r.iterations);
+  EXPECT_LE(products.back(), r.hessian_products);
+  EXPECT_GE(iterations.back(), r.iterations / 2);  // the lines come throughout the solve
+  EXPECT_GE(products.back(), r.hessian_products / 2);
 }
