@@ -413,7 +413,7 @@ int main(int argc, char** argv) {
   std::string kind, out_file;
   int n = 4;
   mesh_cmd->add_option("kind", kind, "brick: the paper's five-tet brick")->required()->check(CLI::IsMember({"brick"}));
-  mesh_cmd->add_option("--n", n, "cubes per unit length (3n x n x n cubes)");
+  mesh_cmd->add_option("--n", n, "cubes per unit length (3n x n x n cubes)")->capture_default_str();
   mesh_cmd->add_option("-o,--output", out_file, "output .msh (default brick_n<N>.msh)");
 
   // A full disk or a file-size limit must fail a write (an error naming the file), not kill the process.

@@ -161,7 +161,7 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
   if (res.face.held_triangles > 0)
     res.notes.push_back(std::to_string(res.face.held_triangles) + " triangle(s) of the contact groups (area " +
-                        number(res.face.held_area, 3) +
+                        number(res.face.held_area, 3) + " " + unit_labels(scene.output.units).length + "²" +
                         ") have every node clamped or prescribed: that condition holds them, not the contact, so "
                         "they are left out of Γc and its cells, and the force there is in the condition's reaction");
   if (res.face.rounded_up > 0)
