@@ -532,6 +532,17 @@ def c_geo_include_outside(c):
     return ["check", geo_scene(c, geo)], ["outside.geo", "outside its folder", "trusted"]
 
 
+def c_traction_entry_located(c):
+    # The second of two [[boundary.traction]] entries has two numbers: the message names the scene file
+    # and the line of that entry's value (both entries share the key name).
+    with open(os.path.join(c.src, "pipeline", "scenes", "paper_brick.toml")) as f:
+        text = f.read().replace("../../geo/brick.geo", os.path.join(c.src, "geo", "brick.geo"))
+    text = text.replace("value = [0.0, 0.0, -3e7]", "value = [0.0, -3e7]")
+    line = next(i for i, l in enumerate(text.splitlines(), 1) if l.startswith("value = [0.0, -3e7]"))
+    return ["check", c.write("two_tractions.toml", text)], ["two_tractions.toml", f"(line {line})",
+                                                             "boundary.traction.value", "three numbers"]
+
+
 def c_geo_parameter_unread(c):
     # mesh.parameters names a variable the script never reads (hh for h): gmsh's -setnumber sets it
     # without a word and the mesh came out at the script's own h, exit 0.

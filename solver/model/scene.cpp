@@ -30,6 +30,19 @@ void check_keys(const toml::table& t, const std::string& where, const KeySet& al
   }
 }
 
+// The source name the scene file's text is parsed under: its values carry their line (not those of --set).
+constexpr const char* kSceneSource = "scene";
+
+// "scene key 'boundary.traction.value' (line 14)": the value's line in the scene file where it stands
+// there (two [[boundary.traction]] entries were told apart by nothing).
+std::string key_at(const std::string& name, const toml::node* n) {
+  std::string text = "scene key '" + name + "'";
+  if (!n) return text;
+  const toml::source_region& at = n->source();
+  if (at.path && *at.path == kSceneSource && at.begin.line > 0) text += " (line " + std::to_string(at.begin.line) + ")";
+  return text;
+}
+
 const toml::table* table_at(const toml::table& root, const std::string& key) {
   const toml::node* n = root.get(key);
   if (!n) return nullptr;
@@ -46,15 +59,15 @@ double get_number(const toml::table& t, const std::string& where, const std::str
   }
   std::optional<double> v = n->value<double>();
   if (!v || !(n->is_floating_point() || n->is_integer()))
-    throw InputError("scene key '" + where + "." + key + "' must be a number");
-  if (!std::isfinite(*v)) throw InputError("scene key '" + where + "." + key + "' must be finite, got " + number(*v));
+    throw InputError(key_at(where + "." + key, n) + " must be a number");
+  if (!std::isfinite(*v)) throw InputError(key_at(where + "." + key, n) + " must be finite, got " + number(*v));
   return *v;
 }
 
 int get_int(const toml::table& t, const std::string& where, const std::string& key, int fallback, int lo, int hi) {
   const double v = get_number(t, where, key, fallback);
   if (v != std::floor(v) || v < lo || v > hi)
-    throw InputError("scene key '" + where + "." + key + "' must be an integer in [" + std::to_string(lo) + ", " +
+    throw InputError(key_at(where + "." + key, t.get(key)) + " must be an integer in [" + std::to_string(lo) + ", " +
                      std::to_string(hi) + "], got " + number(v));
   return static_cast<int>(v);
 }
@@ -63,7 +76,7 @@ std::string get_string(const toml::table& t, const std::string& where, const std
                        const std::string& fallback) {
   const toml::node* n = t.get(key);
   if (!n) return fallback;
-  if (!n->is_string()) throw InputError("scene key '" + where + "." + key + "' must be a string");
+  if (!n->is_string()) throw InputError(key_at(where + "." + key, n) + " must be a string");
   return *n->value<std::string>();
 }
 
@@ -82,10 +95,10 @@ std::vector<std::string> get_strings(const toml::table& t, const std::string& wh
   const toml::node* n = t.get(key);
   if (!n) return {};
   if (n->is_string()) return {*n->value<std::string>()};
-  if (!n->is_array()) throw InputError("scene key '" + where + "." + key + "' must be a list of group names");
+  if (!n->is_array()) throw InputError(key_at(where + "." + key, n) + " must be a list of group names");
   std::vector<std::string> out;
   for (const auto& e : *n->as_array()) {
-    if (!e.is_string()) throw InputError("scene key '" + where + "." + key + "' must list strings");
+    if (!e.is_string()) throw InputError(key_at(where + "." + key, n) + " must list strings");
     out.push_back(*e.value<std::string>());
   }
   return out;
@@ -93,12 +106,12 @@ std::vector<std::string> get_strings(const toml::table& t, const std::string& wh
 
 Eigen::Vector3d get_vector(const toml::node* n, const std::string& name) {
   if (!n || !n->is_array() || n->as_array()->size() != 3)
-    throw InputError("scene key '" + name + "' must be a list of three numbers");
+    throw InputError(key_at(name, n) + " must be a list of three numbers");
   Eigen::Vector3d v;
   for (int k = 0; k < 3; ++k) {
     const auto x = (*n->as_array())[k].value<double>();
-    if (!x) throw InputError("scene key '" + name + "' must be a list of three numbers");
-    if (!std::isfinite(*x)) throw InputError("scene key '" + name + "' must be finite");
+    if (!x) throw InputError(key_at(name, n) + " must be a list of three numbers");
+    if (!std::isfinite(*x)) throw InputError(key_at(name, n) + " must be finite");
     v[k] = *x;
   }
   return v;
@@ -106,7 +119,7 @@ Eigen::Vector3d get_vector(const toml::node* n, const std::string& name) {
 
 Eigen::Matrix3d get_matrix(const toml::node* n, const std::string& name) {
   if (!n || !n->is_array() || n->as_array()->size() != 3)
-    throw InputError("scene key '" + name + "' must be a 3×3 matrix: three rows of three numbers");
+    throw InputError(key_at(name, n) + " must be a 3×3 matrix: three rows of three numbers");
   Eigen::Matrix3d m;
   for (int r = 0; r < 3; ++r) m.row(r) = get_vector(n->as_array()->get(r), name + " row " + std::to_string(r + 1));
   return m;
@@ -411,7 +424,7 @@ Scene parse_scene_text(const std::string& text, const std::filesystem::path& bas
                        const std::vector<std::string>& overrides) {
   toml::table root;
   try {
-    root = toml::parse(text);
+    root = toml::parse(text, std::string_view(kSceneSource));
   } catch (const toml::parse_error& e) {
     std::ostringstream msg;
     msg << "scene is not valid TOML (line " << e.source().begin.line << "): " << e.description();
