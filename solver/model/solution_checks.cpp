@@ -40,8 +40,9 @@ void flag_friction_where_separated(const Scene& scene, SolveResult& res) {
     }
   res.friction_where_separated_area = area;
   if (cells > 0)
-    res.notes.push_back("Tresca friction acts on " + std::to_string(cells) + " cells (area " + number(area, 4) +
-                        ") where the body has lifted off (λ_n = 0): the bound F·g does not depend on the contact "
+    res.notes.push_back("Tresca friction acts on " + std::to_string(cells) + " cells (area " + number(area, 4) + " " +
+                        unit_labels(scene.output.units).length +
+                        "²) where the body has lifted off (λ_n = 0): the bound F·g does not depend on the contact "
                         "pressure (the paper's model); friction.model = \"coulomb\" ties it to the pressure");
 }
 
