@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include <sys/prctl.h>
@@ -127,16 +128,19 @@ void check_script_is_safe(const std::filesystem::path& script, const std::filesy
 }
 
 // The script's code without comments, with that of the files it includes (from its folder, as far as
-// they can be read).
-std::string code_with_includes(const std::filesystem::path& script, const ScriptRules& rules, int depth = 0) {
+// they can be read; each file once, whatever the includes' cycles).
+std::string code_with_includes(const std::filesystem::path& script, const ScriptRules& rules,
+                               std::set<std::filesystem::path>& read) {
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(script, ec);
+  if (ec || !read.insert(canonical).second) return "";
   std::ifstream in(script);
   std::stringstream buf;
   buf << in.rdbuf();
   std::string code = without_comments(buf.str());
-  if (depth >= 16) return code;
   const std::string own = code;
   for (auto it = std::sregex_iterator(own.begin(), own.end(), rules.include); it != std::sregex_iterator(); ++it)
-    code += "\n" + code_with_includes(script.parent_path() / (*it)[1].str(), rules, depth + 1);
+    code += "\n" + code_with_includes(script.parent_path() / (*it)[1].str(), rules, read);
   return code;
 }
 
@@ -145,7 +149,8 @@ std::string code_with_includes(const std::filesystem::path& script, const Script
 // own h = 0.08, exit 0).
 void require_parameters_read(const std::filesystem::path& script, const std::map<std::string, double>& parameters,
                              const ScriptRules& rules) {
-  const std::string code = code_with_includes(script, rules);
+  std::set<std::filesystem::path> read;
+  const std::string code = code_with_includes(script, rules, read);
   const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
   for (const auto& [name, value] : parameters) {
     bool mentioned = false;
