@@ -472,7 +472,11 @@ std::string name_in_plane_motion(const ContactHeldMotions& held, const Eigen::Ve
   col = 0;
   for (Eigen::Index p = 0; p < best; ++p) col += held.parts[static_cast<std::size_t>(p)].free.count();
   const PartMotions& part = held.parts[static_cast<std::size_t>(best)];
-  const Eigen::Matrix<double, 6, 1> local = part.free.motions * coefficients.segment(col, part.free.count());
+  Eigen::Matrix<double, 6, 1> local = part.free.motions * coefficients.segment(col, part.free.count());
+  // A turn whose motion across the part is under 1e-3 of the slide's is the slide, not a rotation about an
+  // axis a thousand sizes away (an incline's limit was named a turn about an axis 581 km off: the
+  // least-squares minimum carries such a remainder).
+  if (local.tail<3>().norm() <= 1e-3 * local.head<3>().norm()) local.tail<3>().setZero();
   Eigen::Matrix<double, 6, 1> global;
   global << held.user_frame.to_global(local.head<3>()), held.user_frame.to_global(local.tail<3>());
   const std::string label = part.label();
