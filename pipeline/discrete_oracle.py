@@ -215,7 +215,9 @@ def make_law(fr):
 
 
 def F_eval(law, s):
-    """F(s) for s array (piecewise linear, constant beyond ends; table jumps: right value)"""
+    """F(s) for s array (piecewise linear, constant beyond ends; a jump takes the value after it, except
+    a jump at the first t, where the first value holds at and below it: a static coefficient at rest,
+    as the README states the table law)"""
     if law[0] == 'table':
         t, F = law[1], law[2]
     else:
@@ -227,6 +229,8 @@ def F_eval(law, s):
             m = (s >= t[k]) & (s < t[k + 1])
             out[m] = F[k] + (F[k + 1] - F[k]) * (s[m] - t[k]) / (t[k + 1] - t[k])
     out[s >= t[-1]] = F[-1]
+    if len(t) > 1 and t[1] == t[0]:
+        out[s <= t[0]] = F[0]
     return out
 
 
@@ -905,4 +909,10 @@ def main():
 
 
 if __name__ == '__main__':
-    main()
+    try:
+        main()
+    except Exception:  # a crash is no verdict: exit 3, never 1 (a disagreement) nor 0
+        import traceback
+        traceback.print_exc()
+        print('oracle error: the run could not be checked (see the traceback above)', file=sys.stderr)
+        sys.exit(3)
