@@ -46,6 +46,20 @@ def solve(out, n=4, extra=(), **kw):
     return subprocess.run(cmd, capture_output=True, text=True, **kw)
 
 
+def gmsh_children(parent):
+    """The pids of gmsh processes whose parent is `parent` (read from /proc: no procps needed)."""
+    pids = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            text = stat.read_text()
+        except OSError:
+            continue
+        name, rest = text[text.index("(") + 1:text.rindex(")")], text[text.rindex(")") + 2:].split()
+        if name == "gmsh" and int(rest[1]) == parent:
+            pids.append(int(stat.parent.name))
+    return pids
+
+
 def unfinished(out):
     return not (out / "summary.json").exists() and (out / "RUNNING").exists() and not list(out.glob("*.partial"))
 
@@ -150,9 +164,9 @@ with tempfile.TemporaryDirectory() as tmp:
                             "mesh.parameters.h=0.0175"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     mesher = None
     for _ in range(200):
-        found = subprocess.run(["pgrep", "-P", str(run.pid), "gmsh"], capture_output=True, text=True).stdout.split()
+        found = gmsh_children(run.pid)
         if found:
-            mesher = int(found[0])
+            mesher = found[0]
             break
         time.sleep(0.05)
     run.kill()
