@@ -16,7 +16,7 @@ that look like a finished solve, and says why.
    (steps/body_<k>.vtu, steps/contact_<k>.vtu) are replaced, and the .partial files a killed run left
    are removed; the user's files stay;
 8. the meshers' files an earlier run left (mesh.msh, gmsh.log) are removed by a run that did not write
-   them, unless it reads that mesh.msh itself;
+   them, unless it reads that mesh.msh itself; a user's own mesh.msh (no gmsh.log beside it) stays;
 9. a solve killed while gmsh meshes takes gmsh with it (an orphaned gmsh wrote mesh.msh into the folder
    after a later run had finished there).
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
@@ -156,6 +156,12 @@ with tempfile.TemporaryDirectory() as tmp:
     p = subprocess.run([binary, "solve", str(scene), "--mesh", str(out / "mesh.msh"), "--out", str(out), "--quiet"],
                        capture_output=True, text=True)
     check(p.returncode == 0 and (out / "mesh.msh").exists(), f"the mesh read was removed: exit {p.returncode}")
+    mine = tmp / "users_folder"  # a user's own mesh.msh, no gmsh.log beside it: not a run's, kept
+    mine.mkdir()
+    (mine / "mesh.msh").write_bytes(own.read_bytes())
+    p = subprocess.run([binary, "solve", str(scene), "--mesh", str(own), "--out", str(mine), "--quiet"],
+                       capture_output=True, text=True)
+    check(p.returncode == 0 and (mine / "mesh.msh").exists(), f"a user's own mesh.msh was removed: exit {p.returncode}")
 
     # 9. a solve killed while gmsh meshes: gmsh dies with it (it wrote mesh.msh into the folder afterwards)
     out = tmp / "killed_meshing"
