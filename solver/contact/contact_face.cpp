@@ -82,7 +82,7 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   for (const auto& tri : face.triangles)
     for (int v : tri) {
       face.gap[v] = mesh.nodes[v].z() <= gap_snap ? 0.0 : mesh.nodes[v].z();  // flat stays exactly flat
-      face.rounded_up = std::max(face.rounded_up, -mesh.nodes[v].z());
+      if (-mesh.nodes[v].z() > gap_snap) face.rounded_up = std::max(face.rounded_up, -mesh.nodes[v].z());
     }
   std::vector<double> shortest;
   face.lo = mesh.nodes[face.triangles[0][0]].head<2>();

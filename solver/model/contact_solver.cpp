@@ -547,8 +547,8 @@ std::unique_ptr<DualProblem> make_dual_problem(DualMethod method, const DualProb
 }
 
 // No contact group: one linear solve.
-SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretisation& disc, StageClock& clock,
-                                  SolveResult res, Progress& report) {
+void solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretisation& disc, StageClock& clock,
+                           SolveResult& res, Progress& report) {
   const Eigen::SparseMatrix<double> no_rows(0, disc.K.cols());
   report.stage("no contact group: one linear solve (CHOLMOD), " + count(res.n_primal) + " rows");
   const auto dual = make_cholmod_dual_problem(
@@ -565,7 +565,6 @@ SolveResult solve_without_contact(const Scene& scene, const Mesh& mesh, const Di
   res.status = "converged";
   clock.lap("solve");
   if (scene.solver.reference_factorization) time_reference_factorizations(disc.K, clock);
-  return res;
 }
 
 }  // namespace
@@ -732,10 +731,8 @@ void run_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on
   report.stage("  " + count(res.n_primal) + " unknowns, " +
                (K_on_ranks ? "K assembled by the " + count(distributed::ranks()) + " ranks with the factorization"
                            : "nnz(K) = " + count(disc.K.nonZeros())));
-  if (scene.contact.empty()) {
-    res = solve_without_contact(scene, mesh, disc, clock, std::move(res), report);
-    return;
-  }
+  // `clock` writes into res.seconds: res is filled in place (a moved res lost the "solve" stage's time)
+  if (scene.contact.empty()) return solve_without_contact(scene, mesh, disc, clock, res, report);
 
   stage.enter("contact", "the contact face and its partition");
   const ContactOperator op = contact_stage(scene, mesh, res);

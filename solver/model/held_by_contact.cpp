@@ -461,18 +461,16 @@ Eigen::VectorXd least_friction_work(const CellMotions& V, const Eigen::VectorXd&
 // the part it moves most, named in the user's axes.
 std::string name_in_plane_motion(const ContactHeldMotions& held, const Eigen::VectorXd& a) {
   const Eigen::VectorXd coefficients = held.in_plane_combinations * a;  // of the free motions, all parts
-  Eigen::Index col = 0, best = -1;
-  double largest = -1;
+  std::size_t best = 0;
+  Eigen::Index col = 0, best_col = 0;  // each part's coefficients follow the parts before it
   for (std::size_t p = 0; p < held.parts.size(); ++p) {
     const Eigen::Index k = held.parts[p].free.count();
-    if (const double n = coefficients.segment(col, k).norm(); n > largest)
-      largest = n, best = static_cast<Eigen::Index>(p);
+    if (coefficients.segment(col, k).norm() > coefficients.segment(best_col, held.parts[best].free.count()).norm())
+      best = p, best_col = col;
     col += k;
   }
-  col = 0;
-  for (Eigen::Index p = 0; p < best; ++p) col += held.parts[static_cast<std::size_t>(p)].free.count();
-  const PartMotions& part = held.parts[static_cast<std::size_t>(best)];
-  Eigen::Matrix<double, 6, 1> local = part.free.motions * coefficients.segment(col, part.free.count());
+  const PartMotions& part = held.parts[best];
+  Eigen::Matrix<double, 6, 1> local = part.free.motions * coefficients.segment(best_col, part.free.count());
   // A turn whose motion across the part is under 1e-3 of the slide's is the slide, not a rotation about an
   // axis a thousand sizes away (an incline's limit was named a turn about an axis 581 km off: the
   // least-squares minimum carries such a remainder).

@@ -61,8 +61,7 @@ void warn_if_beyond_any_solid(const Scene& scene, const Mesh& mesh, const TetMat
     res.warnings.push_back("young = " + number(softest, 4) + " " + units.stress +
                            " is softer than any solid but the softest gels (about " + number(1e3 / pascal, 2) + " " +
                            units.stress + ")" + check + "larger unit (GPa instead of " + units.stress +
-                           ") makes every displacement as many "
-                           "times too large");
+                           ") makes every displacement as many times too large");
 }
 
 // The model takes the loaded boundary Γp and the contact face Γc apart. A traction or pressure on a
