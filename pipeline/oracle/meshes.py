@@ -134,6 +134,18 @@ def mesh_parameters(m: dict, n, work: Path, script: Path, suffix: str) -> tuple[
     return params, work / f"{script.stem}-{tag}{suffix}"
 
 
+def medit_ascii_copy(src: Path, work: Path) -> Path:
+    """An ASCII .mesh of the binary Medit mesh `src`, written by FreeFEM (labels kept), in `work`."""
+    out = work / (src.stem + ".mesh")
+    edp = work / "meshb_to_mesh.edp"
+    edp.write_text(f'load "msh3"\nmesh3 Th = readmesh3("{src}");\nsavemesh(Th, "{out}");\n')
+    r = subprocess.run(["FreeFem++", "-nw", str(edp)], capture_output=True, text=True,
+                       env=dict(os.environ, FF_LOADPATH="/usr/lib/freefem++"))
+    if r.returncode != 0 or not out.exists():
+        raise SideFailed(f"FreeFEM could not write {src} as an ASCII .mesh:\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
+    return out
+
+
 def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bool = False) -> tuple[Path, dict]:
     m = scene.get("mesh", {})
     if "geo" in m:
@@ -169,6 +181,10 @@ def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bo
         src = (scene_path.parent / m["file"]).resolve()
         if not src.exists():
             raise SideFailed(f"{scene_path}: [mesh] file = {m['file']!r}: {src} does not exist")
+        if src.suffix == ".mesh":  # Medit ASCII (FreeFEM's savemesh): both solvers read it, its labels the groups
+            return src, {}
+        if src.suffix == ".meshb":  # Medit binary: FreeFEM writes it out as ASCII (gmsh's conversion drops the labels)
+            return medit_ascii_copy(src, work), {}
         with open(src, errors="replace") as fh:
             head = fh.read(200)
         if "$MeshFormat\n2.2 0" in head or "$MeshFormat\r\n2.2 0" in head:
@@ -179,5 +195,5 @@ def make_mesh(scene: dict, scene_path: Path, n, work: Path, gmsh: str, reuse: bo
         if r.returncode != 0 or not out.exists():
             raise SideFailed(f"gmsh could not convert {src} to MSH 2.2:\n{r.stderr[-2000:]}")
         return out, {}
-    raise SideFailed(f"{scene_path}: the cross-check needs [mesh] geo or file (a gmsh mesh); "
+    raise SideFailed(f"{scene_path}: the cross-check needs [mesh] geo, edp or file (a gmsh or Medit mesh); "
                      "built-in generators have no FreeFEM counterpart")
