@@ -710,9 +710,11 @@ std::unique_ptr<DualProblem> dual_problem(DualMethod method, const DualProblemIn
   return dual;
 }
 
-// A refusal with the run's warnings so far appended.
-std::string with_warnings_before(const std::string& refusal, const std::vector<std::string>& warnings) {
-  std::string text = refusal + " (warned before this, which may be its cause: ";
+// A refusal with the run's warnings so far appended (they are printed with it, not before it: a
+// solve prints its warnings at the end).
+std::string with_input_warnings(const std::string& refusal, const std::vector<std::string>& warnings) {
+  std::string text = refusal + (warnings.size() == 1 ? " (this input's warning, which may be its cause: "
+                                                     : " (this input's warnings, which may be its cause: ");
   for (std::size_t i = 0; i < warnings.size(); ++i) text += (i ? "; " : "") + warnings[i];
   return text + ")";
 }
@@ -829,10 +831,10 @@ SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCal
     run_stages(scene, mesh, on_step, report, stage, kept, res);
   } catch (const ContactZoneTooCoarse& e) {
     if (res.warnings.empty() || scene.cell_size_auto) throw;
-    throw ContactZoneTooCoarse(with_warnings_before(e.what(), res.warnings));
+    throw ContactZoneTooCoarse(with_input_warnings(e.what(), res.warnings));
   } catch (const InputError& e) {
     if (res.warnings.empty()) throw;
-    throw InputError(with_warnings_before(e.what(), res.warnings));
+    throw InputError(with_input_warnings(e.what(), res.warnings));
   }
   return res;
 }

@@ -253,10 +253,12 @@ void apply_override(toml::table& root, const std::string& assignment) {
     part = next;
   }
   t->insert_or_assign(part, *parsed.get("v"));
-  // Choosing a mesh source on the command line replaces the scene's own.
-  if (key == "mesh.file" || key == "mesh.geo" || key == "mesh.edp" || key == "mesh.generator")
+  // Choosing a mesh source on the command line replaces the scene's own (the built-in brick's size n with it).
+  if (key == "mesh.file" || key == "mesh.geo" || key == "mesh.edp" || key == "mesh.generator") {
+    if (key != "mesh.generator" && t->contains("generator")) t->erase("n");
     for (const char* other : {"file", "geo", "edp", "generator"})
       if ("mesh." + std::string(other) != key) t->erase(other);
+  }
 }
 
 FrictionLaw parse_law(const toml::table& fr) {
@@ -311,6 +313,14 @@ void parse_mesh(const toml::table& mesh, const std::filesystem::path& base, Scen
   s.mesh.generator = get_string(mesh, "mesh", "generator", "");
   if (!s.mesh.generator.empty() && s.mesh.generator != "paper_brick")
     throw InputError("mesh.generator must be 'paper_brick', got '" + s.mesh.generator + "'");
+  if (mesh.contains("n") && s.mesh.generator.empty())  // `--set mesh.n=32` on a .geo scene meshed n = 16 silently
+    throw InputError(key_at("mesh.n", mesh.get("n")) +
+                     " is the size of the built-in brick (mesh.generator = "
+                     "\"paper_brick\"), which this scene does not use: " +
+                     (mesh.contains("file")
+                          ? std::string("its mesh is a file, which has no size to set")
+                          : std::string("its mesh script takes its sizes from mesh.parameters "
+                                        "(e.g. --set mesh.parameters.n=32 where the script reads n)")));
   s.mesh.n = get_int(mesh, "mesh", "n", 4, 1, 64);  // n = 64: 3.9M tets, ~2.4M dofs
   if (const toml::table* params = table_at(mesh, "parameters"))
     for (const auto& [k, v] : *params)
