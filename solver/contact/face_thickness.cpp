@@ -5,11 +5,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <set>
 #include <utility>
 
 namespace contact3d {
 namespace {
+
+// Elements through the thickness are counted where the body is thinner than this many element sizes.
+constexpr double kThinForLayers = 3;
 
 // The boundary faces that face up (outward normal with a positive z part), bucketed by a uniform grid
 // over their projection onto the plane, so that a vertical ray visits only the faces over its point.
@@ -104,6 +108,24 @@ double weighted_median(std::vector<std::pair<double, double>> value_weight) {
   return value_weight.back().first;
 }
 
+// Per contact triangle (sorted node key), the height of the tetrahedron standing on it: its fourth
+// node's distance above the triangle's plane.
+std::map<std::array<int, 3>, double> heights_over(const Mesh& mesh, const std::set<std::array<int, 3>>& triangles) {
+  std::map<std::array<int, 3>, double> heights;
+  for (const auto& tet : mesh.tets)
+    for (int apex = 0; apex < 4; ++apex) {
+      std::array<int, 3> face{};
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != apex) face[static_cast<std::size_t>(j++)] = tet[static_cast<std::size_t>(k)];
+      std::sort(face.begin(), face.end());
+      if (!triangles.count(face)) continue;
+      const Eigen::Vector3d &a = mesh.nodes[face[0]], &b = mesh.nodes[face[1]], &c = mesh.nodes[face[2]];
+      const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+      heights[face] = std::abs(n.dot(mesh.nodes[tet[static_cast<std::size_t>(apex)]] - a));
+    }
+  return heights;
+}
+
 }  // namespace
 
 FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::string>& contact_groups) {
@@ -127,6 +149,7 @@ FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::st
   const double above = 1e-12 * (hi - lo).norm();  // rounding: the contact triangle's own plane
   const UpwardFaces upward(mesh);
   std::vector<std::pair<double, double>> thickness_area;
+  std::vector<std::array<int, 3>> measured;  // the triangles whose ray met a face, as thickness_area
   for (const auto& tri : triangles) {
     const Eigen::Vector3d &a = mesh.nodes[tri[0]], &b = mesh.nodes[tri[1]], &c = mesh.nodes[tri[2]];
     const Eigen::Vector3d centroid = (a + b + c) / 3;
@@ -134,11 +157,24 @@ FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::st
     if (!std::isfinite(top)) continue;
     const double projected_area = 0.5 * std::abs((b - a).cross(c - a).z());
     thickness_area.emplace_back(top - centroid.z(), projected_area);
+    measured.push_back(tri);
   }
   const Eigen::Vector2d extents = median_extents(mesh, triangles);
   out.element_size = std::sqrt(extents.x() * extents.y());
   out.measured = static_cast<int>(thickness_area.size());
-  if (!thickness_area.empty()) out.median = weighted_median(std::move(thickness_area));
+  if (thickness_area.empty()) return out;
+  out.median = weighted_median(thickness_area);
+  if (!(out.median < kThinForLayers * out.element_size)) return out;
+  const std::map<std::array<int, 3>, double> heights = heights_over(mesh, seen);
+  std::vector<std::pair<double, double>> layers_area;
+  for (std::size_t i = 0; i < measured.size(); ++i) {
+    std::array<int, 3> key = measured[i];
+    std::sort(key.begin(), key.end());
+    const auto it = heights.find(key);
+    if (it != heights.end() && it->second > 0)
+      layers_area.emplace_back(thickness_area[i].first / it->second, thickness_area[i].second);
+  }
+  if (!layers_area.empty()) out.elements_through = weighted_median(std::move(layers_area));
   return out;
 }
 

@@ -22,6 +22,12 @@ struct FaceThickness {
   // The contact triangles' typical element size: √(h_x·h_y) of median_extents (contact_face.hpp), the
   // h of "cell_size = 2h" (ContactFace::h_xy, without its lower bound by the shortest edges).
   double element_size = 0;
+  // Area-weighted median over the contact triangles of how many elements the mesh has through that
+  // thickness: the thickness over the height of the tetrahedron standing on the triangle (its fourth
+  // node above the triangle's plane). Measured where the body is thinner than three element sizes,
+  // else infinity. Linear tetrahedra a layer or two through a plate or shell are far too stiff in
+  // bending (model/input_warnings.cpp).
+  double elements_through = std::numeric_limits<double>::infinity();
   int triangles = 0;  // contact triangles (each triangle once)
   int measured = 0;   // of them, those whose ray met a face
 };

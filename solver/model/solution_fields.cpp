@@ -108,6 +108,9 @@ TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Ei
 
 StrainPeak largest_strain(const Mesh& mesh, const Eigen::VectorXd& u) {
   StrainPeak peak;
+  std::vector<std::pair<double, double>> strain_volume;  // per tetrahedron
+  strain_volume.reserve(mesh.tets.size());
+  double total_volume = 0;
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
     const Eigen::Matrix<double, 6, 1> v = tet_strain(mesh, u, e);
     Eigen::Matrix3d strain;
@@ -115,7 +118,21 @@ StrainPeak largest_strain(const Mesh& mesh, const Eigen::VectorXd& u) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal;
     principal.computeDirect(strain, Eigen::EigenvaluesOnly);
     const double largest = principal.eigenvalues().cwiseAbs().maxCoeff();
-    if (largest > peak.value) peak = {largest, e};
+    if (largest > peak.value) peak.value = largest, peak.tet = e;
+    const auto& t = mesh.tets[e];
+    const double volume = std::abs((mesh.nodes[t[1]] - mesh.nodes[t[0]])
+                                       .cross(mesh.nodes[t[2]] - mesh.nodes[t[0]])
+                                       .dot(mesh.nodes[t[3]] - mesh.nodes[t[0]])) /
+                          6;
+    strain_volume.emplace_back(largest, volume);
+    total_volume += volume;
+  }
+  std::sort(strain_volume.begin(), strain_volume.end());
+  double below = 0;
+  for (const auto& [strain, volume] : strain_volume) {
+    peak.bulk = strain;
+    below += volume;
+    if (below >= 0.99 * total_volume) break;
   }
   return peak;
 }

@@ -56,6 +56,7 @@ TetStress tet_stresses(const Mesh& mesh, const TetMaterials& materials, const Ei
 struct StrainPeak {
   double value = 0;
   std::size_t tet = 0;
+  double bulk = 0;  // the strain that 99% of the body's volume stays below (a peak far above it is local)
 };
 StrainPeak largest_strain(const Mesh& mesh, const Eigen::VectorXd& u);
 
