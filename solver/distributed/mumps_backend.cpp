@@ -27,6 +27,7 @@
 #include "base/format.hpp"
 #include "base/memory.hpp"
 #include "distributed/backend.hpp"
+#include "distributed/mumps_errors.hpp"
 #include "distributed/petsc_route.hpp"
 #include "fem/assembly.hpp"
 #include "fem/mesh_part.hpp"
@@ -112,9 +113,6 @@ UpperCsr augmented_upper(const Eigen::SparseMatrix<double>& K, const Eigen::Spar
   return a;
 }
 
-// MUMPS's counts of entries (INFOG(29)) above 2^31 come back negative, in millions.
-double mumps_count(std::int64_t reported) { return reported >= 0 ? double(reported) : -1e6 * double(reported); }
-
 // MUMPS called directly, for what PETSc's interface cannot pass to a Cholesky/Schur factorization:
 // our nested dissection as the pivot order (ICNTL(7) = 1, PERM_IN on rank 0, the multipliers last).
 // The matrix goes in as each rank's rows in triplets (ICNTL(18) = 3); the Schur complement on the
@@ -171,14 +169,7 @@ void factorize_with_growing_workspace(DirectMumps& d, const std::string& out_of_
                      "' (INFOG(1) = " + std::to_string(code) + "): the directory must exist on every machine, be " +
                      "writable and have room for the factor, about " +
                      number(8.0 * mumps_count(d.id.infog[2]) / (1 << 30), 3) + " GiB over all ranks");
-  if (d.id.infog[0] == -13)  // an allocation failed on some rank: the machine(s) ran out of memory
-    throw InputError("not enough memory for MUMPS's factorization: allocating " +
-                     std::to_string(static_cast<long long>(mumps_count(d.id.infog[1]))) +
-                     " entries failed on one of the ranks (INFOG(1) = -13); run more ranks, on more machines, "
-                     "keep the factor on disk (solver.out_of_core_dir), or use a coarser mesh");
-  if (d.id.infog[0] < 0)
-    throw std::runtime_error("MUMPS failed in the MUMPS factorization (INFOG(1) = " + std::to_string(d.id.infog[0]) +
-                             ", INFOG(2) = " + std::to_string(d.id.infog[1]) + ")");
+  throw_if_mumps_failed(d.id.infog[0], d.id.infog[1], "the MUMPS factorization");
 }
 
 // One factorization, on every rank between a factorizing command (kAssembleAndFactor, kFactorThroughPetsc) and

@@ -9,6 +9,8 @@
 #include <string>
 #include <type_traits>
 
+#include "distributed/mumps_errors.hpp"
+
 namespace contact3d::distributed {
 namespace {
 
@@ -31,8 +33,19 @@ int comm_size() {
   return s;
 }
 
-// MUMPS's counts of entries (INFOG(29)) above 2^31 come back negative, in millions.
-double mumps_count(std::int64_t reported) { return reported >= 0 ? double(reported) : -1e6 * double(reported); }
+// PETSc's MUMPS interface records a failed analysis or factorization in the factor and returns
+// success (with -mat_mumps_icntl_4 1 and INFOG(1) = -13 the run went on to form Q from it and was refused
+// for (5.1)): the factor's error state is checked after each, and MUMPS's INFOG(1) reported as the
+// direct route reports it. INFOG(1) is global, so every rank throws alike.
+void require_factored(Mat F, const char* what) {
+  MatFactorError state = MAT_FACTOR_NOERROR;
+  check(MatFactorGetError(F, &state), "MatFactorGetError");
+  if (state == MAT_FACTOR_NOERROR) return;
+  PetscInt infog1 = 0, infog2 = 0;
+  check(MatMumpsGetInfog(F, 1, &infog1), "MatMumpsGetInfog(1)");
+  check(MatMumpsGetInfog(F, 2, &infog2), "MatMumpsGetInfog(2)");
+  throw_if_mumps_failed(infog1 < 0 ? infog1 : -1, infog2, what);
+}
 
 // Rank 0's modes (rows = K's dofs; absent or empty: none) as A's near-null space: each rank gets the
 // rows it owns ([first[r], first[r + 1]), zero on the multipliers' rows). Returns the number of
@@ -195,7 +208,9 @@ class Route final : public PetscRoute {
     MatFactorInfo info;
     check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
     check(MatCholeskyFactorSymbolic(fz->F, fz->A, nullptr, &info), "the MUMPS analysis");
+    require_factored(fz->F, "the MUMPS analysis");
     check(MatCholeskyFactorNumeric(fz->F, fz->A, &info), "the MUMPS factorization");
+    require_factored(fz->F, "the MUMPS factorization");
     Mat S = nullptr;
     check(MatFactorCreateSchurComplement(fz->F, &S, nullptr), "MatFactorCreateSchurComplement");
     if (rank == 0) {
