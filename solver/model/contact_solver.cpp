@@ -687,7 +687,21 @@ MatrixFreeQ matrix_free_q(DualProblem& dual, const ContactOperator& op, const Pa
 // factoring again (forward_solves_pay, model/dual_route.hpp).
 struct KeptFactor {
   std::shared_ptr<const SparseCholesky> factor;
+  // K, for the reference factorizations (solver.reference_factorization), timed once after the last
+  // solve (time_kept_reference): timed after the first, they needed its factor freed, and the second solve
+  // factored K again where a user's run reuses it (a washer solved twice: ratio 10.4, of which 2.4 that
+  // second factorization).
+  Eigen::SparseMatrix<double> K;
 };
+
+// The reference factorizations of the K kept by the solves of contact.cell_size = "auto", into `res`.
+void time_kept_reference(const Scene& scene, KeptFactor& kept, SolveResult& res) {
+  if (!scene.solver.reference_factorization || kept.K.size() == 0) return;
+  kept.factor.reset();
+  StageClock clock(res.seconds, true);
+  time_reference_factorizations(kept.K, clock);
+  kept.K.resize(0, 0);
+}
 
 // The dual problem: on the kept factor where that pays, else by the route's own factorization (whose
 // factor is then kept, where there is a KeptFactor to keep it in).
@@ -706,7 +720,7 @@ std::unique_ptr<DualProblem> dual_problem(DualMethod method, const DualProblemIn
                std::string(is_mumps(method) ? "MUMPS on " + count(distributed::ranks()) + " ranks" : "CHOLMOD") + ", " +
                name_of(method, kDualMethodNames) + ")");
   std::unique_ptr<DualProblem> dual = make_dual_problem(method, input, scene.solver, clock);
-  if (kept && !scene.solver.reference_factorization) kept->factor = dual->factor_to_share();
+  if (kept) kept->factor = dual->factor_to_share();
   return dual;
 }
 
@@ -816,7 +830,10 @@ void run_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
     dual->release_factor();                    // two big factors need not fit at once
     const Eigen::SparseMatrix<double>& K = disc.stiffness(mesh, res.dofs);  // assembled again if released
-    time_reference_factorizations(K, clock);
+    if (kept)
+      kept->K = K;  // timed after the last solve, which may still use the kept factor (time_kept_reference)
+    else
+      time_reference_factorizations(K, clock);
   }
 }
 
@@ -1031,10 +1048,13 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     } catch (const ContactZoneTooCoarse& e) {
       if (!scene.cell_size_auto) throw;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      return refine_refused_cells(scene, mesh, on_step, report, e.what(), seconds, kept);
+      res = refine_refused_cells(scene, mesh, on_step, report, e.what(), seconds, kept);
+      time_kept_reference(scene, kept, res);
+      return res;
     }
     if (scene.cell_size_auto && unresolved(res))
-      return refine_unresolved_contact(scene, mesh, on_step, report, std::move(res), kept);
+      res = refine_unresolved_contact(scene, mesh, on_step, report, std::move(res), kept);
+    time_kept_reference(scene, kept, res);
     return res;
   } catch (const std::bad_alloc&) {
     const bool dual_sized = stage.name == "contact" || stage.name == "stability check" || stage.name == "dual solve";
