@@ -558,6 +558,17 @@ def c_mesh_n_without_generator(c):
     return ["check", scene, "--set", "mesh.n=32"], ["mesh.n", "paper_brick", "mesh.parameters.n=32"]
 
 
+def c_held_by_contact_on_one_cell_over_the_face(c):
+    # contact.cell_size far beyond the face (a length in the wrong unit): one cell, whose single force holds
+    # no turn. The refusal led with "the loads along it are more than the contact's friction carries" for a
+    # washer whose loads were symmetric up to rounding; the one cell is named first now.
+    scene = os.path.join(c.src, "pipeline", "scenes", "paper_brick.toml")
+    return (["solve", scene, "--quiet", "--out", c.path("out"), "--set", "mesh.generator=paper_brick", "--set", "mesh.n=4",
+             "--set", "boundary.clamped=[]", "--set", "friction.model=coulomb", "--set", "friction.slip_bound=0",
+             "--set", "contact.cell_size=100"],
+            ["error: the contact partition has only 1 cell(s) over the whole contact face (contact.cell_size)"])
+
+
 def c_held_by_contact_young_in_wrong_unit(c):
     # young = 210 meant in GPa, the brick held by contact alone (Coulomb): refused for a rigid displacement
     # thousands of times its size, which blamed the contact cells; the refusal must carry the warning

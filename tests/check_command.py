@@ -70,6 +70,8 @@ rounded = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_po
                          capture_output=True, text=True, timeout=60)
 pushed_in = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_point=[0, 0, 1e-3]"],
                            capture_output=True, text=True, timeout=60)
+# The partition's own warnings, as a solve gives them: one cell over the whole face (H in the wrong unit).
+one_cell = subprocess.run([a.bin, "check", scene.name, "--set", "contact.cell_size=100"], capture_output=True, text=True)
 os.unlink(scene.name)
 out = p.stdout
 print(out, p.stderr)
@@ -120,6 +122,8 @@ if thick.returncode != 0 or "element(s) through" in thick.stderr:
     problems.append(f"the slab four elements thick is warned, or refused: exit {thick.returncode} {thick.stderr}")
 if "element(s) through" in p.stderr:
     problems.append("the brick fixture is warned about its elements through the thickness")
+if one_cell.returncode != 0 or "warning: contact.cell_size: one cell of H = 100" not in one_cell.stderr:
+    problems.append(f"check does not warn of one cell over the whole face: {one_cell.stderr}")
 if problems:
     print("FAIL:", "; ".join(problems))
     sys.exit(1)

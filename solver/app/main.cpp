@@ -236,6 +236,7 @@ void print_dual_plan(const DualPlan& plan, const std::string& length_unit) {
       (plan.cell_sizes.empty() ? fmt::format("H = {:.4g} {}", plan.cell_size, length_unit) : plan.cell_sizes) +
       describe_regions(plan.regions);
   if (!plan.thin_body.empty()) fmt::print("contact.cell_size = \"auto\": {}\n", plan.thin_body);
+  for (const auto& w : plan.warnings) std::cerr << "warning: " << w << "\n";
   fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
              plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }

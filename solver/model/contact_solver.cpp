@@ -826,6 +826,11 @@ void run_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on
   res.ranks = is_mumps(method) ? distributed::ranks() : 1;
   if (is_mumps(method))
     if (std::string note = distributed::core_binding_note(); !note.empty()) res.notes.push_back(std::move(note));
+  if (!is_mumps(method) && distributed::ranks() > 1)  // a route of one process, started under mpirun
+    res.notes.push_back("solver.schur = \"" + std::string(name_of(method, kDualMethodNames)) +
+                        "\" solves on rank 0 alone, the other " + std::to_string(distributed::ranks() - 1) +
+                        " rank(s) waiting: solver.schur = \"mumps\" or \"mumps_petsc\" spreads the factorization "
+                        "over them");
   res.peak_memory_per_rank_mib = distributed::peak_memory_per_rank_mib();
   if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
     dual->release_factor();                    // two big factors need not fit at once
@@ -1014,6 +1019,7 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
   plan.available_bytes = memory.available;
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
   plan.thin_body = thin.value_or("");
+  plan.warnings = res.warnings;
   return plan;
 }
 

@@ -136,7 +136,8 @@ struct DualPlan {
   int regions = 1;                              // parts of Γc no cell spans (model/contact_regions.hpp)
   double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
   std::string method;
-  std::string thin_body;  // contact.cell_size = "auto" found the body thin and starts on cells of 1.5h: why
+  std::string thin_body;              // contact.cell_size = "auto" found the body thin and starts on cells of 1.5h: why
+  std::vector<std::string> warnings;  // the partition's, as the solve gives them (one cell over the whole face)
 };
 DualPlan plan_dual(const Scene& scene, const Mesh& mesh);
 

@@ -382,9 +382,17 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
   std::string few = too_few_cells(op, partition, tresca);
   if (few.empty() && held.count() - held.in_plane_count() >= 2)
     if (const std::string row = face_one_cell_wide(partition); !row.empty()) few = "; " + row;
-  auto refuse = [&few](const std::string& message) {
+  // A partition of one or two cells over the whole face (a cell size in the wrong unit) is the cause to
+  // name first: its one force at the cell's centre holds no turn, whatever the friction (a washer under
+  // a pressure that is symmetric up to rounding was refused for loads "more than the friction carries").
+  const std::string whole_face =
+      op.r <= 2 ? "the contact partition has only " + std::to_string(op.r) +
+                      " cell(s) over the whole contact face (contact.cell_size), too few for contact forces to hold "
+                      "the body: "
+                : "";
+  auto refuse = [&few, &whole_face](const std::string& message) {
     if (few.empty()) throw InputError(message);
-    throw ContactZoneTooCoarse(message + few);
+    throw ContactZoneTooCoarse(whole_face + message + few);
   };
   if (held.in_plane_count() && !tresca.history().empty() && !frictionless_start) {
     // The share of the in-plane loads (the tangential force and the torque about the normal) left
