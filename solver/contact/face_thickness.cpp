@@ -12,9 +12,6 @@
 namespace contact3d {
 namespace {
 
-// Elements through the thickness are counted where the body is thinner than this many element sizes.
-constexpr double kThinForLayers = 3;
-
 // The boundary faces that face up (outward normal with a positive z part), bucketed by a uniform grid
 // over their projection onto the plane, so that a vertical ray visits only the faces over its point.
 class UpwardFaces {
@@ -112,7 +109,13 @@ double weighted_median(std::vector<std::pair<double, double>> value_weight) {
 // node's distance above the triangle's plane.
 std::map<std::array<int, 3>, double> heights_over(const Mesh& mesh, const std::set<std::array<int, 3>>& triangles) {
   std::map<std::array<int, 3>, double> heights;
-  for (const auto& tet : mesh.tets)
+  std::vector<char> on_face(mesh.nodes.size(), 0);
+  for (const auto& t : triangles)
+    for (int v : t) on_face[static_cast<std::size_t>(v)] = 1;
+  for (const auto& tet : mesh.tets) {
+    int touching = 0;  // only a tetrahedron with three nodes on the face can stand on one of its triangles
+    for (int v : tet) touching += on_face[static_cast<std::size_t>(v)];
+    if (touching < 3) continue;
     for (int apex = 0; apex < 4; ++apex) {
       std::array<int, 3> face{};
       for (int k = 0, j = 0; k < 4; ++k)
@@ -123,6 +126,7 @@ std::map<std::array<int, 3>, double> heights_over(const Mesh& mesh, const std::s
       const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
       heights[face] = std::abs(n.dot(mesh.nodes[tet[static_cast<std::size_t>(apex)]] - a));
     }
+  }
   return heights;
 }
 
@@ -164,7 +168,6 @@ FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::st
   out.measured = static_cast<int>(thickness_area.size());
   if (thickness_area.empty()) return out;
   out.median = weighted_median(thickness_area);
-  if (!(out.median < kThinForLayers * out.element_size)) return out;
   const std::map<std::array<int, 3>, double> heights = heights_over(mesh, seen);
   std::vector<std::pair<double, double>> layers_area;
   for (std::size_t i = 0; i < measured.size(); ++i) {

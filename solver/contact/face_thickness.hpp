@@ -24,9 +24,8 @@ struct FaceThickness {
   double element_size = 0;
   // Area-weighted median over the contact triangles of how many elements the mesh has through that
   // thickness: the thickness over the height of the tetrahedron standing on the triangle (its fourth
-  // node above the triangle's plane). Measured where the body is thinner than three element sizes,
-  // else infinity. Linear tetrahedra a layer or two through a plate or shell are far too stiff in
-  // bending (model/input_warnings.cpp).
+  // node above the triangle's plane); infinity where no tetrahedron was found. Linear tetrahedra a layer or two through
+  // a plate or shell are far too stiff in bending (model/input_warnings.cpp).
   double elements_through = std::numeric_limits<double>::infinity();
   int triangles = 0;  // contact triangles (each triangle once)
   int measured = 0;   // of them, those whose ray met a face

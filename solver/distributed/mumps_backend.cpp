@@ -169,7 +169,7 @@ void factorize_with_growing_workspace(DirectMumps& d, const std::string& out_of_
                      "' (INFOG(1) = " + std::to_string(code) + "): the directory must exist on every machine, be " +
                      "writable and have room for the factor, about " +
                      number(8.0 * mumps_count(d.id.infog[2]) / (1 << 30), 3) + " GiB over all ranks");
-  throw_if_mumps_failed(d.id.infog[0], d.id.infog[1], "the MUMPS factorization");
+  throw_if_mumps_failed(d.id.infog[0], d.id.infog[1], "MUMPS's factorization");
 }
 
 // One factorization, on every rank between a factorizing command (kAssembleAndFactor, kFactorThroughPetsc) and

@@ -18,7 +18,7 @@ inline double mumps_count(std::int64_t reported) { return reported >= 0 ? double
 inline void throw_if_mumps_failed(int infog1, std::int64_t infog2, const std::string& what) {
   if (infog1 >= 0) return;
   if (infog1 == -13)
-    throw InputError("not enough memory for MUMPS's factorization: allocating " +
+    throw InputError("not enough memory for " + what + ": allocating " +
                      std::to_string(static_cast<long long>(mumps_count(infog2))) +
                      " entries failed on one of the ranks (INFOG(1) = -13); run more ranks, on more machines, "
                      "keep the factor on disk (solver.out_of_core_dir), or use a coarser mesh");

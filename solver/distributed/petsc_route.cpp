@@ -44,7 +44,9 @@ void require_factored(Mat F, const char* what) {
   PetscInt infog1 = 0, infog2 = 0;
   check(MatMumpsGetInfog(F, 1, &infog1), "MatMumpsGetInfog(1)");
   check(MatMumpsGetInfog(F, 2, &infog2), "MatMumpsGetInfog(2)");
-  throw_if_mumps_failed(infog1 < 0 ? infog1 : -1, infog2, what);
+  throw_if_mumps_failed(infog1, infog2, what);
+  throw std::runtime_error(std::string("PETSc/MUMPS failed in ") + what + " (PETSc's factor error " +
+                           std::to_string(static_cast<int>(state)) + ", INFOG(1) = " + std::to_string(infog1) + ")");
 }
 
 // Rank 0's modes (rows = K's dofs; absent or empty: none) as A's near-null space: each rank gets the
@@ -208,9 +210,9 @@ class Route final : public PetscRoute {
     MatFactorInfo info;
     check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
     check(MatCholeskyFactorSymbolic(fz->F, fz->A, nullptr, &info), "the MUMPS analysis");
-    require_factored(fz->F, "the MUMPS analysis");
+    require_factored(fz->F, "MUMPS's analysis");
     check(MatCholeskyFactorNumeric(fz->F, fz->A, &info), "the MUMPS factorization");
-    require_factored(fz->F, "the MUMPS factorization");
+    require_factored(fz->F, "MUMPS's factorization");
     Mat S = nullptr;
     check(MatFactorCreateSchurComplement(fz->F, &S, nullptr), "MatFactorCreateSchurComplement");
     if (rank == 0) {

@@ -156,7 +156,7 @@ void warn_if_ramp_rises_with_slip(const Scene& scene, SolveResult& res) {
 // run would show it (a new user's steel shell segment 2 mm thick, its edges pushed 0.3 mm down onto the
 // plane, one layer at h = 2 mm: normal force 1426 N; 1260, 679 and 632 N at h = 1.33, 1 and 0.8 mm). Said
 // whether or not the body bends: a gasket pressed flat is served by one layer, a plate that bends is not.
-// In the foundation's frame only (the solve's; `check` on a moved plane skips it).
+// In the foundation's frame (solve and check both work there; a scene not in it is not measured).
 constexpr double kFewestElementsThrough = 2;
 void warn_if_few_elements_through_thickness(const Scene& scene, const Mesh& mesh, SolveResult& res) {
   if (scene.contact.empty() || !scene.foundation.is_identity()) return;
@@ -167,9 +167,10 @@ void warn_if_few_elements_through_thickness(const Scene& scene, const Mesh& mesh
       "the body is " + number(thickness.median, 3) + unit +
       " thick over most of Γc (the median) and the mesh has about " + number(thickness.elements_through, 2) +
       " element(s) through that thickness: linear tetrahedra (P1) that few through a plate or shell are far too "
-      "stiff in bending, so where the body bends its deflection comes out too small and its contact forces off "
-      "(a shell segment with one element through: twice the force of a fine mesh); mesh at least three or four "
-      "elements through the thickness, or check that the answer changes little when h is halved");
+      "stiff in bending, so if the body bends its deflection comes out too small and its contact forces off (a "
+      "shell segment with one element through: twice the force of a fine mesh; a gasket pressed flat is not "
+      "concerned); mesh at least three or four elements through the thickness, or check that the answer changes "
+      "little when h is halved");
 }
 
 }  // namespace

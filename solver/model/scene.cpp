@@ -319,8 +319,9 @@ void parse_mesh(const toml::table& mesh, const std::filesystem::path& base, Scen
                      "\"paper_brick\"), which this scene does not use: " +
                      (mesh.contains("file")
                           ? std::string("its mesh is a file, which has no size to set")
-                          : std::string("its mesh script takes its sizes from mesh.parameters "
-                                        "(e.g. --set mesh.parameters.n=32 where the script reads n)")));
+                          : "its mesh script takes its sizes from mesh.parameters (e.g. --set mesh.parameters.n=" +
+                                std::to_string(mesh["n"].value<long long>().value_or(0)) +
+                                " where the script reads n)"));
   s.mesh.n = get_int(mesh, "mesh", "n", 4, 1, 64);  // n = 64: 3.9M tets, ~2.4M dofs
   if (const toml::table* params = table_at(mesh, "parameters"))
     for (const auto& [k, v] : *params)

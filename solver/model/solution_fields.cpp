@@ -124,7 +124,7 @@ StrainPeak largest_strain(const Mesh& mesh, const Eigen::VectorXd& u) {
                                        .cross(mesh.nodes[t[2]] - mesh.nodes[t[0]])
                                        .dot(mesh.nodes[t[3]] - mesh.nodes[t[0]])) /
                           6;
-    strain_volume.emplace_back(largest, volume);
+    if (std::isfinite(largest)) strain_volume.emplace_back(largest, volume);  // NaN would break the sort below
     total_volume += volume;
   }
   std::sort(strain_volume.begin(), strain_volume.end());
