@@ -240,6 +240,15 @@ add_test(NAME ratio_keeps_the_auto_solves_factor
                  --set solver.reference_factorization=true --out ${CMAKE_BINARY_DIR}/cli-tests/filleted-ratio)
 set_tests_properties(ratio_keeps_the_auto_solves_factor PROPERTIES PASS_REGULAR_EXPRESSION
                      "solving again with cells of 1.5h.*factorization: none, the first solve.s factor of K is reused.*benchmark: solve stages")
+# contact.cell_size = "auto"'s second solve forms Q by forward solves through the first solve's factor;
+# its cells of 1.5h on a small cylinder's round face have a dependent row of 𝔹, which the augmented
+# route refuses for (5.1) but this Q passed (cond 2.8e20, 322 000 products for 48 multipliers, kept):
+# 𝔹's rank is checked on every route, and the 2h answer (27 multipliers) is the one given.
+add_test(NAME auto_refuses_dependent_cells_on_the_kept_factor
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/tests/scenes/small_cylinder_dependent_cells.toml
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/small-cylinder)
+set_tests_properties(auto_refuses_dependent_cells_on_the_kept_factor PROPERTIES PASS_REGULAR_EXPRESSION
+                     "factor of K is reused.*converged: n_p=315 n_d=27 .*tried cells of 1.5h: see its note")
 # A body held by contact alone that starts 1 mm above the plane is brought down by the loads: the
 # same answer less 1 mm along z, and a note saying so.
 add_test(NAME held_body_starting_above_the_plane

@@ -324,7 +324,8 @@ int run_check(const SolveArgs& args) {
                                             held.describe_in_plane()
                                       : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
   SolveResult warned;  // the warnings a solve gives on its input, before it starts
-  warn_about_inputs(scene, mesh, tet_materials(scene, mesh), warned);
+  const FaceThicknessOnce thickness(mesh, scene.contact);
+  warn_about_inputs(scene, mesh, tet_materials(scene, mesh), thickness, warned);
   for (const auto& w : warned.warnings) std::cerr << "warning: " << w << "\n";
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
@@ -338,7 +339,7 @@ int run_check(const SolveArgs& args) {
           "  and {} triangles (area {:.6g} {}²) whose every node is clamped or prescribed: left to that "
           "condition\n",
           face.held_triangles, face.held_area, length);
-    print_dual_plan(plan_dual(scene, mesh), length);
+    print_dual_plan(plan_dual(scene, mesh, thickness), length);
   }
   fmt::print("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
   return 0;

@@ -92,6 +92,13 @@ class UpwardFaces {
   std::vector<std::vector<int>> grid_;
 };
 
+// A contact triangle whose upward ray met a face: the body's thickness over its centroid.
+struct MeasuredTriangle {
+  std::array<int, 3> sorted_nodes;
+  double thickness;
+  double projected_area;  // onto the foundation's plane: the weight of its thickness
+};
+
 // The value below which lies half the total weight.
 double weighted_median(std::vector<std::pair<double, double>> value_weight) {
   std::sort(value_weight.begin(), value_weight.end());
@@ -152,30 +159,28 @@ FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::st
   }
   const double above = 1e-12 * (hi - lo).norm();  // rounding: the contact triangle's own plane
   const UpwardFaces upward(mesh);
-  std::vector<std::pair<double, double>> thickness_area;
-  std::vector<std::array<int, 3>> measured;  // the triangles whose ray met a face, as thickness_area
+  std::vector<MeasuredTriangle> measured;  // the triangles whose ray met a face
   for (const auto& tri : triangles) {
     const Eigen::Vector3d &a = mesh.nodes[tri[0]], &b = mesh.nodes[tri[1]], &c = mesh.nodes[tri[2]];
     const Eigen::Vector3d centroid = (a + b + c) / 3;
     const double top = upward.lowest_above(centroid, above);
     if (!std::isfinite(top)) continue;
-    const double projected_area = 0.5 * std::abs((b - a).cross(c - a).z());
-    thickness_area.emplace_back(top - centroid.z(), projected_area);
-    measured.push_back(tri);
+    std::array<int, 3> key = tri;
+    std::sort(key.begin(), key.end());
+    measured.push_back({key, top - centroid.z(), 0.5 * std::abs((b - a).cross(c - a).z())});
   }
   const Eigen::Vector2d extents = median_extents(mesh, triangles);
   out.element_size = std::sqrt(extents.x() * extents.y());
-  out.measured = static_cast<int>(thickness_area.size());
-  if (thickness_area.empty()) return out;
-  out.median = weighted_median(thickness_area);
+  out.measured = static_cast<int>(measured.size());
+  if (measured.empty()) return out;
+  std::vector<std::pair<double, double>> thickness_area;
+  for (const MeasuredTriangle& m : measured) thickness_area.emplace_back(m.thickness, m.projected_area);
+  out.median = weighted_median(std::move(thickness_area));
   const std::map<std::array<int, 3>, double> heights = heights_over(mesh, seen);
   std::vector<std::pair<double, double>> layers_area;
-  for (std::size_t i = 0; i < measured.size(); ++i) {
-    std::array<int, 3> key = measured[i];
-    std::sort(key.begin(), key.end());
-    const auto it = heights.find(key);
-    if (it != heights.end() && it->second > 0)
-      layers_area.emplace_back(thickness_area[i].first / it->second, thickness_area[i].second);
+  for (const MeasuredTriangle& m : measured) {
+    const auto it = heights.find(m.sorted_nodes);
+    if (it != heights.end() && it->second > 0) layers_area.emplace_back(m.thickness / it->second, m.projected_area);
   }
   if (!layers_area.empty()) out.elements_through = weighted_median(std::move(layers_area));
   return out;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,5 +35,24 @@ struct FaceThickness {
 // The thickness above the triangles of the named contact groups (which must exist: Mesh's
 // triangles_of_group throws InputError otherwise). The mesh is in the foundation's frame.
 FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::string>& contact_groups);
+
+// One measurement per run, taken where it is first needed: a solve's input warnings, the cells
+// contact.cell_size = "auto" starts on, and the second solve "auto" may take all read it (the ray grid
+// over a large body's boundary took a noticeable part of `check`, which measured three times). Holds
+// references: `mesh` and `contact_groups` must outlive it.
+class FaceThicknessOnce {
+ public:
+  FaceThicknessOnce(const Mesh& mesh, const std::vector<std::string>& contact_groups)
+      : mesh_(mesh), groups_(contact_groups) {}
+  const FaceThickness& get() const {
+    if (!measured_) measured_ = measure_face_thickness(mesh_, groups_);
+    return *measured_;
+  }
+
+ private:
+  const Mesh& mesh_;
+  const std::vector<std::string>& groups_;
+  mutable std::optional<FaceThickness> measured_;
+};
 
 }  // namespace contact3d

@@ -93,14 +93,15 @@ struct Discretisation {
 };
 
 // `assemble_K` false: K is left to the ranks of the distributed backend (K_elsewhere).
-Discretisation discretise(const Scene& scene, const Mesh& mesh, SolveResult& res, bool assemble_K) {
+Discretisation discretise(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness, SolveResult& res,
+                          bool assemble_K) {
   check_coordinates_in_range(mesh);
   check_tet_orientation(mesh);
   check_mesh_meaning(mesh, mesh_roles(scene));
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
-  warn_about_inputs(scene, mesh, disc.materials, res);
+  warn_about_inputs(scene, mesh, disc.materials, thickness, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
@@ -735,14 +736,15 @@ std::string with_input_warnings(const std::string& refusal, const std::vector<st
 
 // The stages of one solve in the foundation plane's frame (the README's data flow), into `res`. `kept`:
 // where the factor of K is kept for a second solve with other cells (contact.cell_size = "auto"), or null.
-void run_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress& report,
-                RunningStage& stage, KeptFactor* kept, SolveResult& res) {
+void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness,
+                const ProgressCallback& on_step, Progress& report, RunningStage& stage, KeptFactor* kept,
+                SolveResult& res) {
   StageClock clock(res.seconds, scene.solver.reference_factorization);
   report.stage("assembly: " + count(mesh.nodes.size()) + " nodes, " + count(mesh.tets.size()) + " tetrahedra");
   DualMethod method = resolved_dual_method(scene.solver.dual_method);
   require_backend(scene, method);
   const bool K_on_ranks = method == DualMethod::Mumps && !scene.contact.empty();
-  Discretisation disc = discretise(scene, mesh, res, !K_on_ranks);
+  Discretisation disc = discretise(scene, mesh, thickness, res, !K_on_ranks);
   clock.lap("assembly");
   report.stage("  " + count(res.n_primal) + " unknowns, " +
                (K_on_ranks ? "K assembled by the " + count(distributed::ranks()) + " ranks with the factorization"
@@ -846,11 +848,12 @@ void run_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on
 // boxes not joined, refused as a part with no node on Γc, or young = 210 meant in GPa, refused for a
 // rigid displacement thousands of times the body's size — their warnings were lost with the run).
 // A refusal that contact.cell_size = "auto" retries with smaller cells passes unchanged.
-SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress& report,
-                         RunningStage& stage, KeptFactor* kept = nullptr) {
+SolveResult solve_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness,
+                         const ProgressCallback& on_step, Progress& report, RunningStage& stage,
+                         KeptFactor* kept = nullptr) {
   SolveResult res;
   try {
-    run_stages(scene, mesh, on_step, report, stage, kept, res);
+    run_stages(scene, mesh, thickness, on_step, report, stage, kept, res);
   } catch (const ContactZoneTooCoarse& e) {
     if (res.warnings.empty() || scene.cell_size_auto) throw;
     throw ContactZoneTooCoarse(with_input_warnings(e.what(), res.warnings));
@@ -890,9 +893,9 @@ Scene with_refined_cells(const Scene& scene) {
 constexpr double kThinBodyCells = 0.8;
 
 // What "auto" found thin (the note for the run), or nullopt: start on cells of 2h.
-std::optional<std::string> thin_body_over_contact(const Scene& scene, const Mesh& mesh) {
+std::optional<std::string> thin_body_over_contact(const Scene& scene, const FaceThicknessOnce& measured) {
   if (!scene.cell_size_auto || !scene.cell_size_relative || scene.contact.empty()) return std::nullopt;
-  const FaceThickness thickness = measure_face_thickness(mesh, scene.contact);
+  const FaceThickness& thickness = measured.get();
   const double cell = scene.cell_size * thickness.element_size;
   if (!(thickness.median < kThinBodyCells * cell)) return std::nullopt;
   const std::string unit = std::string(" ") + unit_labels(scene.output.units).length;
@@ -918,8 +921,9 @@ void add_stage_seconds(std::vector<std::pair<std::string, double>>& into,
   }
 }
 
-SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step,
-                                      Progress& report, SolveResult first, KeptFactor& first_factor) {
+SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness,
+                                      const ProgressCallback& on_step, Progress& report, SolveResult first,
+                                      KeptFactor& first_factor) {
   PartitionRefinement refinement;
   refinement.tried = true;
   refinement.first_cell_size = first.cell_size;
@@ -938,7 +942,7 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   std::optional<SolveResult> second;
   try {
     RunningStage stage;
-    second = solve_stages(finer, mesh, on_step, report, stage, &first_factor);
+    second = solve_stages(finer, mesh, thickness, on_step, report, stage, &first_factor);
   } catch (const InputError& e) {  // e.g. the finer partition violates (5.1)
     refinement.outcome = was + "; " + finer_cells + " were refused (" + e.what() + "): the answer is the 2h one";
   } catch (const std::bad_alloc&) {
@@ -947,16 +951,20 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   first_factor.factor.reset();
   if (second) {
     refinement.reused_factor = second->factor_reused;
-    // A converged answer is never traded for one that did not converge.
-    refinement.kept_finer =
-        second->penetration_ratio < first.penetration_ratio && (second->converged || !first.converged);
-    refinement.outcome = was + "; with " + finer_cells + " (" + cell_sizes(*second) +
-                         (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") +
-                         "): " + share_of_displacement(second->penetration_ratio) + " it" +
-                         (refinement.kept_finer ? ", the answer given"
-                          : second->penetration_ratio < first.penetration_ratio
-                              ? " but that solve ended with " + second->status + ": the answer is the 2h one"
-                              : ", no better: the answer is the 2h one");
+    // A converged answer is never traded for one that did not converge, nor a reliable λ for one whose
+    // Q is ill-conditioned (its warning; cells nearly dependent).
+    const bool penetrates_less = second->penetration_ratio < first.penetration_ratio;
+    const bool loses_conditioning = dual_ill_conditioned(*second) && !dual_ill_conditioned(first);
+    refinement.kept_finer = penetrates_less && (second->converged || !first.converged) && !loses_conditioning;
+    refinement.outcome =
+        was + "; with " + finer_cells + " (" + cell_sizes(*second) +
+        (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") +
+        "): " + share_of_displacement(second->penetration_ratio) + " it" +
+        (refinement.kept_finer ? ", the answer given"
+         : !penetrates_less    ? ", no better: the answer is the 2h one"
+         : loses_conditioning ? " but its Q is ill-conditioned (cond(Q) ≈ " + number(second->stability_condition, 3) +
+                                    "): the answer is the 2h one"
+                              : " but that solve ended with " + second->status + ": the answer is the 2h one");
   }
   SolveResult kept = refinement.kept_finer ? std::move(*second) : std::move(first);
   if (second) add_stage_seconds(kept.seconds, refinement.kept_finer ? first.seconds : second->seconds);
@@ -969,9 +977,9 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
 // contact zone spans too few of them (ContactZoneTooCoarse): solved again with cells of 1.5h, which
 // rescues a zone about two cells of 2h across (a soft ball resting on two cells,
 // tests/held_by_contact_cells.py); refused there too, the refusal names both cell sizes.
-SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step,
-                                 Progress& report, const std::string& refusal, double refused_seconds,
-                                 KeptFactor& first_factor) {
+SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness,
+                                 const ProgressCallback& on_step, Progress& report, const std::string& refusal,
+                                 double refused_seconds, KeptFactor& first_factor) {
   const std::string finer_cells = "cells of " + number(kRefinedCellSize, 2) + "h";
   report.stage("cells of 2h refused: " + refusal + "; solving again with " + finer_cells +
                " (contact.cell_size = \"auto\")");
@@ -979,7 +987,7 @@ SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const Pro
   SolveResult res;
   try {
     RunningStage stage;
-    res = solve_stages(finer, mesh, on_step, report, stage, &first_factor);
+    res = solve_stages(finer, mesh, thickness, on_step, report, stage, &first_factor);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) + " (with " + finer_cells +
                      "; contact.cell_size = \"auto\" tried them after cells of 2h were refused too)");
@@ -999,11 +1007,11 @@ SolveResult refine_refused_cells(const Scene& scene, const Mesh& mesh, const Pro
 
 }  // namespace
 
-DualPlan plan_dual(const Scene& scene, const Mesh& mesh) {
+DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness) {
   reserve_blas_buffers();  // as the solve does: the memory it plans with is what the solve will see
   SolveResult res;
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
-  const std::optional<std::string> thin = thin_body_over_contact(scene, mesh);  // the cells the solve starts on
+  const std::optional<std::string> thin = thin_body_over_contact(scene, thickness);  // the cells the solve starts on
   const ContactOperator op = contact_stage(thin ? with_refined_cells(scene) : scene, mesh, res);
   const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
   const DualMethod resolved = resolved_dual_method(scene.solver.dual_method);
@@ -1037,10 +1045,11 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
   try {
     reserve_blas_buffers();  // under ulimit -v: before anything large, so that the memory checks see them
     const auto start = std::chrono::steady_clock::now();
-    if (const std::optional<std::string> thin = thin_body_over_contact(scene, mesh)) {
+    const FaceThicknessOnce thickness(mesh, scene.contact);  // measured once, where first needed
+    if (const std::optional<std::string> thin = thin_body_over_contact(scene, thickness)) {
       const double measured_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       report.stage("contact.cell_size = \"auto\": " + *thin);
-      SolveResult res = solve_stages(with_refined_cells(scene), mesh, on_step, report, stage);
+      SolveResult res = solve_stages(with_refined_cells(scene), mesh, thickness, on_step, report, stage);
       add_stage_seconds(res.seconds, {{"contact", measured_s}});
       res.refinement.started_finer = true;
       res.refinement.outcome = *thin;
@@ -1050,16 +1059,16 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
     SolveResult res;
     KeptFactor kept;  // the factor of K, for a second solve with cells of 1.5h
     try {
-      res = solve_stages(scene, mesh, on_step, report, stage, scene.cell_size_auto ? &kept : nullptr);
+      res = solve_stages(scene, mesh, thickness, on_step, report, stage, scene.cell_size_auto ? &kept : nullptr);
     } catch (const ContactZoneTooCoarse& e) {
       if (!scene.cell_size_auto) throw;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      res = refine_refused_cells(scene, mesh, on_step, report, e.what(), seconds, kept);
+      res = refine_refused_cells(scene, mesh, thickness, on_step, report, e.what(), seconds, kept);
       time_kept_reference(scene, kept, res);
       return res;
     }
     if (scene.cell_size_auto && unresolved(res))
-      res = refine_unresolved_contact(scene, mesh, on_step, report, std::move(res), kept);
+      res = refine_unresolved_contact(scene, mesh, thickness, on_step, report, std::move(res), kept);
     time_kept_reference(scene, kept, res);
     return res;
   } catch (const std::bad_alloc&) {

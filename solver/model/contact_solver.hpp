@@ -16,6 +16,7 @@
 
 #include "base/progress.hpp"
 #include "contact/contact_face.hpp"
+#include "contact/face_thickness.hpp"
 #include "contact/foundation_frame.hpp"
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
@@ -139,7 +140,8 @@ struct DualPlan {
   std::string thin_body;              // contact.cell_size = "auto" found the body thin and starts on cells of 1.5h: why
   std::vector<std::string> warnings;  // the partition's, as the solve gives them (one cell over the whole face)
 };
-DualPlan plan_dual(const Scene& scene, const Mesh& mesh);
+// `thickness`: the run's one measurement over `mesh` (contact/face_thickness.hpp).
+DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness);
 
 // Positive part of the penetration w_n − d = −u_3 − z on Γc: (L2 norm integrated exactly over the contact triangles,
 // max).

@@ -158,9 +158,9 @@ void warn_if_ramp_rises_with_slip(const Scene& scene, SolveResult& res) {
 // whether or not the body bends: a gasket pressed flat is served by one layer, a plate that bends is not.
 // In the foundation's frame (solve and check both work there; a scene not in it is not measured).
 constexpr double kFewestElementsThrough = 2;
-void warn_if_few_elements_through_thickness(const Scene& scene, const Mesh& mesh, SolveResult& res) {
+void warn_if_few_elements_through_thickness(const Scene& scene, const FaceThicknessOnce& measured, SolveResult& res) {
   if (scene.contact.empty() || !scene.foundation.is_identity()) return;
-  const FaceThickness thickness = measure_face_thickness(mesh, scene.contact);
+  const FaceThickness& thickness = measured.get();
   if (!(thickness.elements_through < kFewestElementsThrough)) return;
   const std::string unit = std::string(" ") + unit_labels(scene.output.units).length;
   res.warnings.push_back(
@@ -175,14 +175,15 @@ void warn_if_few_elements_through_thickness(const Scene& scene, const Mesh& mesh
 
 }  // namespace
 
-void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials, SolveResult& res) {
+void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
+                       const FaceThicknessOnce& thickness, SolveResult& res) {
   warn_if_nearly_incompressible(mesh, materials, res);
   warn_if_beyond_any_solid(scene, mesh, materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
   note_loads_given_twice(scene, res);
   warn_if_coincident_nodes(mesh, res);
   warn_if_ramp_rises_with_slip(scene, res);
-  warn_if_few_elements_through_thickness(scene, mesh, res);
+  warn_if_few_elements_through_thickness(scene, thickness, res);
 }
 
 }  // namespace contact3d

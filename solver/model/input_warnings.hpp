@@ -4,6 +4,7 @@
 // stops the solve; errors are the mesh checks' and the scene parser's.
 #pragma once
 
+#include "contact/face_thickness.hpp"
 #include "fem/elasticity.hpp"
 #include "mesh/mesh.hpp"
 #include "model/contact_solver.hpp"
@@ -11,7 +12,9 @@
 
 namespace contact3d {
 
-// Appends to res.warnings and res.notes; `materials`: each tetrahedron's (tet_materials).
-void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials, SolveResult& res);
+// Appends to res.warnings and res.notes; `materials`: each tetrahedron's (tet_materials); `thickness`:
+// the run's one measurement of the body over Γc (contact/face_thickness.hpp).
+void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
+                       const FaceThicknessOnce& thickness, SolveResult& res);
 
 }  // namespace contact3d

@@ -330,7 +330,9 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
                          "few cells wide, or the pressure peak at a flat sole's edges and corners), so the "
                          "displacement near Γc is not resolved; refine the mesh (h), most where it penetrates (the "
                          "cells of a graded mesh follow its element size)" +
-                         (scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
+                         (scene.cell_size_auto ? std::string(" (contact.cell_size = \"auto\" tried cells of 1.5h: "
+                                                             "see its note)")
+                          : scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
                               ? std::string(" (cells smaller than 1.5h make Q ill-conditioned)")
                               : std::string(" or use a smaller contact.cell_size, e.g. \"1.5h\" (watch cond(Q))")));
 }

@@ -25,4 +25,8 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
                                                          const ContactOperator& op, const QpSettings& qp,
                                                          double dual_bytes, Progress& report, SolveResult& res);
 
+// cond(Q) as the QP sees it (Jacobi-scaled where it scales) beyond what leaves λ reliable: the level of
+// check_dual_stability's warning.
+bool dual_ill_conditioned(const SolveResult& res);
+
 }  // namespace contact3d
