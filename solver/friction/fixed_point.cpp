@@ -402,7 +402,8 @@ constexpr double kRoundingFloor = 1e3;
 // `best_err`: the smallest err of the run. A stall at the QP solves' rounding (the L-block asked for
 // fixed_point_tol = 1e-12 reached 4.5e-12 with QPs to 1e-12 and wandered up to 6e-11) is said as such,
 // not as a law too steep for the iteration.
-std::string hint_for(FixedPointStatus status, double q, double final_rtol, double best_err) {
+std::string hint_for(FixedPointStatus status, double q, double final_rtol, double best_err,
+                     const FixedPointSettings::HintContext& context) {
   const bool at_rounding = best_err <= kRoundingFloor * final_rtol;
   if ((status == FixedPointStatus::Stagnation || (status == FixedPointStatus::IterationLimit && !(q < 1))) &&
       at_rounding)
@@ -416,17 +417,27 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol, doubl
       if (std::isnan(q))  // fewer than three steps: no rate observed yet
         return "the iteration limit came before a contraction rate could be observed: raise "
                "solver.fixed_point_max_iter";
-      if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol, best_err);
+      if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol, best_err, context);
       return "the successive approximations contract slowly (q = " + format_g(q) +
              "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"aitken\" (relaxation from the start)";
     case FixedPointStatus::Stagnation:
+      // A constant coefficient has no slope: Coulomb's map on the normal pressure (a helper's sheared
+      // block, ν = 0.4999999, F = 1.5) was told to try "a gentler law (smaller friction.param)".
       return "the map does not contract here (q = " + format_g(q) + ") although each QP was solved to " +
-             format_g(final_rtol) +
-             ": the law is too steep for successive approximations at this slip level (the paper's convergence needs "
-             "a small Lipschitz modulus of F); try a gentler law (smaller friction.param), a finer mesh, or "
-             "solver.fixed_point = \"aitken\"";
+             format_g(final_rtol) + ": " +
+             (context.slip_dependent_law
+                  ? "the law is too steep for successive approximations at this slip level (the paper's convergence "
+                    "needs a small Lipschitz modulus of F); try a gentler law (smaller friction.param), a finer mesh, "
+                    "or solver.fixed_point = \"aitken\""
+                  : "Coulomb's map on the normal pressure contracts only for a small enough coefficient, and less "
+                    "as the material nears incompressibility; try a smaller friction coefficient, a Poisson's ratio "
+                    "further from 0.5, or solver.fixed_point = \"aitken\"");
     case FixedPointStatus::InnerSolverFailed:
-      return "the dual QP did not converge: raise solver.qp_max_iterations, or try solver.qp = \"ssn\"";
+      return std::string("the dual QP did not converge: raise solver.qp_max_iterations") +
+             (context.qp_is_ssn ? ", or go back to solver.qp = \"auto\" (MPGP with Newton steps)"
+                                : ", or try solver.qp = \"ssn\"") +
+             "; an ill-conditioned Q (see the warnings: a nearly incompressible material, cells nearly dependent) "
+             "slows every QP";
   }
   return "";
 }
@@ -734,7 +745,7 @@ class FixedPointRun {
                                      : std::numeric_limits<double>::infinity();
     double best_err = err;
     for (const auto& step : result_.history) best_err = std::min(best_err, step.err);
-    result_.hint = hint_for(status, q, rtol_, best_err);
+    result_.hint = hint_for(status, q, rtol_, best_err, settings_.hint_context);
     return std::move(result_);  // the run ends here
   }
 

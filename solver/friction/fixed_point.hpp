@@ -88,6 +88,12 @@ struct FixedPointSettings {
   // relative changes, so a state made of quantities with different units (Coulomb's slip and
   // normal pressure) converges only when each of them has.
   std::vector<int> blocks;
+  // What a failed run's hint may suggest (FixedPointResult::hint): a gentler law only where the
+  // coefficient depends on the slip (friction.param); another QP only where it is not the one in use.
+  struct HintContext {
+    bool slip_dependent_law = true;  // false: a constant coefficient, the map acting on the normal pressure
+    bool qp_is_ssn = false;          // solver.qp = "ssn" already
+  } hint_context;
 };
 
 // v ↦ G'(φ) v, the derivative of G at the φ just evaluated (valid until the next evaluation).

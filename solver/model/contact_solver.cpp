@@ -300,6 +300,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
   fp.predicted_steps = scene.solver.fixed_point_prediction;
   fp.qp_rtol_per_err = scene.solver.qp_rtol_per_err;
   fp.inexact = scene.solver.inexact_fixed_point;
+  fp.hint_context = {scene.law.depends_on_slip(), scene.solver.qp.variant == QpVariant::Ssn};
   if (scene.needs_fixed_point()) {
     if (scene.coulomb()) {
       CoulombMap coulomb(tresca, n_contact_nodes, res.n_cells, scene.law.depends_on_slip());
@@ -400,7 +401,8 @@ void warn_if_friction_at_its_limit(const ContactHeldMotions& held, const Contact
   const FrictionHold hold = friction_hold(held, op, tresca);
   res.friction_hold_share = hold.share;
   if (hold.share < kFrictionAtItsLimit) return;
-  const bool at_limit = hold.share >= 1 - 1e-6;  // the QP's radii are met to about this
+  const bool at_limit = hold.share >= kFrictionHoldReached;
+  const double slide = in_plane_part(held, held.field * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
   res.warnings.push_back(
       (at_limit ? std::string("friction is at its limit")
                 : "friction is within " + number(100 * (1 - hold.share), 2) + "% of its limit") +
@@ -408,7 +410,8 @@ void warn_if_friction_at_its_limit(const ContactHeldMotions& held, const Contact
       "% of the most the friction can hold along it (every cell with a friction bound slides at it, all against "
       "that motion), so how far the body slides along it is " +
       (at_limit ? "not determined — a further slide along it solves the problem as well — and the displacement given "
-                  "is one answer of many"
+                  "is one answer of many (this one moves the body by " +
+                      number(slide, 3) + " along it, " + number(slide / held.size, 3) + " times its size)"
                 : "barely determined: it hangs on the last digits of the loads and the friction coefficient") +
       "; for a determined answer lower the tangential loads or raise the friction coefficient, or prescribe that "
       "motion (boundary.displacement)");

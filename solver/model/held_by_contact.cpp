@@ -318,7 +318,25 @@ std::string too_few_cells(const ContactOperator& op, const Partition& partition,
 // rigid motion that large is no answer).
 constexpr double kLargestRigidMotion = 10;
 
+// The last solve's rigid displacement (`motions` × its multipliers), less its slide along the in-plane
+// motions where friction is at its limit along them: how far the body slides there is not determined
+// (any further slide solves the problem as well; warn_if_friction_at_its_limit says so), so its size
+// says nothing of what the contact holds. A block pushed sideways by exactly F·N slid 33 m on one mesh,
+// 5 cm on others, and the first was refused as a motion its 100 pressed cells "cannot hold".
+Eigen::VectorXd determined_rigid_displacement(const ContactHeldMotions& held, const Eigen::MatrixXd& motions,
+                                              const ContactOperator& op, const TrescaStep& tresca) {
+  const Eigen::VectorXd rigid = motions * tresca.history().back().rigid;
+  if (friction_hold(held, op, tresca).share < kFrictionHoldReached) return rigid;
+  return rigid - in_plane_part(held, rigid);
+}
+
 }  // namespace
+
+Eigen::VectorXd in_plane_part(const ContactHeldMotions& held, const Eigen::VectorXd& rigid) {
+  if (held.in_plane_count() == 0) return Eigen::VectorXd::Zero(rigid.size());
+  const Eigen::MatrixXd slides = held.field * held.in_plane_combinations;
+  return slides * (slides.transpose() * slides).ldlt().solve(slides.transpose() * rigid);
+}
 
 void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
                   const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
@@ -340,7 +358,7 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
     // answer cannot be: the displacement is then rounding (a frictionless half-cylinder pressed on its
     // side, whose lateral slide was among the equalities before equality_motions(), moved along it by
     // 8e11 times its size: equilibrium residual 18, and the run said "converged").
-    const double rigid = (motions * tresca.history().back().rigid).lpNorm<Eigen::Infinity>();
+    const double rigid = determined_rigid_displacement(held, motions, op, tresca).lpNorm<Eigen::Infinity>();
     const double size = held.size;  // the largest extent of a part held by contact
     if (!(rigid <= kLargestRigidMotion * size))
       throw ContactZoneTooCoarse(

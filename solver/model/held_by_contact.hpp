@@ -114,4 +114,12 @@ struct FrictionHold {
 };
 FrictionHold friction_hold(const ContactHeldMotions& held, const ContactOperator& op, const TrescaStep& tresca);
 
+// The part of a rigid displacement at the free dofs (a combination of held.field's columns) that
+// slides or turns in the foundation's plane: its least-squares fit by those motions.
+Eigen::VectorXd in_plane_part(const ContactHeldMotions& held, const Eigen::VectorXd& rigid);
+
+// The share of FrictionHold at which friction has reached its limit (the QP meets its radii to about
+// 1e-6): the slide along that motion is then not determined.
+inline constexpr double kFrictionHoldReached = 1 - 1e-6;
+
 }  // namespace contact3d

@@ -11,6 +11,7 @@
 #include "base/format.hpp"
 #include "base/multiplier_layout.hpp"
 #include "fem/assembly.hpp"
+#include "model/held_by_contact.hpp"
 #include "model/solution_fields.hpp"
 
 namespace contact3d {
@@ -278,7 +279,9 @@ void flag_narrow_contact_zone(SolveResult& res) {
   res.warnings.push_back("the contact zone is about " + number(width.zone, 2) + " cell(s) across at its narrowest (" +
                          std::to_string(pressed.size()) + " pressed cells of about " + number(side, 3) +
                          "): its size and its peak pressure are resolved only to a cell, and the pressure there is "
-                         "a cell's average; refine the mesh where it touches until the zone spans several cells "
+                         "a cell's average, and the displacement near it may be off by tens of percent (a foot "
+                         "tipped onto its edge: u on Γc 31% from a nodal contact's on the same mesh); refine the mesh "
+                         "where it touches until the zone spans several cells "
                          "(a mesh graded towards the contact gives cells that follow its size)");
 }
 
@@ -413,8 +416,13 @@ void flag_inaccurate_equilibrium(SolveResult& res) {
   res.warnings.push_back("the displacement satisfies the equilibrium K u = f − 𝔹ᵀλ only to " +
                          number(res.kkt.equilibrium, 2) +
                          " of the forces (summary.json kkt.equilibrium): the answer is inaccurate, whatever the dual "
-                         "solve's own residual says; check that the supports hold every rigid motion the contact "
-                         "cannot (boundary.clamped, boundary.displacement)");
+                         "solve's own residual says; " +
+                         (res.friction_hold_share >= kFrictionHoldReached
+                              ? std::string("friction is at its limit (see that warning), and the slide it leaves "
+                                            "undetermined is so large that the body's own deformation keeps only a "
+                                            "few digits in the displacement")
+                              : std::string("check that the supports hold every rigid motion the contact cannot "
+                                            "(boundary.clamped, boundary.displacement)")));
 }
 
 }  // namespace

@@ -691,6 +691,33 @@ TEST(FixedPoint, InnerFailureIsNamed) {
   EXPECT_NE(r.hint.find("qp"), std::string::npos);
 }
 
+// The hints suggest only what applies: another QP than the one that failed (a run with solver.qp =
+// "ssn" was told to try "ssn"), and a gentler slip law only where the coefficient has a slope (a
+// constant Coulomb coefficient on a nearly incompressible block was told "smaller friction.param").
+TEST(FixedPoint, HintsSuggestOnlyWhatApplies) {
+  SlipMap failing = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi;
+    e.ok = false;
+    return e;
+  };
+  FixedPointSettings s = settings();
+  EXPECT_NE(solve_fixed_point(failing, 2, s, 1e-6).hint.find("try solver.qp = \"ssn\""), std::string::npos);
+  s.hint_context.qp_is_ssn = true;
+  const std::string after_ssn = solve_fixed_point(failing, 2, s, 1e-6).hint;
+  EXPECT_EQ(after_ssn.find("\"ssn\""), std::string::npos) << after_ssn;
+  EXPECT_NE(after_ssn.find("\"auto\""), std::string::npos) << after_ssn;
+
+  s = settings();
+  s.max_iterations = 200;
+  EXPECT_NE(solve_fixed_point(two_cycle_map(), 3, s, 1e-6).hint.find("friction.param"), std::string::npos);
+  s.hint_context.slip_dependent_law = false;
+  const std::string constant = solve_fixed_point(two_cycle_map(), 3, s, 1e-6).hint;
+  EXPECT_NE(constant.find("does not contract"), std::string::npos) << constant;
+  EXPECT_EQ(constant.find("friction.param"), std::string::npos) << constant;
+  EXPECT_NE(constant.find("smaller friction coefficient"), std::string::npos) << constant;
+}
+
 // The tolerance of a converged run's last step, which a problem solved by one QP gets: qp_rtol_per_err
 // · tol, never above qp_rtol, never below the floor (a tolerance under rounding would only run the QP
 // to its iteration limit), and qp_rtol itself when the inner tolerance does not follow the outer one.
