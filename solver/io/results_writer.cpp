@@ -200,6 +200,7 @@ void write_contact(JsonWriter& j, const SolveResult& res) {
     j.value("friction_hold_share", res.friction_hold_share);
   j.value("max_penetration", res.wn_plus_inf);          // max nodal (w_n − d)⁺ on Γc
   j.value("penetration_ratio", res.penetration_ratio);  // max_penetration / the largest nodal displacement
+  j.value("open_gap_ratio", res.open_gap_ratio);        // the largest gap under pressed cells, the same way
   j.value("largest_strain", res.largest_strain);        // largest principal strain in absolute value (warned above 10%)
   if (const PartitionRefinement& pr = res.refinement; pr.started_finer) {  // "auto" found the body thin
     j.begin_object("partition_refinement").value("started_finer", true).value("outcome", pr.outcome).end_object();

@@ -100,6 +100,9 @@ struct SolveResult {
   // wn_plus_inf / the body's largest nodal displacement less its best-fitting rigid motion along the
   // motions the contact alone holds (all of it where nothing is held; 0 without contact)
   double penetration_ratio = 0;
+  // The other side of the cell averages: the largest gap d − w_n left open at a node whose whole hat
+  // function lies in pressed cells, over the same displacement (0 without contact).
+  double open_gap_ratio = 0;
   bool factor_reused = false;  // Q formed from an earlier solve's factor of K (no factorization of its own)
   double largest_strain = 0;   // the largest principal strain of u in absolute value, over the tetrahedra
   PartitionRefinement refinement;
