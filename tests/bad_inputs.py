@@ -806,6 +806,14 @@ def c_coulomb_with_slip_bound(c):
     return ["check", c.scene(), "--set", "friction.model=coulomb"], ["slip_bound", "coulomb", "normal pressure"]
 
 
+def c_friction_without_law(c):
+    # model = "coulomb" and a value but no law: solved frictionless, exit 0, with nothing said (a new user's
+    # scene, 2026-12-06); the law is asked for.
+    text = open(c.scene()).read().replace('slip_bound = 2e7\nlaw = "ramp"\nparam = 6e4\n',
+                                          'model = "coulomb"\nvalue = 0.3\n')
+    return ["check", c.write("no_law.toml", text)], ["friction.law is missing", "model, value", "frictionless"]
+
+
 def c_contact_not_a_graph(c):
     return ["check", c.scene(contact='["free"]')], ["free", "graph over the plane"]
 

@@ -1,5 +1,7 @@
 #include "contact/contact_operator.hpp"
 
+#include <cmath>
+
 #include <Eigen/SparseCholesky>
 
 namespace contact3d {
@@ -40,9 +42,12 @@ std::vector<int> dependent_rows(const Eigen::SparseMatrix<double>& B) {
   // Rows scaled to unit length, so that a small cell's short row is not taken for a dependent one;
   // a shift of 1e-14 keeps every pivot positive (an exactly zero one would stop the factorization)
   // and far below the 1e-11 that marks a dependent row.
+  // The rows' lengths in one pass over the nonzeros: B.row(i) of a column-major 𝔹 walks every column
+  // (rows × free dofs: 2.3 s at 10 000 multipliers, once every route checked (5.1) here).
+  const Eigen::VectorXd squared = B.cwiseAbs2() * Eigen::VectorXd::Ones(B.cols());
   Eigen::VectorXd inverse_length(B.rows());
   for (Eigen::Index i = 0; i < B.rows(); ++i) {
-    const double length = B.row(i).norm();
+    const double length = std::sqrt(squared[i]);
     inverse_length[i] = length > 0 ? 1 / length : 0.0;  // an empty row: a zero pivot, dependent
   }
   const Eigen::SparseMatrix<double> unit_rows = inverse_length.asDiagonal() * B;

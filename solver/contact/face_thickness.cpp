@@ -158,13 +158,7 @@ FaceThickness measure_face_thickness(const Mesh& mesh, const std::vector<std::st
     hi = hi.cwiseMax(x);
   }
   const double above = 1e-12 * (hi - lo).norm();  // rounding: the contact triangle's own plane
-  Eigen::Vector2d face_lo = mesh.nodes[triangles.front()[0]].head<2>(), face_hi = face_lo;
-  for (const auto& tri : triangles)
-    for (int v : tri) {
-      face_lo = face_lo.cwiseMin(mesh.nodes[v].head<2>());
-      face_hi = face_hi.cwiseMax(mesh.nodes[v].head<2>());
-    }
-  out.extent = (face_hi - face_lo).maxCoeff();
+  out.extent = (hi - lo).head<2>().maxCoeff();
   const UpwardFaces upward(mesh);
   std::vector<MeasuredTriangle> measured;  // the triangles whose ray met a face
   for (const auto& tri : triangles) {

@@ -28,8 +28,9 @@ struct FaceThickness {
   // node above the triangle's plane); infinity where no tetrahedron was found. Linear tetrahedra a layer or two through
   // a plate or shell are far too stiff in bending (model/input_warnings.cpp).
   double elements_through = std::numeric_limits<double>::infinity();
-  // The contact face's largest extent in the foundation's plane (the longer side of its bounding box):
-  // the span a plate or shell bends over.
+  // The body's largest extent in the foundation's plane (the longer side of the mesh's bounding box):
+  // the span a plate or shell bends over, also where it touches on a small pad only (a mesh of parts
+  // far apart spans their distance).
   double extent = 0;
   int triangles = 0;  // contact triangles (each triangle once)
   int measured = 0;   // of them, those whose ray met a face

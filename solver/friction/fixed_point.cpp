@@ -426,18 +426,18 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol, doubl
       return "the map does not contract here (q = " + format_g(q) + ") although each QP was solved to " +
              format_g(final_rtol) + ": " +
              (context.slip_dependent_law
-                  ? "the law is too steep for successive approximations at this slip level (the paper's convergence "
-                    "needs a small Lipschitz modulus of F); try a gentler law (smaller friction.param), a finer mesh, "
-                    "or solver.fixed_point = \"aitken\""
-                  : "Coulomb's map on the normal pressure contracts only for a small enough coefficient, and less "
-                    "as the material nears incompressibility; try a smaller friction coefficient, a Poisson's ratio "
-                    "further from 0.5, or solver.fixed_point = \"aitken\"");
+                  ? std::string("the law is too steep for successive approximations at this slip level (the paper's "
+                                "convergence needs a small Lipschitz modulus of F); try a gentler law (") +
+                        (context.table_law ? "a smaller slope between friction.points" : "smaller friction.param") +
+                        "), a finer mesh, or solver.fixed_point = \"aitken\""
+                  : std::string("Coulomb's map on the normal pressure contracts only for a small enough coefficient, "
+                                "and less as the material nears incompressibility; try solver.fixed_point = "
+                                "\"aitken\" or a finer mesh"));
     case FixedPointStatus::InnerSolverFailed:
       return std::string("the dual QP did not converge: raise solver.qp_max_iterations") +
              (context.qp_is_ssn ? ", or go back to solver.qp = \"auto\" (MPGP with Newton steps)"
                                 : ", or try solver.qp = \"ssn\"") +
-             "; an ill-conditioned Q (see the warnings: a nearly incompressible material, cells nearly dependent) "
-             "slows every QP";
+             (context.ill_conditioned_dual ? "; Q is ill-conditioned (see the warning), which slows every QP" : "");
   }
   return "";
 }

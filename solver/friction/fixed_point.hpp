@@ -91,8 +91,10 @@ struct FixedPointSettings {
   // What a failed run's hint may suggest (FixedPointResult::hint): a gentler law only where the
   // coefficient depends on the slip (friction.param); another QP only where it is not the one in use.
   struct HintContext {
-    bool slip_dependent_law = true;  // false: a constant coefficient, the map acting on the normal pressure
-    bool qp_is_ssn = false;          // solver.qp = "ssn" already
+    bool slip_dependent_law = true;     // false: a constant coefficient, the map acting on the normal pressure
+    bool table_law = false;             // a law given by friction.points (no friction.param)
+    bool qp_is_ssn = false;             // solver.qp = "ssn" already
+    bool ill_conditioned_dual = false;  // the stability check warned of cond(Q)
   } hint_context;
 };
 

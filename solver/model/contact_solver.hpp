@@ -83,6 +83,9 @@ struct SolveResult {
   // Bodies held by contact alone with friction: the largest share of friction's hold the loads take along
   // a slide or turn only friction holds (friction_hold, held_by_contact.hpp); −1 where there is none.
   double friction_hold_share = -1;
+  // At friction's limit (friction_hold_share 1): how far the answer slides along the motion it leaves
+  // undetermined, over the size of the part held by contact (0 otherwise).
+  double friction_limit_slide = 0;
   int qp_rounding_stops = 0;  // QP solves (or inner solves) stopped at their rounding floor, within 10x their tolerance
   // Whether those steps switched from the single factor of Q to one in double (bordered_newton.hpp:
   // cond(Q) too large for single's refinement to contract).

@@ -313,11 +313,6 @@ std::string too_few_cells(const ContactOperator& op, const Partition& partition,
          "(contact.cell_size), so that the contact zone spans several cells";
 }
 
-// A rigid displacement of the body held by contact alone more than this many times its size: the
-// contact balanced the loads only by moving it along a motion it cannot hold (a linear model's
-// rigid motion that large is no answer).
-constexpr double kLargestRigidMotion = 10;
-
 // The last solve's rigid displacement (`motions` × its multipliers), less its slide along the in-plane
 // motions where friction is at its limit along them: how far the body slides there is not determined
 // (any further slide solves the problem as well; warn_if_friction_at_its_limit says so), so its size
@@ -326,16 +321,17 @@ constexpr double kLargestRigidMotion = 10;
 Eigen::VectorXd determined_rigid_displacement(const ContactHeldMotions& held, const Eigen::MatrixXd& motions,
                                               const ContactOperator& op, const TrescaStep& tresca) {
   const Eigen::VectorXd rigid = motions * tresca.history().back().rigid;
-  if (friction_hold(held, op, tresca).share < kFrictionHoldReached) return rigid;
-  return rigid - in_plane_part(held, rigid);
+  const FrictionHold hold = friction_hold(held, op, tresca);
+  if (hold.share < kFrictionHoldReached) return rigid;
+  return rigid - part_along(hold.slide, rigid);  // that one motion only: any other stays checked
 }
 
 }  // namespace
 
-Eigen::VectorXd in_plane_part(const ContactHeldMotions& held, const Eigen::VectorXd& rigid) {
-  if (held.in_plane_count() == 0) return Eigen::VectorXd::Zero(rigid.size());
-  const Eigen::MatrixXd slides = held.field * held.in_plane_combinations;
-  return slides * (slides.transpose() * slides).ldlt().solve(slides.transpose() * rigid);
+Eigen::VectorXd part_along(const Eigen::VectorXd& motion, const Eigen::VectorXd& rigid) {
+  const double length = motion.squaredNorm();
+  if (motion.size() != rigid.size() || !(length > 0)) return Eigen::VectorXd::Zero(rigid.size());
+  return (motion.dot(rigid) / length) * motion;
 }
 
 void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
@@ -530,6 +526,7 @@ FrictionHold friction_hold(const ContactHeldMotions& held, const ContactOperator
   // bᵀa = 1: the loads' work along a is 1, the most friction can do along it this.
   hold.share = std::min(1.0, 1.0 / most_friction_work(V, radius, a));
   hold.motion = name_in_plane_motion(held, a);
+  hold.slide = held.field * (held.in_plane_combinations * a);
   return hold;
 }
 

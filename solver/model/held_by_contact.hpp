@@ -109,14 +109,20 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
 // cell slides at its bound, all against r, and any further rigid slide along r solves the problem as
 // well (the answer's place along r is one of many).
 struct FrictionHold {
-  double share = 0;    // in [0, 1]; 0 where no in-plane motion is free or nothing pushes along them
-  std::string motion;  // the combination r that takes the largest share, named in the user's axes
+  double share = 0;       // in [0, 1]; 0 where no in-plane motion is free or nothing pushes along them
+  std::string motion;     // the combination r that takes the largest share, named in the user's axes
+  Eigen::VectorXd slide;  // that combination's motion at the free dofs (held.field · r; empty: none)
 };
 FrictionHold friction_hold(const ContactHeldMotions& held, const ContactOperator& op, const TrescaStep& tresca);
 
-// The part of a rigid displacement at the free dofs (a combination of held.field's columns) that
-// slides or turns in the foundation's plane: its least-squares fit by those motions.
-Eigen::VectorXd in_plane_part(const ContactHeldMotions& held, const Eigen::VectorXd& rigid);
+// The part of a rigid displacement at the free dofs along one motion (FrictionHold::slide): its
+// least-squares multiple of it.
+Eigen::VectorXd part_along(const Eigen::VectorXd& motion, const Eigen::VectorXd& rigid);
+
+// A rigid displacement of the body held by contact alone more than this many times its size: the
+// contact balanced the loads only by moving it along a motion it cannot hold (a linear model's
+// rigid motion that large is no answer).
+inline constexpr double kLargestRigidMotion = 10;
 
 // The share of FrictionHold at which friction has reached its limit (the QP meets its radii to about
 // 1e-6): the slide along that motion is then not determined.

@@ -158,7 +158,7 @@ void warn_if_ramp_rises_with_slip(const Scene& scene, SolveResult& res) {
 // of any plate or shell, bent or not: a gasket pressed flat is served by one layer, a plate that bends is not.
 // In the foundation's frame (solve and check both work there; a scene not in it is not measured).
 constexpr double kFewestElementsThrough = 2;
-// A plate or shell: its contact face spans more than ten times its thickness. A compact body thin only
+// A plate or shell: the body spans more than ten times its thickness. A compact body thin only
 // towards its rims (a solid spherical cap 30 mm high on a face 143 mm across, pressed at its pole:
 // median 16 mm, 1.8 elements, the force within 0.7% of a mesh twice as fine) does not bend.
 constexpr double kPlateSpanOverThickness = 10;

@@ -266,6 +266,15 @@ FrictionLaw parse_law(const toml::table& fr) {
   // Keys of every law are accepted whatever the law (so `--set friction.law=none` works on a
   // scene written for "ramp"); the chosen law's own keys are the ones read.
   check_keys(fr, "friction", {"model", "law", "slip_bound", "value", "high", "low", "t0", "param", "points"});
+  // A [friction] that sets anything but no law was solved frictionless without a word (model =
+  // "coulomb" with value = 0.3: friction_model "none" in summary.json, exit 0).
+  if (!fr.empty() && !fr.contains("law")) {
+    std::string given;
+    for (const auto& [key, node] : fr) given += std::string(given.empty() ? "" : ", ") + std::string(key.str());
+    throw InputError("friction.law is missing: [friction] sets " + given +
+                     " but no law, which would solve the contact frictionless; add law = \"constant\" (with value "
+                     "= F), \"ramp\" (high, low, t0, param), \"table\" (points) or \"none\"");
+  }
   const std::string kind = get_string(fr, "friction", "law", "none");
   const std::string w = "friction";
   if (kind == "none") {

@@ -128,18 +128,6 @@ void warn_if_condition_unknown(double q_size, SolveResult& res) {
                          "their units (material.young in Pa with lengths in m)");
 }
 
-}  // namespace
-
-// Where the QP solves the Jacobi-scaled problem its condition is what costs digits: cells of very
-// different sizes (graded) spread Q's diagonal, which the scaling takes out.
-bool dual_ill_conditioned(const SolveResult& res) {
-  const double condition =
-      res.stability_condition_scaled > 0 ? res.stability_condition_scaled : res.stability_condition;
-  return condition > kIllConditionedDual;
-}
-
-namespace {
-
 // Lanczos steps of the matrix-free route's stability check (one product by Q each).
 constexpr int kLanczosSteps = 40;
 
@@ -155,6 +143,14 @@ double check_stability_without_Q(const DualProblem& dual, double& q_norm) {
 }
 
 }  // namespace
+
+// Where the QP solves the Jacobi-scaled problem its condition is what costs digits: cells of very
+// different sizes (graded) spread Q's diagonal, which the scaling takes out.
+bool dual_ill_conditioned(const SolveResult& res) {
+  const double condition =
+      res.stability_condition_scaled > 0 ? res.stability_condition_scaled : res.stability_condition;
+  return condition > kIllConditionedDual;
+}
 
 std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual, double& q_norm,
                                                          const ContactOperator& op, const QpSettings& qp,

@@ -19,7 +19,7 @@ TEST(FaceThickness, AFlatPlateIsItsThicknessEverywhere) {
   EXPECT_GT(t.triangles, 0);
   EXPECT_NEAR(t.median, 0.02, 1e-14);
   EXPECT_NEAR(t.element_size, 0.25, 1e-14);
-  EXPECT_NEAR(t.extent, 3.0, 1e-14);  // the longer side of the face: the span a plate bends over
+  EXPECT_NEAR(t.extent, 3.0, 1e-14);  // the longer side of the body in the plane: the span a plate bends over
 }
 
 // The top tilted to z = 0.1 (1 + x) over x in [0, 3]: the thickness at a triangle's centroid is that

@@ -715,7 +715,12 @@ TEST(FixedPoint, HintsSuggestOnlyWhatApplies) {
   const std::string constant = solve_fixed_point(two_cycle_map(), 3, s, 1e-6).hint;
   EXPECT_NE(constant.find("does not contract"), std::string::npos) << constant;
   EXPECT_EQ(constant.find("friction.param"), std::string::npos) << constant;
-  EXPECT_NE(constant.find("smaller friction coefficient"), std::string::npos) << constant;
+  EXPECT_NE(constant.find("normal pressure"), std::string::npos) << constant;
+  s.hint_context.slip_dependent_law = true;
+  s.hint_context.table_law = true;  // a law by friction.points has no friction.param either
+  const std::string table = solve_fixed_point(two_cycle_map(), 3, s, 1e-6).hint;
+  EXPECT_EQ(table.find("friction.param"), std::string::npos) << table;
+  EXPECT_NE(table.find("friction.points"), std::string::npos) << table;
 }
 
 // The tolerance of a converged run's last step, which a problem solved by one QP gets: qp_rtol_per_err

@@ -1,4 +1,4 @@
-// A 0.2 x 0.2 x 0.1 m block (tests/scenes/block_pushed_at_friction_limit.toml).
+// A 0.2 x 0.2 x 0.1 m block (tests/scenes/block_pushed_at_friction_limit.toml, block_above_plane_tresca.toml).
 SetFactory("OpenCASCADE");
 If (!Exists(h)) h = 0.015; EndIf
 a = 0.2; b = 0.2; c = 0.1; e = 1e-6;
