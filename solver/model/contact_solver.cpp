@@ -391,9 +391,12 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
   double lowest = INFINITY;
   for (const int v : res.face.nodes) lowest = std::min(lowest, res.face.gap[static_cast<std::size_t>(v)]);
   if (lowest > 0 && std::isfinite(lowest))
-    res.notes.push_back("the contact face starts " + number(lowest, 3) +
-                        " above the foundation plane at its lowest node; held by contact alone, the body is brought "
-                        "down onto it by the loads, and its displacement includes that rigid approach");
+    res.notes.push_back(
+        "the contact face starts " + number(lowest, 3) +
+        " above the foundation plane at its lowest node; held by contact alone, the body is brought "
+        "down onto it by the loads" +
+        (res.dofs.has_nonzero_prescribed() ? std::string(" and the prescribed displacements") : std::string()) +
+        ", and its displacement includes that rigid approach");
   if (disc.centre_in_plane)
     res.notes.push_back("frictionless contact does not fix " + disc.held.describe_in_plane() +
                         ": the loads along it must balance by themselves (checked before the solve), and the "
