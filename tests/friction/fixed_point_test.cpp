@@ -678,13 +678,18 @@ TEST(FixedPoint, PredictionsThatAlternateAreAveragedToTheirFixedPoint) {
   EXPECT_LT(r.iterations(), plain.iterations());
 }
 
-TEST(FixedPoint, InnerFailureIsNamed) {
-  SlipMap failing = [](const Eigen::VectorXd& phi, double) {
+// A map whose every QP fails.
+SlipMap failing_map() {
+  return [](const Eigen::VectorXd& phi, double) {
     SlipEvaluation e;
     e.slip = phi;
     e.ok = false;
     return e;
   };
+}
+
+TEST(FixedPoint, InnerFailureIsNamed) {
+  const SlipMap failing = failing_map();
   const FixedPointResult r = solve_fixed_point(failing, 2, settings(), 1e-6);
   EXPECT_EQ(r.status, FixedPointStatus::InnerSolverFailed);
   EXPECT_EQ(r.iterations(), 1);
@@ -695,12 +700,7 @@ TEST(FixedPoint, InnerFailureIsNamed) {
 // "ssn" was told to try "ssn"), and a gentler slip law only where the coefficient has a slope (a
 // constant Coulomb coefficient on a nearly incompressible block was told "smaller friction.param").
 TEST(FixedPoint, HintsSuggestOnlyWhatApplies) {
-  SlipMap failing = [](const Eigen::VectorXd& phi, double) {
-    SlipEvaluation e;
-    e.slip = phi;
-    e.ok = false;
-    return e;
-  };
+  const SlipMap failing = failing_map();
   FixedPointSettings s = settings();
   EXPECT_NE(solve_fixed_point(failing, 2, s, 1e-6).hint.find("try solver.qp = \"ssn\""), std::string::npos);
   s.hint_context.qp_is_ssn = true;
