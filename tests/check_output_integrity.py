@@ -16,7 +16,8 @@ that look like a finished solve, and says why.
    (steps/body_<k>.vtu, steps/contact_<k>.vtu) are replaced, and the .partial files a killed run left
    are removed; the user's files stay;
 8. the meshers' files an earlier run left (mesh.msh, gmsh.log) are removed by a run that did not write
-   them, unless it reads that mesh.msh itself; a user's own mesh.msh (no gmsh.log beside it) stays;
+   them, unless it reads that mesh.msh itself; a user's own mesh.msh (no gmsh.log beside it, or a gmsh.log
+   of their own) stays;
 9. a solve killed while gmsh meshes takes gmsh with it (an orphaned gmsh wrote mesh.msh into the folder
    after a later run had finished there).
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
@@ -162,6 +163,12 @@ with tempfile.TemporaryDirectory() as tmp:
     p = subprocess.run([binary, "solve", str(scene), "--mesh", str(own), "--out", str(mine), "--quiet"],
                        capture_output=True, text=True)
     check(p.returncode == 0 and (mine / "mesh.msh").exists(), f"a user's own mesh.msh was removed: exit {p.returncode}")
+    # ... and with a gmsh.log of their own beside it (`gmsh -log gmsh.log`; output.dir = "."): both kept
+    (mine / "gmsh.log").write_text("Info    : Running 'gmsh -3 body.geo -log gmsh.log'\n")
+    p = subprocess.run([binary, "solve", str(scene), "--mesh", str(mine / "mesh.msh"), "--out", str(mine), "--quiet"],
+                       capture_output=True, text=True)
+    check(p.returncode == 0 and (mine / "gmsh.log").exists() and (mine / "mesh.msh").exists(),
+          f"a user's own gmsh.log was removed: exit {p.returncode}")
 
     # 9. a solve killed while gmsh meshes: gmsh dies with it (it wrote mesh.msh into the folder afterwards)
     out = tmp / "killed_meshing"

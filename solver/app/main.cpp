@@ -83,7 +83,7 @@ Mesh scene_mesh(const Scene& scene, const std::string& mesh_override, const fs::
 // The meshers' files in the output folder that this run did not write — an earlier run's gmsh mesh.msh
 // and gmsh.log beside a solve of a mesh file — would sit beside its results as if they were its mesh:
 // removed where the mesher's log marks them as a run's (a user's own mesh.msh, with no gmsh.log beside
-// it, stays), unless the mesh is the one this run read.
+// it or with a gmsh.log of their own, stays), unless the mesh is the one this run read.
 void remove_other_runs_mesh_files(const fs::path& out, const Scene& scene, const std::string& mesh_override) {
   const fs::path read = !mesh_override.empty() ? fs::path(mesh_override) : scene.mesh.file;
   const bool by_gmsh = mesh_override.empty() && !scene.mesh.geo.empty();
@@ -91,7 +91,7 @@ void remove_other_runs_mesh_files(const fs::path& out, const Scene& scene, const
   for (const auto& [mesh_name, log_name, ours] :
        {std::tuple{"mesh.msh", "gmsh.log", by_gmsh}, {"mesh.mesh", "freefem.log", by_freefem}}) {
     std::error_code ec;
-    if (ours || !fs::exists(out / log_name, ec)) continue;
+    if (ours || !fs::exists(out / log_name, ec) || !written_by_a_run(out / log_name)) continue;
     fs::remove(out / log_name, ec);
     if (!(!read.empty() && fs::equivalent(out / mesh_name, read, ec))) fs::remove(out / mesh_name, ec);
   }

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -35,6 +36,9 @@ std::string tail_of(const std::filesystem::path& log, std::size_t chars = 800) {
   return s.size() > chars ? s.substr(s.size() - chars) : s;
 }
 
+// The first line of a mesher's log a run writes (written_by_a_run).
+constexpr const char* kRunLogMark = "# contact3d ran:";
+
 // Runs a mesher (argv[0] from PATH) with its output in `log`; an InputError with the log's tail
 // when it fails or does not produce `product`.
 void run_mesher(std::vector<std::string> args, const std::filesystem::path& script,
@@ -50,6 +54,8 @@ void run_mesher(std::vector<std::string> args, const std::filesystem::path& scri
     if (getppid() != parent) _exit(127);  // the solve died before the line above
     std::FILE* f = std::fopen(log.c_str(), "w");
     if (f) {
+      std::fprintf(f, "%s %s %s\n", kRunLogMark, program.c_str(), script.c_str());
+      std::fflush(f);
       dup2(fileno(f), 1);
       dup2(fileno(f), 2);
     }
@@ -211,6 +217,12 @@ Mesh read_written_mesh(const std::filesystem::path& file, const std::string& mes
 }
 
 }  // namespace
+
+bool written_by_a_run(const std::filesystem::path& log) {
+  std::ifstream in(log);
+  std::string first;
+  return std::getline(in, first) && first.rfind(kRunLogMark, 0) == 0;
+}
 
 Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work_dir) {
   if (!source.generator.empty()) return make_paper_brick(BrickSize{source.n});

@@ -14,6 +14,11 @@ namespace contact3d {
 // `work_dir` receives mesh.msh and gmsh.log when gmsh runs, mesh.mesh and freefem.log for FreeFEM.
 Mesh load_scene_mesh(const MeshSource& source, const std::filesystem::path& work_dir);
 
+// Whether `log` is a mesher's log a run wrote (its first line says so): a later run removes only those,
+// with their mesh, not a user's own gmsh.log beside a mesh of theirs (`gmsh -log gmsh.log` in a folder
+// used with output.dir = ".", whose log a solve of that mesh removed).
+bool written_by_a_run(const std::filesystem::path& log);
+
 // Runs gmsh: geo -> msh (format "msh41" or "msh22"). Throws InputError with gmsh's log tail.
 void run_gmsh(const std::filesystem::path& geo, const std::map<std::string, double>& parameters,
               const std::filesystem::path& out_msh, const std::string& format = "msh41");
