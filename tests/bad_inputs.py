@@ -663,6 +663,13 @@ def c_held_by_contact_frictionless_pushed_sideways(c):
              "do not balance", "boundary.displacement"])
 
 
+def c_check_frictionless_pushed_sideways(c):
+    # The same half-cylinder through `check`, which said ok where the solve refuses (a helper's free block
+    # pushed sideways, frictionless): the balance along the free in-plane motions is checked there too.
+    args, facts = c_held_by_contact_frictionless_pushed_sideways(c)
+    return ["check", args[1]], facts
+
+
 def two_blocks_scene(c, name, boxes, groups, contact=True):
     # Two steel blocks meshed by gmsh from `boxes` (its OpenCASCADE lines) with `groups` (its physical
     # groups), the first clamped at x = 0, a pressure of 1 MPa on "top", Coulomb 0.3 where there is

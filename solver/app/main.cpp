@@ -323,6 +323,9 @@ int run_check(const SolveArgs& args) {
                                         "loads along them must balance by themselves): " +
                                             held.describe_in_plane()
                                       : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
+  if (held.in_plane_count() && scene.frictionless())  // as the solve checks it before factoring K
+    require_in_plane_balance(held, assemble_load(mesh, dofs, scene.tractions, scene.body_force) +
+                                       assemble_lift(mesh, dofs, tet_materials(scene, mesh)));
   SolveResult warned;  // the warnings a solve gives on its input, before it starts
   const FaceThicknessOnce thickness(mesh, scene.contact);
   warn_about_inputs(scene, mesh, tet_materials(scene, mesh), thickness, warned);

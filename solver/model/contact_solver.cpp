@@ -348,30 +348,11 @@ double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult&
   return scale > 0 ? (res.radius - bound).cwiseAbs().maxCoeff() / scale : 0.0;
 }
 
-// Frictionless contact leaves the in-plane motions (slides, the turn about the normal) to the loads:
-// an InputError where they do not balance along them, above the QP's 1e-6 of the loads along the
-// free motions for its equalities; where those loads are all in-plane and balance, what is left is
-// rounding, judged against the bound ‖R‖‖f‖ (1e-9 of it: a real imbalance of 1e-6 of the load is
-// 1e-7 … 1e-6 of it, the rounding of the sums 1e-14).
-void require_in_plane_balance(const Discretisation& disc) {
-  const Eigen::MatrixXd& R = disc.held.field;
-  const Eigen::VectorXd loads = R.transpose() * disc.f;
-  const Eigen::VectorXd along = disc.held.in_plane_combinations.transpose() * loads;
-  if (!(along.norm() > 1e-6 * loads.norm() + 1e-9 * R.norm() * disc.f.norm())) return;
-  throw InputError("the body is held by contact alone and nothing prescribed holds " + disc.held.describe_in_plane() +
-                   " in the foundation's plane: friction alone must hold it there, but the contact is frictionless "
-                   "and the loads along it do not balance (" +
-                   number(100 * along.norm() / loads.norm(), 3) +
-                   "% of the loads along the free motions); prescribe that motion (boundary.displacement, e.g. "
-                   "symmetry planes), add friction (friction.slip_bound, friction.model) or check the loads' "
-                   "directions");
-}
-
 // A body held by contact alone: the dual QP gets the equilibrium of the free rigid motions as its
 // equality constraints Gλ = e, and the Tresca step their displacement on Γc.
 void hold_by_contact(const Discretisation& disc, const ContactOperator& op, const FaceDofs& face_dofs, DualQpSolver& qp,
                      TrescaStep& tresca, Progress& report, SolveResult& res) {
-  if (disc.centre_in_plane) require_in_plane_balance(disc);
+  if (disc.centre_in_plane) require_in_plane_balance(disc.held, disc.f);
   const Eigen::MatrixXd R = disc.equality_motions();
   qp.set_equality((op.B * R).transpose(), R.transpose() * disc.f);
   Eigen::MatrixXd face_field(static_cast<Eigen::Index>(face_dofs.dofs.size()), R.cols());

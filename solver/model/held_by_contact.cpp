@@ -334,6 +334,25 @@ Eigen::VectorXd part_along(const Eigen::VectorXd& motion, const Eigen::VectorXd&
   return (motion.dot(rigid) / length) * motion;
 }
 
+// Frictionless contact leaves the in-plane motions (slides, the turn about the normal) to the loads:
+// an InputError where they do not balance along them, above the QP's 1e-6 of the loads along the
+// free motions for its equalities; where those loads are all in-plane and balance, what is left is
+// rounding, judged against the bound ‖R‖‖f‖ (1e-9 of it: a real imbalance of 1e-6 of the load is
+// 1e-7 … 1e-6 of it, the rounding of the sums 1e-14).
+void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f) {
+  const Eigen::MatrixXd& R = held.field;
+  const Eigen::VectorXd loads = R.transpose() * f;
+  const Eigen::VectorXd along = held.in_plane_combinations.transpose() * loads;
+  if (!(along.norm() > 1e-6 * loads.norm() + 1e-9 * R.norm() * f.norm())) return;
+  throw InputError("the body is held by contact alone and nothing prescribed holds " + held.describe_in_plane() +
+                   " in the foundation's plane: friction alone must hold it there, but the contact is frictionless "
+                   "and the loads along it do not balance (" +
+                   number(100 * along.norm() / loads.norm(), 3) +
+                   "% of the loads along the free motions); prescribe that motion (boundary.displacement, e.g. "
+                   "symmetry planes), add friction (friction.slip_bound, friction.model) or check the loads' "
+                   "directions");
+}
+
 void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
                   const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
                   const TrescaStep& tresca) {

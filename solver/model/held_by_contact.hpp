@@ -124,6 +124,11 @@ Eigen::VectorXd part_along(const Eigen::VectorXd& motion, const Eigen::VectorXd&
 // rigid motion that large is no answer).
 inline constexpr double kLargestRigidMotion = 10;
 
+// Frictionless contact leaves the in-plane motions (slides, the turn about the normal) to the loads `f`
+// (at the free dofs): an InputError where they do not balance along them. Before any factorization, so
+// that `check` refuses what the solve would (it said ok to a free block pushed sideways, frictionless).
+void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f);
+
 // The share of FrictionHold at which friction has reached its limit (the QP meets its radii to about
 // 1e-6): the slide along that motion is then not determined.
 inline constexpr double kFrictionHoldReached = 1 - 1e-6;
