@@ -150,10 +150,26 @@ void write_backend(JsonWriter& j, const SolveResult& res, const RunInfo& info) {
   j.end_object().end_object();
 }
 
+// The law as solved, its parameters included where the scene left them to their defaults (law = "ramp"
+// alone takes the paper's (6.1) values, which summary.json did not say).
+void write_friction_law(JsonWriter& j, const FrictionLaw& law) {
+  j.begin_object("friction_law").value("kind", law.name());
+  if (law.kind == FrictionLaw::Kind::Constant) j.value("value", law.value);
+  if (law.kind == FrictionLaw::Kind::Ramp)
+    j.value("high", law.high).value("low", law.low).value("t0", law.t0).value("param", law.param);
+  if (law.kind == FrictionLaw::Kind::Table) {
+    j.begin_array("points");
+    for (const auto& [t, f] : law.points) j.begin_array().element(t).element(f).end_array();
+    j.end_array();
+  }
+  j.end_object();
+}
+
 // How the solve ended: the friction model, the last QP, err per step and the fixed point's bound.
 void write_convergence(JsonWriter& j, const Scene& scene, const SolveResult& res) {
   j.value("friction_model",
           scene.frictionless() ? std::string("none") : name_of(scene.friction_model, kFrictionModelNames));
+  write_friction_law(j, scene.law);
   j.value("qp_last_status", to_string(res.last_qp.status))
       .value("qp_last_projected_gradient", res.last_qp.projected_gradient);
   j.begin_array("err_history");
