@@ -44,8 +44,8 @@ with tempfile.TemporaryDirectory() as tmp:
                          "schur": "auto", "qp_rtol": 1e-6, "fixed_point_tol": 1e-4}
     if any(s.get("settings", {}).get(k) != v for k, v in expected_settings.items()):
         fail(f"summary.json settings are not the resolved defaults: {s.get('settings')}")
-    # The law as solved, with the parameters the scene left to their defaults (the paper's brick gives param
-    # only: high, low and t0 are (6.1)'s, which summary.json did not say).
+    # The law as solved, with every parameter (a scene that gives law = "ramp" alone gets (6.1)'s, which
+    # summary.json did not say; the paper's brick gives them all).
     if s.get("friction_law") != {"kind": "ramp", "high": 0.3, "low": 0.2, "t0": 1e-5, "param": 6e4}:
         fail(f"summary.json friction_law: {s.get('friction_law')}")
     if (s["n_primal"], s["n_dual"], s["n_cells"], s["n_contact_nodes"]) != (900, 36, 12, 60):
