@@ -323,9 +323,12 @@ int run_check(const SolveArgs& args) {
                                         "loads along them must balance by themselves): " +
                                             held.describe_in_plane()
                                       : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
-  if (held.in_plane_count() && scene.frictionless())  // as the solve checks it before factoring K
-    require_in_plane_balance(held, assemble_load(mesh, dofs, scene.tractions, scene.body_force) +
-                                       assemble_lift(mesh, dofs, tet_materials(scene, mesh)));
+  if (held.count()) {  // as the solve checks them before factoring K
+    const Eigen::VectorXd f = assemble_load(mesh, dofs, scene.tractions, scene.body_force) +
+                              assemble_lift(mesh, dofs, tet_materials(scene, mesh));
+    require_loads_press_onto_plane(held, f);
+    if (held.in_plane_count() && scene.frictionless()) require_in_plane_balance(held, f);
+  }
   SolveResult warned;  // the warnings a solve gives on its input, before it starts
   const FaceThicknessOnce thickness(mesh, scene.contact);
   warn_about_inputs(scene, mesh, tet_materials(scene, mesh), thickness, warned);

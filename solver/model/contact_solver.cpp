@@ -105,6 +105,9 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, const FaceThickn
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
+  disc.f =
+      assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
+  if (disc.held.count()) require_loads_press_onto_plane(disc.held, disc.f);
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
     if (disc.held.count()) {
@@ -115,8 +118,6 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, const FaceThickn
     disc.K_elsewhere = true;
     if (disc.held.count()) add_pin_springs(mesh, res.dofs, disc.materials, disc.held);  // the ranks add them to K
   }
-  disc.f =
-      assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
   return disc;
 }
 

@@ -353,6 +353,36 @@ void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::Vecto
                    "directions");
 }
 
+// Contact forces push the body along the foundation's normal only: where nothing prescribed holds a
+// part's lift (the translation along the normal), the loads on it must press it onto the plane, their
+// resultant along the normal towards it. A pull that outweighs 1e-6 of the sum of their normal
+// components' sizes is refused here, before any factorization (the solve refused it after its QP,
+// and `check` said ok).
+void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen::VectorXd& f) {
+  Eigen::Matrix<double, 6, 1> lift;
+  lift << 0, 0, 1, 0, 0, 0;
+  Eigen::Index col = 0;
+  for (const PartMotions& p : held.parts) {
+    const Eigen::Index k = p.free.count();
+    const Eigen::VectorXd along = p.free.motions.transpose() * lift;  // the motions are orthonormal
+    const auto field = held.field.middleCols(col, k);
+    col += k;
+    if ((p.free.motions * along - lift).norm() > 1e-8) continue;  // the lift is held by a prescribed component
+    const Eigen::VectorXd lift_field = field * along;             // 1 at the part's free normal components
+    const double pull = lift_field.dot(f);
+    const double size = lift_field.cwiseProduct(f).cwiseAbs().sum();
+    if (!(pull > 1e-6 * size)) continue;
+    throw InputError(
+        (p.parts > 1 ? p.label() + " is" : std::string("the body is")) +
+        " held by contact alone along the foundation's normal (nothing prescribed holds its lift), and the loads "
+        "pull it off the foundation: their resultant along the normal, " +
+        number(pull, 4) + ", points away from the plane (" + number(100 * pull / size, 3) +
+        "% of the sum of their normal components' sizes); the contact can only push, so nothing balances "
+        "them — check the loads' directions and signs (a pressure is positive into the body, "
+        "material.body_force points the way gravity pulls), or prescribe that motion (boundary.displacement)");
+  }
+}
+
 void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
                   const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
                   const TrescaStep& tresca) {

@@ -129,6 +129,11 @@ inline constexpr double kLargestRigidMotion = 10;
 // that `check` refuses what the solve would (it said ok to a free block pushed sideways, frictionless).
 void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f);
 
+// Contact pushes only: where nothing prescribed holds a part's lift off the plane, an InputError when
+// the loads `f` (at the free dofs) pull that part away from it (their resultant along the normal).
+// Before any factorization, so that `check` refuses it as the solve does.
+void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen::VectorXd& f);
+
 // The share of FrictionHold at which friction has reached its limit (the QP meets its radii to about
 // 1e-6): the slide along that motion is then not determined.
 inline constexpr double kFrictionHoldReached = 1 - 1e-6;
