@@ -926,6 +926,16 @@ void add_stage_seconds(std::vector<std::pair<std::string, double>>& into,
   }
 }
 
+}  // namespace
+
+bool finer_answer_is_better(const SolveResult& first, const SolveResult& finer) {
+  const bool penetrates_less = finer.penetration_ratio < first.penetration_ratio;
+  const bool loses_conditioning = dual_ill_conditioned(finer) && !dual_ill_conditioned(first);
+  return penetrates_less && (finer.converged || !first.converged) && !loses_conditioning;
+}
+
+namespace {
+
 SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness,
                                       const ProgressCallback& on_step, Progress& report, SolveResult first,
                                       KeptFactor& first_factor) {
@@ -956,11 +966,9 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   first_factor.factor.reset();
   if (second) {
     refinement.reused_factor = second->factor_reused;
-    // A converged answer is never traded for one that did not converge, nor a reliable λ for one whose
-    // Q is ill-conditioned (its warning; cells nearly dependent).
     const bool penetrates_less = second->penetration_ratio < first.penetration_ratio;
     const bool loses_conditioning = dual_ill_conditioned(*second) && !dual_ill_conditioned(first);
-    refinement.kept_finer = penetrates_less && (second->converged || !first.converged) && !loses_conditioning;
+    refinement.kept_finer = finer_answer_is_better(first, *second);
     refinement.outcome =
         was + "; with " + finer_cells + " (" + cell_sizes(*second) +
         (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") +

@@ -132,6 +132,11 @@ using ProgressCallback = std::function<void(const FixedPointStep&)>;
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step = {},
                         Progress* progress = nullptr);
 
+// contact.cell_size = "auto": whether the answer on cells of 1.5h replaces the first (2h) one. Only
+// where it penetrates less, and a converged answer is never traded for one that did not converge, nor a
+// reliable λ for one whose Q is ill-conditioned (stability check's warning: cells nearly dependent).
+bool finer_answer_is_better(const SolveResult& first, const SolveResult& finer);
+
 // What a solve would form before factorizing (`contact3d check`): the first partition's cells and
 // multipliers, the dense Q's bytes with its working copies against the memory this process can get,
 // and the dual route solver.schur resolves to (empty: a dense route named by the scene that would be
