@@ -274,13 +274,14 @@ void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
     if (mesh.nodes[v].z() < mesh.nodes[deepest].z()) deepest = v;
   }
   const double tol = kPenetrationRounding * (hi - lo).norm();
-  if (mesh.nodes[deepest].z() < -tol)
-    throw InputError(
-        "the body reaches below the foundation plane (initial penetration): node " +
-        std::to_string(mesh.node_tags[deepest]) + " lies " + number(-mesh.nodes[deepest].z()) +
-        " below it (height z = " + number(mesh.nodes[deepest].z()) +
-        " above the plane z = 0, or the plane of contact.plane_point / plane_normal); move the mesh or the "
-        "plane so that the contact face lies on or above it and the body above it");
+  if (!(mesh.nodes[deepest].z() < -tol)) return;
+  Eigen::Vector3d at = roles.user_point ? roles.user_point(mesh.nodes[deepest]) : mesh.nodes[deepest];
+  for (double& c : at) c = std::abs(c) > 1e-12 * (hi - lo).norm() ? c : 0.0;  // the turn's rounding
+  throw InputError("the body reaches below the foundation plane (initial penetration): node " +
+                   std::to_string(mesh.node_tags[deepest]) + " at (" + number(at.x()) + ", " + number(at.y()) + ", " +
+                   number(at.z()) + ") lies " + number(-mesh.nodes[deepest].z()) +
+                   " below it (the plane z = 0, or that of contact.plane_point / plane_normal); move the mesh or "
+                   "the plane so that the contact face lies on or above it and the body above it");
 }
 
 // A clamp, prescribed displacement or load on a surface group that holds no triangles would act

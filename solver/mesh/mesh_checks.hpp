@@ -11,6 +11,7 @@
 //   - constraints whose nodes all lie on one line or at one point (a free rigid rotation).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ namespace contact3d {
 struct MeshRoles {
   std::vector<std::string> clamped, contact, loaded;
   std::vector<std::string> displaced;  // groups with prescribed components (the rigid-motion check is fem's then)
+  // A point of the mesh checked (in the foundation plane's frame, z = 0 the plane) in the user's
+  // coordinates, for naming a node where the user will look for it; the identity where unset.
+  std::function<Eigen::Vector3d(const Eigen::Vector3d&)> user_point;
 };
 
 // Coordinates beyond ±1e15 (run first: every other check computes with them).

@@ -524,9 +524,10 @@ TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
 }
 
 MeshRoles mesh_roles(const Scene& scene) {
-  MeshRoles roles{scene.clamped, scene.contact, {}, {}};
+  MeshRoles roles{scene.clamped, scene.contact, {}, {}, {}};
   for (const auto& d : scene.displacements) roles.displaced.push_back(d.group);
   for (const auto& t : scene.tractions) roles.loaded.push_back(t.group);
+  roles.user_point = [frame = scene.user_frame](const Eigen::Vector3d& x) { return frame.to_global_point(x); };
   return roles;
 }
 

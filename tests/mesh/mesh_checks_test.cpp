@@ -58,7 +58,7 @@ TEST(MeshChecks, UnnamedGroupsOfFreeFemsSavegmshGoByTheirNumbers) {
   ASSERT_NE(contact, nullptr) << mesh.describe_groups();
   EXPECT_EQ(contact->name, "");
   EXPECT_EQ(mesh.triangles_of_group("5").size(), 2u);  // the face z = 0
-  EXPECT_NO_THROW(check_mesh_meaning(mesh, MeshRoles{{"6"}, {"5"}, {"2"}, {}}));
+  EXPECT_NO_THROW(check_mesh_meaning(mesh, MeshRoles{{"6"}, {"5"}, {"2"}, {}, {}}));
 }
 
 TEST(MeshChecks, NamedGroupAndUnnamedGroupOfTheSameNumberAreRefused) {
@@ -67,7 +67,7 @@ TEST(MeshChecks, NamedGroupAndUnnamedGroupOfTheSameNumberAreRefused) {
   text.replace(text.find("$Nodes"), 0, "$PhysicalNames\n1\n2 3 \"4\"\n$EndPhysicalNames\n");
   const Mesh mesh = parse_msh(text, "cube.msh");
   try {
-    check_mesh_meaning(mesh, MeshRoles{{"6"}, {"5"}, {}, {}});
+    check_mesh_meaning(mesh, MeshRoles{{"6"}, {"5"}, {}, {}, {}});
     FAIL() << "accepted two groups a scene calls '4'";
   } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("named '4'"), std::string::npos) << e.what(); }
 }
@@ -76,7 +76,7 @@ TEST(MeshChecks, NamedGroupAndUnnamedGroupOfTheSameNumberAreRefused) {
 // body, so not an initial penetration; a node of a tetrahedron there still is.
 TEST(MeshChecks, UnusedNodeBelowThePlaneIsNotAPenetration) {
   Mesh mesh = parse_msh(kFreeFemSavegmshCube, "cube.msh");
-  const MeshRoles roles{{"6"}, {"5"}, {}, {}};
+  const MeshRoles roles{{"6"}, {"5"}, {}, {}, {}};
   mesh.nodes.emplace_back(0.5, 0.5, -0.01);
   mesh.node_tags.push_back(9);
   EXPECT_NO_THROW(check_mesh_meaning(mesh, roles));
@@ -85,7 +85,7 @@ TEST(MeshChecks, UnusedNodeBelowThePlaneIsNotAPenetration) {
     check_mesh_meaning(mesh, roles);
     FAIL() << "a vertex of the body below the plane was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("node 1 lies 0.01 below"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("node 1 at (0, 0, -0.01) lies 0.01 below"), std::string::npos) << e.what();
   }
 }
 
