@@ -11,6 +11,7 @@
 #include <dmumps_c.h>
 #include <mpi.h>
 #include <sys/resource.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,10 +19,12 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <new>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
@@ -172,6 +175,42 @@ void factorize_with_growing_workspace(DirectMumps& d, const std::string& out_of_
   throw_if_mumps_failed(d.id.infog[0], d.id.infog[1], "MUMPS's factorization");
 }
 
+// MUMPS writes its factor into files in the out-of-core directory while it factors; a disk that
+// fills on the way left a rank waiting in MUMPS's asynchronous writes for good (4 of 7 runs on a
+// 4 MiB tmpfs, the others ending in INFOG(1) = −90). So after the analysis every rank checks that
+// its share of the factor (INFO(3), in entries) fits, with a tenth to spare, in the room the
+// directory's file system has, summed over the ranks that write to that file system on one machine.
+// Every rank gets the same list and throws the same InputError. A file system statvfs cannot read
+// is left to MUMPS's own error.
+struct FactorFileRoom {
+  double need_bytes = 0, free_bytes = -1;  // free −1: unknown
+  std::uint64_t file_system = 0;           // the machine's name hashed with the file system's id
+};
+void require_room_for_factor_files(const DMUMPS_STRUC_C& id, const std::string& dir) {
+  FactorFileRoom mine;
+  mine.need_bytes = 8.0 * mumps_count(id.info[2]);
+  struct statvfs fs {};
+  if (statvfs(dir.c_str(), &fs) == 0) {
+    mine.free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+    char host[256] = {};
+    gethostname(host, sizeof host - 1);
+    mine.file_system = std::hash<std::string>()(host) ^ static_cast<std::uint64_t>(fs.f_fsid);
+  }
+  std::vector<FactorFileRoom> all(static_cast<std::size_t>(comm_size()));
+  MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, MPI_COMM_WORLD);
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    if (all[r].free_bytes < 0) continue;
+    double need = 0;
+    for (const FactorFileRoom& other : all)
+      if (other.free_bytes >= 0 && other.file_system == all[r].file_system) need += other.need_bytes;
+    if (1.1 * need <= all[r].free_bytes) continue;
+    throw InputError("solver.out_of_core_dir '" + dir + "' has " + number(all[r].free_bytes / (1 << 30), 3) +
+                     " GiB free on rank " + std::to_string(r) + "'s machine, and the factor MUMPS would write there " +
+                     "takes about " + number(need / (1 << 30), 3) + " GiB (its analysis; a tenth more is asked to " +
+                     "spare): point it to a disk with room, or free some");
+  }
+}
+
 // One factorization, on every rank between a factorizing command (kAssembleAndFactor, kFactorThroughPetsc) and
 // kRelease: MUMPS called directly, or PETSc's objects in the PETSc module.
 struct Factorization : FactorSummary {
@@ -233,6 +272,7 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
     id.schur_lld = static_cast<MUMPS_INT>(fz.m);
   }
   d.run(1, "the MUMPS analysis");
+  if (!out_of_core_dir.empty()) require_room_for_factor_files(id, out_of_core_dir);
   factorize_with_growing_workspace(d, out_of_core_dir);
   // The solves use only the factor (no iterative refinement, ICNTL(10) = 0): the matrix can go.
   std::vector<MUMPS_INT>().swap(d.rows);

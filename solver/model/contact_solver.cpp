@@ -532,10 +532,13 @@ void require_backend(const Scene& scene, DualMethod method) {
   if (scene.solver.out_of_core_dir.empty()) return;
   if (method != DualMethod::Mumps)
     throw InputError(
-        "solver.out_of_core_dir is MUMPS's out-of-core mode: it needs the distributed build with "
-        "solver.schur = \"mumps\" (`make build-mpi`, `mpirun -np P build-mpi/contact3d solve SCENE`); "
-        "the factorization here (" +
-        std::string(name_of(method, kDualMethodNames)) + ") keeps its factor in memory");
+        "solver.out_of_core_dir is MUMPS's out-of-core mode: it needs " +
+        std::string(distributed::available()
+                        ? "solver.schur = \"mumps\" (MUMPS called directly; "
+                        : "the distributed build with solver.schur = \"mumps\" (`make build-mpi`, `mpirun -np P "
+                          "build-mpi/contact3d solve SCENE`; ") +
+        "the factorization chosen here, " + std::string(name_of(method, kDualMethodNames)) +
+        ", keeps its factor in memory): set solver.schur = \"mumps\" or remove the option");
   if (scene.contact.empty())
     throw InputError(
         "solver.out_of_core_dir: this scene has no contact group, so it is one linear solve by CHOLMOD "
