@@ -171,12 +171,15 @@ if(TARGET contact3d-mpi AND MPIEXEC_EXECUTABLE)
             --mpi $<TARGET_FILE:contact3d-mpi> --mpiexec ${MPIEXEC_EXECUTABLE} --source ${CMAKE_SOURCE_DIR})
   set_tests_properties(mpi_two_ranks_equal_serial PROPERTIES TIMEOUT 300
     ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
-  # An out-of-core directory without room for the factor is refused before MUMPS writes (it hung some runs).
-  add_test(NAME mpi_out_of_core_disk_without_room_is_refused
-    COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_mpi_ooc_room.py --mpi $<TARGET_FILE:contact3d-mpi>
-            --mpiexec ${MPIEXEC_EXECUTABLE} --source ${CMAKE_SOURCE_DIR})
-  set_tests_properties(mpi_out_of_core_disk_without_room_is_refused PROPERTIES TIMEOUT 180 SKIP_RETURN_CODE 77
-    ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
+  # What the ranks cannot hold (an out-of-core disk without room, which hung some runs; memory) is refused
+  # after MUMPS's analysis, before its factorization.
+  foreach(resource disk memory)
+    add_test(NAME mpi_factor_beyond_the_ranks_${resource}_is_refused
+      COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_mpi_resources.py --mpi $<TARGET_FILE:contact3d-mpi>
+              --mpiexec ${MPIEXEC_EXECUTABLE} --source ${CMAKE_SOURCE_DIR} --case ${resource})
+    set_tests_properties(mpi_factor_beyond_the_ranks_${resource}_is_refused PROPERTIES TIMEOUT 200 SKIP_RETURN_CODE 77
+      ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
+  endforeach()
 endif()
 # The QP's Newton steps through the stability check's factor of Q (solver.qp_newton_systems = "auto")
 # give the answer of factoring each reduced system ("reduced"), and the default takes that route on a slab.

@@ -211,6 +211,58 @@ void require_room_for_factor_files(const DMUMPS_STRUC_C& id, const std::string& 
   }
 }
 
+// MUMPS's analysis estimates each rank's memory for the numerical factorization (INFO(15) in core,
+// INFO(17) with the factor on disk; MB). A rank that cannot get it failed inside the factorization after
+// its minutes of work ("out of memory in the factorization stage", no size given) or met the system's
+// OOM killer; refused here instead, on every rank alike, naming the rank, the estimate and what it
+// can get — as the serial build refuses a CHOLMOD factor from its analysis. The ranks on one machine
+// share its memory: their sum is checked against it too.
+struct RankMemory {
+  double need_bytes = 0, available_bytes = 0;  // this process's (its address-space limit too); 0: unknown
+  double machine_bytes = 0;                    // the machine's (or container's) available memory; 0: unknown
+  std::uint64_t machine = 0;                   // the machine's name, hashed
+};
+std::uint64_t machine_id() {
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  return std::hash<std::string>()(host);
+}
+std::vector<RankMemory> gather_factorization_memory(const DMUMPS_STRUC_C& id, bool out_of_core) {
+  RankMemory mine;
+  mine.need_bytes = 1e6 * mumps_count(out_of_core ? id.info[16] : id.info[14]);
+  mine.available_bytes = static_cast<double>(available_memory_bytes());
+  std::uint64_t machine = memory_detail::meminfo_available();
+  if (const std::uint64_t cap = memory_detail::cgroup_headroom(); cap > 0)
+    machine = machine > 0 ? std::min(machine, cap) : cap;
+  mine.machine_bytes = static_cast<double>(machine);
+  mine.machine = machine_id();
+  std::vector<RankMemory> all(static_cast<std::size_t>(comm_size()));
+  MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, MPI_COMM_WORLD);
+  return all;
+}
+void require_memory_for_factorization(const std::vector<RankMemory>& ranks, bool out_of_core) {
+  const std::string cure = std::string("; run more ranks, on more machines") +
+                           (out_of_core ? "" : ", keep the factor on disk (solver.out_of_core_dir)") +
+                           ", or use a coarser mesh";
+  for (std::size_t r = 0; r < ranks.size(); ++r) {
+    const RankMemory& rank = ranks[r];
+    if (rank.available_bytes <= 0) continue;
+    if (rank.need_bytes > rank.available_bytes)
+      throw InputError("not enough memory for the factorization: MUMPS's analysis estimates " +
+                       number(rank.need_bytes / (1 << 30), 3) + " GiB on rank " + std::to_string(r) +
+                       ", which can get only " + number(rank.available_bytes / (1 << 30), 3) + " GiB" + cure);
+    double on_machine = 0;
+    int sharing = 0;
+    for (const RankMemory& other : ranks)
+      if (other.machine == rank.machine) on_machine += other.need_bytes, ++sharing;
+    if (sharing > 1 && rank.machine_bytes > 0 && on_machine > rank.machine_bytes)
+      throw InputError("not enough memory for the factorization: MUMPS's analysis estimates " +
+                       number(on_machine / (1 << 30), 3) + " GiB for the " + std::to_string(sharing) +
+                       " ranks on rank " + std::to_string(r) + "'s machine, which has " +
+                       number(rank.machine_bytes / (1 << 30), 3) + " GiB available" + cure);
+  }
+}
+
 // One factorization, on every rank between a factorizing command (kAssembleAndFactor, kFactorThroughPetsc) and
 // kRelease: MUMPS called directly, or PETSc's objects in the PETSc module.
 struct Factorization : FactorSummary {
@@ -231,8 +283,8 @@ struct Triplets {
 
 // The direct route: this rank's entries, and on rank 0 the pivot order of K's dofs (`order`).
 // The entries move into MUMPS's arrays (no second copy of this rank's share).
-void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets share,
-                   const std::string& out_of_core_dir) {
+void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets share, const std::string& out_of_core_dir,
+                   const std::function<void(const std::string&)>* report) {
   const bool root = comm_rank() == 0;
   const std::int64_t N = fz.n + fz.m;
   fz.direct = std::make_unique<DirectMumps>();
@@ -271,7 +323,20 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
     id.schur = fz.Q.data();
     id.schur_lld = static_cast<MUMPS_INT>(fz.m);
   }
+  id.icntl[13] = 5;  // ICNTL(14): the first factorization's workspace relaxation, for the analysis's estimates
   d.run(1, "the MUMPS analysis");
+  const std::vector<RankMemory> memory = gather_factorization_memory(id, !out_of_core_dir.empty());
+  if (root && report && *report) {
+    double most = 0;
+    for (const RankMemory& r : memory) most = std::max(most, r.need_bytes);
+    (*report)("  factor (MUMPS, " + std::to_string(memory.size()) + " rank(s)): about " +
+              number(mumps_count(id.infog[2]), 3) + " entries (" +
+              number(8.0 * mumps_count(id.infog[2]) / (1 << 30), 3) + " GiB over all ranks" +
+              (out_of_core_dir.empty() ? "" : ", written to solver.out_of_core_dir") + "), " +
+              number(id.rinfog[0] / 1e9, 3) + " GFlop; at most " + number(most / (1 << 30), 3) +
+              " GiB of memory on a rank (its analysis)");
+  }
+  require_memory_for_factorization(memory, !out_of_core_dir.empty());
   if (!out_of_core_dir.empty()) require_room_for_factor_files(id, out_of_core_dir);
   factorize_with_growing_workspace(d, out_of_core_dir);
   // The solves use only the factor (no iterative refinement, ICNTL(10) = 0): the matrix can go.
@@ -480,7 +545,8 @@ Triplets send_parts_and_assemble(const StiffnessSource& source, std::size_t extr
 // the mesh); rank 0 adds 𝔹 and the multipliers' zero diagonal and gives the pivot order (`source`,
 // `B` and `order` are read on rank 0 only).
 std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source, const Eigen::SparseMatrix<double>* B,
-                                                   const std::vector<int>& order, std::string out_of_core_dir) {
+                                                   const std::vector<int>& order, std::string out_of_core_dir,
+                                                   const std::function<void(const std::string&)>* report = nullptr) {
   auto fz = std::make_unique<Factorization>();
   std::int64_t dims[3] = {source ? source->dofs.n_free : 0, B ? B->rows() : 0,
                           static_cast<std::int64_t>(out_of_core_dir.size())};
@@ -512,7 +578,7 @@ std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source
   // and gives MUMPS's large blocks their own mappings (n = 16 brick, 2 ranks: peak 151 / 129 →
   // 147 / 127 MiB per rank; n = 24: 550 / 543 → 545 / 545, the same factorization time).
   const LargeBlocksFromSystem mumps_workspaces;
-  factor_direct(*fz, order, std::move(share), out_of_core_dir);
+  factor_direct(*fz, order, std::move(share), out_of_core_dir, report);
   return fz;
 }
 
@@ -616,7 +682,7 @@ class MumpsDualProblem final : public DualProblem {
         throw std::invalid_argument("the direct MUMPS route assembles K from a StiffnessSource");
       const std::vector<int> order = pivot_order(*in.stiffness_source);
       broadcast(kAssembleAndFactor);
-      fz_ = assemble_and_factor(in.stiffness_source, &in.B, order, options.out_of_core_dir);
+      fz_ = assemble_and_factor(in.stiffness_source, &in.B, order, options.out_of_core_dir, &in.report);
     } else {
       // ‖K·modes‖ from rank 0's K, to check the ranks' copy of the near-null space against.
       const double expected_residual = in.near_null_space.cols() > 0 ? (in.K * in.near_null_space).norm() : 0.0;

@@ -73,6 +73,9 @@ struct DualProblemInput {
   // K's near-null space (n × 6, fem's rigid_body_modes) for a backend whose matrix object carries
   // one (the PETSc route attaches it for multigrid); empty: not asked for.
   Eigen::MatrixXd near_null_space = Eigen::MatrixXd();
+  // A line for the run's progress report (the distributed backend's factor size and memory after
+  // MUMPS's analysis, where on_analysis's one-process memory check would not apply). Empty: none.
+  std::function<void(const std::string&)> report = {};
 };
 
 // The entries of w at `dofs`, in that order (a face displacement from a whole one).

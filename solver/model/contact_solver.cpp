@@ -781,6 +781,7 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
                          op.offset,        factor_size_check(report, &stage),
                          disc.release_K(), K_on_ranks ? &source : nullptr};
   if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
+  input.report = [&report](const std::string& line) { report.stage(line); };
   std::unique_ptr<DualProblem> dual = dual_problem(method, input, scene, kept, clock, report, res);
   const double done_s = stage_seconds(res, "factorization") + stage_seconds(res, "dual");
   if (matrix_free)
