@@ -65,6 +65,49 @@ void warn_if_beyond_any_solid(const Scene& scene, const Mesh& mesh, const TetMat
                            ") makes every displacement as many times too large");
 }
 
+// Loads whose stress is a tenth of the stiffest Young's modulus or more strain the body by ten percent
+// or more, beyond the linear elasticity solved here; the usual cause is a scene in mixed units (young =
+// 210000 meant in MPa with tractions in Pa: a body held by contact alone was refused for a rigid
+// displacement 37 times its size, blaming its contact cells, and `check` said ok). The stress: the
+// largest traction or pressure at a node of a loaded triangle (value and gradient), or the body's own
+// weight over its height along the body force.
+constexpr double kLoadOverModulus = 0.1;
+void warn_if_loads_beyond_linear_strain(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
+                                        SolveResult& res) {
+  double stiffest = 0;
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) stiffest = std::max(stiffest, materials[e].young);
+  if (!(stiffest > 0)) return;
+  double traction = 0;
+  for (const Traction& tr : scene.tractions)
+    for (const int t : mesh.triangles_of_group(tr.group))
+      for (const int v : mesh.triangles[static_cast<std::size_t>(t)]) {
+        const Eigen::Vector3d& x = mesh.nodes[static_cast<std::size_t>(v)];
+        traction = std::max(traction,
+                            (tr.value + tr.gradient * x).norm() + std::abs(tr.pressure + tr.pressure_gradient.dot(x)));
+      }
+  double weight = 0;
+  if (scene.body_force.norm() > 0 && !mesh.tets.empty()) {
+    const Eigen::Vector3d along = scene.body_force.normalized();
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& tet : mesh.tets)
+      for (const int v : tet) {
+        lo = std::min(lo, along.dot(mesh.nodes[static_cast<std::size_t>(v)]));
+        hi = std::max(hi, along.dot(mesh.nodes[static_cast<std::size_t>(v)]));
+      }
+    weight = scene.body_force.norm() * (hi - lo);
+  }
+  const double stress = std::max(traction, weight);
+  if (!(stress > kLoadOverModulus * stiffest)) return;
+  const UnitLabels units = unit_labels(scene.output.units);
+  res.warnings.push_back(
+      "the loads reach a stress of " + number(stress, 3) + " " + units.stress +
+      (traction >= weight ? " (the largest traction or pressure)" : " (the body's own weight over its height)") + ", " +
+      number(stress / stiffest, 3) + " times the stiffest material's young = " + number(stiffest, 4) + " " +
+      units.stress + ": they would strain the body by about " + number(100 * stress / stiffest, 3) +
+      "%, far beyond the small strains of the linear elasticity solved here; check that loads and moduli are in one "
+      "system of units (young in MPa with loads in Pa makes the body a million times too soft)");
+}
+
 // The model takes the loaded boundary Γp and the contact face Γc apart. A traction or pressure on a
 // group that shares triangles with Γc (the contact group itself, or a load patch cut from the sole)
 // was applied where the foundation holds the body with nothing said; said in a warning with the
@@ -185,6 +228,7 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
                        const FaceThicknessOnce& thickness, SolveResult& res) {
   warn_if_nearly_incompressible(mesh, materials, res);
   warn_if_beyond_any_solid(scene, mesh, materials, res);
+  warn_if_loads_beyond_linear_strain(scene, mesh, materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
   note_loads_given_twice(scene, res);
   warn_if_coincident_nodes(mesh, res);
