@@ -281,7 +281,9 @@ void flag_narrow_contact_zone(SolveResult& res) {
                          std::to_string(pressed.size()) + " pressed cells of about " + number(side, 3) +
                          "): its size and its peak pressure are resolved only to a cell, and the pressure there is "
                          "a cell's average, and the displacement near it may be off by tens of percent (a foot "
-                         "tipped onto its edge: u on Γc 31% from a nodal contact's on the same mesh); refine the mesh "
+                         "tipped onto its edge: u on Γc 31% from a nodal contact's on the same mesh), and so may the "
+                         "contact force where an approach is prescribed (a V-shaped sole pushed 10 µm: 59% below a "
+                         "nodal contact's, 45% on a mesh twice as fine); refine the mesh "
                          "where it touches until the zone spans several cells "
                          "(a mesh graded towards the contact gives cells that follow its size)");
 }
