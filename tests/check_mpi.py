@@ -14,7 +14,8 @@ with Coulomb's bound, and two pads in one mesh of two parts. One rank bound to o
 summary.json's note on unbinding. The brick n = 12 with its factor out of core (solver.out_of_core_dir) must give the in-memory answer
 with less memory per rank and leave no file behind. The executable must not link PETSc (a module
 loaded by the PETSc route only), and that route without its module is an error (exit 2) naming the
-module, also when only another rank than rank 0 lacks it. A negative check compares the serial
+module, also when only another rank than rank 0 lacks it; a bad input ends every rank with exit 2.
+A negative check compares the serial
 solution with one for a Young's modulus 1e-6 larger and requires the comparison to see it.
 
 usage: check_mpi.py --serial build/contact3d --mpi build/contact3d-mpi --mpiexec mpirun --source DIR
@@ -205,6 +206,18 @@ def main():
         if refused.returncode != 2 or "rank 1 failed to open the PETSc module" not in refused.stderr or \
                 "libcontact3d_petsc.so" not in refused.stderr:
             fails.append(f"PETSc module missing on rank 1 only: exit {refused.returncode}, {refused.stderr.strip()[:300]}")
+        # A bad input ends every rank with rank 0's exit code 2 (the others ended with 0), seen with
+        # mpirun told not to abort the job on the first non-zero exit.
+        bad = os.path.join(tmp, "bad.toml")
+        with open(bad, "w") as f:
+            f.write('[mesh]\nfile = "missing.msh"\n')
+        each = subprocess.run([args.mpiexec, "-np", "2", "--mca", "orte_abort_on_non_zero_status", "0", "sh", "-c",
+                               f'"{args.mpi}" solve "{bad}" --quiet --out "{os.path.join(tmp, "bad_out")}"; '
+                               'echo "rank $OMPI_COMM_WORLD_RANK exit $?"'],
+                              capture_output=True, text=True, timeout=120)
+        codes = sorted(line for line in each.stdout.splitlines() if line.startswith("rank "))
+        if codes != ["rank 0 exit 2", "rank 1 exit 2"]:
+            fails.append(f"bad input under mpirun: {codes}, expected exit 2 on both ranks")
         # Negative check: a 1e-6 change of the input must be seen by the same comparison.
         label, scene, sets, _ = CASES[0]
         path = os.path.join(args.source, "pipeline", "scenes", scene)

@@ -385,17 +385,8 @@ bool serial_build_under_mpirun() {
   return true;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  if (serial_build_under_mpirun()) return 2;
-  keep_freed_memory();  // stages reuse the pages earlier stages freed (base/memory.hpp)
-  // The distributed build: every rank but 0 only serves rank 0's factorization and solves.
-  distributed::Session session(argc, argv);
-  if (!session.is_root()) {
-    session.serve();
-    return 0;
-  }
+// The command line on rank 0 (the only process of the serial build): its exit code.
+int run_command_line(int argc, char** argv, const distributed::Session& session) {
   CLI::App app{"contact3d: 3D contact with solution-dependent Tresca friction (Haslinger & Ligurský 2009)"};
   app.set_version_flag("--version", std::string("contact3d ") + CONTACT3D_VERSION);
   app.require_subcommand(1);
@@ -451,4 +442,18 @@ int main(int argc, char** argv) {
     return print_error("out of memory (try a coarser mesh)");
   } catch (const std::exception& e) { return print_error(e.what()); }
   return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (serial_build_under_mpirun()) return 2;
+  keep_freed_memory();  // stages reuse the pages earlier stages freed (base/memory.hpp)
+  // The distributed build: every rank but 0 only serves rank 0's factorization and solves, and ends
+  // with rank 0's exit code (a bad input: 2 on every rank, not 2 on rank 0 and 0 on the others).
+  distributed::Session session(argc, argv);
+  if (!session.is_root()) return session.serve();
+  const int code = run_command_line(argc, argv, session);
+  session.finish(code);
+  return code;
 }

@@ -45,12 +45,17 @@ class Session {
   // With several ranks, each rank's OpenBLAS threads were set to its share of the machine's cores
   // (share_cores_among_ranks); with one, nothing was set (threads 0) and main fits them itself.
   const BlasThreadChoice& blas_threads() const { return blas_; }
-  void serve();
+  // A rank other than 0: serves rank 0's commands until it stops; returns rank 0's exit code.
+  int serve();
+  // Rank 0, at the end: stops the other ranks, handing them `exit_code` (the session's end stops them
+  // with 0 where this was not called).
+  void finish(int exit_code);
 
  private:
   int rank_ = 0, size_ = 1;
   BlasThreadChoice blas_;
   bool started_ = false;
+  bool finished_ = false;
 };
 
 // Rank 0: the dual problem with MUMPS (laps `clock` at "factorization" and "dual"), called directly

@@ -752,14 +752,21 @@ Session::Session(int& argc, char**& argv) {
   if (size_ > 1) blas_ = share_cores_among_ranks(ranks_on_this_machine());
 }
 
+void Session::finish(int exit_code) {
+  if (!started_ || rank_ != 0 || finished_) return;
+  broadcast(kStop);
+  MPI_Bcast(&exit_code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  finished_ = true;
+}
+
 Session::~Session() {
   if (!started_) return;
-  if (rank_ == 0) broadcast(kStop);
+  finish(0);
   petsc_module().route.reset();  // PETSc ends before MPI, on every rank that started it
   MPI_Finalize();
 }
 
-void Session::serve() {
+int Session::serve() {
   std::unique_ptr<Factorization> fz;
   for (;;) {
     const int code = receive_command();
@@ -780,8 +787,11 @@ void Session::serve() {
         case kMemory:
           gather_memory();
           break;
-        default:
-          return;  // kStop
+        default: {  // kStop, then rank 0's exit code
+          int exit_code = 0;
+          MPI_Bcast(&exit_code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+          return exit_code;
+        }
       }
     } catch (const std::exception&) {
       // Rank 0 sees the same failure in the same collective and reports it; keep serving.

@@ -10,7 +10,8 @@ bool available() { return false; }
 
 Session::Session(int&, char**&) {}
 Session::~Session() = default;
-void Session::serve() {}
+int Session::serve() { return 0; }
+void Session::finish(int) {}
 
 std::unique_ptr<DualProblem> make_mumps_dual_problem(const DualProblemInput&, StageClock&, const MumpsOptions&) {
   // Refused before any work by model/contact_solver.cpp's require_backend; a safety net here.
