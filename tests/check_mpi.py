@@ -124,7 +124,7 @@ def main():
             if s["fixed_point_iterations"] != p["fixed_point_iterations"]:
                 fails.append(f"{label}: {s['fixed_point_iterations']} serial steps, {p['fixed_point_iterations']} distributed")
             if backend.get("name") != route or backend.get("ranks") != np_run or \
-                    len(backend.get("peak_memory_mib_per_rank", [])) != np_run:
+                    backend.get("processes") != np_run or len(backend.get("peak_memory_mib_per_rank", [])) != np_run:
                 fails.append(f"{label}: summary.json backend {backend}, expected {route} on {np_run} ranks")
             # The ranks on this machine share its cores: each rank's OpenBLAS gets at most its share
             # (threads × ranks ≤ cores, at least one), however mpirun bound them (blas_threads.hpp).

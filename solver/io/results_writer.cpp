@@ -138,7 +138,10 @@ void write_work(JsonWriter& j, const SolveResult& res) {
 // Where the factorization ran: the backend, its ranks and their peak memory, the BLAS threads.
 void write_backend(JsonWriter& j, const SolveResult& res, const RunInfo& info) {
   j.begin_object("backend").value("name", res.backend);
-  j.value("ranks", res.ranks).value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");
+  // ranks: those that factor (1 for CHOLMOD on rank 0, the others waiting); processes: all mpirun started,
+  // one peak memory each.
+  j.value("ranks", res.ranks).value("processes", static_cast<int>(res.peak_memory_per_rank_mib.size()));
+  j.value("near_null_space", res.near_null_space).begin_array("peak_memory_mib_per_rank");
   for (double mib : res.peak_memory_per_rank_mib) j.element(mib);
   j.end_array();
   // OpenBLAS's threads (blas_threads.hpp): fitted to the cores other processes left idle, or under
