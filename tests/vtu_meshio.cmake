@@ -18,3 +18,8 @@ add_test(NAME pvd_vtk_reader_brick
   COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_pvd_vtk.py --bin $<TARGET_FILE:contact3d>
           --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --n 4)
 set_tests_properties(pvd_vtk_reader_brick PROPERTIES TIMEOUT 120)
+# The written contact tractions integrate over Γc to summary.json's contact force, on a curved face too.
+add_test(NAME contact_tractions_integrate_to_the_contact_force
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/contact_tractions_integrate.py $<TARGET_FILE:contact3d>
+                 ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/cli-tests/tractions-integrate)
+set_tests_properties(contact_tractions_integrate_to_the_contact_force PROPERTIES TIMEOUT 120)

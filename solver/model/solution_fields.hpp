@@ -36,7 +36,9 @@ enum CellStatus : int { kSeparated = 0, kStick = 1, kSlip = 2 };
 std::vector<int> cell_status(int n_cells, const Eigen::VectorXd& lambda, const Eigen::VectorXd& radius);
 bool has_friction(int n_cells, const Eigen::VectorXd& lambda);
 
-// Nodal fields on Γc (zero elsewhere), one value per mesh node.
+// Nodal fields on Γc (zero elsewhere), one value per mesh node: the cells' multipliers and radii
+// averaged by the nodes' hat functions, as forces per unit area of Γc itself (the multipliers are per
+// unit of its projection onto the plane: equal on a flat face).
 struct ContactNodeFields {
   Eigen::VectorXd pressure, traction_t1, traction_t2, radius, friction;
   std::vector<int> status;  // separated unless a pressed cell covers part of the node; then stick or slip by weight
