@@ -558,6 +558,13 @@ def c_mesh_n_without_generator(c):
     return ["check", scene, "--set", "mesh.n=32"], ["mesh.n", "paper_brick", "mesh.parameters.n=32"]
 
 
+def c_mesh_parameters_with_a_file(c):
+    # mesh.parameters go to a mesh script; on a scene whose mesh is a file they were ignored (a new user's
+    # `--set mesh.parameters.n=4` solved the file's mesh, exit 0, nothing said).
+    return (["solve", c.scene(), "--set", "mesh.parameters.n=4", "--out", c.path("out"), "--quiet"],
+            ["mesh.parameters", "mesh script", "a file", "ignored"])
+
+
 def c_held_by_contact_on_one_cell_over_the_face(c):
     # contact.cell_size far beyond the face (a length in the wrong unit): one cell, whose single force holds
     # no turn. The refusal led with "the loads along it are more than the contact's friction carries" for a
