@@ -5,6 +5,7 @@ solve the paper scene on it with --mesh, and check every output file the other t
 import csv
 import json
 import math
+import os
 import subprocess
 import sys
 import tempfile
@@ -46,6 +47,11 @@ with tempfile.TemporaryDirectory() as tmp:
         fail(f"summary.json settings are not the resolved defaults: {s.get('settings')}")
     # The law as solved, with every parameter (a scene that gives law = "ramp" alone gets (6.1)'s, which
     # summary.json did not say; the paper's brick gives them all).
+    # How the run was started, enough to start it again from its folder alone.
+    run = s.get("run", {})
+    if run.get("scene_file") != os.path.abspath(scene) or run.get("mesh_override") != os.path.abspath(msh) or \
+            not run.get("contact3d_version") or run.get("overrides") != [] or not run.get("working_directory"):
+        fail(f"summary.json run: {run}")
     if s.get("friction_law") != {"kind": "ramp", "high": 0.3, "low": 0.2, "t0": 1e-5, "param": 6e4}:
         fail(f"summary.json friction_law: {s.get('friction_law')}")
     if (s["n_primal"], s["n_dual"], s["n_cells"], s["n_contact_nodes"]) != (900, 36, 12, 60):

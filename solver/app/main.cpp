@@ -168,6 +168,12 @@ int run_solve(const SolveArgs& args) {
   const fs::path out = output_dir_for(scene, args);
   if (!folder) folder.emplace(out, "contact3d solve " + args.scene);
   RunInfo info;
+  info.version = CONTACT3D_VERSION;
+  std::error_code cwd_error;
+  info.working_directory = fs::current_path(cwd_error).string();
+  info.scene_file = fs::absolute(args.scene, cwd_error).lexically_normal().string();
+  if (!args.mesh.empty()) info.mesh_override = fs::absolute(args.mesh, cwd_error).lexically_normal().string();
+  info.overrides = args.sets;
   const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
   remove_other_runs_mesh_files(out, scene, args.mesh);
   info.mesh_seconds = since(t0);

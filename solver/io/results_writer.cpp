@@ -265,6 +265,11 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     JsonWriter j(out);
     j.begin_object();
     j.value("status", res.status).value("converged", res.converged);
+    j.begin_object("run").value("contact3d_version", info.version).value("scene_file", info.scene_file);
+    j.value("mesh_override", info.mesh_override).value("working_directory", info.working_directory);
+    j.begin_array("overrides");
+    for (const std::string& o : info.overrides) j.element(o);
+    j.end_array().end_object();
     write_sizes(j, mesh, res, info);
     write_work(j, res);
     write_backend(j, res, info);

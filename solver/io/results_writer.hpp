@@ -13,6 +13,10 @@
 namespace contact3d {
 
 struct RunInfo {
+  // How the run was started (summary.json's "run"): the build's version, the scene file and the mesh
+  // given by --mesh as absolute paths, the --set overrides in order, the working directory.
+  std::string version, scene_file, mesh_override, working_directory;
+  std::vector<std::string> overrides;
   std::string mesh_description;  // where the mesh came from
   double mesh_seconds = 0;
   double total_seconds = 0;
