@@ -329,19 +329,20 @@ int run_check(const SolveArgs& args) {
                                         "loads along them must balance by themselves): " +
                                             held.describe_in_plane()
                                       : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
-  if (held.count()) {  // as the solve checks them before factoring K
-    const Eigen::VectorXd f = assemble_load(mesh, dofs, scene.tractions, scene.body_force) +
-                              assemble_lift(mesh, dofs, tet_materials(scene, mesh));
-    require_loads_press_onto_plane(held, f);
-    if (held.in_plane_count() && scene.frictionless()) require_in_plane_balance(held, f);
-  }
+  // The loads as the solve checks them before factoring K, the lift's after the contact face's check.
+  const Eigen::VectorXd applied = assemble_load(mesh, dofs, scene.tractions, scene.body_force);
+  const Eigen::VectorXd f = applied + assemble_lift(mesh, dofs, tet_materials(scene, mesh));
+  if (held.in_plane_count() && scene.frictionless()) require_in_plane_balance(held, f);
   SolveResult warned;  // the warnings a solve gives on its input, before it starts
   const FaceThicknessOnce thickness(mesh, scene.contact);
   warn_about_inputs(scene, mesh, tet_materials(scene, mesh), thickness, warned);
   for (const auto& w : warned.warnings) std::cerr << "warning: " << w << "\n";
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
-    if (held.count()) require_free_parts_on_contact_face(held, FaceDofs(face, dofs, mesh.nodes.size()).dofs);
+    if (held.count()) {
+      require_free_parts_on_contact_face(held, FaceDofs(face, dofs, mesh.nodes.size()).dofs);
+      require_loads_press_onto_plane(held, f, applied);
+    }
     const std::string length = unit_labels(scene.output.units).length;
     fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} {}², h = {:.4g} {}; {}\n",
                face.triangles.size(), face.nodes.size(), face.area, length, face.h, length,
@@ -460,6 +461,7 @@ int main(int argc, char** argv) {
   distributed::Session session(argc, argv);
   if (!session.is_root()) return session.serve();
   const int code = run_command_line(argc, argv, session);
+  std::fflush(stdout);  // before the other ranks end: mpirun may stop the job at a non-zero exit
   session.finish(code);
   return code;
 }

@@ -326,15 +326,21 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
   id.icntl[13] = 5;  // ICNTL(14): the first factorization's workspace relaxation, for the analysis's estimates
   d.run(1, "the MUMPS analysis");
   const std::vector<RankMemory> memory = gather_factorization_memory(id, !out_of_core_dir.empty());
+  // Rank 0 alone prints: a failed print (stdout on a full disk) must not leave it out of the
+  // collectives below while the other ranks factor (they waited for good).
   if (root && report && *report) {
-    double most = 0;
-    for (const RankMemory& r : memory) most = std::max(most, r.need_bytes);
-    (*report)("  factor (MUMPS, " + std::to_string(memory.size()) + " rank(s)): about " +
-              number(mumps_count(id.infog[2]), 3) + " entries (" +
-              number(8.0 * mumps_count(id.infog[2]) / (1 << 30), 3) + " GiB over all ranks" +
-              (out_of_core_dir.empty() ? "" : ", written to solver.out_of_core_dir") + "), " +
-              number(id.rinfog[0] / 1e9, 3) + " GFlop; at most " + number(most / (1 << 30), 3) +
-              " GiB of memory on a rank (its analysis)");
+    try {
+      double most = 0;
+      for (const RankMemory& r : memory) most = std::max(most, r.need_bytes);
+      (*report)("  factor (MUMPS, " + std::to_string(memory.size()) + " rank(s)): about " +
+                number(mumps_count(id.infog[2]), 3) + " entries (" +
+                number(8.0 * mumps_count(id.infog[2]) / (1 << 30), 3) + " GiB over all ranks" +
+                (out_of_core_dir.empty() ? "" : ", written to solver.out_of_core_dir") + "), " +
+                number(id.rinfog[0] / 1e9, 3) + " GFlop; at most " + number(most / (1 << 30), 3) +
+                " GiB of memory on a rank (its analysis)");
+    } catch (...) {
+      // stdout is broken (a full disk, a closed pipe): rank 0's next print, outside the collectives, says so
+    }
   }
   require_memory_for_factorization(memory, !out_of_core_dir.empty());
   if (!out_of_core_dir.empty()) require_room_for_factor_files(id, out_of_core_dir);

@@ -51,6 +51,7 @@ struct Discretisation {
   TetMaterials materials;
   Eigen::SparseMatrix<double> K;
   Eigen::VectorXd f;
+  Eigen::VectorXd applied;  // f without the loads of prescribed values (require_loads_press_onto_plane's scale)
   bool K_elsewhere = false;
   ContactHeldMotions held;    // rigid motions the contact alone holds (none: count() = 0)
   bool springs_in_K = false;  // K holds held's pin springs (K_s)
@@ -100,14 +101,13 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, const FaceThickn
   check_mesh_meaning(mesh, mesh_roles(scene));
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
-  Discretisation disc{tet_materials(scene, mesh), {}, {}, false, {}, false};
+  Discretisation disc{tet_materials(scene, mesh), {}, {}, {}, false, {}, false};
   warn_about_inputs(scene, mesh, disc.materials, thickness, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
-  disc.f =
-      assemble_load(mesh, res.dofs, scene.tractions, scene.body_force) + assemble_lift(mesh, res.dofs, disc.materials);
-  if (disc.held.count()) require_loads_press_onto_plane(disc.held, disc.f);
+  disc.applied = assemble_load(mesh, res.dofs, scene.tractions, scene.body_force);
+  disc.f = disc.applied + assemble_lift(mesh, res.dofs, disc.materials);
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
     if (disc.held.count()) {
@@ -771,7 +771,10 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
                                            : "the sparse factor of K with the multipliers (" +
                                                  count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  if (disc.held.count()) require_free_parts_on_contact_face(disc.held, face_dofs.dofs);
+  if (disc.held.count()) {
+    require_free_parts_on_contact_face(disc.held, face_dofs.dofs);
+    require_loads_press_onto_plane(disc.held, disc.f, disc.applied);
+  }
   StiffnessSource source{mesh, res.dofs, disc.materials};
   if (!disc.springs_in_K)
     for (std::size_t p = 0; p < disc.held.pins.size(); ++p)

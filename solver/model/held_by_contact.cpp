@@ -355,12 +355,17 @@ void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::Vecto
 
 // Contact forces push the body along the foundation's normal only: where nothing prescribed holds a
 // part's lift (the translation along the normal), the loads on it must press it onto the plane, their
-// resultant along the normal towards it. A pull that outweighs 1e-6 of the sum of their normal
-// components' sizes is refused here, before any factorization (the solve refused it after its QP,
-// and `check` said ok).
-void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen::VectorXd& f) {
+// resultant along the normal towards it. Refused here, before any factorization (the solve refused it
+// after its QP, and `check` said ok), where the pull outweighs 1e-6 of the applied loads' normal
+// components (their sizes summed) and 1e-9 of all their components: the loads of prescribed values
+// (`f` − `applied`) add nothing along a free lift but rounding, and are large node by node (a free cube
+// sheared by 1 mm let a pull of 160 N through when they counted), and where no applied load acts along
+// the normal the pull is rounding (a cube against a vertical wall was refused for 1.7e-11 N).
+void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen::VectorXd& f,
+                                    const Eigen::VectorXd& applied) {
   Eigen::Matrix<double, 6, 1> lift;
   lift << 0, 0, 1, 0, 0, 0;
+  const double rounding = 1e-9 * applied.lpNorm<1>();
   Eigen::Index col = 0;
   for (const PartMotions& p : held.parts) {
     const Eigen::Index k = p.free.count();
@@ -370,16 +375,19 @@ void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen:
     if ((p.free.motions * along - lift).norm() > 1e-8) continue;  // the lift is held by a prescribed component
     const Eigen::VectorXd lift_field = field * along;             // 1 at the part's free normal components
     const double pull = lift_field.dot(f);
-    const double size = lift_field.cwiseProduct(f).cwiseAbs().sum();
-    if (!(pull > 1e-6 * size)) continue;
+    const double normal_loads = lift_field.cwiseProduct(applied).cwiseAbs().sum();
+    if (!(pull > 1e-6 * normal_loads + rounding)) continue;
     throw InputError(
         (p.parts > 1 ? p.label() + " is" : std::string("the body is")) +
         " held by contact alone along the foundation's normal (nothing prescribed holds its lift), and the loads "
         "pull it off the foundation: their resultant along the normal, " +
-        number(pull, 4) + ", points away from the plane (" + number(100 * pull / size, 3) +
-        "% of the sum of their normal components' sizes); the contact can only push, so nothing balances "
-        "them — check the loads' directions and signs (a pressure is positive into the body, "
-        "material.body_force points the way gravity pulls), or prescribe that motion (boundary.displacement)");
+        number(pull, 4) + ", points away from the plane" +
+        (normal_loads > 0
+             ? " (" + number(100 * pull / normal_loads, 3) + "% of the sum of their normal components' sizes)"
+             : std::string()) +
+        "; the contact can only push, so nothing balances them — check the loads' directions and signs (a pressure "
+        "is positive into the body, material.body_force points the way gravity pulls), or prescribe that motion "
+        "(boundary.displacement)");
   }
 }
 

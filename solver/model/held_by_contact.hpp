@@ -130,9 +130,11 @@ inline constexpr double kLargestRigidMotion = 10;
 void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f);
 
 // Contact pushes only: where nothing prescribed holds a part's lift off the plane, an InputError when
-// the loads `f` (at the free dofs) pull that part away from it (their resultant along the normal).
-// Before any factorization, so that `check` refuses it as the solve does.
-void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen::VectorXd& f);
+// the loads `f` (at the free dofs) pull that part away from it (their resultant along the normal);
+// `applied`: f without the loads of prescribed values, the scale of what counts as a pull. Before any
+// factorization, after require_free_parts_on_contact_face, so that `check` refuses it as the solve does.
+void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen::VectorXd& f,
+                                    const Eigen::VectorXd& applied);
 
 // The share of FrictionHold at which friction has reached its limit (the QP meets its radii to about
 // 1e-6): the slide along that motion is then not determined.

@@ -332,6 +332,10 @@ void parse_mesh(const toml::table& mesh, const std::filesystem::path& base, Scen
                           : "its mesh script takes its sizes from mesh.parameters (e.g. --set mesh.parameters.n=" +
                                 std::to_string(mesh["n"].value<long long>().value_or(0)) +
                                 " where the script reads n)"));
+  s.mesh.n = get_int(mesh, "mesh", "n", 4, 1, 64);  // n = 64: 3.9M tets, ~2.4M dofs
+  if (const toml::table* params = table_at(mesh, "parameters"))
+    for (const auto& [k, v] : *params)
+      s.mesh.parameters[std::string(k.str())] = get_number(*params, "mesh.parameters", std::string(k.str()), 0);
   // Parameters go to a mesh script; beside a file or the built-in brick they were ignored with exit 0
   // (`--set mesh.parameters.n=4` on a scene whose mesh is a file solved its n = 5 mesh, nothing said).
   if (mesh.contains("parameters") && (mesh.contains("file") || mesh.contains("generator")))
@@ -340,10 +344,6 @@ void parse_mesh(const toml::table& mesh, const std::filesystem::path& base, Scen
                      (mesh.contains("file") ? std::string("a file, which has no parameters to set")
                                             : std::string("the built-in brick, whose size is mesh.n")) +
                      ": they would be ignored; remove them, or mesh the geometry from its script");
-  s.mesh.n = get_int(mesh, "mesh", "n", 4, 1, 64);  // n = 64: 3.9M tets, ~2.4M dofs
-  if (const toml::table* params = table_at(mesh, "parameters"))
-    for (const auto& [k, v] : *params)
-      s.mesh.parameters[std::string(k.str())] = get_number(*params, "mesh.parameters", std::string(k.str()), 0);
 }
 
 // [friction] (optional: none given is frictionless): the law of F, Tresca's bound g or Coulomb's.
