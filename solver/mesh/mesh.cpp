@@ -22,8 +22,9 @@ std::string Mesh::describe_groups() const {
   std::string out;
   for (const auto& g : groups) {
     if (!out.empty()) out += ", ";
-    out += (g.name.empty() ? "unnamed " + std::to_string(g.tag) : "'" + g.name + "'") + " (dim " +
-           std::to_string(g.dim) + ")";
+    // An unnamed group as a scene names it, by its number ('4'), not as "unnamed 4".
+    out += g.name.empty() ? "'" + std::to_string(g.tag) + "' (unnamed, dim " + std::to_string(g.dim) + ")"
+                          : "'" + g.name + "' (dim " + std::to_string(g.dim) + ")";
   }
   return out;
 }

@@ -184,8 +184,9 @@ std::string unsupported_type_message(long long type) {
     msg += "mesh with first- or second-order elements (gmsh -order 1 or 2; second order is read by its corners)";
   else
     msg +=
-        "contact3d reads 4-node tetrahedra (type 4) and 3-node triangles (type 2), and "
-        "skips points and 2-node lines; mesh the volume with tetrahedra only (no Recombine)";
+        "contact3d reads 4-node tetrahedra (type 4) and 3-node triangles (type 2), their second-order forms "
+        "(types 11 and 9) by their corners, and skips points and lines; mesh the volume with tetrahedra only "
+        "(no Recombine)";
   return msg;
 }
 
