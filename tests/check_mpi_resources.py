@@ -13,7 +13,11 @@ where it cannot be mounted the test reports itself skipped (exit 77), not passed
 rank against what it can get, and the factor's size on the progress line before. Before, MUMPS failed
 inside the factorization ("allocating 55250350 entries failed", INFOG(1) = -13) with no estimate.
 
-usage: check_mpi_resources.py --mpi build/contact3d-mpi --mpiexec mpirun --source DIR --case disk|memory
+--case blas: rank 1 alone with 450 MB of address space, too little for OpenBLAS's 128 MiB work space:
+it retried its mapping for good inside MUMPS's factorization, every rank waiting; now every rank
+reserves it first and rank 1's refusal names it.
+
+usage: check_mpi_resources.py --mpi build/contact3d-mpi --mpiexec mpirun --source DIR --case disk|memory|blas
 """
 import argparse
 import os
@@ -26,17 +30,21 @@ parser = argparse.ArgumentParser()
 parser.add_argument("--mpi", required=True)
 parser.add_argument("--mpiexec", required=True)
 parser.add_argument("--source", required=True)
-parser.add_argument("--case", choices=["disk", "memory"], required=True)
+parser.add_argument("--case", choices=["disk", "memory", "blas"], required=True)
 args = parser.parse_args()
 
 
-def run_refused(work, overrides, facts, stdout_facts=(), limit_bytes=None):
+def run_refused(work, overrides, facts, stdout_facts=(), limit_bytes=None, rank1_limit_kb=None):
     out = os.path.join(work, "out")
-    command = [args.mpiexec, "-np", "2", "--bind-to", "none", args.mpi, "solve",
-               os.path.join(args.source, "pipeline", "scenes", "paper_brick.toml"),
-               "--set", "mesh.generator=paper_brick", "--out", out]
+    solve = [args.mpi, "solve", os.path.join(args.source, "pipeline", "scenes", "paper_brick.toml"),
+             "--set", "mesh.generator=paper_brick", "--out", out]
     for o in overrides:
-        command += ["--set", o]
+        solve += ["--set", o]
+    if rank1_limit_kb:  # two app contexts: rank 1 under its own ulimit -v
+        command = [args.mpiexec, "--bind-to", "none", "-np", "1", *solve, ":", "-np", "1", "sh", "-c",
+                   f"ulimit -v {rank1_limit_kb}; exec " + " ".join(f"'{a}'" for a in solve)]
+    else:
+        command = [args.mpiexec, "-np", "2", "--bind-to", "none", *solve]
 
     def limit():
         if limit_bytes:
@@ -61,7 +69,11 @@ def run_refused(work, overrides, facts, stdout_facts=(), limit_bytes=None):
 
 
 with tempfile.TemporaryDirectory(prefix="contact3d_mpi_resources_") as work:
-    if args.case == "memory":
+    if args.case == "blas":
+        run, message, failures = run_refused(
+            work, ["mesh.n=4"], ["rank 1 failed to map OpenBLAS's work space", "address-space limit", "ulimit -v"],
+            rank1_limit_kb=450000)
+    elif args.case == "memory":
         run, message, failures = run_refused(
             work, ["mesh.n=24"],
             ["not enough memory for the factorization", "MUMPS's analysis estimates", "GiB on rank",

@@ -180,7 +180,7 @@ if(TARGET contact3d-mpi AND MPIEXEC_EXECUTABLE)
     ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
   # What the ranks cannot hold (an out-of-core disk without room, which hung some runs; memory) is refused
   # after MUMPS's analysis, before its factorization.
-  foreach(resource disk memory)
+  foreach(resource disk memory blas)
     add_test(NAME mpi_factor_beyond_the_ranks_${resource}_is_refused
       COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_mpi_resources.py --mpi $<TARGET_FILE:contact3d-mpi>
               --mpiexec ${MPIEXEC_EXECUTABLE} --source ${CMAKE_SOURCE_DIR} --case ${resource})

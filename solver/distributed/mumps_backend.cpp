@@ -34,6 +34,7 @@
 #include "distributed/petsc_route.hpp"
 #include "fem/assembly.hpp"
 #include "fem/mesh_part.hpp"
+#include "linalg/blas_buffers.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 namespace contact3d::distributed {
@@ -78,15 +79,21 @@ int comm_size() {
   return s;
 }
 
-// The ranks that share this rank's machine (its shared-memory communicator).
+// The machine's name, hashed: ranks with the same one share a machine.
+std::uint64_t machine_id() {
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  return std::hash<std::string>()(host);
+}
+
+// The ranks that share this rank's machine, by their machines' names. MPI_Comm_split_type
+// (MPI_COMM_TYPE_SHARED) set up shared memory for the job, and a rank whose address space was too
+// small for it (ulimit -v 450000 on one rank) left every rank spinning in it for good.
 int ranks_on_this_machine() {
-  MPI_Comm machine = MPI_COMM_NULL;
-  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine) != MPI_SUCCESS)
-    return comm_size();
-  int size = 1;
-  MPI_Comm_size(machine, &size);
-  MPI_Comm_free(&machine);
-  return size;
+  const std::uint64_t mine = machine_id();
+  std::vector<std::uint64_t> all(static_cast<std::size_t>(comm_size()));
+  MPI_Allgather(&mine, 1, MPI_UINT64_T, all.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+  return static_cast<int>(std::count(all.begin(), all.end(), mine));
 }
 
 // The PETSc route's matrix (petsc_route.hpp), built on rank 0 from its K and 𝔹.
@@ -222,11 +229,6 @@ struct RankMemory {
   double machine_bytes = 0;                    // the machine's (or container's) available memory; 0: unknown
   std::uint64_t machine = 0;                   // the machine's name, hashed
 };
-std::uint64_t machine_id() {
-  char host[256] = {};
-  gethostname(host, sizeof host - 1);
-  return std::hash<std::string>()(host);
-}
 std::vector<RankMemory> gather_factorization_memory(const DMUMPS_STRUC_C& id, bool out_of_core) {
   RankMemory mine;
   mine.need_bytes = 1e6 * mumps_count(out_of_core ? id.info[16] : id.info[14]);
@@ -561,6 +563,9 @@ std::unique_ptr<Factorization> assemble_and_factor(const StiffnessSource* source
   MPI_Bcast(out_of_core_dir.data(), static_cast<int>(dims[2]), MPI_CHAR, 0, MPI_COMM_WORLD);
   fz->n = dims[0];
   fz->m = dims[1];
+  // OpenBLAS retries for good where it cannot map its threads' work space (ulimit -v): a rank short of
+  // address space hung in MUMPS's first product (rank 0 checks its own at the solve's start).
+  on_every_rank(reserve_blas_buffers, "to map OpenBLAS's work space");
   Triplets share;
   on_every_rank(
       [&] {
@@ -625,6 +630,7 @@ void open_petsc_module() {
 // near-null space (may be null); elsewhere both are empty. Every rank opens the module before any
 // starts PETSc, whose start is collective.
 std::unique_ptr<Factorization> factor_through_petsc(UpperCsr csr, const Eigen::MatrixXd* modes) {
+  on_every_rank(reserve_blas_buffers, "to map OpenBLAS's work space");  // as assemble_and_factor
   on_every_rank(open_petsc_module, "to open the PETSc module");
   PetscModule& module = petsc_module();
   if (!module.route) module.route.reset(module.start());
