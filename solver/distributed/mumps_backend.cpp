@@ -79,21 +79,23 @@ int comm_size() {
   return s;
 }
 
-// The machine's name, hashed: ranks with the same one share a machine.
-std::uint64_t machine_id() {
-  char host[256] = {};
-  gethostname(host, sizeof host - 1);
-  return std::hash<std::string>()(host);
-}
-
-// The ranks that share this rank's machine, by their machines' names. MPI_Comm_split_type
-// (MPI_COMM_TYPE_SHARED) set up shared memory for the job, and a rank whose address space was too
-// small for it (ulimit -v 450000 on one rank) left every rank spinning in it for good.
-int ranks_on_this_machine() {
-  const std::uint64_t mine = machine_id();
-  std::vector<std::uint64_t> all(static_cast<std::size_t>(comm_size()));
-  MPI_Allgather(&mine, 1, MPI_UINT64_T, all.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
-  return static_cast<int>(std::count(all.begin(), all.end(), mine));
+// This rank's machine: the ranks that share its memory (MPI_COMM_TYPE_SHARED), how many they are and
+// the lowest world rank among them, which names the machine.
+struct Machine {
+  int ranks = 1;
+  std::uint64_t id = 0;
+};
+Machine this_machine() {
+  Machine machine{comm_size(), 0};
+  MPI_Comm shared = MPI_COMM_NULL;
+  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &shared) != MPI_SUCCESS)
+    return machine;
+  MPI_Comm_size(shared, &machine.ranks);
+  int mine = comm_rank(), first = mine;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, shared);
+  MPI_Comm_free(&shared);
+  machine.id = static_cast<std::uint64_t>(first);
+  return machine;
 }
 
 // The PETSc route's matrix (petsc_route.hpp), built on rank 0 from its K and 𝔹.
@@ -186,22 +188,22 @@ void factorize_with_growing_workspace(DirectMumps& d, const std::string& out_of_
 // fills on the way left a rank waiting in MUMPS's asynchronous writes for good (4 of 7 runs on a
 // 4 MiB tmpfs, the others ending in INFOG(1) = −90). So after the analysis every rank checks that
 // its share of the factor (INFO(3), in entries) fits, with a tenth to spare, in the room the
-// directory's file system has, summed over the ranks that write to that file system on one machine.
+// directory's file system has, summed over the ranks that write to that file system on one machine (ranks on
+// other machines writing to one shared network file system are not summed: a limit of this check).
 // Every rank gets the same list and throws the same InputError. A file system statvfs cannot read
 // is left to MUMPS's own error.
 struct FactorFileRoom {
-  double need_bytes = 0, free_bytes = -1;  // free −1: unknown
-  std::uint64_t file_system = 0;           // the machine's name hashed with the file system's id
+  double need_bytes = 0, free_bytes = -1;      // free −1: unknown
+  std::uint64_t machine = 0, file_system = 0;  // this_machine().id, the file system's id
 };
 void require_room_for_factor_files(const DMUMPS_STRUC_C& id, const std::string& dir) {
   FactorFileRoom mine;
   mine.need_bytes = 8.0 * mumps_count(id.info[2]);
+  mine.machine = this_machine().id;  // collective: before anything a rank may skip
   struct statvfs fs {};
   if (statvfs(dir.c_str(), &fs) == 0) {
     mine.free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
-    char host[256] = {};
-    gethostname(host, sizeof host - 1);
-    mine.file_system = std::hash<std::string>()(host) ^ static_cast<std::uint64_t>(fs.f_fsid);
+    mine.file_system = static_cast<std::uint64_t>(fs.f_fsid);
   }
   std::vector<FactorFileRoom> all(static_cast<std::size_t>(comm_size()));
   MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, MPI_COMM_WORLD);
@@ -209,7 +211,8 @@ void require_room_for_factor_files(const DMUMPS_STRUC_C& id, const std::string& 
     if (all[r].free_bytes < 0) continue;
     double need = 0;
     for (const FactorFileRoom& other : all)
-      if (other.free_bytes >= 0 && other.file_system == all[r].file_system) need += other.need_bytes;
+      if (other.free_bytes >= 0 && other.machine == all[r].machine && other.file_system == all[r].file_system)
+        need += other.need_bytes;
     if (1.1 * need <= all[r].free_bytes) continue;
     throw InputError("solver.out_of_core_dir '" + dir + "' has " + number(all[r].free_bytes / (1 << 30), 3) +
                      " GiB free on rank " + std::to_string(r) + "'s machine, and the factor MUMPS would write there " +
@@ -227,7 +230,7 @@ void require_room_for_factor_files(const DMUMPS_STRUC_C& id, const std::string& 
 struct RankMemory {
   double need_bytes = 0, available_bytes = 0;  // this process's (its address-space limit too); 0: unknown
   double machine_bytes = 0;                    // the machine's (or container's) available memory; 0: unknown
-  std::uint64_t machine = 0;                   // the machine's name, hashed
+  std::uint64_t machine = 0;                   // this_machine().id
 };
 std::vector<RankMemory> gather_factorization_memory(const DMUMPS_STRUC_C& id, bool out_of_core) {
   RankMemory mine;
@@ -237,7 +240,7 @@ std::vector<RankMemory> gather_factorization_memory(const DMUMPS_STRUC_C& id, bo
   if (const std::uint64_t cap = memory_detail::cgroup_headroom(); cap > 0)
     machine = machine > 0 ? std::min(machine, cap) : cap;
   mine.machine_bytes = static_cast<double>(machine);
-  mine.machine = machine_id();
+  mine.machine = this_machine().id;
   std::vector<RankMemory> all(static_cast<std::size_t>(comm_size()));
   MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, MPI_COMM_WORLD);
   return all;
@@ -761,7 +764,7 @@ Session::Session(int& argc, char**& argv) {
   started_ = true;
   rank_ = comm_rank();
   size_ = comm_size();
-  if (size_ > 1) blas_ = share_cores_among_ranks(ranks_on_this_machine());
+  if (size_ > 1) blas_ = share_cores_among_ranks(this_machine().ranks);
 }
 
 void Session::finish(int exit_code) {
