@@ -595,10 +595,12 @@ Mesh Parser::parse() {
   if (!have_nodes_) fail(end_, "the file has no $Nodes section");
   if (!have_elements_) fail(end_, "the file has no $Elements section");
   check_every_partition_present();
+  // A finding about the whole file names its last line (end_ itself is the empty line after a final '\n').
+  const char* last_line = end_ > begin_ && end_[-1] == '\n' ? end_ - 1 : end_;
   if (version_ == 22 && !named_.empty() && used_order_.empty())
-    fail(end_, "every element has physical tag 0 although $PhysicalNames names " + std::to_string(named_.size()) +
-                   " group(s): the file was saved with all elements (gmsh's Mesh.SaveAll, -save_all), which in "
-                   "MSH 2.2 drops their physical groups; save it without SaveAll, or as MSH 4.1");
+    fail(last_line, "every element has physical tag 0 although $PhysicalNames names " + std::to_string(named_.size()) +
+                        " group(s): the file was saved with all elements (gmsh's Mesh.SaveAll, -save_all), which in "
+                        "MSH 2.2 drops their physical groups; save it without SaveAll, or as MSH 4.1");
 
   mesh_.groups = named_;
   for (const auto& [dim, tag] : used_order_)
