@@ -27,7 +27,10 @@ std::string list_tags(const std::vector<std::size_t>& tags) {
 }  // namespace
 
 void check_tet_orientation(const Mesh& mesh) {
-  if (mesh.tets.empty()) throw InputError("the mesh has no tetrahedra (4-node elements)");
+  if (mesh.tets.empty())
+    throw InputError(
+        "the mesh has no tetrahedra (4-node elements): mesh the volume in 3D (gmsh -3), and put it in a "
+        "physical group (a .geo with physical groups saves only their elements: add a Physical Volume)");
   std::vector<std::size_t> inverted, degenerate;
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
     const TetCoords x = coords(mesh, mesh.tets[e]);

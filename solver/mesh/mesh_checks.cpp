@@ -209,7 +209,9 @@ void check_contact_faces(const Mesh& mesh, const MeshRoles& roles) {
   if (!found.orphans.empty())
     throw InputError(
         std::to_string(found.orphans.size()) + " contact triangle(s) are not a face of any tetrahedron (tags " +
-        tag_list(file_tags(mesh, found.orphans)) + "): the contact group does not lie on the body's surface");
+        tag_list(file_tags(mesh, found.orphans)) +
+        "): the contact group does not lie on the body's surface, or the volume under it is not in the mesh (gmsh "
+        "saves only the elements of physical groups: is every volume in a Physical Volume?)");
   if (!found.interior.empty())
     throw InputError(std::to_string(found.interior.size()) +
                      " contact triangle(s) are interior faces, shared by two "
@@ -247,7 +249,8 @@ void check_load_faces(const Mesh& mesh, const MeshRoles& roles) {
       throw InputError("load group '" + name + "': " + std::to_string(found.orphans.size()) +
                        " triangle(s) are not a face of any tetrahedron (tags " +
                        tag_list(file_tags(mesh, found.orphans)) +
-                       "): a traction or pressure acts on the body's boundary");
+                       "): a traction or pressure acts on the body's boundary (gmsh saves only the elements of "
+                       "physical groups: is every volume in a Physical Volume?)");
     if (found.interior.empty()) continue;
     std::vector<std::size_t> group;
     for (const auto& [face, tris] : wanted) group.insert(group.end(), tris.begin(), tris.end());
