@@ -187,10 +187,12 @@ int run_solve(const SolveArgs& args) {
             ? fmt::format("other processes keep {:.1f} of the {} cores busy", info.blas.busy_elsewhere, info.blas.cores)
             : fmt::format("this rank's share of the {} cores among the {} ranks", info.blas.cores, args.ranks));
   // What reading changed, on the mesh line and in summary.json's "mesh".
-  std::string reading_notes;
-  if (mesh.read_by_corner_nodes) reading_notes += " (second-order elements read by their corner nodes: P1)";
+  std::vector<std::string> read_as;
+  if (mesh.read_by_corner_nodes) read_as.emplace_back("second-order elements read by their corner nodes: P1");
   if (mesh.reoriented_mirrored)
-    reading_notes += " (every tetrahedron negatively oriented, a mirrored mesh: reoriented)";
+    read_as.emplace_back("every tetrahedron negatively oriented, a mirrored mesh: reoriented");
+  std::string reading_notes;
+  for (const std::string& r : read_as) reading_notes += " (" + r + ")";
   info.mesh_description += reading_notes;
   if (!args.quiet)
     fmt::print("mesh: {} nodes, {} tets, {} boundary triangles{} ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
@@ -207,7 +209,9 @@ int run_solve(const SolveArgs& args) {
     std::fflush(stdout);
   };
   Progress stages = args.quiet ? Progress() : Progress(print_line, print_line, ::isatty(STDOUT_FILENO) ? 2.0 : 10.0);
-  const SolveResult res = solve_scene(scene, mesh, progress, &stages);
+  SolveResult res = solve_scene(scene, mesh, progress, &stages);
+  // What reading changed is the run's to say too (summary.json's notes, the report), not only its mesh line.
+  for (auto r = read_as.rbegin(); r != read_as.rend(); ++r) res.notes.insert(res.notes.begin(), "the mesh: " + *r);
   info.total_seconds = since(t0);
   write_results(out, scene, mesh, res, info);
   folder->finish(res.converged ? std::string()
