@@ -392,7 +392,7 @@ TEST(MshReader, SaveAll22WithoutPhysicalTagsIsRefused) {
   EXPECT_NE(msg.find("every element has physical tag 0"), std::string::npos) << msg;
   EXPECT_NE(msg.find("SaveAll"), std::string::npos) << msg;
   EXPECT_NE(msg.find("line 20:"), std::string::npos) << msg;  // the last of its 20 lines, not the one after
-  std::string tagged = text;  // the same elements in their groups: read
+  std::string tagged = text;                                  // the same elements in their groups: read
   tagged.replace(tagged.find("\n1 2 2 0 1"), 10, "\n1 2 2 1 1");
   tagged.replace(tagged.find("\n2 4 2 0 1"), 10, "\n2 4 2 2 1");
   const Mesh m = parse_msh(tagged, "tagged.msh");
