@@ -100,10 +100,19 @@ class LargeBlocksFromSystem {
   LargeBlocksFromSystem& operator=(const LargeBlocksFromSystem&) = delete;
 };
 
-inline std::uint64_t available_memory_bytes() {
+// What the machine (or the container) has left for all its processes: MemAvailable capped by the
+// cgroup's limit; 0 when unknown. The ranks of the distributed backend on one machine share it.
+inline std::uint64_t machine_available_bytes() {
   std::uint64_t avail = memory_detail::meminfo_available();
-  for (const std::uint64_t cap : {memory_detail::cgroup_headroom(), memory_detail::address_space_headroom()})
-    if (cap > 0) avail = avail > 0 ? std::min(avail, cap) : cap;
+  if (const std::uint64_t cap = memory_detail::cgroup_headroom(); cap > 0)
+    avail = avail > 0 ? std::min(avail, cap) : cap;
+  return avail;
+}
+
+inline std::uint64_t available_memory_bytes() {
+  std::uint64_t avail = machine_available_bytes();
+  if (const std::uint64_t cap = memory_detail::address_space_headroom(); cap > 0)
+    avail = avail > 0 ? std::min(avail, cap) : cap;
   // The system counts the heap this process keeps free as used; the process can reuse it.
   return avail > 0 ? avail + memory_detail::allocator_free_bytes() : 0;
 }

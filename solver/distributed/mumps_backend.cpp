@@ -196,10 +196,10 @@ struct FactorFileRoom {
   double need_bytes = 0, free_bytes = -1;      // free −1: unknown
   std::uint64_t machine = 0, file_system = 0;  // this_machine().id, the file system's id
 };
-void require_room_for_factor_files(const DMUMPS_STRUC_C& id, const std::string& dir) {
+void require_room_for_factor_files(const DMUMPS_STRUC_C& id, const std::string& dir, const Machine& machine) {
   FactorFileRoom mine;
   mine.need_bytes = 8.0 * mumps_count(id.info[2]);
-  mine.machine = this_machine().id;  // collective: before anything a rank may skip
+  mine.machine = machine.id;
   struct statvfs fs {};
   if (statvfs(dir.c_str(), &fs) == 0) {
     mine.free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
@@ -232,15 +232,13 @@ struct RankMemory {
   double machine_bytes = 0;                    // the machine's (or container's) available memory; 0: unknown
   std::uint64_t machine = 0;                   // this_machine().id
 };
-std::vector<RankMemory> gather_factorization_memory(const DMUMPS_STRUC_C& id, bool out_of_core) {
+std::vector<RankMemory> gather_factorization_memory(const DMUMPS_STRUC_C& id, bool out_of_core,
+                                                    const Machine& machine) {
   RankMemory mine;
   mine.need_bytes = 1e6 * mumps_count(out_of_core ? id.info[16] : id.info[14]);
   mine.available_bytes = static_cast<double>(available_memory_bytes());
-  std::uint64_t machine = memory_detail::meminfo_available();
-  if (const std::uint64_t cap = memory_detail::cgroup_headroom(); cap > 0)
-    machine = machine > 0 ? std::min(machine, cap) : cap;
-  mine.machine_bytes = static_cast<double>(machine);
-  mine.machine = this_machine().id;
+  mine.machine_bytes = static_cast<double>(machine_available_bytes());
+  mine.machine = machine.id;
   std::vector<RankMemory> all(static_cast<std::size_t>(comm_size()));
   MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, MPI_COMM_WORLD);
   return all;
@@ -330,7 +328,8 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
   }
   id.icntl[13] = 5;  // ICNTL(14): the first factorization's workspace relaxation, for the analysis's estimates
   d.run(1, "the MUMPS analysis");
-  const std::vector<RankMemory> memory = gather_factorization_memory(id, !out_of_core_dir.empty());
+  const Machine machine = this_machine();  // collective: every rank, before anything a rank may skip
+  const std::vector<RankMemory> memory = gather_factorization_memory(id, !out_of_core_dir.empty(), machine);
   // Rank 0 alone prints: a failed print (stdout on a full disk) must not leave it out of the
   // collectives below while the other ranks factor (they waited for good).
   if (root && report && *report) {
@@ -348,7 +347,7 @@ void factor_direct(Factorization& fz, const std::vector<int>& order, Triplets sh
     }
   }
   require_memory_for_factorization(memory, !out_of_core_dir.empty());
-  if (!out_of_core_dir.empty()) require_room_for_factor_files(id, out_of_core_dir);
+  if (!out_of_core_dir.empty()) require_room_for_factor_files(id, out_of_core_dir, machine);
   factorize_with_growing_workspace(d, out_of_core_dir);
   // The solves use only the factor (no iterative refinement, ICNTL(10) = 0): the matrix can go.
   std::vector<MUMPS_INT>().swap(d.rows);

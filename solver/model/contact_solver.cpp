@@ -935,10 +935,9 @@ void add_stage_seconds(std::vector<std::pair<std::string, double>>& into,
 
 }  // namespace
 
-bool finer_answer_is_better(const SolveResult& first, const SolveResult& finer) {
-  const bool penetrates_less = finer.penetration_ratio < first.penetration_ratio;
-  const bool loses_conditioning = dual_ill_conditioned(finer) && !dual_ill_conditioned(first);
-  return penetrates_less && (finer.converged || !first.converged) && !loses_conditioning;
+FinerAnswer compare_finer_answer(const SolveResult& first, const SolveResult& finer) {
+  return {finer.penetration_ratio < first.penetration_ratio, first.converged && !finer.converged,
+          dual_ill_conditioned(finer) && !dual_ill_conditioned(first)};
 }
 
 namespace {
@@ -973,18 +972,17 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
   first_factor.factor.reset();
   if (second) {
     refinement.reused_factor = second->factor_reused;
-    const bool penetrates_less = second->penetration_ratio < first.penetration_ratio;
-    const bool loses_conditioning = dual_ill_conditioned(*second) && !dual_ill_conditioned(first);
-    refinement.kept_finer = finer_answer_is_better(first, *second);
+    const FinerAnswer verdict = compare_finer_answer(first, *second);
+    refinement.kept_finer = verdict.better();
     refinement.outcome =
         was + "; with " + finer_cells + " (" + cell_sizes(*second) +
         (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") +
         "): " + share_of_displacement(second->penetration_ratio) + " it" +
-        (refinement.kept_finer ? ", the answer given"
-         : !penetrates_less    ? ", no better: the answer is the 2h one"
-         : loses_conditioning ? " but its Q is ill-conditioned (cond(Q) ≈ " + number(second->stability_condition, 3) +
-                                    "): the answer is the 2h one"
-                              : " but that solve ended with " + second->status + ": the answer is the 2h one");
+        (refinement.kept_finer        ? ", the answer given"
+         : !verdict.penetrates_less   ? ", no better: the answer is the 2h one"
+         : verdict.loses_conditioning ? " but its Q is ill-conditioned (cond(Q) ≈ " +
+                                            number(second->stability_condition, 3) + "): the answer is the 2h one"
+                                      : " but that solve ended with " + second->status + ": the answer is the 2h one");
   }
   SolveResult kept = refinement.kept_finer ? std::move(*second) : std::move(first);
   if (second) add_stage_seconds(kept.seconds, refinement.kept_finer ? first.seconds : second->seconds);

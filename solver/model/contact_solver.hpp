@@ -135,7 +135,13 @@ SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCall
 // contact.cell_size = "auto": whether the answer on cells of 1.5h replaces the first (2h) one. Only
 // where it penetrates less, and a converged answer is never traded for one that did not converge, nor a
 // reliable λ for one whose Q is ill-conditioned (stability check's warning: cells nearly dependent).
-bool finer_answer_is_better(const SolveResult& first, const SolveResult& finer);
+struct FinerAnswer {
+  bool penetrates_less = false;     // its penetration ratio is below the first's
+  bool loses_convergence = false;   // it did not converge where the first did
+  bool loses_conditioning = false;  // its Q is ill-conditioned where the first's was not
+  bool better() const { return penetrates_less && !loses_convergence && !loses_conditioning; }
+};
+FinerAnswer compare_finer_answer(const SolveResult& first, const SolveResult& finer);
 
 // What a solve would form before factorizing (`contact3d check`): the first partition's cells and
 // multipliers, the dense Q's bytes with its working copies against the memory this process can get,

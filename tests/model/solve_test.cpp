@@ -191,25 +191,25 @@ TEST(AutoCellSize, KeepsTheFinerAnswerOnlyWhereItIsBetterAndAsReliable) {
   first.penetration_ratio = 0.11;
   finer.penetration_ratio = 0.083;
   first.stability_condition = finer.stability_condition = 1e4;
-  EXPECT_TRUE(finer_answer_is_better(first, finer));
+  EXPECT_TRUE(compare_finer_answer(first, finer).better());
   finer.penetration_ratio = 0.12;  // penetrates more
-  EXPECT_FALSE(finer_answer_is_better(first, finer));
+  EXPECT_FALSE(compare_finer_answer(first, finer).better());
   finer.penetration_ratio = 0.083;
   finer.converged = false;  // a converged answer is not traded for one that did not converge
-  EXPECT_FALSE(finer_answer_is_better(first, finer));
+  EXPECT_FALSE(compare_finer_answer(first, finer).better());
   first.converged = false;  // unless neither did
-  EXPECT_TRUE(finer_answer_is_better(first, finer));
+  EXPECT_TRUE(compare_finer_answer(first, finer).better());
   first.converged = finer.converged = true;
   finer.stability_condition = 2.8e20;  // loses the conditioning
-  EXPECT_FALSE(finer_answer_is_better(first, finer));
+  EXPECT_FALSE(compare_finer_answer(first, finer).better());
   first.stability_condition = 1e12;  // both ill-conditioned: the penetration decides
-  EXPECT_TRUE(finer_answer_is_better(first, finer));
+  EXPECT_TRUE(compare_finer_answer(first, finer).better());
   // The condition as the QP sees it (Jacobi-scaled) is the one that counts where it was measured.
   first.stability_condition = 1e4;
   finer.stability_condition_scaled = 1e6;
-  EXPECT_TRUE(finer_answer_is_better(first, finer));
+  EXPECT_TRUE(compare_finer_answer(first, finer).better());
   finer.stability_condition_scaled = 2.9e17;
-  EXPECT_FALSE(finer_answer_is_better(first, finer));
+  EXPECT_FALSE(compare_finer_answer(first, finer).better());
 }
 
 TEST(SolvePaperBrick, FrictionlessAndConstantAreSingleSolves) {
