@@ -125,7 +125,9 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
     return {
         "n_face_nodes": int(len(gnodes)), "n_contact_nodes_ff": nf, "n_contact_nodes_ours": no,
         "nodes_only_ff": only_ff, "nodes_only_ours": only_ours, "h": h, "contact_area": area,
-        "l2_u_ff": l2_ff, "l2_u_ours": nrm(uo), "rel_l2": rel, "rel_l2_normal": rel_n, "rel_l2_tangential": rel_t,
+        "l2_u_ff": l2_ff, "l2_u_ours": nrm(uo), "rel_l2": rel,
+        "l2_un_ff": nrm(uf[:, 2:3]), "l2_un_ours": nrm(uo[:, 2:3]),
+        "l2_ut_ff": nrm(uf[:, :2]), "l2_ut_ours": nrm(uo[:, :2]), "rel_l2_normal": rel_n, "rel_l2_tangential": rel_t,
         "max_abs_u_ff": umax_ff, "max_diff": maxdiff, "rel_max_diff": maxdiff / max(umax_ff, 1e-300),
         "contact_threshold": thr, "in_contact_ff": int(cf.sum()), "in_contact_ours": int(co.sum()),
         "contact_ff_only": int((cf & ~co).sum()), "contact_ours_only": int((co & ~cf).sum()),
