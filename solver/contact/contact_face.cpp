@@ -16,6 +16,24 @@ bool held_in_every_node(const std::array<int, 3>& tri, const DofMap& dofs) {
   return std::all_of(tri.begin(), tri.end(), [&](int v) { return dofs.fully_fixed(v); });
 }
 
+// A contact node whose normal displacement a condition prescribes must stay on or above the plane:
+// pushed through it, non-penetration (5.3) cannot hold in its cell, and the QP went on to its iteration
+// limit for minutes (a strip whose end faces, their bottom edges on Γc, were prescribed 50 µm down; the
+// warnings then blamed the cells). `gap` is the node's height (rounding below the plane taken as 0).
+void require_prescribed_nodes_above_plane(const Mesh& mesh, const DofMap& dofs, int v, double gap, double tol) {
+  if (!(dofs.fixed[v] & 4)) return;
+  const double height = gap + dofs.prescribed[3 * v + 2];
+  if (!(height < -tol)) return;
+  const int by = dofs.fixed_by[3 * v + 2];
+  throw InputError((by >= 0 ? dofs.conditions[by] : std::string("a prescribed displacement")) + " moves node " +
+                   std::to_string(mesh.node_tags[v]) + " of the contact face " + number(-height) +
+                   " below the foundation plane (its normal displacement " + number(dofs.prescribed[3 * v + 2]) +
+                   " against an initial gap of " + number(gap) +
+                   "): a node of Γc cannot be prescribed through the foundation. Prescribe a normal displacement "
+                   "that keeps the contact face on or above the plane, take those faces out of the condition's group "
+                   "(a face whose edge lies on Γc shares its nodes), or take them out of boundary.contact");
+}
+
 }  // namespace
 
 Eigen::Vector2d median_extents(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles) {
@@ -52,6 +70,9 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   // body of diagonal 3.3 had been put back on the plane, its normal pressure 3e-4 off.
   const double diagonal = std::max((hi - lo).norm(), 1e-300);
   const double plane_tol = kPenetrationRounding * diagonal, gap_snap = 1e-12 * diagonal;
+  // A prescribed value that just closes a gap (u_z = −d) leaves rounding of d; a push through the plane is
+  // refused from a billionth of the body's size on.
+  const double prescribed_tol = 1e-9 * diagonal;
 
   std::set<std::array<int, 3>> seen;
   for (const auto& name : contact_groups) {
@@ -64,6 +85,8 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
           throw InputError("contact group '" + name + "': triangle " + std::to_string(mesh.triangle_tags[t]) +
                            " has a node at z = " + number(mesh.nodes[v].z()) +
                            " below the foundation plane z = 0 (initial penetration); Γc must lie on or above it");
+      for (int v : tri)
+        require_prescribed_nodes_above_plane(mesh, dofs, v, std::max(mesh.nodes[v].z(), 0.0), prescribed_tol);
       std::array<int, 3> key = tri;
       std::sort(key.begin(), key.end());
       if (!seen.insert(key).second) continue;

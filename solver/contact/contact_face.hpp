@@ -41,8 +41,8 @@ struct ContactFace {
 // direction (ContactFace::h_xy is these, at least h; FaceThickness takes them too). Zero for none.
 Eigen::Vector2d median_extents(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
 
-// Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle), or if
-// every node of it is held.
+// Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle), if a
+// condition prescribes a node of it below z = 0, or if every node of it is held.
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs);
 
 }  // namespace contact3d

@@ -317,14 +317,35 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     double rtol = final_step_qp_rtol(fp, scene.solver.qp_rtol);
     const auto t0 = std::chrono::steady_clock::now();
     SlipEvaluation eval = tresca(phi0, rtol);
+    // The step's work, both solves when there are two (the console printed the second one's alone: 0
+    // iterations after a first one of 100 001).
+    int qp_iterations = eval.qp_iterations;
+    int products = eval.hessian_products;
     if (!eval.ok && rtol < scene.solver.qp_rtol) {
       // That tolerance can lie below what the QP's rounding allows: a block held by contact alone 1 mm
       // above the plane (Tresca) ran 101 786 iterations at 1e-10 and was refused as unbalanced, where
       // 1e-8 converges in 2 000. Solved again, from where it stopped, to the paper's solver.qp_rtol.
       const double tight = rtol;
+      const bool out_of_iterations = tresca.last_qp().status == QpStatus::IterationLimit;
       rtol = scene.solver.qp_rtol;
       eval = tresca(phi0, rtol);
-      if (eval.ok)
+      qp_iterations += eval.qp_iterations;
+      products += eval.hessian_products;
+      if (eval.ok && out_of_iterations)
+        // The answer is only as good as qp_rtol, which on an ill-conditioned dual can be
+        // far from the discrete solution (a strip with cond(Q) 1.4e8 and qp_max_iterations = 10: λ_t 13%
+        // from the independent oracle's, where the summary's kkt looked clean).
+        res.warnings.push_back(
+            "the QP stopped at solver.qp_max_iterations = " + std::to_string(scene.solver.qp.max_iterations) +
+            " before the tolerance " + number(tight, 2) +
+            " that a single solve asks for (too few iterations, or its rounding); its answer meets "
+            "only solver.qp_rtol = " +
+            number(rtol, 2) +
+            ", which can leave the contact forces cell by cell well off the discrete solution where "
+            "Q is ill-conditioned (cond(Q) ≈ " +
+            number(res.stability_condition, 2) +
+            "); raise solver.qp_max_iterations, or a larger contact.cell_size lowers cond(Q)");
+      else if (eval.ok)
         res.notes.push_back("the QP did not reach the tolerance " + number(tight, 2) +
                             " that a single solve asks for (below its rounding here); it was solved to "
                             "solver.qp_rtol = " +
@@ -333,7 +354,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     res.converged = eval.ok;
     res.status = eval.ok ? "converged" : "qp_" + to_string(tresca.last_qp().status);
-    if (progress) progress({1, 0.0, eval.qp_iterations, eval.hessian_products, seconds, rtol});
+    if (progress) progress({1, 0.0, qp_iterations, products, seconds, rtol});
   }
 }
 
