@@ -34,6 +34,57 @@ import scipy.sparse.linalg as spla
 import xml.etree.ElementTree as ET
 
 # ----------------------------------------------------------------------------- mesh
+def read_medit(path):
+    """ASCII Medit .mesh (FreeFEM's savemesh), as read_msh: a group's name is its integer label, as in the
+    solver's scenes (contact = ["5"]). Second-order sections and the binary .meshb are not read."""
+    tok = open(path, encoding='latin-1').read().split()
+    X = None
+    tets, tetn, tris, trin = [], [], [], []
+    widths = {'Vertices': 4, 'Triangles': 4, 'Tetrahedra': 5, 'Edges': 3, 'Corners': 1, 'Ridges': 1,
+              'RequiredVertices': 1, 'RequiredEdges': 1, 'Normals': 3, 'Tangents': 3}
+    i = 0
+    while i < len(tok):
+        key = tok[i]
+        if key in ('MeshVersionFormatted', 'Dimension'):
+            i += 2
+        elif key == 'End':
+            break
+        elif key in widths:
+            n = int(tok[i + 1]); w = widths[key]
+            block = tok[i + 2:i + 2 + n * w]
+            if len(block) < n * w:
+                raise SystemExit(f'{path}: the {key} section ends early (truncated Medit file?)')
+            rows = np.array(block, dtype=float).reshape(n, w) if n else np.zeros((0, w))
+            if key == 'Vertices':
+                X = rows[:, :3]
+            elif key == 'Tetrahedra':
+                tets = rows[:, :4].astype(int) - 1; tetn = [{str(int(r))} for r in rows[:, 4]]
+            elif key == 'Triangles':
+                tris = rows[:, :3].astype(int) - 1; trin = [{str(int(r))} for r in rows[:, 3]]
+            i += 2 + n * w
+        elif key[0].isalpha():
+            raise SystemExit(f'{path}: Medit section {key!r} is not read by the oracle (P1 tetrahedra and '
+                             'triangles only)')
+        else:
+            i += 1
+    if X is None or len(tets) == 0:
+        raise SystemExit(f'{path}: no Vertices or Tetrahedra (is this a Medit volume mesh?)')
+    return X, np.asarray(tets, int), tetn, np.asarray(tris, int).reshape(-1, 3), trin
+
+
+def read_mesh(path):
+    """The mesh the solver read: gmsh MSH (4.1 or 2.2, ASCII) or Medit .mesh (ASCII)."""
+    if path.endswith('.meshb'):
+        raise SystemExit(f'{path}: a binary Medit mesh; the oracle reads ASCII files (FreeFEM: savemesh(Th, "x.mesh"))')
+    with open(path, encoding='latin-1') as fh:
+        head = fh.read(4096)
+    if path.endswith('.mesh') or 'MeshVersionFormatted' in head:
+        return read_medit(path)
+    if '$MeshFormat' not in head:
+        raise SystemExit(f'{path}: neither a gmsh MSH nor a Medit mesh')
+    return read_msh(path)
+
+
 def read_msh(path):
     """MSH 4.1 / 2.2 ASCII reader -> nodes (N,3), tets (T,4) + tet physical names (list of sets),
     triangles (S,3) + triangle physical names."""
@@ -440,9 +491,10 @@ def main():
     meshfile = a.mesh
     if not meshfile and 'file' in scene.get('mesh', {}):
         meshfile = os.path.join(os.path.dirname(os.path.abspath(a.scene)), scene['mesh']['file'])
-    if not meshfile:
-        meshfile = os.path.join(a.rundir, 'mesh.msh')
-    X, tets, tetn, tris, trin = read_msh(meshfile)
+    if not meshfile:  # the mesh a generated scene (geo, edp) left beside its results
+        meshfile = next((os.path.join(a.rundir, m) for m in ('mesh.msh', 'mesh.mesh')
+                         if os.path.exists(os.path.join(a.rundir, m))), os.path.join(a.rundir, 'mesh.msh'))
+    X, tets, tetn, tris, trin = read_mesh(meshfile)
     N = len(X)
     mat = scene.get('material', {})
     E = np.full(len(tets), float(mat.get('young', 0))); nu = np.full(len(tets), float(mat.get('poisson', 0.3)))
