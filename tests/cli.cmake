@@ -312,3 +312,10 @@ add_test(NAME single_qp_cut_short_is_warned
                  --out ${CMAKE_BINARY_DIR}/cli-tests/single-qp-cut-short)
 set_tests_properties(single_qp_cut_short_is_warned PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
                      PASS_REGULAR_EXPRESSION "converged:.*warning: the QP stopped at solver.qp_max_iterations = 10 before")
+# A body held by contact alone far above the plane (0.1 under a block of 0.2: a foundation left at z = 0
+# under a mesh in other coordinates) is warned, where 1 mm is a note (block_above_plane_tresca_converges).
+add_test(NAME held_body_far_above_the_plane_is_warned
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/tests/scenes/block_above_plane_tresca.toml
+                 --set "contact.plane_point=[0.0,0.0,-0.1]" --out ${CMAKE_BINARY_DIR}/cli-tests/block-far-above-plane)
+set_tests_properties(held_body_far_above_the_plane_is_warned PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+                     PASS_REGULAR_EXPRESSION "converged:.*warning: the contact face starts 0.1 above the foundation plane.*contact.plane_point")

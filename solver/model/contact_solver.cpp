@@ -370,6 +370,9 @@ double coulomb_relation(const Scene& scene, const Mesh& mesh, const SolveResult&
   return scale > 0 ? (res.radius - bound).cwiseAbs().maxCoeff() / scale : 0.0;
 }
 
+// A body held by contact alone brought down by more than this share of its contact face's span: warned.
+constexpr double kFarApproachShare = 0.1;
+
 // A body held by contact alone: the dual QP gets the equilibrium of the free rigid motions as its
 // equality constraints Gλ = e, and the Tresca step their displacement on Γc.
 void hold_by_contact(const Discretisation& disc, const ContactOperator& op, const FaceDofs& face_dofs, DualQpSolver& qp,
@@ -393,13 +396,24 @@ void hold_by_contact(const Discretisation& disc, const ContactOperator& op, cons
   // lower with nothing said; a prescribed approach that leaves a gap is warned elsewhere).
   double lowest = INFINITY;
   for (const int v : res.face.nodes) lowest = std::min(lowest, res.face.gap[static_cast<std::size_t>(v)]);
-  if (lowest > 0 && std::isfinite(lowest))
-    res.notes.push_back(
+  if (lowest > 0 && std::isfinite(lowest)) {
+    const std::string approach =
         "the contact face starts " + number(lowest, 3) +
         " above the foundation plane at its lowest node; held by contact alone, the body is brought "
         "down onto it by the loads" +
         (res.dofs.has_nonzero_prescribed() ? std::string(" and the prescribed displacements") : std::string()) +
-        ", and its displacement includes that rigid approach");
+        ", and its displacement includes that rigid approach";
+    // A gap of a tenth of the face's span or more is rather a foundation left at z = 0 under a mesh in
+    // other coordinates (a flange 200 mm across, its sole at z = 250 mm: every u_z came out −250 mm,
+    // with this said as a note only).
+    const double span = (res.face.hi - res.face.lo).norm();
+    if (lowest > kFarApproachShare * span)
+      res.warnings.push_back(approach + " — " + number(lowest / span, 2) +
+                             " times the contact face's span: if the foundation is meant to be where the face lies, "
+                             "place it there (contact.plane_point, contact.plane_normal)");
+    else
+      res.notes.push_back(approach);
+  }
   if (disc.centre_in_plane)
     res.notes.push_back("frictionless contact does not fix " + disc.held.describe_in_plane() +
                         ": the loads along it must balance by themselves (checked before the solve), and the "
