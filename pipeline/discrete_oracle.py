@@ -26,7 +26,8 @@ contact3d's conventions: --slip-free-dofs-only, --phi-zero-held, --gap-snap TOL.
 Prints max relative differences (u on Gamma_c, u in the body, lambda per cell, radii), one map step from
 contact3d's own state, and a KKT audit of contact3d's (u, lambda) in the oracle's K, f, B, d.
 """
-import sys, os, json, math, argparse, tomllib, csv
+import sys, os, json, math, argparse, tomllib, csv, re
+
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
@@ -35,53 +36,57 @@ import xml.etree.ElementTree as ET
 
 # ----------------------------------------------------------------------------- mesh
 def read_medit(path):
-    """ASCII Medit .mesh (FreeFEM's savemesh), as read_msh: a group's name is its integer label, as in the
-    solver's scenes (contact = ["5"]). Second-order sections and the binary .meshb are not read."""
-    tok = open(path, encoding='latin-1').read().split()
+    """ASCII Medit .mesh (FreeFEM's savemesh, MMG), as read_msh: a group's name is its integer label, as in
+    the solver's scenes (contact = ["5"]). Keywords in any case, '#' comments; repeated element sections
+    add up; sections of normals, tangents and required entities are skipped; second-order ones refused."""
+    text = re.sub(r'#[^\n]*', ' ', open(path, encoding='latin-1').read())
+    tok = text.split()
     X = None
     tets, tetn, tris, trin = [], [], [], []
-    widths = {'Vertices': 4, 'Triangles': 4, 'Tetrahedra': 5, 'Edges': 3, 'Corners': 1, 'Ridges': 1,
-              'RequiredVertices': 1, 'RequiredEdges': 1, 'Normals': 3, 'Tangents': 3}
+    widths = {'vertices': 4, 'triangles': 4, 'tetrahedra': 5, 'edges': 3, 'corners': 1, 'ridges': 1,
+              'requiredvertices': 1, 'requirededges': 1, 'requiredtriangles': 1, 'normals': 3, 'tangents': 3,
+              'normalatvertices': 2, 'tangentatvertices': 2, 'normalattrianglevertices': 3,
+              'tangentatedgevertices': 3}
     i = 0
     while i < len(tok):
-        key = tok[i]
-        if key in ('MeshVersionFormatted', 'Dimension'):
+        key = tok[i].lower()
+        if key in ('meshversionformatted', 'dimension'):
             i += 2
-        elif key == 'End':
+        elif key == 'end':
             break
         elif key in widths:
             n = int(tok[i + 1]); w = widths[key]
             block = tok[i + 2:i + 2 + n * w]
             if len(block) < n * w:
-                raise SystemExit(f'{path}: the {key} section ends early (truncated Medit file?)')
+                raise CannotCheck(f'{path}: the {tok[i]} section ends early (truncated Medit file?)')
             rows = np.array(block, dtype=float).reshape(n, w) if n else np.zeros((0, w))
-            if key == 'Vertices':
+            if key == 'vertices':
                 X = rows[:, :3]
-            elif key == 'Tetrahedra':
-                tets = rows[:, :4].astype(int) - 1; tetn = [{str(int(r))} for r in rows[:, 4]]
-            elif key == 'Triangles':
-                tris = rows[:, :3].astype(int) - 1; trin = [{str(int(r))} for r in rows[:, 3]]
+            elif key == 'tetrahedra':
+                tets += (rows[:, :4].astype(int) - 1).tolist(); tetn += [{str(int(r))} for r in rows[:, 4]]
+            elif key == 'triangles':
+                tris += (rows[:, :3].astype(int) - 1).tolist(); trin += [{str(int(r))} for r in rows[:, 3]]
             i += 2 + n * w
         elif key[0].isalpha():
-            raise SystemExit(f'{path}: Medit section {key!r} is not read by the oracle (P1 tetrahedra and '
-                             'triangles only)')
+            raise CannotCheck(f'{path}: Medit section {tok[i]!r} is not read by the oracle (P1 tetrahedra and '
+                              'triangles only)')
         else:
             i += 1
     if X is None or len(tets) == 0:
-        raise SystemExit(f'{path}: no Vertices or Tetrahedra (is this a Medit volume mesh?)')
+        raise CannotCheck(f'{path}: no Vertices or Tetrahedra (is this a Medit volume mesh?)')
     return X, np.asarray(tets, int), tetn, np.asarray(tris, int).reshape(-1, 3), trin
 
 
 def read_mesh(path):
     """The mesh the solver read: gmsh MSH (4.1 or 2.2, ASCII) or Medit .mesh (ASCII)."""
     if path.endswith('.meshb'):
-        raise SystemExit(f'{path}: a binary Medit mesh; the oracle reads ASCII files (FreeFEM: savemesh(Th, "x.mesh"))')
+        raise CannotCheck(f'{path}: a binary Medit mesh; the oracle reads ASCII files (FreeFEM: savemesh(Th, "x.mesh"))')
     with open(path, encoding='latin-1') as fh:
         head = fh.read(4096)
     if path.endswith('.mesh') or 'MeshVersionFormatted' in head:
         return read_medit(path)
     if '$MeshFormat' not in head:
-        raise SystemExit(f'{path}: neither a gmsh MSH nor a Medit mesh')
+        raise CannotCheck(f'{path}: neither a gmsh MSH nor a Medit mesh')
     return read_msh(path)
 
 
@@ -105,7 +110,7 @@ def read_msh(path):
             i += 1
     ver = sections['MeshFormat'][0].split()
     if ver[1] != '0':
-        raise SystemExit('binary msh: not supported by this reader')
+        raise CannotCheck('binary msh: not supported by this reader')
     phys = {}
     for l in sections.get('PhysicalNames', [])[1:]:
         p = l.split(maxsplit=2)
@@ -262,7 +267,7 @@ def make_law(fr):
         pts = fr['points']
         t = [float(p[0]) for p in pts]; F = [float(p[1]) for p in pts]
         return ('table', t, F)
-    raise SystemExit('law ' + law)
+    raise CannotCheck('law ' + law)
 
 
 def F_eval(law, s):
@@ -501,7 +506,7 @@ def main():
     for reg in mat.get('region', []):
         m = np.array([reg['group'] in s for s in tetn])
         if not m.any():
-            raise SystemExit('no tets in region ' + reg['group'])
+            raise CannotCheck('no tets in region ' + reg['group'])
         E[m] = float(reg['young']); nu[m] = float(reg['poisson'])
     K, vol, tets = elasticity(X, tets, E, nu)
     f = np.zeros(3 * N)
@@ -519,7 +524,7 @@ def main():
     def group_tris(name):
         idx = [i for i, s in enumerate(trin) if name in s]
         if not idx:
-            raise SystemExit('no triangles in group ' + name)
+            raise CannotCheck('no triangles in group ' + name)
         return np.array(idx)
 
     def outward(ti):
@@ -528,7 +533,7 @@ def main():
         cr = np.cross(P[1] - P[0], P[2] - P[0])
         adj = facemap.get(tuple(sorted(tr)), [])
         if len(adj) != 1:
-            raise SystemExit('load triangle not on the boundary (%d tets)' % len(adj))
+            raise CannotCheck('load triangle not on the boundary (%d tets)' % len(adj))
         opp = X[adj[0][1]]
         if cr @ (opp - P[0]) > 0:
             cr = -cr
@@ -638,7 +643,7 @@ def main():
             lam = bary_all(np.array(c))
             ok = np.where((lam.min(1) > -1e-9))[0]
             if len(ok) == 0:
-                raise SystemExit('vtu piece %d not in any contact triangle' % q)
+                raise CannotCheck('vtu piece %d not in any contact triangle' % q)
             best = int(ok[np.argmax(lam[ok].min(1))])
             cell_pieces[cid[q]].append((best, poly))
     # coverage check: every contact triangle's projected area is covered exactly once
@@ -960,9 +965,16 @@ def main():
         print(f'oracle agrees within {a.tol:g}: ' + ', '.join(f'{k} {v:.1e}' for k, v in judged.items() if isinstance(v, float)))
 
 
+class CannotCheck(Exception):
+    """An input the oracle cannot read or state: no verdict (exit 3)."""
+
+
 if __name__ == '__main__':
     try:
         main()
+    except CannotCheck as e:
+        print(f'oracle error: the run could not be checked: {e}', file=sys.stderr)
+        sys.exit(3)
     except Exception:  # a crash is no verdict: exit 3, never 1 (a disagreement) nor 0
         import traceback
         traceback.print_exc()
