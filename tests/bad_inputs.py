@@ -642,24 +642,6 @@ def c_contact_normal_prescribed(c):
             ["no contact node whose normal displacement is free", "cell"])
 
 
-def c_contact_node_prescribed_below_plane(c):
-    # The clamped end moved 50 µm down: the end face's bottom edge lies on Γc, so those contact nodes are
-    # prescribed through the foundation (non-penetration cannot hold in their cells; a strip so loaded ran
-    # its QP to the iteration limit for minutes, and the brick was solved with warnings blaming the cells).
-    text = open(c.scene(clamped="[]")).read().replace(
-        "[[boundary.traction]]", '[[boundary.displacement]]\ngroup = "clamped"\nx = 0.0\ny = 0.0\nz = -5e-5\n\n'
-        '[[boundary.traction]]', 1)
-    return (["solve", c.write("scene.toml", text), "--out", c.path("out"), "--quiet"],
-            ["boundary.displacement 'clamped'", "of the contact face", "below the foundation plane",
-             "cannot be prescribed through the foundation"])
-
-
-def c_check_contact_node_prescribed_below_plane(c):
-    # The same through `check`.
-    args, facts = c_contact_node_prescribed_below_plane(c)
-    return ["check", args[1]], facts
-
-
 def c_held_by_friction_too_weak(c):
     # Nothing prescribed: friction alone must hold the body against the end face's 1e7 Pa along x, but
     # g = 2e6 Pa with F <= 0.3 carries at most 0.6e6 Pa over Γc.

@@ -333,3 +333,17 @@ add_test(NAME single_qp_rounding_stall_is_a_note
                  --set "contact.cell_size=\"2h\"" --out ${CMAKE_BINARY_DIR}/cli-tests/block-above-plane-2h)
 set_tests_properties(single_qp_rounding_stall_is_a_note PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
                      PASS_REGULAR_EXPRESSION "converged: n_p" FAIL_REGULAR_EXPRESSION "warning: the QP")
+# A condition that moves nodes of the contact face below the plane (the paper's brick with its end face,
+# whose bottom edge lies on Γc, pushed 50 µm down) solves as posed, and the warning names the condition:
+# the warnings blamed the cells and a missing contact group. `check` says it before any solve.
+add_test(NAME contact_nodes_prescribed_below_plane_are_warned
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
+                 --set "boundary.displacement=[{group=\"load_end\",z=-5e-5}]"
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/brick-end-pushed-down)
+set_tests_properties(contact_nodes_prescribed_below_plane_are_warned PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+                     PASS_REGULAR_EXPRESSION "converged:.*warning: boundary.displacement 'load_end' moves [0-9]+ node\\(s\\) of the contact face below the foundation plane, node [0-9]+ by 5e-05")
+add_test(NAME check_warns_contact_nodes_prescribed_below_plane
+         COMMAND contact3d check ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=4
+                 --set "boundary.displacement=[{group=\"load_end\",z=-5e-5}]")
+set_tests_properties(check_warns_contact_nodes_prescribed_below_plane PROPERTIES
+                     PASS_REGULAR_EXPRESSION "warning: boundary.displacement 'load_end' moves [0-9]+ node\\(s\\) of the contact face below")

@@ -33,6 +33,14 @@ struct ContactFace {
   int held_triangles = 0;
   double held_area = 0;   // their true area
   double rounded_up = 0;  // the deepest node below the plane within rounding (kept off the refusal), taken as on it
+  // Nodes of the contact groups whose prescribed normal displacement takes them below the plane (beyond
+  // rounding): how many, the deepest and by how much, and the condition that prescribes it.
+  struct PrescribedBelow {
+    int nodes = 0;
+    int deepest = -1;
+    double depth = 0;
+    std::string condition;
+  } prescribed_below;
 
   Eigen::Vector2d xy(const Mesh& mesh, int node) const { return mesh.nodes[node].head<2>(); }
 };
@@ -41,8 +49,11 @@ struct ContactFace {
 // direction (ContactFace::h_xy is these, at least h; FaceThickness takes them too). Zero for none.
 Eigen::Vector2d median_extents(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
 
-// Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle), if a
-// condition prescribes a node of it below z = 0, or if every node of it is held.
+// Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle), or if
+// every node of it is held; records nodes a condition prescribes below z = 0 (prescribed_below).
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs);
+
+// The warning for face.prescribed_below (nodes a condition moves below the plane), or "" if none.
+std::string prescribed_below_plane_warning(const Mesh& mesh, const ContactFace& face);
 
 }  // namespace contact3d

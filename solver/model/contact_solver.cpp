@@ -161,6 +161,7 @@ void warn_if_one_cell_covers_the_face(SolveResult& res, const std::string& unit)
 // Γc, its partition T_H into cells and the contact operator 𝔹 (5.4).
 ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult& res) {
   res.face = make_contact_face(mesh, scene.contact, res.dofs);
+  if (std::string w = prescribed_below_plane_warning(mesh, res.face); !w.empty()) res.warnings.push_back(std::move(w));
   if (res.face.held_triangles > 0)
     res.notes.push_back(std::to_string(res.face.held_triangles) + " triangle(s) of the contact groups (area " +
                         number(res.face.held_area, 3) + " " + unit_labels(scene.output.units).length + "²" +
