@@ -283,12 +283,6 @@ RadiusRule radius_rule(const Scene& scene, const Mesh& mesh, const SolveResult& 
   };
 }
 
-// The successive approximations (5.7) when F depends on the slip (on (φ, g = λ_n) for Coulomb);
-// otherwise one Tresca (or frictionless) solve, which is then the whole answer.
-// That one solve gets the tolerance the last step of a converged fixed point reaches
-// (final_step_qp_rtol: 1e-10 by default), not the paper's 1e-6 of a first step: on the thin slab
-// (cond(Q) ≈ 1.4e5) a Tresca solve stopped at 1e-6 left the body's displacement 2.6-4.1% from the
-// exact discrete answer, at 1e-7 already 2e-5, for 15-30% more dual-solve time.
 // Where the Jacobi-scaled cond(Q) passes this, an answer to qp_rtol = 1e-6 can be far from the discrete
 // solution: a strip with cond(Q) 1.4e8 and qp_max_iterations = 10 left λ_t 13% from the independent
 // oracle's (4% at the default cap), where the summary's kkt looked clean.
@@ -299,7 +293,7 @@ constexpr double kLooseQpCondition = 1e6;
 void say_single_qp_fallback(const Scene& scene, double tight, bool out_of_iterations, SolveResult& res) {
   const int cap = scene.solver.qp.max_iterations;
   const bool cap_lowered = out_of_iterations && cap < QpSettings{}.max_iterations;
-  const double cond = res.stability_condition_scaled > 0 ? res.stability_condition_scaled : res.stability_condition;
+  const double cond = dual_condition(res);
   const bool loose = std::isfinite(cond) && cond > kLooseQpCondition;
   const std::string what =
       (out_of_iterations
@@ -321,6 +315,12 @@ void say_single_qp_fallback(const Scene& scene, double tight, bool out_of_iterat
       (cap_lowered ? "; raise solver.qp_max_iterations" : "; a larger contact.cell_size lowers cond(Q)"));
 }
 
+// The successive approximations (5.7) when F depends on the slip (on (φ, g = λ_n) for Coulomb);
+// otherwise one Tresca (or frictionless) solve, which is then the whole answer.
+// That one solve gets the tolerance the last step of a converged fixed point reaches
+// (final_step_qp_rtol: 1e-10 by default), not the paper's 1e-6 of a first step: on the thin slab
+// (cond(Q) ≈ 1.4e5) a Tresca solve stopped at 1e-6 left the body's displacement 2.6-4.1% from the
+// exact discrete answer, at 1e-7 already 2e-5, for 15-30% more dual-solve time.
 void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes, const ProgressCallback& progress,
                      SolveResult& res) {
   const Eigen::VectorXd phi0 = Eigen::VectorXd::Zero(n_contact_nodes);

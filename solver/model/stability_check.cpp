@@ -146,11 +146,11 @@ double check_stability_without_Q(const DualProblem& dual, double& q_norm) {
 
 // Where the QP solves the Jacobi-scaled problem its condition is what costs digits: cells of very
 // different sizes (graded) spread Q's diagonal, which the scaling takes out.
-bool dual_ill_conditioned(const SolveResult& res) {
-  const double condition =
-      res.stability_condition_scaled > 0 ? res.stability_condition_scaled : res.stability_condition;
-  return condition > kIllConditionedDual;
+double dual_condition(const SolveResult& res) {
+  return res.stability_condition_scaled > 0 ? res.stability_condition_scaled : res.stability_condition;
 }
+
+bool dual_ill_conditioned(const SolveResult& res) { return dual_condition(res) > kIllConditionedDual; }
 
 std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual, double& q_norm,
                                                          const ContactOperator& op, const QpSettings& qp,

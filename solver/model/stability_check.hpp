@@ -27,6 +27,8 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
 
 // cond(Q) as the QP sees it (Jacobi-scaled where it scales) beyond what leaves λ reliable: the level of
 // check_dual_stability's warning.
+// cond(Q) as the QP solves it: the Jacobi-scaled estimate where there is one, else the plain one.
+double dual_condition(const SolveResult& res);
 bool dual_ill_conditioned(const SolveResult& res);
 
 }  // namespace contact3d
