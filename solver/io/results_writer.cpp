@@ -252,9 +252,11 @@ void write_kkt(JsonWriter& j, const Scene& scene, const SolveResult& res) {
   j.begin_object("kkt");
   j.value("equilibrium", res.kkt.equilibrium).value("normal_feasibility", res.kkt.normal_feasibility);
   j.value("normal_complementarity", res.kkt.normal_complementarity).value("disc_feasibility", res.kkt.disc_feasibility);
-  j.value("slip_alignment", res.kkt.slip_alignment).value("projected_gradient", res.last_qp.projected_gradient);
+  j.value("slip_alignment", res.kkt.slip_alignment).value("normal_cellwise", res.kkt.normal_cellwise);
+  j.value("friction_cellwise", res.kkt.friction_cellwise).value("projected_gradient", res.last_qp.projected_gradient);
   if (scene.coulomb()) j.value("coulomb_relation", res.coulomb_relation);  // max |c − F̄λ_n| / max c
   j.end_object();
+  j.value("kkt_worst_cell", res.kkt.worst_cell);  // beside kkt, whose entries are all residuals
 }
 
 }  // namespace

@@ -8,6 +8,12 @@
 //   normal_complementarity  |Σ λ_n,i d_n,i| / (s_λ s_d)
 //   disc_feasibility        max_i max(0, ‖λ_t,i‖ − c_i) / max_i c_i
 //   slip_alignment          Σ (c_i ‖d_t,i‖ − λ_t,iᵀ d_t,i) / (s_λ s_d)   (λ_t maximises μᵀd on the discs)
+// The sums above can hide one bad cell among many good ones; the cell by cell natural residuals
+// (the projection form of (5.4), zero exactly where cell i meets its conditions) cannot. With
+// ρ = S_λ / S_d from the largest entries (S_λ = max(‖λ‖∞, ‖c‖∞), S_d = max(‖d‖∞, ‖h‖∞)):
+//   normal_cellwise         max_i |λ_n,i − max(0, λ_n,i + ρ d_n,i)| / S_λ
+//   friction_cellwise       max_i ‖λ_t,i − P_{c_i}(λ_t,i + ρ d_t,i)‖ / S_λ   (P_c: onto the disc of radius c)
+// worst_cell names the cell of the larger of the two (−1 without contact).
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +24,8 @@ namespace contact3d {
 struct KktResiduals {
   double equilibrium = 0, normal_feasibility = 0, normal_complementarity = 0;
   double disc_feasibility = 0, slip_alignment = 0;
+  double normal_cellwise = 0, friction_cellwise = 0;
+  int worst_cell = -1;
   double max() const;
 };
 

@@ -68,5 +68,65 @@ TEST(KktResiduals, EachConditionIsSeenWhenBroken) {
   }
 }
 
+// r copies of OneCell side by side (node i under cell i): the sums of (5.4) weigh one cell by
+// about 1/r, the cell by cell residuals by its own size.
+struct ManyCells {
+  int r = 1000;
+  double k = 2.0, P = 3.0, pull = 5.0, c = 1.5;
+  Eigen::SparseMatrix<double> K{3 * r, 3 * r}, B{3 * r, 3 * r};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * r), radius = Eigen::VectorXd::Constant(r, c);
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(3 * r), w, h;
+  ManyCells() {
+    for (int i = 0; i < r; ++i) {
+      for (int a = 0; a < 3; ++a) K.insert(3 * i + a, 3 * i + a) = k;
+      B.insert(i, 3 * i + 2) = -1;
+      B.insert(r + i, 3 * i) = 1;
+      B.insert(2 * r + i, 3 * i + 1) = 1;
+      f[3 * i] = pull;
+      f[3 * i + 2] = -P;
+      lambda[i] = P;
+      lambda[r + i] = c;
+    }
+    settle();
+    h = B * (f / k);
+  }
+  void settle() { w = (f - B.transpose() * lambda) / k; }
+  KktResiduals residuals() const { return kkt_residuals(K * w, f, B, r, true, radius, w, lambda, h); }
+};
+
+TEST(KktResiduals, OneBadCellAmongManyIsSeenCellByCell) {
+  ManyCells p;
+  EXPECT_LT(p.residuals().max(), 1e-14);
+  EXPECT_GE(p.residuals().worst_cell, 0);
+  const int bad = 417;
+  {  // cell 417's λ_t on its circle but across the slip: the sum barely moves
+    ManyCells q;
+    q.lambda[q.r + bad] = 0;
+    q.lambda[2 * q.r + bad] = q.c;
+    q.settle();
+    const KktResiduals res = q.residuals();
+    EXPECT_LT(res.slip_alignment, 5e-3);
+    EXPECT_GT(res.friction_cellwise, 0.5);
+    EXPECT_EQ(res.worst_cell, bad);
+  }
+  {  // cell 417 pressed where it has lifted off
+    ManyCells q;
+    q.f[3 * bad + 2] = +q.P;
+    q.settle();
+    const KktResiduals res = q.residuals();
+    EXPECT_LT(res.normal_complementarity, 5e-3);
+    EXPECT_GT(res.normal_cellwise, 0.5);
+    EXPECT_EQ(res.worst_cell, bad);
+  }
+  {  // cell 417 penetrating under too little pressure
+    ManyCells q;
+    q.lambda[bad] = 0.5 * q.P;
+    q.settle();
+    const KktResiduals res = q.residuals();
+    EXPECT_GT(res.normal_cellwise, 0.1);
+    EXPECT_EQ(res.worst_cell, bad);
+  }
+}
+
 }  // namespace
 }  // namespace contact3d
