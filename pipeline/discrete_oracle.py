@@ -929,7 +929,9 @@ def main():
             nres = np.abs(ln - np.maximum(0, ln + gN * (np.abs(ln).max() / gs))).max() / np.abs(ln).max()
             fres = 0.0
             if rad_ is not None:
-                z = lt + sT * (np.abs(lt).max() / max(np.abs(sT).max(), 1e-300))
+                # weighed like the normal condition (by the motion's scale, not the slip's: a
+                # sticking face's rounding-sized slip would otherwise be blown up to the disc's size)
+                z = lt + sT * (max(np.abs(lt).max(), rad_.max()) / gs)
                 nz = np.linalg.norm(z, axis=1)
                 pz = z * np.minimum(1, rad_ / np.maximum(nz, 1e-300))[:, None]
                 fres = np.abs(lt - pz).max() / max(np.abs(lt).max(), 1e-300)
