@@ -60,6 +60,9 @@ with tempfile.TemporaryDirectory() as tmp:
         fail("convergence bookkeeping inconsistent")
     if max(v for v in s["kkt"].values()) > 1e-4:
         fail(f"KKT residuals too large: {s['kkt']}")
+    if not {"normal_cellwise", "friction_cellwise"} <= s["kkt"].keys() or \
+            not 0 <= s.get("kkt_worst_cell", -1) < s["n_cells"]:
+        fail(f"summary.json lacks the cell by cell residuals or names no cell: {s['kkt']}, {s.get('kkt_worst_cell')}")
     with open(out / "contact_nodes.csv") as f:
         rows = list(csv.DictReader(f))
     if list(rows[0].keys())[:10] != "node,x,y,z,u1,u2,u3,wn,wt_norm,F".split(","):
