@@ -961,10 +961,32 @@ def main():
     if a.tol is not None:
         judged = {k: out.get(k) for k in ('u_contact_rel', 'u_body_rel', 'lambda_n_rel', 'lambda_t_rel', 'radius_rel')}
         over = {k: v for k, v in judged.items() if isinstance(v, float) and not v <= a.tol}
+        no_verdict = own_answer_unsound(out, a) if over else None
+        if no_verdict:
+            print(f'oracle error: no verdict on {over}: {no_verdict}', file=sys.stderr)
+            sys.exit(3)
         if over or not out.get('c3d_converged', True):
             print(f'ORACLE FAILED: beyond {a.tol:g}: {over}' + ('' if out.get('c3d_converged', True) else '; contact3d did not converge'))
             sys.exit(1)
         print(f'oracle agrees within {a.tol:g}: ' + ', '.join(f'{k} {v:.1e}' for k, v in judged.items() if isinstance(v, float)))
+
+
+def own_answer_unsound(out, a):
+    """Why the oracle's own answer cannot judge a difference (None where it can): its fixed point
+    stopped at --fp-max short of --fp-tol, or its answer meets the optimality conditions in its own
+    matrices clearly worse than contact3d's (ill-conditioned duals: the difference may be its own)."""
+    fp = out.get('fixed_point') or []
+    if fp and len(fp[-1]) >= 2 and not fp[-1][1] <= max(a.fp_tol, 1e-3 * a.tol) and fp[-1][0] >= a.fp_max:
+        return f'its fixed point stopped at --fp-max {a.fp_max} with err {fp[-1][1]:.1e} > --fp-tol {a.fp_tol:g}'
+    own, theirs = out.get('audit_oracle_state'), out.get('audit_c3d_state')
+    if not own or not theirs:
+        return None
+    keys = ('normal_kkt', 'friction_kkt')
+    own_max, theirs_max = max(own[k] for k in keys), max(theirs[k] for k in keys)
+    if own_max > max(10 * theirs_max, 1e-3 * a.tol):
+        return (f'its own answer meets the optimality conditions to {own_max:.1e} against contact3d\'s {theirs_max:.1e} '
+                f'(cond(Q) {out.get("cond_Q", float("nan")):.1e}); tighten --qp-tol or check with a looser --tol')
+    return None
 
 
 class CannotCheck(Exception):
