@@ -899,6 +899,19 @@ def c_tilted_plane_penetration(c):
             ["below the foundation plane", "initial penetration", "at (3, 0, 0) lies 0.862"])
 
 
+def c_tilted_plane_normal_huge(c):
+    # The same plane with its normal's components near overflow (|n|² = inf): its direction counts, so the
+    # same refusal, not the untilted plane solved in silence.
+    return (["check", c.scene(), "--set", "contact.plane_normal=[-0.3e200, 0, 1e200]"],
+            ["below the foundation plane", "initial penetration", "at (3, 0, 0) lies 0.862"])
+
+
+def c_path_with_nul(c):
+    # "brick.msh\u0000x" would open brick.msh: a path ends at a NUL
+    return (["check", c.scene(mesh=os.path.join(c.fix, "brick_n2_msh41.msh") + "\\u0000x")],
+            ["mesh.file", "NUL"])
+
+
 def c_qp_rtol_per_err_negative(c):
     return ["check", c.scene(), "--set", "solver.qp_rtol_per_err=-1e-6"], ["solver.qp_rtol_per_err", "[0, 1)"]
 

@@ -4,9 +4,11 @@
 
 #include <cmath>
 
+#include "base/errors.hpp"
 #include "contact/contact_face.hpp"
 #include "contact/contact_operator.hpp"
 #include "contact/face_dofs.hpp"
+#include "contact/foundation_frame.hpp"
 #include "contact/partition.hpp"
 #include "fem/dof_map.hpp"
 #include "friction/friction_law.hpp"
@@ -34,6 +36,18 @@ Chessboard chessboard(int n) {
 }
 
 }  // namespace
+
+// A normal's direction is what counts: components near overflow or underflow give the same frame
+// as [0, -1, 1] (|n|² of the raw vector would be inf or 0).
+TEST(FoundationFrame, HugeAndTinyNormalsGiveTheirDirectionsFrame) {
+  const FoundationFrame plain = FoundationFrame::from_plane(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, -1, 1));
+  ASSERT_FALSE(plain.rotation.isIdentity(1e-3));
+  for (const double size : {1e200, 1e-170, 1e-310}) {
+    const FoundationFrame frame = FoundationFrame::from_plane(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, -size, size));
+    EXPECT_TRUE(frame.rotation.isApprox(plain.rotation, 1e-14)) << size;
+  }
+  EXPECT_THROW(FoundationFrame::from_plane(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()), InputError);
+}
 
 TEST(ContactOperator, ChessboardRowsIntegrateToCellAreas) {
   const int n = 4;
