@@ -19,7 +19,8 @@ that look like a finished solve, and says why.
    them, unless it reads that mesh.msh itself; a user's own mesh.msh (no gmsh.log beside it, or a gmsh.log
    of their own) stays;
 9. a solve killed while gmsh meshes takes gmsh with it (an orphaned gmsh wrote mesh.msh into the folder
-   after a later run had finished there).
+   after a later run had finished there);
+10. `contact3d mesh brick` under a file-size limit: exit 2, and neither the mesh nor its .partial left.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
 import resource
@@ -194,5 +195,13 @@ with tempfile.TemporaryDirectory() as tmp:
             alive = False
     check(mesher is not None and not alive, f"gmsh {'never seen' if mesher is None else 'outlived the killed solve'}")
 
-print(f"{len(failures)} checks failed" if failures else "all 9 cases held")
+    # 10. `contact3d mesh brick` on a full disk leaves no truncated mesh under the file's name
+    out = tmp / "mesh_full"
+    out.mkdir()
+    p = subprocess.run([binary, "mesh", "brick", "--n", "12", "-o", str(out / "x.msh")], capture_output=True, text=True,
+                       preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (16384, 16384)))
+    check(p.returncode == 2 and "cannot write mesh file" in p.stderr and not any(out.iterdir()),
+          f"mesh brick under a file-size limit: exit {p.returncode}, left {sorted(x.name for x in out.iterdir())}")
+
+print(f"{len(failures)} checks failed" if failures else "all 10 cases held")
 sys.exit(1 if failures else 0)

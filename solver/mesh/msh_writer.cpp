@@ -1,5 +1,7 @@
 #include "mesh/msh_writer.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -21,9 +23,18 @@ namespace {
 
 // Buffered output to a file; numbers via std::to_chars (shortest round-trip form for doubles).
 class Output {
+  static bool is_special_file(const std::string& path) {
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
+  }
+
  public:
-  explicit Output(const std::string& path) : path_(path) {
-    f_ = std::fopen(path.c_str(), "wb");
+  // Written to "<path>.partial" and renamed into place by close(): a full disk or a failed run
+  // never leaves a truncated mesh under the file's name.
+  // (An existing device or pipe, e.g. /dev/stdout, is written in place.)
+  explicit Output(const std::string& path) : path_(path), partial_(is_special_file(path) ? path : path + ".partial") {
+    nothing_to_remove_ = partial_ == path_;
+    f_ = std::fopen(partial_.c_str(), "wb");
     if (!f_) throw InputError("cannot write mesh file '" + path + "': " + std::strerror(errno));
     buf_.reserve(kFlushAt + 4096);
   }
@@ -31,6 +42,7 @@ class Output {
   Output& operator=(const Output&) = delete;
   ~Output() {
     if (f_) std::fclose(f_);
+    if (!nothing_to_remove_) std::remove(partial_.c_str());
   }
 
   Output& operator<<(std::string_view s) {
@@ -51,6 +63,9 @@ class Output {
     std::FILE* f = f_;
     f_ = nullptr;
     if (std::fclose(f) != 0) throw InputError("cannot write mesh file '" + path_ + "': " + std::strerror(errno));
+    if (partial_ != path_ && std::rename(partial_.c_str(), path_.c_str()) != 0)
+      throw InputError("cannot write mesh file '" + path_ + "': " + std::strerror(errno));
+    nothing_to_remove_ = true;
   }
 
  private:
@@ -69,7 +84,8 @@ class Output {
     buf_.clear();
   }
 
-  std::string path_;
+  std::string path_, partial_;
+  bool nothing_to_remove_ = false;
   std::FILE* f_ = nullptr;
   std::string buf_;
 };
