@@ -347,3 +347,9 @@ add_test(NAME check_warns_contact_nodes_prescribed_below_plane
                  --set "boundary.displacement=[{group=\"load_end\",z=-5e-5}]")
 set_tests_properties(check_warns_contact_nodes_prescribed_below_plane PROPERTIES
                      PASS_REGULAR_EXPRESSION "warning: boundary.displacement 'load_end' moves [0-9]+ node\\(s\\) of the contact face below")
+
+# Inputs accepted on purpose but said in summary.json's notes: [friction] keys the chosen law does not
+# read, and a foundation plane that holds nothing (no contact group) while the body passes below it.
+add_test(NAME inputs_accepted_but_noted
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/input_notes.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+set_tests_properties(inputs_accepted_but_noted PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1")

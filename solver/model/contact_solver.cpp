@@ -644,6 +644,7 @@ void solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretis
   res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, no_rows,
                                 Eigen::VectorXd());
   flag_large_strain(mesh, res);
+  note_body_below_plane_without_contact(mesh, res);
   res.n_mult = 1;
   res.converged = true;
   res.status = "converged";

@@ -155,6 +155,16 @@ void note_loads_given_twice(const Scene& scene, SolveResult& res) {
                           "]] entries: they are added, and the load there is their sum");
 }
 
+// [friction] keys the chosen law does not read: accepted so that `--set friction.law=none` runs a
+// scene written for "ramp", but not in silence (the run is frictionless, its slip_bound unused).
+void note_friction_keys_not_read(const Scene& scene, SolveResult& res) {
+  if (scene.friction_keys_not_read.empty()) return;
+  std::string keys;
+  for (const std::string& key : scene.friction_keys_not_read) keys += (keys.empty() ? "friction." : ", ") + key;
+  res.notes.push_back(keys + (scene.friction_keys_not_read.size() > 1 ? " are" : " is") + " not read by law '" +
+                      scene.law.name() + "' and take no part in this run");
+}
+
 // Two nodes of the tetrahedra at one place: volumes meshed side by side without being joined (gmsh
 // boxes without BooleanFragments / Coherence). Each moves on its own there, so a load on one goes
 // nowhere near the other: two stacked boxes, 80 such pairs, solved with the top load going straight
@@ -234,6 +244,7 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
   warn_if_loads_beyond_linear_strain(scene, mesh, materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
   note_loads_given_twice(scene, res);
+  note_friction_keys_not_read(scene, res);
   warn_if_coincident_nodes(mesh, res);
   warn_if_ramp_rises_with_slip(scene, res);
   warn_if_few_elements_through_thickness(scene, thickness, res);

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -77,7 +78,10 @@ std::string get_string(const toml::table& t, const std::string& where, const std
   const toml::node* n = t.get(key);
   if (!n) return fallback;
   if (!n->is_string()) throw InputError(key_at(where + "." + key, n) + " must be a string");
-  return *n->value<std::string>();
+  std::string value = *n->value<std::string>();
+  if (value.find('\0') != std::string::npos)  // a path would end there, silently
+    throw InputError(key_at(where + "." + key, n) + " holds a NUL character (\\u0000)");
+  return value;
 }
 
 // An enum by its name in the enum's table; absent: `value` keeps its default.
@@ -346,6 +350,24 @@ void parse_mesh(const toml::table& mesh, const std::filesystem::path& base, Scen
                      ": they would be ignored; remove them, or mesh the geometry from its script");
 }
 
+// The keys of [friction] given that law `kind` does not read (the other laws' parameters; slip_bound
+// without a law).
+std::vector<std::string> keys_the_law_does_not_read(const toml::table& fr, FrictionLaw::Kind kind) {
+  using Kind = FrictionLaw::Kind;
+  const std::vector<std::pair<const char*, std::vector<Kind>>> readers = {
+      {"value", {Kind::Constant}},
+      {"high", {Kind::Ramp}},
+      {"low", {Kind::Ramp}},
+      {"t0", {Kind::Ramp}},
+      {"param", {Kind::Ramp}},
+      {"points", {Kind::Table}},
+      {"slip_bound", {Kind::Constant, Kind::Ramp, Kind::Table}}};
+  std::vector<std::string> unread;
+  for (const auto& [key, kinds] : readers)
+    if (fr.contains(key) && std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) unread.emplace_back(key);
+  return unread;
+}
+
 // [friction] (optional: none given is frictionless): the law of F, Tresca's bound g or Coulomb's.
 void parse_friction(const toml::table* fr, Scene& s) {
   static const toml::table empty;
@@ -359,6 +381,7 @@ void parse_friction(const toml::table* fr, Scene& s) {
     throw InputError(
         "friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
         "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
+  if (fr) s.friction_keys_not_read = keys_the_law_does_not_read(*fr, s.law.kind);
   if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
       !fr->contains("slip_bound"))
     throw InputError("friction.slip_bound (g, a stress in the scene's units) is required with law '" + s.law.name() +

@@ -130,6 +130,9 @@ struct Scene {
   FrictionModel friction_model = FrictionModel::Tresca;  // friction.model
   double slip_bound = 0;                                 // g, Pa (Tresca only)
   FrictionLaw law;
+  // [friction] keys given that the chosen law does not read (accepted so that `--set friction.law=…`
+  // switches laws without editing the scene; a note says so)
+  std::vector<std::string> friction_keys_not_read;
   double cell_size = 2;  // H: a length in m, or a multiple of h when relative
   bool cell_size_relative = true;
   // contact.cell_size = "auto" (the default): cells of 2h, and the scene is solved again with cells of

@@ -474,6 +474,26 @@ void flag_inaccurate_equilibrium(SolveResult& res) {
 
 // After recovery (u, λ, the KKT residuals, w_n⁺ and the forces known): the warnings and notes on the
 // answer, in the order the run prints them (a large strain's warning goes first).
+void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res) {
+  double u_max = 0;
+  for (Eigen::Index p = 0; p + 2 < res.u.size(); p += 3) u_max = std::max(u_max, res.u.segment<3>(p).norm());
+  const std::vector<char> in_body = nodes_of_tets(mesh);
+  std::size_t below = 0, deepest = 0;
+  double depth = 0;  // the mesh is in the plane's frame: a node's height is its z
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
+    if (!in_body[v]) continue;
+    const double start = mesh.nodes[v].z(), end = start + res.u[static_cast<Eigen::Index>(3 * v + 2)];
+    if (std::min(start, end) >= -kPenetrationOffContact * u_max) continue;
+    ++below;
+    if (-std::min(start, end) > depth) depth = -std::min(start, end), deepest = v;
+  }
+  if (below == 0) return;
+  res.notes.push_back("the scene has no contact group (boundary.contact), so the foundation plane holds nothing: " +
+                      std::to_string(below) + " node(s) start or end below it, the deepest (node " +
+                      std::to_string(mesh.node_tags[deepest]) + ") by " + number(depth, 3) +
+                      "; if the body rests on the foundation, name its contact faces in boundary.contact");
+}
+
 void check_answer(const Scene& scene, const Mesh& mesh, double u_max, bool rigid_removed, SolveResult& res) {
   flag_inaccurate_equilibrium(res);
   flag_friction_where_separated(scene, res);

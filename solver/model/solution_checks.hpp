@@ -31,6 +31,10 @@ void check_answer(const Scene& scene, const Mesh& mesh, double u_max, bool rigid
 // res.largest_strain.
 void flag_large_strain(const Mesh& mesh, SolveResult& res);
 
+// A scene without contact groups: the foundation plane holds nothing, which a note says where nodes
+// start or end below it (the deepest named), so a body pushed through it is not solved in silence.
+void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res);
+
 // The nodes penetrate by more than 10% of the body's largest deformation (res.penetration_ratio):
 // the contact zone is not resolved by its cells.
 bool unresolved(const SolveResult& res);
