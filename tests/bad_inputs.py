@@ -134,6 +134,19 @@ def c_msh_version_3(c):
     return ["check", c.scene(p)], ["3.0", "v3.msh"]
 
 
+def c_msh22_parametric_nodes(c):
+    # gmsh -format msh22 -save_parametric: the nodes in $ParametricNodes (refused as "$Elements comes
+    # before $Nodes", which the file did not do)
+    text = "\n".join(c.msh22_lines()).replace("$Nodes", "$ParametricNodes").replace("$EndNodes", "$EndParametricNodes")
+    return ["check", c.scene(c.write("par22.msh", text))], ["$ParametricNodes", "-save_parametric", "msh41"]
+
+
+def c_msh_nul_in_section_header(c):
+    # "$Nodes\0": the NUL, quoted in the message, ended it there ("section $Nodes" and no reason)
+    text = "\n".join(c.msh22_lines()).replace("$Nodes\n", "$Nodes\0\n", 1)
+    return ["check", c.scene(c.write("nul.msh", text))], ["$Nodes\\0", "is not closed by"]
+
+
 def c_msh_version_4_0(c):
     lines = c.fixture("brick_n2_msh41.msh").decode().split("\n")
     lines[1] = "4 0 8"
@@ -736,6 +749,15 @@ def c_two_parts_one_floating(c):
                              'BoundingBox {-eps, -eps, -eps, 1 + eps, 1, eps};\nPhysical Volume("body") = {1, 2};\n')
     return (["solve", scene, "--out", c.path("out"), "--quiet"],
             ["part 2 of 2", "no free node on the contact face", "boundary.contact", "BooleanFragments"])
+
+
+def c_overlapping_volumes(c):
+    # Two boxes overlapping over x in [0.65, 1], meshed without BooleanFragments: two meshes in one space,
+    # sharing no node. Solved in silence before, with each cell over the overlap counted twice.
+    boxes = 'Box(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {0.65, 0.05, 0, 1, 0.5, 0.3};\n'
+    scene = two_blocks_scene(c, "overlap", boxes, APART_TOP + 'Physical Surface("contact") = Surface In '
+                             'BoundingBox {-eps, -eps, -eps, 3, 1, eps};\nPhysical Volume("body") = {1, 2};\n')
+    return (["check", scene], ["contact face overlaps itself", "graph over the plane", "BooleanFragments"])
 
 
 def c_two_parts_one_floating_no_contact(c):

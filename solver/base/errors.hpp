@@ -14,7 +14,21 @@
 namespace contact3d {
 
 struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  // A NUL quoted from a user's file would end what() there, and the message with it: written \0.
+  explicit InputError(const std::string& message) : std::runtime_error(without_nul(message)) {}
+  explicit InputError(const char* message) : std::runtime_error(message) {}
+
+ private:
+  static std::string without_nul(const std::string& message) {
+    std::string out;
+    for (const char c : message) {
+      if (c == '\0')
+        out += "\\0";
+      else
+        out += c;
+    }
+    return out;
+  }
 };
 
 }  // namespace contact3d

@@ -586,6 +586,10 @@ Mesh Parser::parse() {
         read_elements41();
       else
         read_elements22();
+    } else if (name == "ParametricNodes") {  // MSH 2 only; skipped, it left "$Elements comes before $Nodes"
+      fail(header,
+           "$ParametricNodes (gmsh's -save_parametric in MSH 2) is not read: save the mesh without "
+           "-save_parametric, or as MSH 4.1 (-format msh41), whose parametric nodes are read");
     } else if (name.size() > 3 && name.substr(0, 3) == "End") {
       fail(header, "unexpected " + quote(tok) + " without a matching section start");
     } else {
