@@ -174,6 +174,10 @@ void require_parameters_read(const std::filesystem::path& script, const std::map
 void require_script(const std::filesystem::path& script, const char* kind, bool trusted, const ScriptRules& rules) {
   if (!std::filesystem::exists(script))
     throw InputError(std::string(kind) + " '" + script.string() + "' does not exist");
+  // A named pipe would be read by the safety check and the mesher, or block both with no writer.
+  if (std::error_code ec; !std::filesystem::is_regular_file(script, ec))
+    throw InputError(std::string(kind) + " '" + script.string() +
+                     "' is not a regular file (a folder, pipe or device): give the script's file");
   if (!trusted) check_script_is_safe(script, std::filesystem::weakly_canonical(script).parent_path(), rules);
 }
 
