@@ -20,7 +20,8 @@ that look like a finished solve, and says why.
    of their own) stays;
 9. a solve killed while gmsh meshes takes gmsh with it (an orphaned gmsh wrote mesh.msh into the folder
    after a later run had finished there);
-10. `contact3d mesh brick` under a file-size limit: exit 2, and neither the mesh nor its .partial left.
+10. `contact3d mesh brick` under a file-size limit: exit 2, and neither the mesh nor its .partial left;
+11. stdout closed by its reader (`| head -1`): the solve finishes its results, exit 0.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
 import resource
@@ -203,5 +204,16 @@ with tempfile.TemporaryDirectory() as tmp:
     check(p.returncode == 2 and "cannot write mesh file" in p.stderr and not any(out.iterdir()),
           f"mesh brick under a file-size limit: exit {p.returncode}, left {sorted(x.name for x in out.iterdir())}")
 
-print(f"{len(failures)} checks failed" if failures else "all 10 cases held")
+    # 11. stdout closed by its reader mid-run (`contact3d solve … | head -1`): the console's lines are
+    # dropped, the solve goes on to its results (SIGPIPE ended it, exit 141, RUNNING left)
+    out = tmp / "stdout_closed"
+    proc = subprocess.Popen([binary, "solve", str(scene), "--out", str(out), "--set", "mesh.generator=paper_brick",
+                             "--set", "mesh.n=8"], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+    proc.stdout.readline()
+    proc.stdout.close()
+    code = proc.wait(timeout=300)
+    check(code == 0 and (out / "summary.json").exists() and not (out / "RUNNING").exists(),
+          f"stdout closed by its reader: exit {code}, left {sorted(x.name for x in out.iterdir()) if out.exists() else []}")
+
+print(f"{len(failures)} checks failed" if failures else "all 11 cases held")
 sys.exit(1 if failures else 0)

@@ -48,6 +48,14 @@ using namespace contact3d;
 
 namespace {
 
+// A console line on stdout. Where the reader has gone (SIGPIPE is ignored) the write fails and the
+// line is dropped: fmt::print would throw and end a solve whose results still go to its folder.
+template <class... Args>
+void say(fmt::format_string<Args...> format, Args&&... args) {
+  const std::string text = fmt::format(format, std::forward<Args>(args)...);
+  static_cast<void>(std::fwrite(text.data(), 1, text.size(), stdout));
+}
+
 struct SolveArgs {
   std::string scene, mesh, out;
   std::vector<std::string> sets;
@@ -127,8 +135,7 @@ void print_benchmark_ratio(const SolveResult& res, double mesh_seconds) {
     if (stage.rfind("reference_", 0) == 0) yardsticks += seconds;
   }
   if (reference <= 0) return;
-  fmt::print(
-      "benchmark: solve stages {:.2f} s = {:.2f} x one factorization of K ({:.2f} s; {:.2f} s with this solver's "
+  say("benchmark: solve stages {:.2f} s = {:.2f} x one factorization of K ({:.2f} s; {:.2f} s with this solver's "
       "ordering); the total also holds the mesh ({:.2f} s) and these reference factorizations ({:.2f} s)\n",
       solve, solve / reference, reference, reference_nd, mesh_seconds, yardsticks);
 }
@@ -139,22 +146,20 @@ void print_engineering_summary(const Scene& scene, const SolveResult& res) {
   if (res.n_cells > 0) {
     const ContactResultants cr = contact_resultants(res, final_state(res));
     const bool friction = has_friction(res.n_cells, res.lambda);
-    fmt::print("contact: normal force {:.4g} {}, tangential {:.4g} {}; area in contact {:.4g} {}²", cr.normal, u.force,
-               std::hypot(cr.t1, cr.t2), u.force, cr.area[kStick] + cr.area[kSlip], u.length);
+    say("contact: normal force {:.4g} {}, tangential {:.4g} {}; area in contact {:.4g} {}²", cr.normal, u.force,
+        std::hypot(cr.t1, cr.t2), u.force, cr.area[kStick] + cr.area[kSlip], u.length);
     if (friction)
-      fmt::print(" (stick {:.4g}, slip {:.4g}); friction torque {:.4g} {} {}", cr.area[kStick], cr.area[kSlip],
-                 cr.friction_torque, u.force, u.length);
-    fmt::print("; max penetration {:.3g} {}\n", res.wn_plus_inf, u.length);
+      say(" (stick {:.4g}, slip {:.4g}); friction torque {:.4g} {} {}", cr.area[kStick], cr.area[kSlip],
+          cr.friction_torque, u.force, u.length);
+    say("; max penetration {:.3g} {}\n", res.wn_plus_inf, u.length);
     const Eigen::Vector3d& held = res.forces.contact_at_held_nodes;
     if (held.norm() > 1e-9 * (res.forces.contact + held).norm())
-      fmt::print(
-          "  of which ({:.4g}, {:.4g}, {:.4g}) {} at contact nodes with prescribed components, counted in "
+      say("  of which ({:.4g}, {:.4g}, {:.4g}) {} at contact nodes with prescribed components, counted in "
           "the reactions below\n",
           held.x(), held.y(), held.z(), u.force);
   }
   for (const auto& r : res.forces.reactions)
-    fmt::print("reaction on {}: ({:.4g}, {:.4g}, {:.4g}) {}\n", r.condition, r.force.x(), r.force.y(), r.force.z(),
-               u.force);
+    say("reaction on {}: ({:.4g}, {:.4g}, {:.4g}) {}\n", r.condition, r.force.x(), r.force.y(), r.force.z(), u.force);
 }
 
 int run_solve(const SolveArgs& args) {
@@ -181,8 +186,7 @@ int run_solve(const SolveArgs& args) {
   // Under mpirun the Session gave each rank its share of the machine's cores.
   info.blas = args.ranks == 1 ? fit_blas_threads_to_idle_cores(start) : args.blas_under_mpirun;
   if (!args.quiet && info.blas.threads < info.blas.before)
-    fmt::print(
-        "BLAS threads: {} of {} ({})\n", info.blas.threads, info.blas.before,
+    say("BLAS threads: {} of {} ({})\n", info.blas.threads, info.blas.before,
         info.blas.busy_elsewhere >= 0
             ? fmt::format("other processes keep {:.1f} of the {} cores busy", info.blas.busy_elsewhere, info.blas.cores)
             : fmt::format("this rank's share of the {} cores among the {} ranks", info.blas.cores, args.ranks));
@@ -195,17 +199,17 @@ int run_solve(const SolveArgs& args) {
   for (const std::string& r : read_as) reading_notes += " (" + r + ")";
   info.mesh_description += reading_notes;
   if (!args.quiet)
-    fmt::print("mesh: {} nodes, {} tets, {} boundary triangles{} ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
-               mesh.triangles.size(), reading_notes, info.mesh_seconds);
+    say("mesh: {} nodes, {} tets, {} boundary triangles{} ({:.2f} s)\n", mesh.nodes.size(), mesh.tets.size(),
+        mesh.triangles.size(), reading_notes, info.mesh_seconds);
   auto progress = [&](const FixedPointStep& s) {
     if (!args.quiet)
-      fmt::print("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s  ({})\n", s.k, s.err,
-                 s.qp_iterations, s.n_mult, s.seconds, name_of(s.update, kFixedPointUpdateNames));
+      say("k={:3d}  err={:.3e}  qp_iterations={:6d}  n_mult={:7d}  {:.3f} s  ({})\n", s.k, s.err, s.qp_iterations,
+          s.n_mult, s.seconds, name_of(s.update, kFixedPointUpdateNames));
     std::fflush(stdout);
   };
   // Stage lines and the QP's heartbeat (every 2 s on a terminal, every 10 s into a log file).
   auto print_line = [](const std::string& line) {
-    fmt::print("{}\n", line);
+    say("{}\n", line);
     std::fflush(stdout);
   };
   Progress stages = args.quiet ? Progress() : Progress(print_line, print_line, ::isatty(STDOUT_FILENO) ? 2.0 : 10.0);
@@ -217,12 +221,12 @@ int run_solve(const SolveArgs& args) {
   folder->finish(res.converged ? std::string()
                                : res.status + (res.fixed_point.hint.empty() ? "" : "; " + res.fixed_point.hint));
   if (!args.quiet) {
-    fmt::print("{}: n_p={} n_d={} it={} n_mult={} |wn+|_L2={:.2e} |wn+|_inf={:.2e} kkt_max={:.1e} total {:.2f} s\n",
-               res.status, res.n_primal, res.n_dual, std::max(1, res.fixed_point.iterations()), res.n_mult,
-               res.wn_plus_L2, res.wn_plus_inf, res.kkt.max(), info.total_seconds);
+    say("{}: n_p={} n_d={} it={} n_mult={} |wn+|_L2={:.2e} |wn+|_inf={:.2e} kkt_max={:.1e} total {:.2f} s\n",
+        res.status, res.n_primal, res.n_dual, std::max(1, res.fixed_point.iterations()), res.n_mult, res.wn_plus_L2,
+        res.wn_plus_inf, res.kkt.max(), info.total_seconds);
     print_engineering_summary(scene, res);
     if (scene.solver.reference_factorization) print_benchmark_ratio(res, info.mesh_seconds);
-    fmt::print("results in {}\n", out.string());
+    say("results in {}\n", out.string());
   }
   for (const auto& w : res.warnings) std::cerr << "warning: " << w << "\n";
   if (!res.converged && !res.fixed_point.hint.empty()) std::cerr << "hint: " << res.fixed_point.hint << "\n";
@@ -245,10 +249,10 @@ void print_dual_plan(const DualPlan& plan, const std::string& length_unit) {
   const std::string sizes =
       (plan.cell_sizes.empty() ? fmt::format("H = {:.4g} {}", plan.cell_size, length_unit) : plan.cell_sizes) +
       describe_regions(plan.regions);
-  if (!plan.thin_body.empty()) fmt::print("contact.cell_size = \"auto\": {}\n", plan.thin_body);
+  if (!plan.thin_body.empty()) say("contact.cell_size = \"auto\": {}\n", plan.thin_body);
   for (const auto& w : plan.warnings) std::cerr << "warning: " << w << "\n";
-  fmt::print("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
-             plan.multipliers, bytes_text(plan.dense_bytes), available, route);
+  say("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
+      plan.multipliers, bytes_text(plan.dense_bytes), available, route);
 }
 
 // The contact face's heights above the foundation plane (its initial gap d): a face resting on the
@@ -290,9 +294,9 @@ int run_check(const SolveArgs& args) {
   } cleanup{work};
   std::string description;
   const Mesh user_mesh = scene_mesh(user_scene, args.mesh, work, description);
-  fmt::print("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description,
-             user_mesh.nodes.size(), user_mesh.tets.size(), user_mesh.triangles.size());
-  fmt::print("physical groups: {}\n", user_mesh.describe_groups());
+  say("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description,
+      user_mesh.nodes.size(), user_mesh.tets.size(), user_mesh.triangles.size());
+  say("physical groups: {}\n", user_mesh.describe_groups());
   // Each group as a scene names it (a label or an unnamed gmsh group by its number), with its size.
   for (const auto& g : user_mesh.groups) {
     std::size_t count = 0;
@@ -302,7 +306,7 @@ int run_check(const SolveArgs& args) {
       count = user_mesh.tets_of_group(g.tag).size();
     }
     const std::string name = g.name.empty() ? std::to_string(g.tag) : g.name;
-    fmt::print("  {:<16} dim {}  {} {}\n", "\"" + name + "\"", g.dim, count, g.dim == 2 ? "triangles" : "tetrahedra");
+    say("  {:<16} dim {}  {} {}\n", "\"" + name + "\"", g.dim, count, g.dim == 2 ? "triangles" : "tetrahedra");
   }
   // A tilted or shifted foundation: the checks below see the problem in the plane's frame, as the solve does.
   const PlaneFrameProblem local = to_plane_frame(user_scene, user_mesh);
@@ -320,19 +324,19 @@ int run_check(const SolveArgs& args) {
       for (int b = a + 1; b < 4; ++b) h = std::max(h, (x[a] - x[b]).norm());
     worst = std::min(worst, tet_volume(x) / (h * h * h) * 6 * std::sqrt(2.0));
   }
-  fmt::print("worst tet quality (volume / longest edge³, 1 = regular): {:.3g}\n", worst);
+  say("worst tet quality (volume / longest edge³, 1 = regular): {:.3g}\n", worst);
   require_constrained_triangles(scene, mesh);
   for (const auto& tr : scene.tractions) mesh.triangles_of_group(tr.group);
   const DofMap dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   // Motions nothing prescribed holds are the contact's to hold (refused without a contact face).
   const ContactHeldMotions held = contact_held_motions(mesh, dofs, !scene.contact.empty(), scene.user_frame);
   if (held.count())
-    fmt::print("held by contact alone: {}{}\n", held.describe(),
-               !held.in_plane_count() ? std::string()
-               : scene.frictionless() ? "; in the foundation's plane by nothing (the contact is frictionless: the "
-                                        "loads along them must balance by themselves): " +
-                                            held.describe_in_plane()
-                                      : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
+    say("held by contact alone: {}{}\n", held.describe(),
+        !held.in_plane_count() ? std::string()
+        : scene.frictionless() ? "; in the foundation's plane by nothing (the contact is frictionless: the "
+                                 "loads along them must balance by themselves): " +
+                                     held.describe_in_plane()
+                               : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
   // The loads as the solve checks them before factoring K, the lift's after the contact face's check.
   const TetMaterials materials = tet_materials(scene, mesh);
   const Eigen::VectorXd applied = assemble_load(mesh, dofs, scene.tractions, scene.body_force);
@@ -349,17 +353,15 @@ int run_check(const SolveArgs& args) {
       require_loads_press_onto_plane(held, f, applied);
     }
     const std::string length = unit_labels(scene.output.units).length;
-    fmt::print("contact face: {} triangles, {} contact nodes, area {:.6g} {}², h = {:.4g} {}; {}\n",
-               face.triangles.size(), face.nodes.size(), face.area, length, face.h, length,
-               describe_initial_gap(face, length));
+    say("contact face: {} triangles, {} contact nodes, area {:.6g} {}², h = {:.4g} {}; {}\n", face.triangles.size(),
+        face.nodes.size(), face.area, length, face.h, length, describe_initial_gap(face, length));
     if (face.held_triangles > 0)
-      fmt::print(
-          "  and {} triangles (area {:.6g} {}²) whose every node is clamped or prescribed: left to that "
+      say("  and {} triangles (area {:.6g} {}²) whose every node is clamped or prescribed: left to that "
           "condition\n",
           face.held_triangles, face.held_area, length);
     print_dual_plan(plan_dual(scene, mesh, thickness), length);
   }
-  fmt::print("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
+  say("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
   return 0;
 }
 
@@ -427,8 +429,10 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   mesh_cmd->add_option("--n", n, "cubes per unit length (3n x n x n cubes)")->capture_default_str();
   mesh_cmd->add_option("-o,--output", out_file, "output .msh (default brick_n<N>.msh)");
 
-  // A full disk or a file-size limit must fail a write (an error naming the file), not kill the process.
+  // A full disk or a file-size limit must fail a write (an error naming the file), not kill the process;
+  // a closed stdout (`contact3d solve … | head -1`) drops the console's lines, not the run (say()).
   std::signal(SIGXFSZ, SIG_IGN);
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) { return app.exit(e); } catch (const CLI::CallForVersion& e) {
@@ -447,7 +451,7 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
       const Mesh m = make_paper_brick(BrickSize{n});
       if (out_file.empty()) out_file = "brick_n" + std::to_string(n) + ".msh";
       write_msh41(m, out_file);
-      fmt::print("wrote {} ({} nodes, {} tets)\n", out_file, m.nodes.size(), m.tets.size());
+      say("wrote {} ({} nodes, {} tets)\n", out_file, m.nodes.size(), m.tets.size());
       return 0;
     }
   } catch (const InputError& e) { return print_error(e.what()); } catch (const std::bad_alloc&) {
