@@ -504,14 +504,6 @@ def c_mesh_device_file(c):
     return ["check", c.scene(), "--mesh", "/dev/zero"], ["/dev/zero", "not a regular file"]
 
 
-def c_mesh_fifo_without_writer(c):
-    # A named pipe nobody writes to: read as empty, where the run blocked forever (a pipe with a writer,
-    # --mesh <(...), still reads)
-    fifo = c.path("pipe.msh")
-    os.mkfifo(fifo)
-    return ["check", c.scene(), "--mesh", fifo], ["pipe.msh", "$MeshFormat"]
-
-
 def c_geo_fifo(c):
     fifo = c.path("pipe.geo")
     os.mkfifo(fifo)

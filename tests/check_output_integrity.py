@@ -21,6 +21,7 @@ that look like a finished solve, and says why.
 9. a solve killed while gmsh meshes takes gmsh with it (an orphaned gmsh wrote mesh.msh into the folder
    after a later run had finished there);
 10. `contact3d mesh brick` under a file-size limit: exit 2, and neither the mesh nor its .partial left;
+    through a symbolic link it writes the link's target;
 11. stdout closed by its reader (`| head -1`): the solve finishes its results, exit 0.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
@@ -203,6 +204,12 @@ with tempfile.TemporaryDirectory() as tmp:
                        preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (16384, 16384)))
     check(p.returncode == 2 and "cannot write mesh file" in p.stderr and not any(out.iterdir()),
           f"mesh brick under a file-size limit: exit {p.returncode}, left {sorted(x.name for x in out.iterdir())}")
+    # ... and writes through a symbolic link to its target, the link kept (the rename replaced the link)
+    (out / "target.msh").write_text("old")
+    (out / "link.msh").symlink_to("target.msh")
+    p = subprocess.run([binary, "mesh", "brick", "--n", "2", "-o", str(out / "link.msh")], capture_output=True)
+    check(p.returncode == 0 and (out / "link.msh").is_symlink() and (out / "target.msh").read_text().startswith("$MeshFormat"),
+          f"mesh brick through a symbolic link: exit {p.returncode}, link kept {(out / 'link.msh').is_symlink()}")
 
     # 11. stdout closed by its reader mid-run (`contact3d solve … | head -1`): the console's lines are
     # dropped, the solve goes on to its results (SIGPIPE ended it, exit 141, RUNNING left)

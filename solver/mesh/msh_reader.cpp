@@ -22,9 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "base/errors.hpp"
 
@@ -1277,27 +1275,8 @@ Mesh parse_msh(std::string_view contents, const std::string& source_name) {
   return Parser(contents, source_name).parse();
 }
 
-namespace {
-
-// Opened without waiting for a writer: a named pipe nobody writes to reads as empty (refused as
-// such) instead of blocking the run forever; a pipe with a writer (--mesh <(gmsh ... -o -)) reads as before.
-std::FILE* open_without_waiting(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return nullptr;
-  const int flags = ::fcntl(fd, F_GETFL);
-  if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0) {
-    ::close(fd);
-    return nullptr;
-  }
-  std::FILE* f = ::fdopen(fd, "rb");
-  if (!f) ::close(fd);
-  return f;
-}
-
-}  // namespace
-
 Mesh read_msh(const std::string& path) {
-  std::FILE* f = open_without_waiting(path);
+  std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError("cannot open mesh file '" + path + "': " + std::strerror(errno));
   std::string data;
   struct stat st {};

@@ -23,16 +23,17 @@ namespace {
 
 // Buffered output to a file; numbers via std::to_chars (shortest round-trip form for doubles).
 class Output {
-  static bool is_special_file(const std::string& path) {
+  // Written in place: an existing device, pipe or symbolic link (the rename would replace a link,
+  // /dev/stdout included, instead of writing through it to its target).
+  static bool write_in_place(const std::string& path) {
     struct stat st {};
-    return ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
+    return ::lstat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
   }
 
  public:
   // Written to "<path>.partial" and renamed into place by close(): a full disk or a failed run
   // never leaves a truncated mesh under the file's name.
-  // (An existing device or pipe, e.g. /dev/stdout, is written in place.)
-  explicit Output(const std::string& path) : path_(path), partial_(is_special_file(path) ? path : path + ".partial") {
+  explicit Output(const std::string& path) : path_(path), partial_(write_in_place(path) ? path : path + ".partial") {
     nothing_to_remove_ = partial_ == path_;
     f_ = std::fopen(partial_.c_str(), "wb");
     if (!f_) throw InputError("cannot write mesh file '" + path + "': " + std::strerror(errno));

@@ -478,12 +478,15 @@ void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res) {
   double u_max = 0;
   for (Eigen::Index p = 0; p + 2 < res.u.size(); p += 3) u_max = std::max(u_max, res.u.segment<3>(p).norm());
   const std::vector<char> in_body = nodes_of_tets(mesh);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (const Eigen::Vector3d& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double rounding = mesh.nodes.empty() ? 0.0 : 1e-9 * (hi - lo).norm();  // a body unloaded, on z = 0
   std::size_t below = 0, deepest = 0;
   double depth = 0;  // the mesh is in the plane's frame: a node's height is its z
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
     if (!in_body[v]) continue;
     const double start = mesh.nodes[v].z(), end = start + res.u[static_cast<Eigen::Index>(3 * v + 2)];
-    if (std::min(start, end) >= -kPenetrationOffContact * u_max) continue;
+    if (std::min(start, end) >= -std::max(kPenetrationOffContact * u_max, rounding)) continue;
     ++below;
     if (-std::min(start, end) > depth) depth = -std::min(start, end), deepest = v;
   }
