@@ -2,7 +2,7 @@
 """Inputs accepted on purpose but not in silence: summary.json's notes say
 1. which [friction] keys the chosen law does not read (`--set friction.law="none"` on the paper's brick,
    written for "ramp": its ramp parameters and slip_bound take no part), and none where the law reads
-   every key given;
+   every key given (and slip_bound = 0 under Coulomb's model, whose bound is the normal pressure);
 2. that without contact groups the foundation plane holds nothing, where nodes start or end below it
    (the paper's brick bent down through z = 0 with boundary.contact = []), and nothing where the body
    stays above it (the same brick pulled up).
@@ -40,6 +40,11 @@ with tempfile.TemporaryDirectory() as tmp:
     if unread and not unread[0].startswith("friction.high, low, t0, param, slip_bound are not read by law 'none'"):
         failures.append(f"law none: the note names {unread[0]!r}")
     expect("law ramp", [n for n in notes(tmp, "law_ramp") if "not read by law" in n], False)
+    coulomb = [n for n in notes(tmp, "coulomb", 'friction.model="coulomb"', "friction.slip_bound=0")
+               if "not read by law" in n]
+    expect("coulomb with slip_bound = 0", coulomb, True)
+    if coulomb and not coulomb[0].startswith("friction.slip_bound is not read"):
+        failures.append(f"coulomb: the note names {coulomb[0]!r}")
     below = [n for n in notes(tmp, "no_contact_down", "boundary.contact=[]") if "no contact group" in n]
     expect("no contact, bent down", below, True)
     up = 'boundary.traction=[{group="load_end",value=[0,0,1e5]}]'

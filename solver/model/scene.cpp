@@ -382,6 +382,9 @@ void parse_friction(const toml::table* fr, Scene& s) {
         "friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
         "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
   if (fr) s.friction_keys_not_read = keys_the_law_does_not_read(*fr, s.law.kind);
+  if (fr && fr->contains("slip_bound") && s.friction_model == FrictionModel::Coulomb &&
+      s.law.kind != FrictionLaw::Kind::None)  // Coulomb's bound is the normal pressure (slip_bound = 0 allowed)
+    s.friction_keys_not_read.emplace_back("slip_bound");
   if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
       !fr->contains("slip_bound"))
     throw InputError("friction.slip_bound (g, a stress in the scene's units) is required with law '" + s.law.name() +
