@@ -350,9 +350,10 @@ void parse_mesh(const toml::table& mesh, const std::filesystem::path& base, Scen
                      ": they would be ignored; remove them, or mesh the geometry from its script");
 }
 
-// The keys of [friction] given that law `kind` does not read (the other laws' parameters; slip_bound
-// without a law).
-std::vector<std::string> keys_the_law_does_not_read(const toml::table& fr, FrictionLaw::Kind kind) {
+// The keys of [friction] given that law `kind` under `model` does not read: the other laws' parameters,
+// and slip_bound without a law or under Coulomb's model (whose bound is the normal pressure; 0 allowed).
+std::vector<std::string> keys_the_law_does_not_read(const toml::table& fr, FrictionLaw::Kind kind,
+                                                    FrictionModel model) {
   using Kind = FrictionLaw::Kind;
   const std::vector<std::pair<const char*, std::vector<Kind>>> readers = {
       {"value", {Kind::Constant}},
@@ -363,8 +364,11 @@ std::vector<std::string> keys_the_law_does_not_read(const toml::table& fr, Frict
       {"points", {Kind::Table}},
       {"slip_bound", {Kind::Constant, Kind::Ramp, Kind::Table}}};
   std::vector<std::string> unread;
-  for (const auto& [key, kinds] : readers)
-    if (fr.contains(key) && std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) unread.emplace_back(key);
+  for (const auto& [key, kinds] : readers) {
+    const bool read = std::find(kinds.begin(), kinds.end(), kind) != kinds.end() &&
+                      (key != std::string("slip_bound") || model == FrictionModel::Tresca);
+    if (fr.contains(key) && !read) unread.emplace_back(key);
+  }
   return unread;
 }
 
@@ -381,10 +385,7 @@ void parse_friction(const toml::table* fr, Scene& s) {
     throw InputError(
         "friction.slip_bound is Tresca's given bound g; with model 'coulomb' the bound is the computed "
         "normal pressure: remove slip_bound (or set it to 0), or use model = \"tresca\"");
-  if (fr) s.friction_keys_not_read = keys_the_law_does_not_read(*fr, s.law.kind);
-  if (fr && fr->contains("slip_bound") && s.friction_model == FrictionModel::Coulomb &&
-      s.law.kind != FrictionLaw::Kind::None)  // Coulomb's bound is the normal pressure (slip_bound = 0 allowed)
-    s.friction_keys_not_read.emplace_back("slip_bound");
+  if (fr) s.friction_keys_not_read = keys_the_law_does_not_read(*fr, s.law.kind, s.friction_model);
   if (s.friction_model == FrictionModel::Tresca && s.law.kind != FrictionLaw::Kind::None && fr &&
       !fr->contains("slip_bound"))
     throw InputError("friction.slip_bound (g, a stress in the scene's units) is required with law '" + s.law.name() +

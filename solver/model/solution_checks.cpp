@@ -12,6 +12,7 @@
 #include "base/multiplier_layout.hpp"
 #include "contact/partition.hpp"
 #include "fem/assembly.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "model/held_by_contact.hpp"
 #include "model/solution_fields.hpp"
 
@@ -104,6 +105,13 @@ void flag_no_contact(const Mesh& mesh, SolveResult& res) {
 // difference at h = t, 11% ↔ 11% with cells of 1.5h).
 constexpr double kUnresolvedPenetration = 0.1;  // of the body's largest displacement
 
+// max over nodes of ‖u_node‖ for u laid out (x, y, z) by node.
+double largest_nodal_displacement(const Eigen::VectorXd& u) {
+  double largest = 0;
+  for (Eigen::Index p = 0; p + 2 < u.size(); p += 3) largest = std::max(largest, u.segment<3>(p).norm());
+  return largest;
+}
+
 }  // namespace
 
 bool unresolved(const SolveResult& res) { return res.penetration_ratio > kUnresolvedPenetration; }
@@ -127,9 +135,7 @@ double largest_deformation(const Mesh& mesh, const DofMap& dofs, const Eigen::Ve
     for (std::size_t i = 0; i < dofs.free_index.size(); ++i)
       if (const int d = dofs.free_index[i]; d >= 0) u[static_cast<Eigen::Index>(i)] -= free_part[d];
   }
-  double largest = 0;
-  for (Eigen::Index p = 0; p + 2 < u.size(); p += 3) largest = std::max(largest, u.segment<3>(p).norm());
-  return largest;
+  return largest_nodal_displacement(u);
 }
 
 // A penetration against the body's largest displacement, to go before "the … displacement": "3.1% of",
@@ -153,8 +159,7 @@ bool penetrates_without_pressure(const SolveResult& res) { return res.wn_plus_in
 // below the plane by more than 1% of the largest displacement, naming the deepest.
 constexpr double kPenetrationOffContact = 0.01;  // of the largest nodal displacement
 void flag_penetration_outside_contact(const Mesh& mesh, SolveResult& res) {
-  double u_max = 0;
-  for (Eigen::Index p = 0; p + 2 < res.u.size(); p += 3) u_max = std::max(u_max, res.u.segment<3>(p).norm());
+  const double u_max = largest_nodal_displacement(res.u);
   if (!(u_max > 0) || res.face.contact_index.size() != mesh.nodes.size()) return;
   std::size_t below = 0, deepest = 0;
   double depth = 0;  // the mesh is in the plane's frame: a node's height is its z
@@ -472,23 +477,23 @@ void flag_inaccurate_equilibrium(SolveResult& res) {
 
 }  // namespace
 
-// After recovery (u, λ, the KKT residuals, w_n⁺ and the forces known): the warnings and notes on the
-// answer, in the order the run prints them (a large strain's warning goes first).
+// Nodes below the plane by at most kPenetrationRounding of the body's diagonal are on it, as for the
+// initial penetration (mesh_checks.hpp): an unloaded body resting on z = 0 gets no note.
 void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res) {
-  double u_max = 0;
-  for (Eigen::Index p = 0; p + 2 < res.u.size(); p += 3) u_max = std::max(u_max, res.u.segment<3>(p).norm());
+  const double u_max = largest_nodal_displacement(res.u);
   const std::vector<char> in_body = nodes_of_tets(mesh);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  for (const Eigen::Vector3d& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  const double rounding = mesh.nodes.empty() ? 0.0 : 1e-9 * (hi - lo).norm();  // a body unloaded, on z = 0
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
+    if (in_body[v]) lo = lo.cwiseMin(mesh.nodes[v]), hi = hi.cwiseMax(mesh.nodes[v]);
+  const double tolerance = std::max(kPenetrationOffContact * u_max, kPenetrationRounding * (hi - lo).norm());
   std::size_t below = 0, deepest = 0;
   double depth = 0;  // the mesh is in the plane's frame: a node's height is its z
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
     if (!in_body[v]) continue;
-    const double start = mesh.nodes[v].z(), end = start + res.u[static_cast<Eigen::Index>(3 * v + 2)];
-    if (std::min(start, end) >= -std::max(kPenetrationOffContact * u_max, rounding)) continue;
+    const double lowest = std::min(mesh.nodes[v].z(), mesh.nodes[v].z() + res.u[static_cast<Eigen::Index>(3 * v + 2)]);
+    if (lowest >= -tolerance) continue;
     ++below;
-    if (-std::min(start, end) > depth) depth = -std::min(start, end), deepest = v;
+    if (-lowest > depth) depth = -lowest, deepest = v;
   }
   if (below == 0) return;
   res.notes.push_back("the scene has no contact group (boundary.contact), so the foundation plane holds nothing: " +
@@ -497,6 +502,8 @@ void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res) {
                       "; if the body rests on the foundation, name its contact faces in boundary.contact");
 }
 
+// After recovery (u, λ, the KKT residuals, w_n⁺ and the forces known): the warnings and notes on the
+// answer, in the order the run prints them (a large strain's warning goes first).
 void check_answer(const Scene& scene, const Mesh& mesh, double u_max, bool rigid_removed, SolveResult& res) {
   flag_inaccurate_equilibrium(res);
   flag_friction_where_separated(scene, res);
