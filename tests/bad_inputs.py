@@ -486,6 +486,35 @@ def c_mesh_contact_not_a_face(c):
     return ["check", c.scene(c.write("orphan.msh", m.text()))], ["not a face of any tetrahedron", eid]
 
 
+def c_mesh_tets_overlap(c):
+    """A tetrahedron added over a face that two others share (positively oriented, so that only the
+    overlap is wrong): the face of three tetrahedra is named."""
+    m = Msh22(c)
+    xyz = {n[0]: [float(v) for v in n[1:4]] for n in m.nodes}
+    face = interior_face(m)
+    used = {v for e in m.tets() if set(face) <= set(e[-4:]) for v in e[-4:]}
+
+    def volume(a, b, c_, d):
+        u, v, w = ([xyz[p][i] - xyz[a][i] for i in range(3)] for p in (b, c_, d))
+        return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                + u[2] * (v[0] * w[1] - v[1] * w[0]))
+    apex = next(n for n in xyz if n not in used and abs(volume(*face, n)) > 1e-9)
+    nodes = list(face) + [apex]
+    if volume(*nodes) < 0:
+        nodes[0], nodes[1] = nodes[1], nodes[0]
+    eid = m.add_element(4, 6, nodes)
+    return ["check", c.scene(c.write("overlap.msh", m.text()))], ["share the face of nodes", "overlap", eid]
+
+
+def c_mesh_clamped_triangle_not_a_face(c):
+    """A triangle of the clamped group that no tetrahedron has as a face (its nodes on Γc): it would
+    hold those contact nodes in silence."""
+    m = Msh22(c)
+    eid = m.add_element(2, 1, [m.node_at(0, 0, 0), m.node_at(3, 0, 0), m.node_at(3, 1, 0)])
+    return ["check", c.scene(c.write("clamped_orphan.msh", m.text()))], \
+        ["group 'clamped'", "not a face of any tetrahedron", eid]
+
+
 def c_mesh_clamp_on_a_line(c):
     m = Msh22(c)
     m.elements = [e for e in m.elements if not (e[1] == "2" and e[3] == "1")]  # drop the clamped face
@@ -619,6 +648,24 @@ def c_medit_binary_truncated(c):
     data = c.fixture("freefem_cube2.meshb")
     p = c.write("cube.meshb", data[: len(data) // 2])
     return ["check", c.scene(p)], ["cube.meshb"]
+
+
+def garbage_bytes():
+    """Bytes no mesh writer makes: control bytes, bytes that are not UTF-8, no whitespace."""
+    return bytes((37 * k * k + 11 * k + 0x1e) % 256 or 1 for k in range(4096)).replace(b" ", b"!").translate(
+        bytes(b if b not in b"\t\n\v\f\r" else 1 for b in range(256)))
+
+
+def c_medit_binary_garbage(c):
+    """Random bytes named .meshb: not binary Medit, said so (not read as text, quoting the bytes)."""
+    p = c.write("random.meshb", garbage_bytes())
+    return ["check", c.scene(p)], ["random.meshb", "not a Medit binary file"]
+
+
+def c_medit_text_garbage(c):
+    """Random bytes named .mesh: read as text, the unknown keyword quoted printable and short."""
+    p = c.write("random.mesh", garbage_bytes())
+    return ["check", c.scene(p)], ["random.mesh", "unknown keyword '\\x1e", "...'"]
 
 
 def edp_scene(c, edp_text):
@@ -1015,6 +1062,8 @@ def run(binary, source, name, verbose=True):
             problems.append(f"exit code {p.returncode}, expected 2")
         if not err.startswith("error:"):
             problems.append("stderr does not start with 'error:'")
+        if any(ch < " " and ch not in "\n\t" for ch in err):
+            problems.append("stderr has control characters (bytes quoted from the input must be escaped)")
         for fact in facts:
             if fact.lower() not in err.lower():
                 problems.append(f"message lacks '{fact}'")

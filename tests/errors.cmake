@@ -29,7 +29,8 @@ set(CONTACT3D_BAD_INPUT_CASES
   plane_normal_zero tilted_plane_penetration memory_factor_too_big memory_blas_buffers schur_mumps_in_serial_build
   out_of_core_in_serial_build out_of_core_dir_missing check_schur_mumps_in_serial_build
   qp_rtol_per_err_negative fixed_point_tail_err_one fixed_point_variant_unknown tilted_plane_normal_huge path_with_nul overlapping_volumes msh22_parametric_nodes
-  msh_nul_in_section_header geo_fifo)
+  msh_nul_in_section_header geo_fifo mesh_tets_overlap mesh_clamped_triangle_not_a_face medit_binary_garbage
+  medit_text_garbage)
 foreach(case ${CONTACT3D_BAD_INPUT_CASES})
   add_test(NAME errors.${case}
     COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/bad_inputs.py --bin $<TARGET_FILE:contact3d>

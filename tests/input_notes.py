@@ -5,7 +5,8 @@
    every key given (and slip_bound = 0 under Coulomb's model, whose bound is the normal pressure);
 2. that without contact groups the foundation plane holds nothing, where nodes start or end below it
    (the paper's brick bent down through z = 0 with boundary.contact = []), and nothing where the body
-   stays above it (the same brick pulled up).
+   stays above it (the same brick pulled up);
+3. `contact3d check` prints the notes about the scene as given (the unread keys of 1) before any solve.
 usage: input_notes.py CONTACT3D SOURCE_DIR
 """
 import json
@@ -50,7 +51,17 @@ with tempfile.TemporaryDirectory() as tmp:
     up = 'boundary.traction=[{group="load_end",value=[0,0,1e5]}]'
     expect("no contact, pulled up", [n for n in notes(tmp, "no_contact_up", "boundary.contact=[]", up)
                                      if "no contact group" in n], False)
+def check_notes(*sets):
+    args = [a for s in ("mesh.parameters.n=4", *sets) for a in ("--set", s)]
+    p = subprocess.run([binary, "check", str(scene), *args], capture_output=True, text=True)
+    if p.returncode != 0:
+        failures.append(f"check {sets}: exit {p.returncode}: {p.stderr[-300:]}")
+    return [line for line in p.stdout.splitlines() if line.startswith("note: ") and "not read by law" in line]
+
+
+expect("check, law none", check_notes('friction.law="none"'), True)
+expect("check, law ramp", check_notes(), False)
 for f in failures:
     print("FAIL:", f)
-print(f"{len(failures)} checks failed" if failures else "ok: the notes name the unread keys and the plane that holds nothing")
+print(f"{len(failures)} checks failed" if failures else "ok: the notes name the unread keys and the plane that holds nothing, and check prints them")
 sys.exit(1 if failures else 0)

@@ -346,6 +346,7 @@ int run_check(const SolveArgs& args) {
   const FaceThicknessOnce thickness(mesh, scene.contact);
   warn_about_inputs(scene, mesh, materials, thickness, warned);
   for (const auto& w : warned.warnings) std::cerr << "warning: " << w << "\n";
+  for (const auto& n : warned.notes) say("note: {}\n", n);  // as summary.json's notes after a solve
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
     if (held.count()) {

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <filesystem>
 #include <functional>
 #include <new>
 #include <stdexcept>
@@ -621,9 +622,19 @@ void open_petsc_module() {
   if (module.start) return;
   const std::string path = petsc_module_path();
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!handle)
-    throw InputError("solver.schur = \"mumps_petsc\" needs the PETSc module " + path +
-                     " (built with contact3d-mpi by `make build-mpi`): " + dlerror());
+  if (!handle) {
+    const std::string why = dlerror();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec))
+      throw InputError("solver.schur = \"mumps_petsc\" needs the PETSc module " + path +
+                       " (built with contact3d-mpi by `make build-mpi`): " + why);
+    // The module is there; what fails is loading it or the libraries it links (PETSc, HDF5, ...).
+    const bool unmapped = why.find("map") != std::string::npos || why.find("memory") != std::string::npos;
+    throw InputError("solver.schur = \"mumps_petsc\": the PETSc module " + path + " could not be loaded: " + why +
+                     (unmapped ? " — the process could not map a library into memory: its address-space limit "
+                                 "(ulimit -v) or the machine's memory is too small for PETSc's libraries"
+                               : ""));
+  }
   module.start = reinterpret_cast<PetscRoute* (*)()>(dlsym(handle, "contact3d_start_petsc_route"));
   if (!module.start) throw InputError(path + " is not contact3d's PETSc module (no contact3d_start_petsc_route)");
 }

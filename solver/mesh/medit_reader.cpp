@@ -46,6 +46,7 @@ constexpr Skipped kSkipped[] = {{"Edges", 5, 3, 0},
                                 {"RequiredEdges", 16, 1, 0},
                                 {"RequiredTriangles", 17, 1, 0},
                                 {"RequiredQuadrilaterals", 18, 1, 0},
+                                {"RequiredTetrahedra", 12, 1, 0},  // MMG's code for it
                                 {"TangentAtEdgeVertices", 19, 3, 0},
                                 {"NormalAtVertices", 20, 2, 0},
                                 {"NormalAtTriangleVertices", 21, 3, 0},
@@ -227,7 +228,8 @@ class AsciiParser {
           for (int j = 0; j < s.ints + s.reals; ++j) j < s.ints ? (void)integer(where) : (void)real(where);
         return;
       }
-    fail(here(), "unknown keyword '" + std::string(word) +
+    constexpr std::size_t kQuoted = 40;  // a binary file read as text has no words: quote its start only
+    fail(here(), "unknown keyword '" + std::string(word.substr(0, kQuoted)) + (word.size() > kQuoted ? "..." : "") +
                      "' (expected a Medit section such as Vertices, "
                      "Tetrahedra, Triangles or End)");
   }
@@ -257,7 +259,10 @@ class BinaryParser {
         data_.has_end = true;
         break;
       }
-      if (next_pos <= pos || next_pos > d_.size())
+      if (next_pos <= pos)
+        fail(pos, "keyword " + std::to_string(kwd) + " gives byte " + std::to_string(next_pos) +
+                      " as the next keyword's position, not after its own (corrupt file)");
+      if (next_pos > d_.size())
         fail(pos,
              "keyword " + std::to_string(kwd) + " points to byte " + std::to_string(next_pos) + ", outside the file");
       section(kwd, body, next_pos, where);
@@ -458,6 +463,10 @@ bool is_binary(std::string_view data) {
 }  // namespace
 
 Mesh parse_medit(std::string_view contents, const std::string& source_name) {
+  if (source_name.size() >= 6 && source_name.compare(source_name.size() - 6, 6, ".meshb") == 0 && !is_binary(contents))
+    throw InputError(source_name +
+                     ": not a Medit binary file (a .meshb starts with libMeshb's code 1 in either byte order; "
+                     "an ASCII Medit mesh is named .mesh)");
   MeditData d =
       is_binary(contents) ? BinaryParser(contents, source_name).parse() : AsciiParser(contents, source_name).parse();
   return build_mesh(std::move(d), source_name);

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include <Eigen/Dense>
 
@@ -61,6 +63,61 @@ void check_duplicate_tets(const Mesh& mesh) {
       throw InputError("tetrahedra " + std::to_string(mesh.tet_tags[keyed[k - 1].second]) + " and " +
                        std::to_string(mesh.tet_tags[keyed[k].second]) +
                        " have the same four nodes: the body would be assembled twice there (a duplicated element)");
+}
+
+// Each face of each tetrahedron, with the side of the face its tetrahedron lies on: in a mesh of
+// positively oriented tetrahedra that fill the body once, a face belongs to one tetrahedron (the
+// boundary) or to two on opposite sides of it. A face of three, or of two on one side, means
+// elements overlap (an element added by hand, two meshes written into one file).
+struct TetFace {
+  std::array<int, 3> nodes;  // sorted
+  std::uint32_t tet;
+  bool side;  // which side of the face the tetrahedron is on (the parity of its outward orientation)
+  bool operator<(const TetFace& o) const { return std::tie(nodes, tet) < std::tie(o.nodes, o.tet); }
+};
+std::vector<TetFace> tet_faces(const Mesh& mesh) {
+  std::vector<TetFace> faces;
+  faces.reserve(4 * mesh.tets.size());
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e)
+    for (int skip = 0; skip < 4; ++skip) {
+      // The face opposite local vertex `skip`, its vertices in local order: outward when skip is odd
+      // (the boundary of [v0 v1 v2 v3] is the sum of (-1)^k times the face without v_k).
+      std::array<int, 3> f{};
+      for (int a = 0, j = 0; a < 4; ++a)
+        if (a != skip) f[j++] = mesh.tets[e][a];
+      bool odd = skip % 2 == 1;
+      for (int i = 0; i < 3; ++i)  // sorting by swaps; each swap flips the orientation
+        for (int j = 0; j + 1 < 3 - i; ++j)
+          if (f[j] > f[j + 1]) {
+            std::swap(f[j], f[j + 1]);
+            odd = !odd;
+          }
+      faces.push_back({f, static_cast<std::uint32_t>(e), odd});
+    }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+void check_tets_do_not_overlap(const Mesh& mesh) {
+  const std::vector<TetFace> faces = tet_faces(mesh);
+  const auto tag = [&](const TetFace& f) { return std::to_string(mesh.tet_tags[f.tet]); };
+  const auto face_nodes = [&](const TetFace& f) {
+    return std::to_string(mesh.node_tags[f.nodes[0]]) + ", " + std::to_string(mesh.node_tags[f.nodes[1]]) + ", " +
+           std::to_string(mesh.node_tags[f.nodes[2]]);
+  };
+  for (std::size_t k = 1; k < faces.size(); ++k) {
+    if (faces[k].nodes != faces[k - 1].nodes) continue;
+    if (k >= 2 && faces[k].nodes == faces[k - 2].nodes)
+      throw InputError("tetrahedra " + tag(faces[k - 2]) + ", " + tag(faces[k - 1]) + " and " + tag(faces[k]) +
+                       " share the face of nodes " + face_nodes(faces[k]) +
+                       ": a face belongs to at most two tetrahedra, so elements overlap there (an element added "
+                       "to the mesh, or two meshes written into one file)");
+    if (faces[k].side == faces[k - 1].side)
+      throw InputError("tetrahedra " + tag(faces[k - 1]) + " and " + tag(faces[k]) + " share the face of nodes " +
+                       face_nodes(faces[k]) +
+                       " and lie on the same side of it: they overlap (an element added to the mesh, or two "
+                       "meshes written into one file)");
+  }
 }
 
 int group_tag(const Mesh& mesh, const std::string& name) {
@@ -264,6 +321,29 @@ void check_load_faces(const Mesh& mesh, const MeshRoles& roles) {
   }
 }
 
+// Every triangle of a clamped group or one with prescribed components must be a face of a
+// tetrahedron (an interior one too: a surface inside the body may be held): a triangle of no element
+// would prescribe the nodes it happens to share with the body, in silence (a contact node held there
+// changes the contact force).
+void check_constraint_faces(const Mesh& mesh, const MeshRoles& roles) {
+  std::vector<std::string> names = roles.clamped;
+  names.insert(names.end(), roles.displaced.begin(), roles.displaced.end());
+  for (const auto& name : names) {
+    const int tag = group_tag(mesh, name);
+    WantedFaces wanted;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (mesh.triangle_group[t] == tag) wanted[sorted(mesh.triangles[t])].push_back(t);
+    if (wanted.empty()) continue;
+    const MisplacedTriangles found = misplaced_triangles(wanted, face_use(mesh, wanted));
+    if (!found.orphans.empty())
+      throw InputError("group '" + name + "' (held by boundary.clamped or boundary.displacement): " +
+                       std::to_string(found.orphans.size()) + " triangle(s) are not a face of any tetrahedron (tags " +
+                       tag_list(file_tags(mesh, found.orphans)) +
+                       "): a prescribed surface must be faces of the body's elements (gmsh saves only the elements "
+                       "of physical groups: is every volume in a Physical Volume?)");
+  }
+}
+
 // Initial penetration: the body — the nodes of its tetrahedra; a node no element uses is not part of
 // it — must lie on or above the foundation plane z = 0.
 void check_above_foundation(const Mesh& mesh, const MeshRoles& roles) {
@@ -343,11 +423,13 @@ void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles) {
   check_group_names(mesh);
   check_condition_groups_not_empty(mesh, roles);
   check_duplicate_tets(mesh);
+  check_tets_do_not_overlap(mesh);
   check_duplicate_triangles(mesh, roles);
   check_contact_faces(mesh, roles);
   check_load_faces(mesh, roles);
   check_above_foundation(mesh, roles);
   check_constraints_hold(mesh, roles);
+  check_constraint_faces(mesh, roles);  // after: constraints on a line are named as such first
 }
 
 }  // namespace contact3d

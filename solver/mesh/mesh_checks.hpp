@@ -3,10 +3,11 @@
 // the group and what to change:
 //   - a coordinate beyond ±1e15 (overflows the element integrals);
 //   - two physical groups with the same name and dimension;
-//   - a tetrahedron listed twice (same four nodes: it would be assembled twice);
+//   - a tetrahedron listed twice (same four nodes: it would be assembled twice), or tetrahedra that
+//     overlap through a face (a face of three, or of two on the same side of it);
 //   - a boundary triangle listed twice in one group, or in two load groups (a doubled load);
 //   - a contact or load (traction, pressure) triangle that is not a face of any tetrahedron, or
-//     that is an interior face (shared by two);
+//     that is an interior face (shared by two); a clamped or prescribed triangle of no tetrahedron;
 //   - a body below the foundation plane z = 0 (initial penetration), naming the deepest node;
 //   - constraints whose nodes all lie on one line or at one point (a free rigid rotation).
 #pragma once

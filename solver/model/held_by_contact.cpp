@@ -310,7 +310,10 @@ std::string too_few_cells(const ContactOperator& op, const Partition& partition,
   return "; the body rests on " + std::to_string(pressed) + " of the " + std::to_string(op.r) +
          " cells of the contact partition, too few to balance the loads' moments about it (a contact zone smaller "
          "than a cell, as under a sphere): refine the mesh where it touches, or use smaller cells "
-         "(contact.cell_size), so that the contact zone spans several cells";
+         "(contact.cell_size), so that the contact zone spans several cells. If the loads turn the body about "
+         "its contact zone whatever its size (a ball or a cylinder on an incline rolls: friction at the contact "
+         "and loads through the centre leave a moment), no mesh balances them: prescribe that turn "
+         "(boundary.displacement) or add the load that holds it";
 }
 
 // The last solve's rigid displacement (`motions` × its multipliers), less its slide along the in-plane

@@ -211,6 +211,28 @@ TEST(MeditReader, EdgesCornersAndRequiredEntitiesAreSkipped) {
   EXPECT_EQ(m.triangles.size(), 1u);
 }
 
+// MMG writes the tetrahedra it was told to keep as RequiredTetrahedra (binary code 12): skipped.
+TEST(MeditReader, RequiredTetrahedraAreSkipped) {
+  const Mesh m = parse_medit(replaced(kTwoTets, "End", "RequiredTetrahedra\n2\n1\n2\nEnd"), "mmg.mesh");
+  EXPECT_EQ(m.tets.size(), 2u);
+}
+
+// A file named .meshb that is not binary, and a binary file read as text: each refused in one
+// readable line, the text's bytes quoted only as printable characters and only its first 40.
+TEST(MeditReader, GarbageIsRefusedReadably) {
+  std::string garbage = "\x1e\xda\x9d\x10\xab*\x1e\xf7\xd1s\xc3&\xd4";
+  for (int k = 0; k < 10; ++k) garbage += garbage;
+  std::string what;
+  try {
+    parse_medit(garbage, "random.meshb");
+  } catch (const InputError& e) { what = e.what(); }
+  EXPECT_NE(what.find("random.meshb: not a Medit binary file"), std::string::npos) << what;
+  what = error_of(garbage);
+  EXPECT_NE(what.find("unknown keyword '\\x1e"), std::string::npos) << what;
+  EXPECT_LT(what.size(), 400u) << what;
+  for (const char c : what) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 && c != '\n') << what;
+}
+
 // What MMG and other remeshers add to a mesh: normals and tangents with their links to vertices
 // and triangles, in ASCII (reals and integers counted per entry) and in binary (skipped by the
 // keyword's next-position pointer).

@@ -51,6 +51,55 @@ $Elements
 $EndElements
 )";
 
+// The cube of six tetrahedra with one more element added by hand, as text: "tag 4 2 0 0 n1 n2 n3 n4".
+std::string cube_with_extra_tet(const std::string& element) {
+  std::string text = kFreeFemSavegmshCube;
+  text.replace(text.find("$Elements\n18\n"), 13, "$Elements\n19\n");
+  text.replace(text.find("$EndElements"), 0, element + "\n");
+  return text;
+}
+
+std::string refusal(const Mesh& mesh) {
+  try {
+    check_mesh_meaning(mesh, MeshRoles{{"6"}, {"5"}, {}, {}, {}});
+  } catch (const InputError& e) { return e.what(); }
+  return "";
+}
+
+// A tetrahedron over the top face's triangle 5-7-8, on the body's side of it like tetrahedron 13:
+// the two overlap (each positively oriented, no four nodes the same).
+TEST(MeshChecks, TetrahedraOnTheSameSideOfTheirSharedFaceAreRefused) {
+  const Mesh mesh = parse_msh(cube_with_extra_tet("19 4 2 0 0 5 2 7 8"), "cube.msh");
+  const std::string what = refusal(mesh);
+  EXPECT_NE(what.find("tetrahedra 13 and 19 share the face of nodes 5, 7, 8 and lie on the same side"),
+            std::string::npos)
+      << what;
+}
+
+// Faces 1-6-8 (tetrahedra 14 and 15) and 1-7-8 (13 and 18) are inside the cube, one tetrahedron on
+// each side; tetrahedron 6-1-7-8 is a third on both: the first in node order is named.
+TEST(MeshChecks, AFaceOfThreeTetrahedraIsRefused) {
+  const Mesh mesh = parse_msh(cube_with_extra_tet("19 4 2 0 0 6 1 7 8"), "cube.msh");
+  const std::string what = refusal(mesh);
+  EXPECT_NE(what.find("tetrahedra 14, 15 and 19 share the face of nodes 1, 6, 8"), std::string::npos) << what;
+}
+
+// The check itself on a sound mesh: each interior face has one tetrahedron on each side.
+TEST(MeshChecks, TheCubesTetrahedraDoNotOverlap) {
+  EXPECT_EQ(refusal(parse_msh(kFreeFemSavegmshCube, "cube.msh")), "");
+}
+
+// A triangle of the clamped group "6" that is a face of no tetrahedron (nodes 2, 3, 5) would hold the
+// nodes it shares with the body in silence: refused. One inside the cube (1-4-8, shared by
+// tetrahedra 16 and 17) may be held.
+TEST(MeshChecks, AClampedTriangleOfNoTetrahedronIsRefused) {
+  EXPECT_NE(refusal(parse_msh(cube_with_extra_tet("19 2 2 6 6 2 3 5"), "cube.msh"))
+                .find("group '6' (held by boundary.clamped or boundary.displacement): 1 triangle(s) are not a face "
+                      "of any tetrahedron (tags 19)"),
+            std::string::npos);
+  EXPECT_EQ(refusal(parse_msh(cube_with_extra_tet("19 2 2 6 6 1 4 8"), "cube.msh")), "");
+}
+
 TEST(MeshChecks, UnnamedGroupsOfFreeFemsSavegmshGoByTheirNumbers) {
   const Mesh mesh = parse_msh(kFreeFemSavegmshCube, "cube.msh");
   ASSERT_EQ(mesh.tets.size(), 6u);
