@@ -765,7 +765,13 @@ def main():
         Qh = Qm / dq[:, None] / dq[None, :]; bh = hv / dq
         Gh = G[~zero] / dq[None, :]; eh = e[~zero].copy()
         Uq, Sq, Vq = np.linalg.svd(Gh, full_matrices=False)
-        T = (Uq / Sq[None, :]).T                 # T Gh has orthonormal rows
+        # Combinations of the motions these multipliers cannot hold (Coulomb's normal-only start on a
+        # body that friction alone holds in the plane: its slide, seen by no normal force): left out
+        seen = Sq > 1e-8 * Sq.max()
+        if not seen.all():
+            print('note: %d combination(s) of the held motions not seen by these multipliers: left out' %
+                  (~seen).sum(), file=sys.stderr)
+        T = (Uq[:, seen] / Sq[None, seen]).T     # T Gh has orthonormal rows
         Gh = T @ Gh; eh = T @ eh
         rho = np.linalg.eigvalsh(Qh)[-1]
         nu = np.zeros(len(eh)); y = None if lam0 is None else lam0 * dq
