@@ -1055,15 +1055,16 @@ def run(binary, source, name, verbose=True):
                 resource.setrlimit(resource.RLIMIT_AS, (limits["address_space_bytes"],) * 2)
         env = dict(os.environ, **limits.get("env", {}))
         p = subprocess.run(limits.get("launcher", []) + [binary] + argv, capture_output=True, text=True, timeout=120,
-                           preexec_fn=apply_limits, env=env)
+                           preexec_fn=apply_limits, env=env, errors="replace")
         err = p.stderr
         problems = []
         if p.returncode != 2:
             problems.append(f"exit code {p.returncode}, expected 2")
         if not err.startswith("error:"):
             problems.append("stderr does not start with 'error:'")
-        if any(ch < " " and ch not in "\n\t" for ch in err):
-            problems.append("stderr has control characters (bytes quoted from the input must be escaped)")
+        if any((ch < " " and ch not in "\n\t") or "\x7f" <= ch <= "\x9f" or ch == "\ufffd" for ch in err):
+            problems.append("stderr has control characters or is not UTF-8 (bytes quoted from the input must be "
+                            "escaped)")
         for fact in facts:
             if fact.lower() not in err.lower():
                 problems.append(f"message lacks '{fact}'")

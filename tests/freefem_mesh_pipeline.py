@@ -86,6 +86,10 @@ savemesh(M, "{Path(tmp) / 'mirrored.mesh'}");
             described = str(summary(out)["mesh"])
             if "mirrored" not in described:
                 fail(f"the mirrored mesh's run does not say it was reoriented: {described}")
+            checked = subprocess.run([binary, "check", str(scenes / "paper_brick_freefem.toml"), "--mesh",
+                                      str(Path(tmp) / mesh_file)], capture_output=True, text=True)
+            if "note: the mesh: every tetrahedron negatively oriented" not in checked.stdout:
+                fail(f"`check` on the mirrored mesh does not say it is reoriented: {checked.stdout[-400:]}")
             c = {(x, round(1 - y, 9), z): (u1, -u2, u3) for (x, y, z), (u1, u2, u3) in c.items()}
         if c.keys() != b.keys():
             fail(f"{name}: contact nodes differ from the Medit mesh's ({len(c.keys() ^ b.keys())} unmatched)")

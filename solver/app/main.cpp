@@ -162,6 +162,15 @@ void print_engineering_summary(const Scene& scene, const SolveResult& res) {
     say("reaction on {}: ({:.4g}, {:.4g}, {:.4g}) {}\n", r.condition, r.force.x(), r.force.y(), r.force.z(), u.force);
 }
 
+// What reading a mesh changed in it: solve's mesh line and notes, check's notes.
+std::vector<std::string> what_reading_changed(const Mesh& mesh) {
+  std::vector<std::string> read_as;
+  if (mesh.read_by_corner_nodes) read_as.emplace_back("second-order elements read by their corner nodes: P1");
+  if (mesh.reoriented_mirrored)
+    read_as.emplace_back("every tetrahedron negatively oriented, a mirrored mesh: reoriented");
+  return read_as;
+}
+
 int run_solve(const SolveArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const CpuSnapshot start = cpu_snapshot();  // what other processes do while the scene and mesh load
@@ -191,10 +200,7 @@ int run_solve(const SolveArgs& args) {
             ? fmt::format("other processes keep {:.1f} of the {} cores busy", info.blas.busy_elsewhere, info.blas.cores)
             : fmt::format("this rank's share of the {} cores among the {} ranks", info.blas.cores, args.ranks));
   // What reading changed, on the mesh line and in summary.json's "mesh".
-  std::vector<std::string> read_as;
-  if (mesh.read_by_corner_nodes) read_as.emplace_back("second-order elements read by their corner nodes: P1");
-  if (mesh.reoriented_mirrored)
-    read_as.emplace_back("every tetrahedron negatively oriented, a mirrored mesh: reoriented");
+  const std::vector<std::string> read_as = what_reading_changed(mesh);
   std::string reading_notes;
   for (const std::string& r : read_as) reading_notes += " (" + r + ")";
   info.mesh_description += reading_notes;
@@ -346,7 +352,9 @@ int run_check(const SolveArgs& args) {
   const FaceThicknessOnce thickness(mesh, scene.contact);
   warn_about_inputs(scene, mesh, materials, thickness, warned);
   for (const auto& w : warned.warnings) std::cerr << "warning: " << w << "\n";
-  for (const auto& n : warned.notes) say("note: {}\n", n);  // as summary.json's notes after a solve
+  // The notes on the input that summary.json carries after a solve.
+  for (const auto& r : what_reading_changed(user_mesh)) say("note: the mesh: {}\n", r);
+  for (const auto& n : warned.notes) say("note: {}\n", n);
   if (!scene.contact.empty()) {
     const ContactFace face = make_contact_face(mesh, scene.contact, dofs);
     if (held.count()) {

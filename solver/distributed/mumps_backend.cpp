@@ -629,7 +629,9 @@ void open_petsc_module() {
       throw InputError("solver.schur = \"mumps_petsc\" needs the PETSc module " + path +
                        " (built with contact3d-mpi by `make build-mpi`): " + why);
     // The module is there; what fails is loading it or the libraries it links (PETSc, HDF5, ...).
-    const bool unmapped = why.find("map") != std::string::npos || why.find("memory") != std::string::npos;
+    // (dlerror's text starts with the path, so only the loader's own phrases are matched)
+    const bool unmapped = why.find("failed to map segment") != std::string::npos ||
+                          why.find("annot allocate memory") != std::string::npos;
     throw InputError("solver.schur = \"mumps_petsc\": the PETSc module " + path + " could not be loaded: " + why +
                      (unmapped ? " — the process could not map a library into memory: its address-space limit "
                                  "(ulimit -v) or the machine's memory is too small for PETSc's libraries"

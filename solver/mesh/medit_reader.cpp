@@ -228,8 +228,10 @@ class AsciiParser {
           for (int j = 0; j < s.ints + s.reals; ++j) j < s.ints ? (void)integer(where) : (void)real(where);
         return;
       }
-    constexpr std::size_t kQuoted = 40;  // a binary file read as text has no words: quote its start only
-    fail(here(), "unknown keyword '" + std::string(word.substr(0, kQuoted)) + (word.size() > kQuoted ? "..." : "") +
+    // A binary file read as text has no words: quote its start only, cut before a UTF-8 continuation byte.
+    std::size_t quoted = std::min<std::size_t>(word.size(), 40);
+    while (quoted < word.size() && quoted > 0 && (static_cast<unsigned char>(word[quoted]) & 0xC0) == 0x80) --quoted;
+    fail(here(), "unknown keyword '" + std::string(word.substr(0, quoted)) + (quoted < word.size() ? "..." : "") +
                      "' (expected a Medit section such as Vertices, "
                      "Tetrahedra, Triangles or End)");
   }

@@ -80,8 +80,9 @@ std::vector<TetFace> tet_faces(const Mesh& mesh) {
   faces.reserve(4 * mesh.tets.size());
   for (std::size_t e = 0; e < mesh.tets.size(); ++e)
     for (int skip = 0; skip < 4; ++skip) {
-      // The face opposite local vertex `skip`, its vertices in local order: outward when skip is odd
-      // (the boundary of [v0 v1 v2 v3] is the sum of (-1)^k times the face without v_k).
+      // The face opposite local vertex `skip`, its vertices in local order: outward when skip is even
+      // (the boundary of [v0 v1 v2 v3] is the sum of (-1)^k times the face without v_k); only the
+      // parities of two tetrahedra on one face are compared, so the convention's sign does not matter.
       std::array<int, 3> f{};
       for (int a = 0, j = 0; a < 4; ++a)
         if (a != skip) f[j++] = mesh.tets[e][a];
