@@ -199,6 +199,9 @@ def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
         raise SideFailed(f"{scene_path}: [material] needs {e}") from None
     regions = []
     for r in mat.get("region", []):
+        if "body_force" in r:  # the FreeFEM reference has one body force for the whole body
+            raise SideFailed(f"{scene_path}: [[material.region]] {r.get('group')!r} has its own body_force, which the "
+                             "FreeFEM reference does not state (check such a scene with pipeline/discrete_oracle.py)")
         (tag,) = tags([r["group"]], "[[material.region]]", mesh.get("volume_names", {}), "physical volume")
         regions.append((tag, float(r["young"]), float(r["poisson"])))
     body = [float(x) for x in mat.get("body_force", [0.0, 0.0, 0.0])]

@@ -503,16 +503,18 @@ def main():
     N = len(X)
     mat = scene.get('material', {})
     E = np.full(len(tets), float(mat.get('young', 0))); nu = np.full(len(tets), float(mat.get('poisson', 0.3)))
+    bf = np.tile(np.array(mat.get('body_force', [0, 0, 0]), float), (len(tets), 1))  # per tetrahedron
     for reg in mat.get('region', []):
         m = np.array([reg['group'] in s for s in tetn])
         if not m.any():
             raise CannotCheck('no tets in region ' + reg['group'])
         E[m] = float(reg['young']); nu[m] = float(reg['poisson'])
+        if 'body_force' in reg:
+            bf[m] = np.array(reg['body_force'], float)
     K, vol, tets = elasticity(X, tets, E, nu)
     f = np.zeros(3 * N)
-    bf = np.array(mat.get('body_force', [0, 0, 0]), float)
     for c in range(3):
-        np.add.at(f, 3 * tets[:, :].ravel() + c, np.repeat(vol / 4 * bf[c], 4))
+        np.add.at(f, 3 * tets[:, :].ravel() + c, np.repeat(vol / 4 * bf[:, c], 4))
     bnd = scene.get('boundary', {})
     # outward normals of boundary triangles from their tets
     facemap = {}

@@ -4,7 +4,7 @@ discrete problem (P1, the cells, the half-lines and discs, the fixed point), on 
 features: prescribed components moving Γc along the plane (the slip of (5.7) counts them), two materials
 with symmetry planes, a curved face with a gap, pressure and gravity (capblock, merged cells read from
 contact_cells.vtu), a face cut by a hole (clipped cells), a body held by contact alone under Coulomb
-friction, a FreeFEM-made Medit mesh. Each must agree to 1e-6 relative in u on Γc and in the body, λ and
+friction, a FreeFEM-made Medit mesh, a material region with its own body force. Each must agree to 1e-6 relative in u on Γc and in the body, λ and
 the disc radii (they agree to 1e-9 … 1e-11). Negative case: the oracle taking prescribed components as 0 in the slip, the defect
 fixed in b8b6335, must disagree with today's solver (4.7e-2 in λ_t), and so must the oracle taking the
 slip as 0 at Γc's vertices held in all three components though moved along the plane (fixed after
@@ -18,6 +18,7 @@ binary, source = sys.argv[1], os.path.abspath(sys.argv[2])
 oracle = os.path.join(source, "pipeline", "discrete_oracle.py")
 env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
 TOL = "1e-6"
+HEAVY_LAYER = 'material.region=[{group="layer",young=7.0e10,poisson=0.33,body_force=[1e6,0.0,-2e7]}]'
 
 
 def run(cmd):
@@ -57,6 +58,9 @@ with tempfile.TemporaryDirectory() as tmp:
     failures = [
         case("brick_moved_end", moved_end, mesh=brick),
         case("capblock", os.path.join(scenes, "capblock.toml"), sets=["mesh.parameters.h=0.05"], cells="vtu"),
+        # a material region with a body force of its own (a heavy layer pushed along x)
+        case("capblock_region_body_force", os.path.join(scenes, "capblock.toml"),
+             sets=["mesh.parameters.h=0.05", HEAVY_LAYER], cells="vtu"),
         case("holed", os.path.join(scenes, "holed.toml")),
         case("free_brick_coulomb", os.path.join(scenes, "free_brick.toml"), sets=["mesh.parameters.n=4"]),
         case("brick_end_moved_in_plane", in_plane, mesh=brick),
@@ -66,6 +70,11 @@ with tempfile.TemporaryDirectory() as tmp:
         case("pads_two_parts_held", os.path.join(scenes, "pads.toml"), cells="vtu"),
         # FreeFEM's mesh (the scene's edp route leaves mesh.mesh, Medit, beside the results)
         case("freefem_made_mesh", os.path.join(scenes, "paper_brick_freefem.toml"), sets=["mesh.parameters.n=4"]),
+        # the oracle given the layer without its own body force must see the difference
+        case("negative_region_body_force_ignored", os.path.join(scenes, "capblock.toml"),
+             sets=["mesh.parameters.h=0.05", HEAVY_LAYER], cells="vtu",
+             oracle_args=["--set", 'material.region=[{group="layer",young=7.0e10,poisson=0.33}]'],
+             expect_agreement=False),
         case("negative_slip_without_prescribed", moved_end, mesh=brick, oracle_args=["--slip-free-dofs-only"],
              expect_agreement=False),
         case("negative_held_vertices_at_rest", in_plane, mesh=brick, oracle_args=["--phi-zero-held"],

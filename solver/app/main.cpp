@@ -345,7 +345,7 @@ int run_check(const SolveArgs& args) {
                                : "; in the foundation's plane by friction alone: " + held.describe_in_plane());
   // The loads as the solve checks them before factoring K, the lift's after the contact face's check.
   const TetMaterials materials = tet_materials(scene, mesh);
-  const Eigen::VectorXd applied = assemble_load(mesh, dofs, scene.tractions, scene.body_force);
+  const Eigen::VectorXd applied = assemble_load(mesh, dofs, scene.tractions, tet_body_forces(scene, mesh));
   const Eigen::VectorXd f = applied + assemble_lift(mesh, dofs, materials);
   if (held.in_plane_count() && scene.frictionless()) require_in_plane_balance(held, f);
   SolveResult warned;  // the warnings a solve gives on its input, before it starts

@@ -361,8 +361,7 @@ std::vector<Eigen::Vector3d> outward_normals(const Mesh& mesh, const std::string
 }
 
 // Adds the loads at the nodes (3 per node) of every surface load and the body force.
-Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tractions,
-                            const Eigen::Vector3d& body_force) {
+Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tractions, const BodyForce& body_force) {
   Eigen::VectorXd load = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(mesh.nodes.size()));
   for (const auto& tr : tractions) {
     if (mesh.find_group(tr.group, 2) == nullptr && mesh.find_group(tr.group, 3) != nullptr)
@@ -385,10 +384,11 @@ Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tract
         load.segment<3>(3 * tri[a]) += area / 12.0 * (2 * t[a] + t[(a + 1) % 3] + t[(a + 2) % 3]);
     }
   }
-  if (body_force.squaredNorm() > 0)
-    for (const auto& t : mesh.tets) {
+  if (!body_force.is_zero())
+    for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+      const auto& t = mesh.tets[e];
       const double vol = std::abs(tet_volume(coords(mesh, t)));
-      for (int v : t) load.segment<3>(3 * v) += body_force * (vol / 4.0);
+      for (int v : t) load.segment<3>(3 * v) += body_force[e] * (vol / 4.0);
     }
   return load;
 }
@@ -396,7 +396,7 @@ Eigen::VectorXd nodal_loads(const Mesh& mesh, const std::vector<Traction>& tract
 }  // namespace
 
 Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs, const std::vector<Traction>& tractions,
-                              const Eigen::Vector3d& body_force) {
+                              const BodyForce& body_force) {
   const Eigen::VectorXd load = nodal_loads(mesh, tractions, body_force);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs.n_free);
   for (Eigen::Index i = 0; i < load.size(); ++i)
@@ -430,7 +430,7 @@ Eigen::VectorXd assemble_lift(const Mesh& mesh, const DofMap& dofs, const TetMat
 }
 
 Eigen::VectorXd internal_minus_external(const Mesh& mesh, const TetMaterials& material,
-                                        const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force,
+                                        const std::vector<Traction>& tractions, const BodyForce& body_force,
                                         const Eigen::VectorXd& u_nodes) {
   Eigen::VectorXd r = -nodal_loads(mesh, tractions, body_force);
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {

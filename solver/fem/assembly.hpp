@@ -72,7 +72,7 @@ std::vector<double> stiffness_diagonal_at(const Mesh& mesh, const DofMap& dofs, 
 // The external loads at the free dofs (tractions integrated exactly for affine t). Throws
 // InputError for a pressure on a group that is not a boundary face of the body.
 Eigen::VectorXd assemble_load(const Mesh& mesh, const DofMap& dofs, const std::vector<Traction>& tractions,
-                              const Eigen::Vector3d& body_force);
+                              const BodyForce& body_force);
 // −K_fc·u_c: what the prescribed displacements add to the free dofs' load (zero for clamps).
 Eigen::VectorXd assemble_lift(const Mesh& mesh, const DofMap& dofs, const TetMaterials& material);
 
@@ -83,7 +83,7 @@ Eigen::VectorXd expand_to_nodes(const DofMap& dofs, const Eigen::VectorXd& u_fre
 // reads K·u = f_ext + f_contact + f_support, and f_contact vanishes at prescribed components, so
 // there r is the force the support exerts on the body.
 Eigen::VectorXd internal_minus_external(const Mesh& mesh, const TetMaterials& material,
-                                        const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force,
+                                        const std::vector<Traction>& tractions, const BodyForce& body_force,
                                         const Eigen::VectorXd& u_nodes);
 
 // The force each prescribing condition exerts on the body (N): r summed over the components it

@@ -29,6 +29,26 @@ class TetMaterials {
   std::vector<Material> per_tet_;
 };
 
+// The body force (N/m³, material.body_force): one for the whole body, or one per tetrahedron where
+// material regions weigh differently (steel on rubber under gravity).
+class BodyForce {
+ public:
+  template <class Derived>
+  BodyForce(const Eigen::MatrixBase<Derived>& whole_body) : single_(whole_body) {}  // NOLINT: converts implicitly
+  explicit BodyForce(std::vector<Eigen::Vector3d> per_tet) : per_tet_(std::move(per_tet)) {}
+  const Eigen::Vector3d& operator[](std::size_t tet) const { return per_tet_.empty() ? single_ : per_tet_[tet]; }
+  bool is_zero() const {
+    if (per_tet_.empty()) return single_.isZero(0);
+    for (const auto& b : per_tet_)
+      if (!b.isZero(0)) return false;
+    return true;
+  }
+
+ private:
+  Eigen::Vector3d single_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> per_tet_;
+};
+
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Matrix6x12d = Eigen::Matrix<double, 6, 12>;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;

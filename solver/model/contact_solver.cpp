@@ -49,6 +49,7 @@ namespace {
 // factorization.
 struct Discretisation {
   TetMaterials materials;
+  BodyForce body_force;  // each tetrahedron's (tet_body_forces)
   Eigen::SparseMatrix<double> K;
   Eigen::VectorXd f;
   Eigen::VectorXd applied;  // f without the loads of prescribed values (require_loads_press_onto_plane's scale)
@@ -101,12 +102,12 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, const FaceThickn
   check_mesh_meaning(mesh, mesh_roles(scene));
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
-  Discretisation disc{tet_materials(scene, mesh), {}, {}, {}, false, {}, false};
+  Discretisation disc{tet_materials(scene, mesh), tet_body_forces(scene, mesh), {}, {}, {}, false, {}, false};
   warn_about_inputs(scene, mesh, disc.materials, thickness, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
-  disc.applied = assemble_load(mesh, res.dofs, scene.tractions, scene.body_force);
+  disc.applied = assemble_load(mesh, res.dofs, scene.tractions, disc.body_force);
   disc.f = disc.applied + assemble_lift(mesh, res.dofs, disc.materials);
   if (assemble_K) {
     disc.K = assemble_stiffness(mesh, res.dofs, disc.materials);
@@ -524,7 +525,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
                           res.lambda, dual.h(), op.offset);
   std::tie(res.wn_plus_L2, res.wn_plus_inf) = normal_violation(mesh, res.face, res.u);
   res.forces =
-      resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, op.B, res.lambda);
+      resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, disc.body_force, res.u, op.B, res.lambda);
   res.forces.contact_at_held_nodes = held_share_of_contact_force(contact_force_in_plane_frame(res), res.forces.contact);
   if (scene.coulomb()) {
     res.coulomb_relation = coulomb_relation(scene, mesh, res, tresca);
@@ -641,7 +642,7 @@ void solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretis
   const Eigen::VectorXd w = dual->displacement(Eigen::VectorXd());
   res.u = expand_to_nodes(res.dofs, w);
   res.kkt.equilibrium = (disc.K * w - disc.f).norm() / std::max(disc.f.norm(), 1e-300);
-  res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, scene.body_force, res.u, no_rows,
+  res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, disc.body_force, res.u, no_rows,
                                 Eigen::VectorXd());
   flag_large_strain(mesh, res);
   note_body_below_plane_without_contact(mesh, res);

@@ -89,15 +89,18 @@ void warn_if_loads_beyond_linear_strain(const Scene& scene, const Mesh& mesh, co
       }
   }
   double weight = 0;
-  if (scene.body_force.norm() > 0 && !mesh.tets.empty()) {
-    const Eigen::Vector3d along = scene.body_force.normalized();
+  Eigen::Vector3d heaviest = scene.body_force;  // of [material] and the regions'
+  for (const auto& region : scene.regions)
+    if (region.body_force && region.body_force->norm() > heaviest.norm()) heaviest = *region.body_force;
+  if (heaviest.norm() > 0 && !mesh.tets.empty()) {
+    const Eigen::Vector3d along = heaviest.normalized();
     double lo = INFINITY, hi = -INFINITY;
     for (const auto& tet : mesh.tets)
       for (const int v : tet) {
         lo = std::min(lo, along.dot(mesh.nodes[static_cast<std::size_t>(v)]));
         hi = std::max(hi, along.dot(mesh.nodes[static_cast<std::size_t>(v)]));
       }
-    weight = scene.body_force.norm() * (hi - lo);
+    weight = heaviest.norm() * (hi - lo);
   }
   const double stress = std::max(traction, weight);
   if (!(stress >= kLoadOverModulus * stiffest)) return;

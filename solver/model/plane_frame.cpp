@@ -65,6 +65,8 @@ PlaneFrameProblem to_plane_frame(const Scene& scene, const Mesh& mesh) {
   for (auto& x : local.mesh.nodes) x = f.to_local_point(x);
   require_plane_point_near_mesh(local.mesh, f);
   local.scene.body_force = R * scene.body_force;
+  for (auto& region : local.scene.regions)
+    if (region.body_force) region.body_force = R * *region.body_force;
   for (auto& t : local.scene.tractions) {  // t(x) = v + G x, x = Rᵀx' + p
     t.value = R * (t.value + t.gradient * f.point);
     t.gradient = R * t.gradient * R.transpose();

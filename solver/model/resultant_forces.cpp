@@ -27,7 +27,7 @@ double rounding_force(const Mesh& mesh, const TetMaterials& materials, const Eig
 }  // namespace
 
 ResultantForces resultant_forces(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials,
-                                 const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force,
+                                 const std::vector<Traction>& tractions, const BodyForce& body_force,
                                  const Eigen::VectorXd& u_nodes, const Eigen::SparseMatrix<double>& B,
                                  const Eigen::VectorXd& lambda) {
   ResultantForces out;

@@ -34,7 +34,7 @@ struct ResultantForces {
 // `u_nodes` the whole displacement (3 per node), `B`/`lambda` the contact operator and multipliers
 // (empty without contact).
 ResultantForces resultant_forces(const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials,
-                                 const std::vector<Traction>& tractions, const Eigen::Vector3d& body_force,
+                                 const std::vector<Traction>& tractions, const BodyForce& body_force,
                                  const Eigen::VectorXd& u_nodes, const Eigen::SparseMatrix<double>& B,
                                  const Eigen::VectorXd& lambda);
 

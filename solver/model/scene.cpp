@@ -163,8 +163,10 @@ void parse_material(const toml::table& mat, Scene& s) {
   s.material = get_material(mat, "material");
   if (mat.contains("body_force")) s.body_force = get_vector(mat.get("body_force"), "material.body_force");
   for (const toml::table* t : get_tables(mat, "material", "region")) {
-    check_keys(*t, "material.region", {"group", "young", "poisson"});
-    s.regions.push_back({get_group(*t, "material.region"), get_material(*t, "material.region")});
+    check_keys(*t, "material.region", {"group", "young", "poisson", "body_force"});
+    MaterialRegion region{get_group(*t, "material.region"), get_material(*t, "material.region"), {}};
+    if (t->contains("body_force")) region.body_force = get_vector(t->get("body_force"), "material.region.body_force");
+    s.regions.push_back(std::move(region));
   }
 }
 
@@ -557,6 +559,20 @@ TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
     if (count == 0) throw InputError("material.region '" + region.group + "' holds no tetrahedra");
   }
   return TetMaterials(std::move(per_tet));
+}
+
+BodyForce tet_body_forces(const Scene& scene, const Mesh& mesh) {
+  const bool any = std::any_of(scene.regions.begin(), scene.regions.end(),
+                               [](const MaterialRegion& r) { return r.body_force.has_value(); });
+  if (!any) return BodyForce(scene.body_force);
+  std::vector<Eigen::Vector3d> per_tet(mesh.tets.size(), scene.body_force);
+  for (const auto& region : scene.regions) {
+    if (!region.body_force) continue;
+    const PhysicalGroup* g = mesh.find_group(region.group, 3);  // tet_materials names a missing one
+    if (g == nullptr) continue;
+    for (const std::size_t e : mesh.tets_of_group(g->tag)) per_tet[e] = *region.body_force;
+  }
+  return BodyForce(std::move(per_tet));
 }
 
 MeshRoles mesh_roles(const Scene& scene) {

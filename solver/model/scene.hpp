@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,7 @@ struct OutputSettings {
 struct MaterialRegion {
   std::string group;
   Material material;
+  std::optional<Eigen::Vector3d> body_force;  // N/m³; [material]'s body_force where not given
 };
 
 struct Scene {
@@ -163,6 +165,8 @@ MeshRoles mesh_roles(const Scene& scene);
 // The material of every tetrahedron: regions by volume group, the rest [material]. Throws
 // InputError for a region whose group is missing, not a volume group, or overlapping another.
 TetMaterials tet_materials(const Scene& scene, const Mesh& mesh);
+// Each tetrahedron's body force: [material]'s, or its region's where that region gives one.
+BodyForce tet_body_forces(const Scene& scene, const Mesh& mesh);
 
 // Reads the scene; `overrides` are "dotted.key=value" strings (value in TOML syntax; a bare
 // word is taken as a string).

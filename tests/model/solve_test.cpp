@@ -921,6 +921,26 @@ TEST(SolveContactGeometry, PerComponentDisplacementNeedsAnAxisOfTheTiltedFrame) 
   }
 }
 
+// A material region's own body force: its tetrahedra carry it (the others [material]'s), and it turns
+// with the tilted plane's frame as [material]'s does.
+TEST(SolveContactGeometry, ARegionsBodyForceIsItsTetrahedraAndTurnsWithTheFrame) {
+  const std::string extra =
+      "\n[[material.region]]\ngroup = \"body\"\nyoung = 7e10\npoisson = 0.33\nbody_force = [1e4, -2e4, -3e4]\n";
+  Scene scene = parse_scene_text(std::string(kPaperScene) + extra, ".");
+  const Mesh mesh = make_paper_brick({4});
+  const BodyForce weights = tet_body_forces(scene, mesh);
+  for (std::size_t e : {std::size_t(0), mesh.tets.size() - 1}) EXPECT_EQ(weights[e], Eigen::Vector3d(1e4, -2e4, -3e4));
+  scene.foundation = FoundationFrame::from_plane(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 0, 1));
+  const PlaneFrameProblem local = to_plane_frame(scene, mesh);
+  ASSERT_TRUE(local.scene.regions.at(0).body_force);
+  EXPECT_LT((*local.scene.regions[0].body_force - scene.foundation.rotation * Eigen::Vector3d(1e4, -2e4, -3e4)).norm(),
+            1e-9);
+  // Without a body force of its own a region weighs what [material] gives.
+  const Scene plain = parse_scene_text(
+      std::string(kPaperScene) + "\n[[material.region]]\ngroup = \"body\"\nyoung = 7e10\npoisson = 0.33\n", ".");
+  EXPECT_EQ(tet_body_forces(plain, mesh)[0], plain.body_force);
+}
+
 // Conditions that vary in space keep their values at every point when the frame turns and moves:
 // the local condition at x' = R(x − p) is R times the user's at x (per component: ± the user's).
 TEST(SolveContactGeometry, AffineConditionsTurnWithTheFrame) {
