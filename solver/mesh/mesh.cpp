@@ -1,6 +1,7 @@
 #include "mesh/mesh.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "base/errors.hpp"
@@ -69,6 +70,14 @@ std::vector<char> nodes_of_tets(const Mesh& mesh) {
   for (const auto& t : mesh.tets)
     for (const int v : t) used[static_cast<std::size_t>(v)] = 1;
   return used;
+}
+
+double body_diagonal(const Mesh& mesh) {
+  const std::vector<char> in_body = nodes_of_tets(mesh);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
+    if (in_body[v]) lo = lo.cwiseMin(mesh.nodes[v]), hi = hi.cwiseMax(mesh.nodes[v]);
+  return mesh.tets.empty() ? 0.0 : (hi - lo).norm();
 }
 
 void drop_unused_nodes(Mesh& mesh) {

@@ -62,6 +62,8 @@ struct Mesh {
 
 // Whether each node is a vertex of some tetrahedron (a node no element uses is not part of the body).
 std::vector<char> nodes_of_tets(const Mesh& mesh);
+// The diagonal of the box around those nodes (0 for a mesh without tetrahedra).
+double body_diagonal(const Mesh& mesh);
 
 // The area of a triangle of node indices.
 inline double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {

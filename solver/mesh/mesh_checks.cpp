@@ -325,17 +325,25 @@ void check_load_faces(const Mesh& mesh, const MeshRoles& roles) {
 // Every triangle of a clamped group or one with prescribed components must be a face of a
 // tetrahedron (an interior one too: a surface inside the body may be held): a triangle of no element
 // would prescribe the nodes it happens to share with the body, in silence (a contact node held there
-// changes the contact force).
+// changes the contact force). One pass over the tetrahedra for every such group, as for the loads.
 void check_constraint_faces(const Mesh& mesh, const MeshRoles& roles) {
   std::vector<std::string> names = roles.clamped;
   names.insert(names.end(), roles.displaced.begin(), roles.displaced.end());
+  std::vector<WantedFaces> groups;
+  WantedFaces all;
   for (const auto& name : names) {
     const int tag = group_tag(mesh, name);
     WantedFaces wanted;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
       if (mesh.triangle_group[t] == tag) wanted[sorted(mesh.triangles[t])].push_back(t);
-    if (wanted.empty()) continue;
-    const MisplacedTriangles found = misplaced_triangles(wanted, face_use(mesh, wanted));
+    for (const auto& [face, tris] : wanted) all[face].insert(all[face].end(), tris.begin(), tris.end());
+    groups.push_back(std::move(wanted));
+  }
+  if (all.empty()) return;
+  const FaceUse use = face_use(mesh, all);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    const MisplacedTriangles found = misplaced_triangles(groups[k], use);
     if (!found.orphans.empty())
       throw InputError("group '" + name + "' (held by boundary.clamped or boundary.displacement): " +
                        std::to_string(found.orphans.size()) + " triangle(s) are not a face of any tetrahedron (tags " +

@@ -535,9 +535,11 @@ double pascal_per_stress_unit(UnitSystem units) {
   return 1;
 }
 
-TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
-  if (scene.regions.empty()) return TetMaterials(scene.material);
-  std::vector<Material> per_tet(mesh.tets.size(), scene.material);
+namespace {
+
+// The index in scene.regions of each tetrahedron's region, -1 outside every region. Throws InputError
+// for a region whose group is missing, not a volume group, empty, or overlapping another.
+std::vector<int> region_of_each_tet(const Scene& scene, const Mesh& mesh) {
   std::vector<int> region_of(mesh.tets.size(), -1);
   for (std::size_t k = 0; k < scene.regions.size(); ++k) {
     const auto& region = scene.regions[k];
@@ -545,19 +547,28 @@ TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
     if (g == nullptr)
       throw InputError("material.region '" + region.group +
                        "' is not a volume (3-D) group of the mesh; it has: " + mesh.describe_groups());
-    std::size_t count = 0;
-    for (const std::size_t e : mesh.tets_of_group(g->tag)) {
+    const std::vector<std::size_t> tets = mesh.tets_of_group(g->tag);
+    if (tets.empty()) throw InputError("material.region '" + region.group + "' holds no tetrahedra");
+    for (const std::size_t e : tets) {
       if (region_of[e] >= 0)
         throw InputError("material.region '" + region.group + "' and '" + scene.regions[region_of[e]].group +
                          "' both claim tetrahedron " + std::to_string(mesh.tet_tags[e]) +
                          " (their volume groups overlap): give each tetrahedron one material, with regions that "
                          "do not overlap");
       region_of[e] = static_cast<int>(k);
-      per_tet[e] = region.material;
-      ++count;
     }
-    if (count == 0) throw InputError("material.region '" + region.group + "' holds no tetrahedra");
   }
+  return region_of;
+}
+
+}  // namespace
+
+TetMaterials tet_materials(const Scene& scene, const Mesh& mesh) {
+  if (scene.regions.empty()) return TetMaterials(scene.material);
+  const std::vector<int> region_of = region_of_each_tet(scene, mesh);
+  std::vector<Material> per_tet(mesh.tets.size(), scene.material);
+  for (std::size_t e = 0; e < per_tet.size(); ++e)
+    if (region_of[e] >= 0) per_tet[e] = scene.regions[static_cast<std::size_t>(region_of[e])].material;
   return TetMaterials(std::move(per_tet));
 }
 
@@ -565,13 +576,11 @@ BodyForce tet_body_forces(const Scene& scene, const Mesh& mesh) {
   const bool any = std::any_of(scene.regions.begin(), scene.regions.end(),
                                [](const MaterialRegion& r) { return r.body_force.has_value(); });
   if (!any) return BodyForce(scene.body_force);
+  const std::vector<int> region_of = region_of_each_tet(scene, mesh);
   std::vector<Eigen::Vector3d> per_tet(mesh.tets.size(), scene.body_force);
-  for (const auto& region : scene.regions) {
-    if (!region.body_force) continue;
-    const PhysicalGroup* g = mesh.find_group(region.group, 3);  // tet_materials names a missing one
-    if (g == nullptr) continue;
-    for (const std::size_t e : mesh.tets_of_group(g->tag)) per_tet[e] = *region.body_force;
-  }
+  for (std::size_t e = 0; e < per_tet.size(); ++e)
+    if (region_of[e] >= 0)
+      if (const auto& own = scene.regions[static_cast<std::size_t>(region_of[e])].body_force) per_tet[e] = *own;
   return BodyForce(std::move(per_tet));
 }
 

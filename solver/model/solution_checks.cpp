@@ -482,10 +482,7 @@ void flag_inaccurate_equilibrium(SolveResult& res) {
 void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res) {
   const double u_max = largest_nodal_displacement(res.u);
   const std::vector<char> in_body = nodes_of_tets(mesh);
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
-    if (in_body[v]) lo = lo.cwiseMin(mesh.nodes[v]), hi = hi.cwiseMax(mesh.nodes[v]);
-  const double tolerance = std::max(kPenetrationOffContact * u_max, kPenetrationRounding * (hi - lo).norm());
+  const double tolerance = std::max(kPenetrationOffContact * u_max, kPenetrationRounding * body_diagonal(mesh));
   std::size_t below = 0, deepest = 0;
   double depth = 0;  // the mesh is in the plane's frame: a node's height is its z
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
