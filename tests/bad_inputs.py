@@ -558,6 +558,11 @@ def c_cli_unknown_option(c):
     return ["solve", c.scene(), "--bogus"], ["--bogus"]
 
 
+def c_cli_unknown_option_no_scene(c):
+    """A mistyped option before the scene is named: not reported as a missing scene."""
+    return ["solve", "--bogus"], ["not expected", "--bogus"]
+
+
 # ------------------------------------------------ a scene's .geo is code (issue 13)
 def geo_scene(c, geo_text):
     os.makedirs(c.path("geo"), exist_ok=True)

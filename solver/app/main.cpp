@@ -447,6 +447,14 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   } catch (const CLI::CallForHelp& e) { return app.exit(e); } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    // CLI11 checks required arguments before unexpected ones: `solve --frobnicate` would be told that
+    // the scene is missing. The unexpected argument is the user's mistake; it is named first.
+    const std::vector<std::string> unexpected = app.remaining(true);
+    if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && !unexpected.empty()) {
+      std::cerr << "error: " << CLI::ExtrasError(unexpected).what() << "\n"
+                << "run 'contact3d --help' (or 'contact3d solve --help') for the usage\n";
+      return 2;
+    }
     std::cerr << "error: " << e.what() << "\n"
               << "run 'contact3d --help' (or 'contact3d solve --help') for the usage\n";
     return 2;
