@@ -133,6 +133,7 @@ def to_plane_frame(prob: dict, frame, scene_path: Path) -> dict:
 
     out = dict(prob)
     out["body_force"] = (R @ np.array(prob["body_force"])).tolist()
+    out["regions"] = [(t, e, nu, (R @ np.array(b)).tolist()) for t, e, nu, b in prob["regions"]]
     out["traction"] = [(t, *field(v, g)) for t, v, g in prob["traction"]]
     out["pressure"] = [(t, v + float(np.dot(g, p)), (R @ np.array(g)).tolist()) for t, v, g in prob["pressure"]]
     disp = []
@@ -197,14 +198,14 @@ def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
         poisson = float(mat["poisson"])
     except KeyError as e:
         raise SideFailed(f"{scene_path}: [material] needs {e}") from None
-    regions = []
-    for r in mat.get("region", []):
-        if "body_force" in r:  # the FreeFEM reference has one body force for the whole body
-            raise SideFailed(f"{scene_path}: [[material.region]] {r.get('group')!r} has its own body_force, which the "
-                             "FreeFEM reference does not state (check such a scene with pipeline/discrete_oracle.py)")
-        (tag,) = tags([r["group"]], "[[material.region]]", mesh.get("volume_names", {}), "physical volume")
-        regions.append((tag, float(r["young"]), float(r["poisson"])))
     body = [float(x) for x in mat.get("body_force", [0.0, 0.0, 0.0])]
+    regions = []  # (tag, young, poisson, body force): a region's own body force, or [material]'s
+    for r in mat.get("region", []):
+        (tag,) = tags([r["group"]], "[[material.region]]", mesh.get("volume_names", {}), "physical volume")
+        region_body = [float(x) for x in r.get("body_force", body)]
+        if len(region_body) != 3:
+            raise SideFailed(f"{scene_path}: the body_force of [[material.region]] {r['group']!r} must have 3 components")
+        regions.append((tag, float(r["young"]), float(r["poisson"]), region_body))
     clamped = tags(bnd.get("clamped", []), "[boundary] clamped")
     contact = tags(bnd.get("contact", []), "[boundary] contact")
     if not contact:
@@ -284,6 +285,8 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
             prob["traction"] = [(t, val, [0.0] * 9) for t, val, _ in prob["traction"]]
             prob["pressure"] = [(t, v, [0.0] * 3) for t, v, _ in prob["pressure"]]
             prob["displacement"] = [(t, mask, val, [0.0] * 9) for t, mask, val, _ in prob["displacement"]]
+        elif feature == "region_body_forces":  # the regions keep their materials, weigh as [material] says
+            prob["regions"] = [(t, e, nu, list(prob["body_force"])) for t, e, nu, _ in prob["regions"]]
         else:
             prob[feature] = []
     sliding = motions_held_by_friction_alone(mesh, prob)
@@ -574,6 +577,7 @@ def validate_freefem(args, scene: dict, scene_path: Path, n, work_root: Path) ->
     lifted = dict(prob)
     lifted["traction"] = [(t, [-v for v in val], [-g for g in grad]) for t, val, grad in prob["traction"]]
     lifted["body_force"] = [-v for v in prob["body_force"]]
+    lifted["regions"] = [(t, e, nu, [-v for v in b]) for t, e, nu, b in prob["regions"]]
     lifted["pressure"] = [(t, -v, [-g for g in grad]) for t, v, grad in prob["pressure"]]
     lifted["displacement"] = [(t, mask, [-v for v in val], [-g for g in grad])
                               for t, mask, val, grad in prob["displacement"]]
@@ -700,9 +704,10 @@ def main(argv=None) -> int:
     ap.add_argument("--perturb-freefem-traction", type=float, default=1.0, help=argparse.SUPPRESS)
     # negative tests of the slipdep variant: KEY=VALUE (high, low, t0, param, g) for FreeFEM's law only
     ap.add_argument("--perturb-freefem-law", action="append", default=None, help=argparse.SUPPRESS)
-    # negative tests of the scene's features: FreeFEM solves without the materials' regions, the pressures or
-    # the gradients of the loads and prescribed displacements
-    ap.add_argument("--perturb-freefem-drop", action="append", choices=["regions", "pressure", "gradients"], default=None,
+    # negative tests of the scene's features: FreeFEM solves without the materials' regions, the regions' own
+    # body forces, the pressures or the gradients of the loads and prescribed displacements
+    ap.add_argument("--perturb-freefem-drop", action="append", default=None,
+                    choices=["regions", "region_body_forces", "pressure", "gradients"],
                     help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
 

@@ -122,9 +122,10 @@ def freefem_driver(prob: dict, msh: Path, law, out_csv: Path, out_json: Path, *,
     txt += ff_array("real", "tractionGradients", grads)
     regions = prob.get("regions", [])
     txt += f"int nRegion = {len(regions)};\n"
-    txt += ff_array("int", "regionLabels", [tag for tag, _, _ in regions])
-    txt += ff_array("real", "regionYoung", [e for _, e, _ in regions])
-    txt += ff_array("real", "regionPoisson", [nu for _, _, nu in regions])
+    txt += ff_array("int", "regionLabels", [r[0] for r in regions])
+    txt += ff_array("real", "regionYoung", [r[1] for r in regions])
+    txt += ff_array("real", "regionPoisson", [r[2] for r in regions])
+    txt += ff_array("real", "regionBodyForce", [v for r in regions for v in r[3]])
     pressure = prob.get("pressure", [])
     txt += f"int nPressure = {len(pressure)};\n"
     txt += ff_array("int", "pressureLabels", [p[0] for p in pressure])
