@@ -247,6 +247,35 @@ def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
 # one (mesh, variant) case
 
 
+def apply_sets(scene: dict, sets: list[str]) -> None:
+    """The --set KEY=VALUE overrides (a dotted key, a TOML value or a bare string, as contact3d reads
+    them) applied to the scene that the FreeFEM side reads too: an override of a material, a load or
+    the law must reach both solvers, or they would be compared on different problems."""
+    for item in sets:
+        key, eq, text = item.partition("=")
+        if not eq or not key.strip():
+            raise ValueError(f"{item!r} is not KEY=VALUE")
+        try:
+            value = tomllib.loads(f"v = {text}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = text
+        *parents, leaf = key.strip().split(".")
+        table = scene
+        for name in parents:
+            table = table.setdefault(name, {})
+            if not isinstance(table, dict):
+                raise ValueError(f"{key!r}: {name!r} is not a table of the scene")
+        table[leaf] = value
+        if key.strip() in ("mesh.file", "mesh.geo", "mesh.edp", "mesh.generator"):  # replaces the scene's source
+            if leaf != "generator" and "generator" in table:
+                table.pop("n", None)
+            for other in ("file", "geo", "edp", "generator"):
+                if other != leaf:
+                    table.pop(other, None)
+            if leaf in ("file", "generator"):
+                table.pop("parameters", None)
+
+
 def mesh_label(n) -> str:
     """How a mesh of the sweep is named: n=8, h=0.025, or 'scene' (the scene's own parameters)."""
     if n is None:
@@ -717,6 +746,11 @@ def main(argv=None) -> int:
             scene = tomllib.load(fh)
     except (OSError, tomllib.TOMLDecodeError) as e:
         log(f"error: {scene_path}: {e}")
+        return 2
+    try:  # both sides solve the scene as overridden, not only contact3d
+        apply_sets(scene, args.set or [])
+    except ValueError as e:
+        log(f"error: --set: {e}")
         return 2
     cc = scene.get("crosscheck", {})
     unknown = set(cc) - CROSSCHECK_KEYS

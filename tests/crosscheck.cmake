@@ -125,6 +125,15 @@ set_tests_properties(crosscheck_capblock_detects_missing_region_body_force PROPE
   PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: capblock_heavy_layer h=0.05 frictionless: .* exceeds tolerance"
   FAIL_REGULAR_EXPRESSION "error:")
 
+# --set reaches both sides: the heavy layer given on the command line instead of in the scene agrees as
+# above (before, only contact3d read it and FreeFEM solved the plain capblock: 0.0172 and 3.5%, a failure).
+add_test(NAME crosscheck_set_reaches_freefem
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_CAP}
+          --mesh-param h=0.05 --variant frictionless --tolerance 0.015 --force-tolerance 0.02
+          "--set=material.region=[{group=\"layer\",young=7.0e10,poisson=0.33,body_force=[0.0,0.0,-6e8]}]"
+          --workdir ${CONTACT3D_CC_WORK}/capblock-set --report ${CONTACT3D_CC_WORK}/capblock-set.md)
+set_tests_properties(crosscheck_set_reaches_freefem PROPERTIES TIMEOUT 120 LABELS crosscheck)
+
 # A flat sole beside rounded edges (pipeline/scenes/filleted_block.toml: fillets of r = 20 mm, the top
 # pushed down 20 um) against FreeFEM on the same gmsh mesh (h = 8 mm), frictionless: measured rel L2(Gc)
 # 0.091, normal force 2.3%, with no cell across the sole's edge (model/contact_regions.hpp); with cells
