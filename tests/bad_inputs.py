@@ -506,6 +506,56 @@ def c_mesh_tets_overlap(c):
     return ["check", c.scene(c.write("overlap.msh", m.text()))], ["share the face of nodes", "overlap", eid]
 
 
+def small_tet_inside(m, keep_corner):
+    """A small positively oriented tetrahedron around the centre of the mesh's first tetrahedron, over new
+    nodes (keep_corner: its first node the host's first node instead, so it shares a corner and no face)."""
+    host = m.tets()[0]
+    xyz = {n[0]: [float(v) for v in n[1:4]] for n in m.nodes}
+    centre = [sum(xyz[v][i] for v in host[-4:]) / 4 for i in range(3)]
+    offsets = [(0, 0, 0), (0.02, 0, 0), (0, 0.02, 0), (0, 0, 0.02)]
+    nodes = []
+    for k, d in enumerate(offsets):
+        if k == 0 and keep_corner:
+            nodes.append(host[-4])
+            continue
+        nid = str(max(int(n[0]) for n in m.nodes) + 1)
+        m.nodes.append([nid] + [repr(centre[i] + d[i] - (0.005 if not keep_corner else 0)) for i in range(3)])
+        nodes.append(nid)
+    return m.add_element(4, host[3], nodes)
+
+
+def c_mesh_tet_inside_another(c):
+    """An element over four new nodes inside the body (no face, edge or node shared): it would be
+    assembled as a stiff stray piece, or float; the tetrahedron holding its centre is named."""
+    m = Msh22(c)
+    eid = small_tet_inside(m, keep_corner=False)
+    return ["check", c.scene(c.write("inside.msh", m.text()))], ["centre of tetrahedron " + eid, "overlap"]
+
+
+def c_mesh_tet_over_a_corner(c):
+    """An element sharing one corner with the mesh and reaching into its tetrahedra: one part with the
+    body, joined at a node, refused by the solve's mechanism check (check_mesh_meaning looks for
+    overlaps between parts only)."""
+    m = Msh22(c)
+    small_tet_inside(m, keep_corner=True)
+    return ["solve", c.scene(c.write("corner.msh", m.text())), "--out", c.path("out"), "--quiet"], \
+        ["only at the node", "ball joint"]
+
+
+def c_mesh_volumes_over_each_other(c):
+    """The body's tetrahedra once more over nodes of their own, moved into it (two meshes written into one
+    file, or two gmsh volumes meshed over the same place): it solved before, each copy on its own."""
+    m = Msh22(c)
+    first_new = max(int(n[0]) for n in m.nodes) + 1
+    renumber = {}
+    for n in list(m.nodes):
+        renumber[n[0]] = str(first_new + len(renumber))
+        m.nodes.append([renumber[n[0]], repr(float(n[1]) + 0.43), repr(float(n[2]) + 0.27), repr(float(n[3]) + 0.11)])
+    for e in m.tets():
+        m.add_element(4, e[3], [renumber[v] for v in e[-4:]])
+    return ["check", c.scene(c.write("over.msh", m.text()))], ["lies inside tetrahedron", "overlap"]
+
+
 def c_mesh_clamped_triangle_not_a_face(c):
     """A triangle of the clamped group that no tetrahedron has as a face (its nodes on Γc): it would
     hold those contact nodes in silence."""
@@ -816,7 +866,17 @@ def c_overlapping_volumes(c):
     boxes = 'Box(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {0.65, 0.05, 0, 1, 0.5, 0.3};\n'
     scene = two_blocks_scene(c, "overlap", boxes, APART_TOP + 'Physical Surface("contact") = Surface In '
                              'BoundingBox {-eps, -eps, -eps, 3, 1, eps};\nPhysical Volume("body") = {1, 2};\n')
-    return (["check", scene], ["contact face overlaps itself", "graph over the plane", "BooleanFragments"])
+    return (["check", scene], ["lies inside tetrahedron", "two volumes meshed over the same place"])
+
+
+def c_contact_faces_one_above_another(c):
+    # A second block 5 cm above the first and over half of it, both bottoms in the contact group: Γc is
+    # no graph over the plane (the overlap check of the volumes passes: they do not overlap).
+    boxes = 'Box(1) = {0, 0, 0, 1, 0.5, 0.3};\nBox(2) = {0.5, 0, 0.35, 1, 0.5, 0.3};\n'
+    scene = two_blocks_scene(c, "above", boxes, APART_TOP + 'Physical Surface("contact") = Surface In '
+                             'BoundingBox {-eps, -eps, -eps, 3, 1, eps};\nPhysical Surface("contact") += Surface In '
+                             'BoundingBox {-eps, -eps, 0.35 - eps, 3, 1, 0.35 + eps};\nPhysical Volume("body") = {1, 2};\n')
+    return (["check", scene], ["contact face overlaps itself", "graph over the plane"])
 
 
 def c_two_parts_one_floating_no_contact(c):

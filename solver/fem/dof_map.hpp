@@ -71,14 +71,6 @@ struct FreeRigidMotions {
 };
 FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs);
 
-// The body's connected parts: tetrahedra that share a node are one part. of_node[v] is node v's part
-// (0 … count() − 1, in the order of their first tetrahedron), −1 where no tetrahedron uses it.
-struct BodyParts {
-  std::vector<int> of_node;
-  std::vector<int> tets;  // per part, its number of tetrahedra
-  int count() const { return static_cast<int>(tets.size()); }
-};
-BodyParts body_parts(const Mesh& mesh);
 // free_rigid_motions of one part on its own (about its centroid, scaled by its extent).
 FreeRigidMotions free_rigid_motions(const Mesh& mesh, const DofMap& dofs, const BodyParts& parts, int part);
 // Those motions at the free dofs (n_free × k).

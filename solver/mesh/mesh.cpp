@@ -150,4 +150,34 @@ std::vector<std::array<int, 3>> boundary_faces(const Mesh& m) {
   return out;
 }
 
+int find_part(std::vector<int>& parent, int v) {
+  while (parent[static_cast<std::size_t>(v)] != v)
+    v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+  return v;
+}
+
+BodyParts body_parts(const Mesh& mesh) {
+  const int n = static_cast<int>(mesh.nodes.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) parent[static_cast<std::size_t>(v)] = v;
+  for (const auto& t : mesh.tets)
+    for (int k = 1; k < 4; ++k) {
+      const int a = find_part(parent, t[0]), b = find_part(parent, t[k]);
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  BodyParts parts;
+  parts.of_node.assign(static_cast<std::size_t>(n), -1);
+  std::vector<int> number_of_root(static_cast<std::size_t>(n), -1);
+  for (const auto& t : mesh.tets) {
+    int& number = number_of_root[static_cast<std::size_t>(find_part(parent, t[0]))];
+    if (number < 0) {
+      number = parts.count();
+      parts.tets.push_back(0);
+    }
+    ++parts.tets[static_cast<std::size_t>(number)];
+    for (int v : t) parts.of_node[static_cast<std::size_t>(v)] = number;
+  }
+  return parts;
+}
+
 }  // namespace contact3d

@@ -65,6 +65,17 @@ std::vector<char> nodes_of_tets(const Mesh& mesh);
 // The diagonal of the box around those nodes (0 for a mesh without tetrahedra).
 double body_diagonal(const Mesh& mesh);
 
+// The body's connected parts: tetrahedra that share a node are one part. of_node[v] is node v's part
+// (0 … count() − 1, in the order of their first tetrahedron), −1 where no tetrahedron uses it.
+struct BodyParts {
+  std::vector<int> of_node;
+  std::vector<int> tets;  // per part, its number of tetrahedra
+  int count() const { return static_cast<int>(tets.size()); }
+};
+BodyParts body_parts(const Mesh& mesh);
+// The root of `v`'s set in a union-find forest (path halving): parts of meshes and blocks of tetrahedra.
+int find_part(std::vector<int>& parent, int v);
+
 // The area of a triangle of node indices.
 inline double triangle_area(const Mesh& mesh, const std::array<int, 3>& tri) {
   const auto& x = mesh.nodes;

@@ -4,7 +4,8 @@
 //   - a coordinate beyond ±1e15 (overflows the element integrals);
 //   - two physical groups with the same name and dimension;
 //   - a tetrahedron listed twice (same four nodes: it would be assembled twice), or tetrahedra that
-//     overlap through a face (a face of three, or of two on the same side of it);
+//     overlap (through a face: a face of three, or of two on the same side of it; or parts of the mesh
+//     over each other, one's tetrahedron holding the centre of another's);
 //   - a boundary triangle listed twice in one group, or in two load groups (a doubled load);
 //   - a contact or load (traction, pressure) triangle that is not a face of any tetrahedron, or
 //     that is an interior face (shared by two); a clamped or prescribed triangle of no tetrahedron;
@@ -12,6 +13,7 @@
 //   - constraints whose nodes all lie on one line or at one point (a free rigid rotation).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -38,5 +40,15 @@ inline constexpr double kPenetrationRounding = 1e-6;
 void check_coordinates_in_range(const Mesh& mesh);
 // The other checks above; run after the tetrahedra are known to be positively oriented.
 void check_mesh_meaning(const Mesh& mesh, const MeshRoles& roles);
+
+// Boundary faces with another part of the mesh right outside them: volumes meshed apart that touch
+// there without being joined (no shared nodes), which move as separate bodies. For a warning (they may be meant
+// to be separate); the example is in file tags. Run after check_mesh_meaning.
+struct FacesAgainstTheBody {
+  std::size_t faces = 0;
+  std::array<std::size_t, 3> example_nodes{};
+  std::size_t example_against = 0;  // the tetrahedron right outside the example face
+};
+FacesAgainstTheBody faces_against_the_body(const Mesh& mesh);
 
 }  // namespace contact3d

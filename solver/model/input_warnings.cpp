@@ -12,6 +12,7 @@
 
 #include "base/format.hpp"
 #include "contact/face_thickness.hpp"
+#include "mesh/mesh_checks.hpp"
 
 namespace contact3d {
 namespace {
@@ -168,6 +169,23 @@ void note_friction_keys_not_read(const Scene& scene, SolveResult& res) {
                       scene.law.name() + "' and take no part in this run");
 }
 
+// Volumes meshed apart that touch over a face whose nodes they do not share (a cylinder meshed finer
+// than the box it stands on, without BooleanFragments): no two nodes coincide, and nothing was said
+// while the cylinder's load went to its own clamp (normal force 0 N on the box below).
+void warn_if_faces_against_the_body(const Mesh& mesh, SolveResult& res) {
+  const FacesAgainstTheBody touching = faces_against_the_body(mesh);
+  if (touching.faces == 0) return;
+  const auto& n = touching.example_nodes;
+  res.warnings.push_back(std::to_string(touching.faces) +
+                         " boundary face(s) of the tetrahedra lie against another part of the mesh without sharing "
+                         "its nodes (e.g. the face of nodes " +
+                         std::to_string(n[0]) + ", " + std::to_string(n[1]) + ", " + std::to_string(n[2]) +
+                         " against tetrahedron " + std::to_string(touching.example_against) +
+                         "): the mesh's volumes are not joined there and move apart as separate bodies; join them "
+                         "when meshing (gmsh: BooleanFragments or Coherence with OpenCASCADE) unless they are meant "
+                         "to be separate");
+}
+
 // Two nodes of the tetrahedra at one place: volumes meshed side by side without being joined (gmsh
 // boxes without BooleanFragments / Coherence). Each moves on its own there, so a load on one goes
 // nowhere near the other: two stacked boxes, 80 such pairs, solved with the top load going straight
@@ -191,7 +209,7 @@ void warn_if_coincident_nodes(const Mesh& mesh, SolveResult& res) {
     if (fresh) continue;
     if (pairs++ == 0) first_a = it->second, first_b = v;
   }
-  if (pairs == 0) return;
+  if (pairs == 0) return warn_if_faces_against_the_body(mesh, res);
   res.warnings.push_back(std::to_string(pairs) + " node(s) of the tetrahedra lie where another one does (e.g. nodes " +
                          std::to_string(mesh.node_tags[first_a]) + " and " + std::to_string(mesh.node_tags[first_b]) +
                          "): the mesh's volumes are not joined there and move apart as separate bodies; join them when "

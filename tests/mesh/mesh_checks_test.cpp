@@ -1,9 +1,13 @@
-// Tests of the group-name check in check_mesh_meaning (solver/mesh/mesh_checks.*): unnamed gmsh
-// groups go by their numbers, as a scene names them, so a file without $PhysicalNames (FreeFEM's
-// savegmsh) is accepted and a name used twice that way is refused.
+// Tests of check_mesh_meaning (solver/mesh/mesh_checks.*): overlapping elements (through a face, or one
+// holding the centre of another) and volumes that only touch; unnamed gmsh groups go by their numbers, as
+// a scene names them, so a file without $PhysicalNames (FreeFEM's savegmsh) is accepted and a name used
+// twice that way is refused; held triangles of no tetrahedron; nodes below the plane.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
+
+#include <Eigen/Dense>
 
 #include "base/errors.hpp"
 #include "mesh/mesh_checks.hpp"
@@ -98,6 +102,75 @@ TEST(MeshChecks, AClampedTriangleOfNoTetrahedronIsRefused) {
                       "of any tetrahedron (tags 19)"),
             std::string::npos);
   EXPECT_EQ(refusal(parse_msh(cube_with_extra_tet("19 2 2 6 6 1 4 8"), "cube.msh")), "");
+}
+
+// The cube's tetrahedra once more, over nodes of their own moved by `shift` (another volume meshed
+// apart: two meshes in one file).
+Mesh with_moved_copy(Mesh mesh, const Eigen::Vector3d& shift) {
+  const std::size_t nodes = mesh.nodes.size(), tets = mesh.tets.size();
+  for (std::size_t v = 0; v < nodes; ++v) {
+    mesh.nodes.push_back(mesh.nodes[v] + shift);
+    mesh.node_tags.push_back(mesh.node_tags.size() + 1);
+  }
+  for (std::size_t e = 0; e < tets; ++e) {
+    std::array<int, 4> t = mesh.tets[e];
+    for (int& v : t) v += static_cast<int>(nodes);
+    mesh.tets.push_back(t);
+    mesh.tet_tags.push_back(100 + e);
+    mesh.tet_group.push_back(mesh.tet_group[e]);
+  }
+  return mesh;
+}
+
+// A volume meshed over part of another, each of its own nodes (no face shared): refused, naming a
+// tetrahedron whose centre lies in one of the other volume's.
+TEST(MeshChecks, VolumesMeshedOverEachOtherAreRefused) {
+  const Mesh cube = parse_msh(kFreeFemSavegmshCube, "cube.msh");
+  const std::string what = refusal(with_moved_copy(cube, {0.43, 0.27, 0.11}));
+  EXPECT_NE(what.find("lies inside tetrahedron"), std::string::npos) << what;
+  EXPECT_NE(what.find("elements overlap"), std::string::npos) << what;
+}
+
+// The same volume beside the cube, touching it along the face x = 1 without sharing its nodes, and at a
+// distance: no overlap (unjoined volumes that touch are a warning of the solve, not a refusal here).
+TEST(MeshChecks, VolumesThatTouchOrStandApartDoNotOverlap) {
+  const Mesh cube = parse_msh(kFreeFemSavegmshCube, "cube.msh");
+  EXPECT_EQ(refusal(with_moved_copy(cube, {1.0, 0.0, 0.0})), "");
+  EXPECT_EQ(refusal(with_moved_copy(cube, {1.0, 0.3, 0.0})), "");
+  EXPECT_EQ(refusal(with_moved_copy(cube, {3.0, 0.0, 0.0})), "");
+}
+
+// The faces the solve warns about (faces_against_the_body): the moved copy touching the cube along x = 1
+// over nodes of its own has its face x = 1 against the cube, and the cube's against it (two triangles
+// each: four); apart, or the cube alone, none.
+TEST(MeshChecks, FacesOfPartsThatTouchWithoutSharingNodesAreFound) {
+  const Mesh cube = parse_msh(kFreeFemSavegmshCube, "cube.msh");
+  const FacesAgainstTheBody touching = faces_against_the_body(with_moved_copy(cube, {1.0, 0.3, 0.0}));
+  EXPECT_EQ(touching.faces, 4u);
+  EXPECT_EQ(faces_against_the_body(with_moved_copy(cube, {1.01, 0.3, 0.0})).faces, 0u);
+  EXPECT_EQ(faces_against_the_body(cube).faces, 0u);
+}
+
+// One element over four new nodes inside the cube (a part of its own): its centre lies inside one of
+// the cube's tetrahedra (off the faces they share: the six share the diagonal x = y = z, so a point on it
+// is inside none of them by the margin). Over the cube's corner (node 1) instead, it is one part with the
+// cube, joined at a node: left to the mechanism check of the solve, not this one.
+TEST(MeshChecks, AnElementInsideTheBodyIsRefused) {
+  Mesh mesh = parse_msh(kFreeFemSavegmshCube, "cube.msh");
+  for (const Eigen::Vector3d& x : {Eigen::Vector3d(0.02, 0.03, 0.01), Eigen::Vector3d(0.3, 0.12, 0.05),
+                                   Eigen::Vector3d(0.1, 0.35, 0.07), Eigen::Vector3d(0.06, 0.1, 0.4)}) {
+    mesh.nodes.push_back(x);
+    mesh.node_tags.push_back(mesh.node_tags.size() + 1);
+  }
+  mesh.tets.push_back({8, 9, 10, 11});
+  mesh.tet_tags.push_back(19);
+  mesh.tet_group.push_back(0);
+  const std::string what = refusal(mesh);
+  EXPECT_NE(what.find("the centre of tetrahedron 19, (0.12, 0.15, 0.1325), lies inside tetrahedron 18"),
+            std::string::npos)
+      << what;
+  mesh.tets.back()[0] = 0;  // over the corner
+  EXPECT_EQ(refusal(mesh), "");
 }
 
 TEST(MeshChecks, UnnamedGroupsOfFreeFemsSavegmshGoByTheirNumbers) {
