@@ -54,6 +54,23 @@ Eigen::Vector2d median_extents(const Mesh& mesh, const std::vector<std::array<in
   return {median(extent_x), median(extent_y)};
 }
 
+Eigen::Vector2d element_sizes_xy(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles) {
+  const Eigen::Vector2d extents = median_extents(mesh, triangles);
+  if (triangles.empty() || !(extents.prod() > 0)) return extents;
+  std::vector<double> areas;
+  areas.reserve(triangles.size());
+  for (const auto& tri : triangles) {
+    const Eigen::Vector2d a = mesh.nodes[tri[1]].head<2>() - mesh.nodes[tri[0]].head<2>();
+    const Eigen::Vector2d b = mesh.nodes[tri[2]].head<2>() - mesh.nodes[tri[0]].head<2>();
+    areas.push_back(0.5 * std::abs(a.x() * b.y() - a.y() * b.x()));
+  }
+  std::nth_element(areas.begin(), areas.begin() + static_cast<std::ptrdiff_t>(areas.size() / 2), areas.end());
+  // A triangle whose box is hx × hy covers about hx·hy/2 (a right triangle: exactly). Far less means
+  // elements stretched along directions that turn across the face, which neither axis follows.
+  const double shrink = std::sqrt(2.0 * areas[areas.size() / 2] / extents.prod());
+  return shrink < kTurningStretchShrink ? Eigen::Vector2d(shrink * extents) : extents;
+}
+
 ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& contact_groups, const DofMap& dofs) {
   ContactFace face;
   if (mesh.nodes.empty()) throw InputError("the mesh has no nodes");
@@ -127,7 +144,7 @@ ContactFace make_contact_face(const Mesh& mesh, const std::vector<std::string>& 
   }
   std::nth_element(shortest.begin(), shortest.begin() + shortest.size() / 2, shortest.end());
   face.h = shortest[shortest.size() / 2];
-  face.h_xy = median_extents(mesh, face.triangles).cwiseMax(face.h);
+  face.h_xy = element_sizes_xy(mesh, face.triangles).cwiseMax(face.h);
   if (!(face.area > 0)) throw InputError("the contact groups have zero total area (degenerate triangles)");
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
     if (face.contact_index[v] == 0) {

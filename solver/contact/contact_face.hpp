@@ -46,8 +46,17 @@ struct ContactFace {
 };
 
 // The medians of the triangles' x- and y-extents in the plane: their typical element size per
-// direction (ContactFace::h_xy is these, at least h; FaceThickness takes them too). Zero for none.
+// direction (FaceThickness takes them). Zero for none.
 Eigen::Vector2d median_extents(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
+// The element size per direction that "2h" cells take (ContactFace::h_xy, at least h): the median
+// extents, so that a mesh stretched along an axis gets rectangles of its aspect — scaled down, keeping
+// their aspect, to the triangles' median area (hx·hy = 2 × area) where that is less than 0.8² of them:
+// elements stretched along a direction that turns across the face (a ring's, an O-ring's line contact:
+// 0.2 mm across, 1.3 mm along the ring, whose x- and y-extents are both about 0.85 mm over the quarter
+// ring, made cells of 1.7 mm that the 0.55 mm wide contact zone fell inside). Near-isotropic meshes,
+// about 0.9 and above, keep their extents.
+inline constexpr double kTurningStretchShrink = 0.8;
+Eigen::Vector2d element_sizes_xy(const Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
 
 // Throws InputError if a group is missing, empty, or reaches below z = 0 (naming the triangle), or if
 // every node of it is held; records nodes a condition prescribes below z = 0 (prescribed_below).

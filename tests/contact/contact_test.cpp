@@ -212,3 +212,31 @@ TEST(ContactOperator, DependentRowsAreFoundWhateverTheRowLengths) {
   B.row(3).setZero();  // a cell with no free dof: an empty row
   EXPECT_EQ(dependent_rows(B.sparseView()), std::vector<int>{3});
 }
+
+// element_sizes_xy: a quarter annulus of triangles 0.2 across and about 1.3 along the ring (an O-ring's
+// line contact) has x- and y-extents of about 0.85 both ways, which "2h" cells took as its size; scaled to
+// the triangles' area they come out near sqrt(2 × 0.13). The brick's right triangles keep their extents.
+TEST(ContactFace, ElementsStretchedAlongATurningDirectionTakeTheirAreasSize) {
+  Mesh ring;
+  const int along = 24;  // 90° in steps of 3.75°: 1.3 long at radius 20
+  for (int k = 0; k <= along; ++k)
+    for (const double radius : {19.9, 20.1}) {
+      const double angle = M_PI / 2 * k / along;
+      ring.nodes.emplace_back(radius * std::cos(angle), radius * std::sin(angle), 0.0);
+    }
+  std::vector<std::array<int, 3>> triangles;
+  for (int k = 0; k < along; ++k) {
+    triangles.push_back({2 * k, 2 * k + 2, 2 * k + 1});
+    triangles.push_back({2 * k + 1, 2 * k + 2, 2 * k + 3});
+  }
+  const Eigen::Vector2d extents = median_extents(ring, triangles), sizes = element_sizes_xy(ring, triangles);
+  EXPECT_GT(extents.minCoeff(), 0.8);
+  EXPECT_NEAR(sizes.x() * sizes.y(), 2 * 0.2 * 1.309 / 2, 0.05);
+  EXPECT_NEAR(sizes.x() / sizes.y(), extents.x() / extents.y(), 1e-12);
+
+  const Mesh brick = make_paper_brick({4});
+  const std::vector<int> sole = brick.triangles_of_group("contact");
+  std::vector<std::array<int, 3>> sole_triangles;
+  for (const int t : sole) sole_triangles.push_back(brick.triangles[static_cast<std::size_t>(t)]);
+  EXPECT_EQ(element_sizes_xy(brick, sole_triangles), median_extents(brick, sole_triangles));
+}
