@@ -110,7 +110,7 @@ struct SolveResult {
   double largest_strain = 0;   // the largest principal strain of u in absolute value, over the tetrahedra
   PartitionRefinement refinement;
   double stability_condition = 0;            // estimate of cond(Q) from its Cholesky pivots
-  double stability_condition_scaled = 0;     // cond of the Jacobi-scaled Q where cond(Q) > 1e10 (else 0)
+  double stability_condition_scaled = 0;     // cond of the Jacobi-scaled Q where cond(Q) > 1e8 (else 0)
   std::vector<std::string> warnings;         // what makes this answer less trustworthy than its residuals say
   std::vector<std::string> notes;            // what the model does that a user may not expect
   double friction_where_separated_area = 0;  // Tresca: area of cells with friction but λ_n = 0
