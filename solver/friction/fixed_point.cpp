@@ -404,7 +404,9 @@ constexpr double kRoundingFloor = 1e3;
 // not as a law too steep for the iteration.
 std::string hint_for(FixedPointStatus status, double q, double final_rtol, double best_err,
                      const FixedPointSettings::HintContext& context) {
-  const bool at_rounding = best_err <= kRoundingFloor * final_rtol;
+  // An err of 0 is a step whose QP kept its warm start (0 iterations), not a level the iteration reached:
+  // a strip with a ramp law stagnated after such steps and was told a tolerance "below about 0" was out of reach.
+  const bool at_rounding = best_err > 0 && best_err <= kRoundingFloor * final_rtol;
   if ((status == FixedPointStatus::Stagnation || (status == FixedPointStatus::IterationLimit && !(q < 1))) &&
       at_rounding)
     return "err fell to " + format_g(best_err) + " and then stalled at the rounding of the QP solves (each to " +

@@ -190,6 +190,27 @@ TEST(FixedPoint, StallAtTheQpRoundingIsSaidAsSuch) {
   EXPECT_EQ(r.hint.find("does not contract"), std::string::npos) << r.hint;
 }
 
+// A map that returns its input wherever it may stop loosely (a QP kept at its warm start: err 0 after 0
+// iterations) and cycles when solved tightly: its stagnation is not a stall at the QPs' rounding (a
+// strip with a ramp law was told a solver.fixed_point_tol "below about 0" could not be reached).
+TEST(FixedPoint, StepsThatKeepTheirWarmStartAreNoRoundingLevel) {
+  const SlipMap two_cycle = two_cycle_map(1);
+  const SlipMap lazy = [two_cycle](const Eigen::VectorXd& phi, double rtol) mutable {
+    if (rtol > 1e-9) {
+      SlipEvaluation e;
+      e.slip = phi;
+      return e;
+    }
+    return two_cycle(phi, rtol);
+  };
+  FixedPointSettings s = settings();
+  s.max_iterations = 60;
+  const FixedPointResult r = solve_fixed_point(lazy, 3, s, 1e-6);
+  ASSERT_NE(r.status, FixedPointStatus::Converged);
+  EXPECT_EQ(r.hint.find("below about 0 "), std::string::npos) << r.hint;
+  EXPECT_EQ(r.hint.find("rounding of the QP solves"), std::string::npos) << r.hint;
+}
+
 TEST(FixedPoint, NoStagnationWhileTheIteratesTravelOneWay) {
   // A front that feeds on itself (G = φ + φ²/20 + 1, capped at 40, as slip spreading over a large
   // face): err rises for three steps after its minimum while every residual points the same way,
