@@ -219,7 +219,7 @@ void for_points_inside_other_tets(const Mesh& mesh, const PointTree& tree, doubl
   }
 }
 
-// The tetrahedra with a face on the boundary (a face of no other), and those faces.
+// Whether faces[k] (the sorted faces of tet_faces) lies on the boundary: a face of no other tetrahedron.
 bool face_on_the_boundary(const std::vector<TetFace>& faces, std::size_t k) {
   return !(k > 0 && faces[k - 1].nodes == faces[k].nodes) &&
          !(k + 1 < faces.size() && faces[k + 1].nodes == faces[k].nodes);
