@@ -72,8 +72,7 @@ int write_solution_collection(const std::filesystem::path& dir, const VtuContext
   std::error_code ec;  // an earlier run's step files are gone: the RunFolder removed them (remove_step_files)
   const int count = std::max<int>(1, static_cast<int>(res.steps.size()));
   std::vector<TimeStep> steps;
-  if (resolved(ctx.scene.output.steps, ctx.mesh.nodes.size()) == StepOutput::Final || res.steps.empty() ||
-      res.steps.front().u.size() == 0) {
+  if (!steps_written(res)) {
     steps.push_back({count, "body.vtu", has_face ? "contact.vtu" : ""});
   } else {
     std::filesystem::create_directories(steps_dir, ec);

@@ -240,11 +240,11 @@ void write_contact(JsonWriter& j, const SolveResult& res) {
 }
 
 // The units of the reports and the steps written.
-void write_units(JsonWriter& j, const Scene& scene, const Mesh& mesh) {
+void write_units(JsonWriter& j, const Scene& scene, const SolveResult& res) {
   const UnitLabels units = unit_labels(scene.output.units);
   j.begin_object("units").value("system", name_of(scene.output.units, kUnitSystemNames)).value("length", units.length);
   j.value("force", units.force).value("stress", units.stress).end_object();
-  j.value("output_steps", name_of(resolved(scene.output.steps, mesh.nodes.size()), kStepOutputNames));  // as resolved
+  j.value("output_steps", name_of(steps_written(res) ? StepOutput::All : StepOutput::Final, kStepOutputNames));
 }
 
 // The KKT residuals of the answer (every run writes them).
@@ -277,7 +277,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     write_backend(j, res, info);
     write_convergence(j, scene, res);
     write_contact(j, res);
-    write_units(j, scene, mesh);
+    write_units(j, scene, res);
     write_forces(j, res.forces);
     j.begin_object("time_s");
     j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);

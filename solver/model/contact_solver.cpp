@@ -545,10 +545,18 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
 void record_steps(const Scene& scene, const DualProblem& dual, const Discretisation& disc, const TrescaStep& tresca,
                   SolveResult& res) {
   const auto& solves = tresca.history();
+  const auto n_nodes = static_cast<std::size_t>(res.dofs.n_nodes);
+  const bool every_step = resolved(scene.output.steps, n_nodes, solves.size()) == StepOutput::All;
+  if (!every_step && scene.output.steps == StepOutput::Auto && solves.size() > 1)
+    res.notes.push_back("the " + std::to_string(solves.size()) +
+                        " steps of the fixed point are not written one by one (" + std::to_string(n_nodes) +
+                        " nodes × " + std::to_string(solves.size()) + " steps passes output.steps = \"auto\"'s " +
+                        std::to_string(kStepOutputAutoNodeSteps) +
+                        "): body.vtu and contact.vtu hold the answer; output.steps = \"all\" writes each step");
   res.steps.clear();
   for (std::size_t k = 0; k < solves.size(); ++k) {
     SolveStep step{solves[k].lambda, solves[k].radius, Eigen::VectorXd()};
-    if (resolved(scene.output.steps, static_cast<std::size_t>(res.dofs.n_nodes)) == StepOutput::All)
+    if (every_step)
       step.u = k + 1 == solves.size() ? res.u : expand_to_nodes(res.dofs, displacement_of(dual, disc, solves[k]));
     res.steps.push_back(std::move(step));
   }

@@ -125,6 +125,8 @@ struct SolveResult {
   std::vector<double> peak_memory_per_rank_mib;  // peak resident memory of each rank at the end
   std::string qp_method;                         // "auto", "mpgp", "mpgp_projcg" or "ssn"
 };
+// Whether each step's displacement was kept (output.steps resolved to "all"), so steps/ is written.
+inline bool steps_written(const SolveResult& res) { return !res.steps.empty() && res.steps.front().u.size() > 0; }
 
 using ProgressCallback = std::function<void(const FixedPointStep&)>;
 

@@ -84,16 +84,16 @@ struct SolverSettings {
 
 // [output]: where the run is written and what it keeps.
 // steps: "all" writes the body and the contact face after every solve (a ParaView time step each;
-// one extra back substitution per step), "final" only the answer; "auto" (default) is "all" for
-// meshes up to kStepOutputAutoNodes nodes and "final" above (each step of a big body is hundreds
-// of MB of ASCII VTU).
+// one extra back substitution per step), "final" only the answer; "auto" (default) is "all" while
+// nodes × steps stays within kStepOutputAutoNodeSteps and "final" beyond (the body's ASCII VTU takes
+// about 0.8 kB per node, so a long fixed point on a small mesh would otherwise write hundreds of MB).
 enum class StepOutput { Auto, All, Final };
 inline constexpr NameTable<StepOutput, 3> kStepOutputNames{
     {{StepOutput::Auto, "auto"}, {StepOutput::All, "all"}, {StepOutput::Final, "final"}}};
-inline constexpr std::size_t kStepOutputAutoNodes = 100000;
-inline StepOutput resolved(StepOutput steps, std::size_t n_nodes) {
+inline constexpr std::size_t kStepOutputAutoNodeSteps = 300000;  // about 250 MB of step files
+inline StepOutput resolved(StepOutput steps, std::size_t n_nodes, std::size_t n_steps) {
   if (steps != StepOutput::Auto) return steps;
-  return n_nodes <= kStepOutputAutoNodes ? StepOutput::All : StepOutput::Final;
+  return n_nodes * n_steps <= kStepOutputAutoNodeSteps ? StepOutput::All : StepOutput::Final;
 }
 // units: the labels of the figures, report and VTU files. The solver is unit-agnostic: the scene's
 // lengths, forces and moduli must be given in this consistent system.

@@ -42,6 +42,16 @@ TEST(Scene, DefaultsAndOverrides) {
   EXPECT_TRUE(parse({"boundary.traction=[]"}).tractions.empty());
 }
 
+// output.steps = "auto" writes every step of a short run on a small mesh, not of a long fixed point
+// (68 steps of a 7 920-node plate wrote 570 MB of steps/).
+TEST(Scene, AutoStepOutputIsBoundedByNodesTimesSteps) {
+  EXPECT_EQ(resolved(StepOutput::Auto, 4913, 7), StepOutput::All);
+  EXPECT_EQ(resolved(StepOutput::Auto, 7920, 68), StepOutput::Final);
+  EXPECT_EQ(resolved(StepOutput::Auto, 400000, 1), StepOutput::Final);
+  EXPECT_EQ(resolved(StepOutput::All, 7920, 68), StepOutput::All);
+  EXPECT_EQ(resolved(StepOutput::Final, 10, 2), StepOutput::Final);
+}
+
 TEST(Scene, RefusesWhatMakesNoSense) {
   EXPECT_NE(error_of({"contact.cell_size=\"2xyzh\""}).find("cell_size"), std::string::npos);
   EXPECT_NE(error_of({"material.poisson=0.5"}).find("poisson"), std::string::npos);
