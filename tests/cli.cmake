@@ -348,6 +348,14 @@ add_test(NAME check_warns_contact_nodes_prescribed_below_plane
 set_tests_properties(check_warns_contact_nodes_prescribed_below_plane PROPERTIES
                      PASS_REGULAR_EXPRESSION "warning: boundary.displacement 'load_end' moves [0-9]+ node\\(s\\) of the contact face below")
 
+# An element over three nodes of the brick that form none of its faces (meshes/fixtures/brick_n2_stray_tet_msh22.msh):
+# one part with the body and no mechanism, so nothing refused it; warned, naming it.
+add_test(NAME check_warns_element_joined_at_nodes_only
+         COMMAND contact3d check ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml
+                 --mesh ${CMAKE_SOURCE_DIR}/meshes/fixtures/brick_n2_stray_tet_msh22.msh)
+set_tests_properties(check_warns_element_joined_at_nodes_only PROPERTIES
+                     PASS_REGULAR_EXPRESSION "warning: a block of tetrahedra meets the rest of the body at nodes only, sharing no face with it \\(e.g. tetrahedron 257, in a block of 1, joined at 3 node")
+
 # Inputs accepted on purpose but said in summary.json's notes: [friction] keys the chosen law does not
 # read, and a foundation plane that holds nothing (no contact group) while the body passes below it.
 add_test(NAME inputs_accepted_but_noted

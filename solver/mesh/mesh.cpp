@@ -1,7 +1,9 @@
 #include "mesh/mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 
 #include "base/errors.hpp"
@@ -178,6 +180,56 @@ BodyParts body_parts(const Mesh& mesh) {
     for (int v : t) parts.of_node[static_cast<std::size_t>(v)] = number;
   }
   return parts;
+}
+
+// By union-find over the faces, bucketed by their smallest node (a counting sort), so only the few faces
+// around a node are compared: linear in the mesh.
+std::vector<int> face_connected_blocks(const Mesh& mesh, int& count) {
+  const int n = static_cast<int>(mesh.tets.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int t = 0; t < n; ++t) parent[static_cast<std::size_t>(t)] = t;
+  struct Face {
+    std::int64_t rest;  // the two larger nodes
+    int tet;
+    bool operator<(const Face& o) const { return rest < o.rest; }
+  };
+  std::vector<int> start(mesh.nodes.size() + 1, 0);
+  const auto face_of = [&](int t, int skip) {
+    std::array<int, 3> f{};
+    for (int k = 0, j = 0; k < 4; ++k)
+      if (k != skip)
+        f[static_cast<std::size_t>(j++)] = mesh.tets[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)];
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  for (int t = 0; t < n; ++t)
+    for (int skip = 0; skip < 4; ++skip) ++start[static_cast<std::size_t>(face_of(t, skip)[0]) + 1];
+  for (std::size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+  std::vector<Face> faces(4 * static_cast<std::size_t>(n));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int t = 0; t < n; ++t)
+    for (int skip = 0; skip < 4; ++skip) {
+      const std::array<int, 3> f = face_of(t, skip);
+      faces[static_cast<std::size_t>(fill[static_cast<std::size_t>(f[0])]++)] = {
+          static_cast<std::int64_t>(f[1]) << 32 | static_cast<std::uint32_t>(f[2]), t};
+    }
+  for (std::size_t v = 0; v + 1 < start.size(); ++v) {
+    const auto first = faces.begin() + start[v], last = faces.begin() + start[v + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last && it + 1 != last; ++it)
+      if (it->rest == (it + 1)->rest) {
+        const int a = find_part(parent, it->tet), b = find_part(parent, (it + 1)->tet);
+        if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+      }
+  }
+  std::vector<int> of_tet(static_cast<std::size_t>(n)), number(static_cast<std::size_t>(n), -1);
+  count = 0;
+  for (int t = 0; t < n; ++t) {
+    int& b = number[static_cast<std::size_t>(find_part(parent, t))];
+    if (b < 0) b = count++;
+    of_tet[static_cast<std::size_t>(t)] = b;
+  }
+  return of_tet;
 }
 
 }  // namespace contact3d

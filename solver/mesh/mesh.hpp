@@ -73,6 +73,9 @@ struct BodyParts {
   int count() const { return static_cast<int>(tets.size()); }
 };
 BodyParts body_parts(const Mesh& mesh);
+// Tetrahedra that share a face (three nodes) in one block: block_of_tet[t] in 0 … count − 1. A part
+// whose tetrahedra fall into several blocks has blocks joined only at nodes or along edges.
+std::vector<int> face_connected_blocks(const Mesh& mesh, int& count);
 // The root of `v`'s set in a union-find forest (path halving): parts of meshes and blocks of tetrahedra.
 int find_part(std::vector<int>& parent, int v);
 

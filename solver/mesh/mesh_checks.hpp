@@ -51,4 +51,16 @@ struct FacesAgainstTheBody {
 };
 FacesAgainstTheBody faces_against_the_body(const Mesh& mesh);
 
+// Tetrahedra that meet the rest of their part at nodes but share no face with it: an element laid
+// over nodes of the body, or volumes meshed apart and merged at a few nodes. Load passes only through
+// those nodes (a point or a line of them). The smallest such block is the example, in file tags. For a
+// warning: where the block can turn about its joint, the mechanism check refuses the mesh.
+struct BlocksJoinedAtNodes {
+  int blocks = 0;                  // face-connected blocks beyond one per part
+  std::size_t example_tets = 0;    // the example block's tetrahedra
+  std::size_t example_tet = 0;     // one of them
+  std::size_t example_joints = 0;  // its nodes shared with other blocks
+};
+BlocksJoinedAtNodes blocks_joined_at_nodes(const Mesh& mesh);
+
 }  // namespace contact3d

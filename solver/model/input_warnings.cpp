@@ -186,6 +186,25 @@ void warn_if_faces_against_the_body(const Mesh& mesh, SolveResult& res) {
                          "to be separate");
 }
 
+// Tetrahedra joined to the rest of the body at nodes only (mesh_checks.hpp): a tetrahedron laid over three
+// nodes of a block that form none of its faces was solved in silence, the load it carries going through
+// three points.
+void warn_if_blocks_joined_at_nodes(const Mesh& mesh, SolveResult& res) {
+  const BlocksJoinedAtNodes joined = blocks_joined_at_nodes(mesh);
+  if (joined.blocks <= 0) return;
+  const bool one = joined.blocks == 1;
+  res.warnings.push_back(
+      (one ? std::string("a block of tetrahedra meets")
+           : std::to_string(joined.blocks) + " blocks of tetrahedra meet") +
+      " the rest of the body at nodes only, sharing no face with it (e.g. tetrahedron " +
+      std::to_string(joined.example_tet) + ", in a block of " + std::to_string(joined.example_tets) + ", joined at " +
+      std::to_string(joined.example_joints) +
+      " node(s)): load passes between them only through those points, so the stresses there are singular and the "
+      "block's answer depends on the mesh; an element laid over nodes of the body, or volumes meshed apart and "
+      "merged at a few nodes, is the usual cause: join the volumes through shared faces (gmsh: BooleanFragments) or "
+      "remove the stray elements");
+}
+
 // Two nodes of the tetrahedra at one place: volumes meshed side by side without being joined (gmsh
 // boxes without BooleanFragments / Coherence). Each moves on its own there, so a load on one goes
 // nowhere near the other: two stacked boxes, 80 such pairs, solved with the top load going straight
@@ -267,6 +286,7 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
   note_loads_given_twice(scene, res);
   note_friction_keys_not_read(scene, res);
   warn_if_coincident_nodes(mesh, res);
+  warn_if_blocks_joined_at_nodes(mesh, res);
   warn_if_ramp_rises_with_slip(scene, res);
   warn_if_few_elements_through_thickness(scene, thickness, res);
 }

@@ -173,6 +173,30 @@ TEST(MeshChecks, AnElementInsideTheBodyIsRefused) {
   EXPECT_EQ(refusal(mesh), "");
 }
 
+// An element over three nodes of the cube that form none of its faces (2, 3, 5) and one new node: one
+// part with the cube, not a mechanism, and no face shared: found (the solve warns), as is one joined at the
+// corner alone; the cube itself, whose six tetrahedra share faces, has no such block.
+TEST(MeshChecks, AnElementJoinedAtNodesOnlyIsFound) {
+  Mesh mesh = parse_msh(kFreeFemSavegmshCube, "cube.msh");
+  EXPECT_EQ(blocks_joined_at_nodes(mesh).blocks, 0);
+  mesh.nodes.push_back({-0.5, -0.5, -0.5});
+  mesh.node_tags.push_back(9);
+  mesh.tets.push_back({1, 2, 4, 8});
+  mesh.tet_tags.push_back(19);
+  mesh.tet_group.push_back(0);
+  const BlocksJoinedAtNodes over_three = blocks_joined_at_nodes(mesh);
+  EXPECT_EQ(over_three.blocks, 1);
+  EXPECT_EQ(over_three.example_tets, 1u);
+  EXPECT_EQ(over_three.example_tet, 19u);
+  EXPECT_EQ(over_three.example_joints, 3u);
+  for (const Eigen::Vector3d& x : {Eigen::Vector3d(-0.5, 0, 0), Eigen::Vector3d(0, -0.5, 0)}) {
+    mesh.nodes.push_back(x);
+    mesh.node_tags.push_back(mesh.node_tags.size() + 1);
+  }
+  mesh.tets.back() = {0, 8, 9, 10};  // at the corner (node 1) alone
+  EXPECT_EQ(blocks_joined_at_nodes(mesh).example_joints, 1u);
+}
+
 TEST(MeshChecks, UnnamedGroupsOfFreeFemsSavegmshGoByTheirNumbers) {
   const Mesh mesh = parse_msh(kFreeFemSavegmshCube, "cube.msh");
   ASSERT_EQ(mesh.tets.size(), 6u);
