@@ -405,6 +405,11 @@ constexpr double kTinyStrain = 1e-9;  // a steel part's own weight strains a 1 c
 // a stepped sole, pushed 0.8 mm down over 40 mm: 11% at the step's re-entrant corner, 2.3% elsewhere, which
 // the warning blamed on the units); a scene in mixed units strains the whole body far beyond it.
 constexpr double kLocalPeakBulk = 0.5 * kLargeStrain;
+// Up to this peak, a body strained over much of its volume is more likely a soft body really pressed that
+// far (a rubber layer under a 5% compression reached 11% at its edge, and the warning blamed the units)
+// than a scene in mixed units, which strains it by orders of magnitude (young in MPa with lengths in m: a
+// million times): the answer is said to be a rough approximation, not wrong.
+constexpr double kRoughlyLinearStrain = 0.25;
 void flag_large_strain(const Mesh& mesh, SolveResult& res) {
   const StrainPeak peak = largest_strain(mesh, res.u);
   res.largest_strain = peak.value;
@@ -424,22 +429,31 @@ void flag_large_strain(const Mesh& mesh, SolveResult& res) {
   if (!(peak.value > kLargeStrain)) return;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const int v : mesh.tets[peak.tet]) centre += mesh.nodes[static_cast<std::size_t>(v)] / 4;
-  res.warnings.insert(
-      res.warnings.begin(),
-      "the largest strain is " + number(peak.value, 3) + " (" + number(100 * peak.value, 3) + "%) in tetrahedron " +
-          std::to_string(peak.tet + 1) + ", centred at (" + number(centre.x(), 4) + ", " + number(centre.y(), 4) +
-          ", " + number(centre.z(), 4) +
-          "): contact3d solves linear elasticity (small strains and rotations, contact on the undeformed face), "
-          "which describes strains of a few percent at most, so this is not the body's answer" +
-          (peak.bulk < kLocalPeakBulk
-               ? " there; 99% of the body's volume is strained less than " + number(100 * peak.bulk, 2) +
-                     "%, so the peak is local (a re-entrant corner, a sole's edge or corner, a point load or support, "
-                     "where the linear model's strain is singular and grows as the mesh is refined) and the rest "
-                     "of the answer is not concerned; if there is no such place, check that the scene is in one "
-                     "consistent system of units (young in Pa with lengths in m and forces in N, or in MPa with mm)"
-               : std::string("; check that the scene is in one consistent system of units (young in Pa with lengths "
-                             "in m and forces in N, or in MPa with mm), and the size of its loads and prescribed "
-                             "displacements")));
+  const std::string where = "the largest strain is " + number(peak.value, 3) + " (" + number(100 * peak.value, 3) +
+                            "%) in tetrahedron " + std::to_string(peak.tet + 1) + ", centred at (" +
+                            number(centre.x(), 4) + ", " + number(centre.y(), 4) + ", " + number(centre.z(), 4) +
+                            "): contact3d solves linear elasticity (small strains and rotations, contact on the "
+                            "undeformed face), which describes strains of a few percent at most";
+  const std::string units =
+      "check that the scene is in one consistent system of units (young in Pa with lengths in m "
+      "and forces in N, or in MPa with mm)";
+  std::string why;
+  if (peak.bulk < kLocalPeakBulk)
+    why = ", so this is not the body's answer there; 99% of the body's volume is strained less than " +
+          number(100 * peak.bulk, 2) +
+          "%, so the peak is local (a re-entrant corner, a sole's edge or corner, a point load or support, where the "
+          "linear model's strain is singular and grows as the mesh is refined) and the rest of the answer is not "
+          "concerned; if there is no such place, " +
+          units;
+  else if (peak.value <= kRoughlyLinearStrain)
+    why = ", so the answer is only a rough approximation: 1% of the body's volume is strained more than " +
+          number(100 * peak.bulk, 2) +
+          "%, as a soft body under a large imposed compression or load is (a rubber layer pressed by 5%), and the "
+          "linear model's error grows with the strain; if the scene should strain it far less, " +
+          units + ", and the size of its loads and prescribed displacements";
+  else
+    why = ", so this is not the body's answer; " + units + ", and the size of its loads and prescribed displacements";
+  res.warnings.insert(res.warnings.begin(), where + why);
 }
 
 namespace {
