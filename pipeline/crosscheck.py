@@ -72,6 +72,14 @@ from oracle.compare import body_difference, compare, read_csv, read_vtu_points_a
 
 REPO = Path(__file__).resolve().parent.parent
 
+# The labels of [output] units (the solver is unit-free; the scene's numbers are in this system).
+UNIT_LABELS = {"m-N-Pa": ("m", "N", "Pa"), "mm-N-MPa": ("mm", "N", "MPa"), "m-kN-kPa": ("m", "kN", "kPa")}
+
+
+def units_of(scene: dict) -> tuple[str, str, str]:
+    """(length, force, stress) labels of the scene's output.units."""
+    return UNIT_LABELS.get(scene.get("output", {}).get("units", "m-N-Pa"), UNIT_LABELS["m-N-Pa"])
+
 DEFAULTS = {
     "tolerance": 0.05,
     "force_tolerance": 0.05,
@@ -460,7 +468,7 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     case["fails"] = fails
     case["status"] = "pass" if not fails else "FAIL"
     log(f"   rel L2(Gc) {case['rel_l2']:.3e} (normal {case['rel_l2_normal']:.3e}, tangential "
-        f"{case['rel_l2_tangential']:.3e}), max |du| {case['max_diff']:.3e} m, body: max|du|/max|u| "
+        f"{case['rel_l2_tangential']:.3e}), max |du| {case['max_diff']:.3e} {units_of(scene)[0]}, body: max|du|/max|u| "
         f"{case['body_rel_max_diff']:.3e}, contact-set mismatch "
         f"{case['contact_ff_only'] + case['contact_ours_only']}, Fn rel {case['rel_Fn']:.3e}, Ft rel {case['rel_Ft']:.3e}"
         f" -> {case['status']}")
@@ -501,7 +509,8 @@ def own_values_table(cases: list[dict]) -> list[str]:
     return L
 
 
-def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[str], cfg: dict, argv: list[str]):
+def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[str], cfg: dict, argv: list[str],
+                 units: tuple[str, str, str] = UNIT_LABELS["m-N-Pa"]):
     path.parent.mkdir(parents=True, exist_ok=True)
     L = []
     L.append(f"# Cross-check: {scene_path.stem} — contact3d vs FreeFEM reference\n")
@@ -528,15 +537,15 @@ def write_report(path: Path, scene_path: Path, cases: list[dict], errors: list[s
              "Both processes include mesh reading and assembly.\n")
     ft = lambda v: "(" + ", ".join(format(x, ".4g") for x in v) + ")"
     L.append("Displacements on Γc and contact sets:\n")
-    L.append("| mesh | variant | contact nodes | rel L2 u | rel L2 u_n | rel L2 u_t | max abs du (m) | max du / max u "
-             "| in contact FF/ours | mismatch | status |")
+    L.append(f"| mesh | variant | contact nodes | rel L2 u | rel L2 u_n | rel L2 u_t | max abs du ({units[0]}) "
+             "| max du / max u | in contact FF/ours | mismatch | status |")
     L.append("|" + "---|" * 11)
     for c in cases:
         L.append(f"| {c['mesh_label']} | {c['variant']} | {c['n_contact_nodes_ff']} | {fmt(c['rel_l2'])} | {fmt(c['rel_l2_normal'])} | "
                  f"{fmt(c['rel_l2_tangential'])} | {fmt(c['max_diff'])} | {fmt(c['rel_max_diff'])} | "
                  f"{c['in_contact_ff']}/{c['in_contact_ours']} | {c['contact_ff_only'] + c['contact_ours_only']} | {c['status']} |")
     L.extend(own_values_table(cases))
-    L.append("\nTotal contact forces (N):\n")
+    L.append(f"\nTotal contact forces ({units[1]}):\n")
     L.append("| mesh | variant | Fn FreeFEM | Fn contact3d | rel diff | Ft FreeFEM | Ft contact3d | rel diff |")
     L.append("|" + "---|" * 8)
     for c in cases:
@@ -820,7 +829,8 @@ def main(argv=None) -> int:
                 errors.append(msg)
     report = Path(args.report) if args.report else REPO / "results" / "runs" / "crosscheck" / f"{scene_path.stem}.md"
     if cases or errors:
-        write_report(report.resolve(), scene_path, cases, errors, cfg, [Path(sys.argv[0]).name] + (argv or sys.argv[1:]))
+        write_report(report.resolve(), scene_path, cases, errors, cfg, [Path(sys.argv[0]).name] + (argv or sys.argv[1:]),
+                     units_of(scene))
         log(f"report: {report}")
     for c in cases:
         for f in c["fails"]:
