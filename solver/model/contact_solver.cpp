@@ -903,7 +903,7 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
   if (disc.held.count()) {
-    require_held(disc.held, disc.equality_motions(), disc.f, op, res.partition, qp, tresca);
+    require_held(disc.held, disc.equality_motions(), disc.f, op, res.partition, qp, tresca, scene.coulomb());
     warn_if_friction_at_its_limit(scene, disc.held, op, tresca, res);
   }
   clock.lap("dual_solve");

@@ -396,7 +396,7 @@ void require_loads_press_onto_plane(const ContactHeldMotions& held, const Eigen:
 
 void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
                   const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
-                  const TrescaStep& tresca) {
+                  const TrescaStep& tresca, bool coulomb) {
   // An inner QP that did not converge leaves the loads unbalanced whatever the friction: the run then
   // ends as the dual QP's failure (FixedPointStatus::InnerSolverFailed), not as this input error.
   const bool balanced = qp.equality_residual() <= 1e-6 && !tresca.history().empty();
@@ -474,17 +474,24 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
     // load, read "4.55% of them left unbalanced".
     const Eigen::VectorXd left_in_plane = held.in_plane_combinations.transpose() * left;
     const Eigen::VectorXd loads_in_plane = held.in_plane_combinations.transpose() * (held.field.transpose() * f);
+    const char* const them = held.in_plane_count() > 1 ? "them" : "it";
     const std::string in_plane_unbalanced = loads_in_plane.norm() > 0
                                                 ? number(100 * left_in_plane.norm() / loads_in_plane.norm(), 3) +
-                                                      "% of the loads along it left unbalanced" + in_solve
+                                                      "% of the loads along " + them + " left unbalanced" + in_solve
                                                 : unbalanced;
+    // What sets the friction the run had: Coulomb's coefficient alone, or Tresca's bound g with it.
+    const std::string friction_keys =
+        coulomb ? "the coefficient: friction.value or the law's values; with model = \"coulomb\" the bound is F "
+                  "times the normal pressure"
+                : "friction.slip_bound, the coefficient, friction.model";
     if (left_in_plane.norm() > 0.5 * left.norm())
       refuse("the body is held by contact alone and nothing prescribed holds " + held.describe_in_plane() +
-             " in the foundation's plane: friction alone must hold it there, but the loads along it are " +
-             "more than the contact's friction carries (" + in_plane_unbalanced + ")" +
+             " in the foundation's plane: friction alone must hold it there, but the loads along " + them +
+             " are more than the contact's friction carries (" + in_plane_unbalanced + ")" +
              (op.with_friction ? "" : ", the contact being frictionless") +
-             "; prescribe that motion (boundary.displacement, e.g. symmetry planes) or check the "
-             "friction (friction.slip_bound, friction.model) and the loads' directions");
+             ": the body would slide on the foundation, which a static solve has no answer for; prescribe that "
+             "motion (boundary.displacement, e.g. symmetry planes) or check the friction (" +
+             friction_keys + ") and the loads' directions");
   }
   // No cell presses at all: the loads lift the whole body off (a pull on its top, as plain as that),
   // said before the list of causes that fit a body that does touch.

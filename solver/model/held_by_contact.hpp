@@ -96,10 +96,11 @@ struct ContactZoneTooCoarse : InputError {
 // push it along the plane harder than friction holds, or the body touches on too few cells to balance
 // their moments — or balanced them only after a rigid displacement many times the body's size.
 // `motions`: the rigid motions among the dual's equalities (held.field, or its combinations with a
-// normal part where frictionless), `f` the loads on the free dofs.
+// normal part where frictionless), `f` the loads on the free dofs; `coulomb`: the friction model, for the
+// keys the refusal names.
 void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions, const Eigen::VectorXd& f,
                   const ContactOperator& op, const Partition& partition, const DualQpSolver& qp,
-                  const TrescaStep& tresca);
+                  const TrescaStep& tresca, bool coulomb);
 
 // How hard the loads lean on friction along the in-plane motions (a slide, a turn about the normal):
 // over their combinations r, the largest ratio of the work the friction forces do along r, Σ λ_t,i ·
