@@ -236,13 +236,7 @@ std::string find_mechanism(const Mesh& mesh, const DofMap& dofs, const BodyParts
   int blocks = 0;
   const std::vector<int> block_of_tet = face_connected_blocks(mesh, blocks);
   if (blocks <= parts.count() || blocks > kMostBlocksSearched) return "";
-  // The blocks each node lies in.
-  std::vector<std::vector<int>> blocks_of_node(static_cast<std::size_t>(dofs.n_nodes));
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    for (const int v : mesh.tets[t]) {
-      std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)];
-      if (std::find(in.begin(), in.end(), block_of_tet[t]) == in.end()) in.push_back(block_of_tet[t]);
-    }
+  const std::vector<std::vector<int>> blocks_of_node = blocks_of_nodes(mesh, block_of_tet);
   // K's zero-energy motions: a rigid motion per block, equal where blocks share a node, zero along the
   // prescribed components: the kernel of the Gram matrix of those conditions.
   const BodyFrame frame = body_frame(mesh, dofs);

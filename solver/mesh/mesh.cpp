@@ -232,4 +232,14 @@ std::vector<int> face_connected_blocks(const Mesh& mesh, int& count) {
   return of_tet;
 }
 
+std::vector<std::vector<int>> blocks_of_nodes(const Mesh& mesh, const std::vector<int>& block_of_tet) {
+  std::vector<std::vector<int>> of_node(mesh.nodes.size());
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (const int v : mesh.tets[t]) {
+      std::vector<int>& in = of_node[static_cast<std::size_t>(v)];
+      if (std::find(in.begin(), in.end(), block_of_tet[t]) == in.end()) in.push_back(block_of_tet[t]);
+    }
+  return of_node;
+}
+
 }  // namespace contact3d

@@ -76,6 +76,9 @@ BodyParts body_parts(const Mesh& mesh);
 // Tetrahedra that share a face (three nodes) in one block: block_of_tet[t] in 0 … count − 1. A part
 // whose tetrahedra fall into several blocks has blocks joined only at nodes or along edges.
 std::vector<int> face_connected_blocks(const Mesh& mesh, int& count);
+// The blocks each node lies in, from face_connected_blocks (empty for a node no tetrahedron uses); a node
+// in several is a joint between blocks.
+std::vector<std::vector<int>> blocks_of_nodes(const Mesh& mesh, const std::vector<int>& block_of_tet);
 // The root of `v`'s set in a union-find forest (path halving): parts of meshes and blocks of tetrahedra.
 int find_part(std::vector<int>& parent, int v);
 

@@ -609,24 +609,11 @@ BlocksJoinedAtNodes blocks_joined_at_nodes(const Mesh& mesh) {
   out.blocks = count - body_parts(mesh).count();
   if (out.blocks <= 0) return {};
   std::vector<std::size_t> tets(static_cast<std::size_t>(count), 0), joints(tets.size(), 0), first(tets.size(), 0);
-  std::vector<int> block_at(mesh.nodes.size(), -1);  // a node's block, or −2 once several meet there
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const auto b = static_cast<std::size_t>(block_of_tet[t]);
-    if (tets[b]++ == 0) first[b] = t;
-    for (const int v : mesh.tets[t]) {
-      int& at = block_at[static_cast<std::size_t>(v)];
-      at = at == -1 || at == static_cast<int>(b) ? static_cast<int>(b) : -2;
-    }
-  }
-  std::vector<std::vector<int>> blocks_of_node(mesh.nodes.size());
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    for (const int v : mesh.tets[t]) {
-      if (block_at[static_cast<std::size_t>(v)] != -2) continue;
-      std::vector<int>& in = blocks_of_node[static_cast<std::size_t>(v)];
-      if (std::find(in.begin(), in.end(), block_of_tet[t]) == in.end()) in.push_back(block_of_tet[t]);
-    }
-  for (const auto& in : blocks_of_node)
-    for (const int b : in) ++joints[static_cast<std::size_t>(b)];
+    if (tets[static_cast<std::size_t>(block_of_tet[t])]++ == 0) first[static_cast<std::size_t>(block_of_tet[t])] = t;
+  for (const std::vector<int>& in : blocks_of_nodes(mesh, block_of_tet))
+    if (in.size() > 1)
+      for (const int b : in) ++joints[static_cast<std::size_t>(b)];
   std::size_t smallest = 0;
   for (std::size_t b = 1; b < tets.size(); ++b)
     if (joints[b] > 0 && (joints[smallest] == 0 || tets[b] < tets[smallest])) smallest = b;
