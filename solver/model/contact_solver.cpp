@@ -827,6 +827,87 @@ std::string with_input_warnings(const std::string& refusal, const std::vector<st
   return text + ")";
 }
 
+// The factorization stage: K with 𝔹 (K alone on the matrix-free route), through which the dual problem
+// (5.5) is formed — Q dense, or its products through the factor — once the contact alone is known to
+// hold what it must (require_free_parts_on_contact_face, require_loads_press_onto_plane).
+std::unique_ptr<DualProblem> factor_with_multipliers(const Scene& scene, const Mesh& mesh, Discretisation& disc,
+                                                     const ContactOperator& op, const FaceDofs& face_dofs,
+                                                     DualMethod method, bool K_on_ranks, KeptFactor* kept,
+                                                     StageClock& clock, Progress& report, RunningStage& stage,
+                                                     SolveResult& res) {
+  const bool matrix_free = method == DualMethod::MatrixFree;
+  stage.enter("factorization", matrix_free ? "the sparse factor of K (" + count(res.n_primal) + " rows)"
+                                           : "the sparse factor of K with the multipliers (" +
+                                                 count(res.n_primal + op.rows()) + " rows)");
+  if (disc.held.count()) {
+    require_free_parts_on_contact_face(disc.held, face_dofs.dofs);
+    require_loads_press_onto_plane(disc.held, disc.f, disc.applied);
+  }
+  StiffnessSource source{mesh, res.dofs, disc.materials};
+  if (!disc.springs_in_K)
+    for (std::size_t p = 0; p < disc.held.pins.size(); ++p)
+      source.springs.emplace_back(disc.held.pins[p], disc.held.pin_springs[p]);
+  DualProblemInput input{disc.K,           op.B,
+                         disc.f,           face_dofs.dofs,
+                         op.offset,        factor_size_check(report, &stage),
+                         disc.release_K(), K_on_ranks ? &source : nullptr};
+  if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
+  input.report = [&report](const std::string& line) { report.stage(line); };
+  std::unique_ptr<DualProblem> dual = dual_problem(method, input, scene, kept, clock, report, res);
+  const double done_s = stage_seconds(res, "factorization") + stage_seconds(res, "dual");
+  if (matrix_free)
+    report.stage("  done in " + number(done_s, 3) + " s (factor, h and Q's diagonal); Q: " + count(op.rows()) + " x " +
+                 count(op.rows()) + ", not formed");
+  else
+    report.stage("  done in " + number(done_s, 3) + " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " +
+                 count(op.rows()) + " dense (" + number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
+  return dual;
+}
+
+// The dual QP (5.5) on the dense Q with the stability check's factor of it (`q_factor`, for the Newton
+// steps), or on the matrix-free route's products through the factor of K.
+DualQpSolver dual_qp(bool matrix_free, DualProblem& dual, const ContactOperator& op, const Discretisation& disc,
+                     double q_norm, std::shared_ptr<DualOperatorFactor> q_factor, const QpSettings& settings,
+                     SolveResult& res) {
+  if (matrix_free)
+    return DualQpSolver(matrix_free_q(dual, op, res.partition, settings, disc.K, res.notes), dual.h(), op.r,
+                        op.with_friction, q_norm, settings);
+  return DualQpSolver(dual.Q(), dual.h(), op.r, op.with_friction, q_norm, settings, std::move(q_factor));
+}
+
+// What summary.json says of the route taken (solver.schur, the QP, the backend and its ranks), with a note
+// where the ranks' binding or a one-process route under mpirun costs time.
+void record_route(const Scene& scene, DualMethod method, const DualProblem& dual, SolveResult& res) {
+  res.schur_method = dual.method;
+  res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);
+  res.factor_nonzeros = dual.factor_nonzeros;
+  res.step_solve_fraction = dual.step_solve_fraction;
+  res.backend = dual.backend;
+  res.near_null_space = dual.near_null_space;
+  res.ranks = is_mumps(method) ? distributed::ranks() : 1;
+  if (is_mumps(method))
+    if (std::string note = distributed::core_binding_note(); !note.empty()) res.notes.push_back(std::move(note));
+  if (!is_mumps(method) && distributed::ranks() > 1)  // a route of one process, started under mpirun
+    res.notes.push_back("solver.schur = \"" + std::string(name_of(method, kDualMethodNames)) +
+                        "\" solves on rank 0 alone, the other " + std::to_string(distributed::ranks() - 1) +
+                        " rank(s) waiting: solver.schur = \"mumps\" or \"mumps_petsc\" spreads the factorization "
+                        "over them");
+}
+
+// solver.reference_factorization: the yardstick of total / factorization, one factorization of K in the
+// same process, timed here once the solve's own factor is freed (two big factors need not fit at once) —
+// or after the last solve of contact.cell_size = "auto", which may still use the kept factor
+// (time_kept_reference).
+void time_reference(const Mesh& mesh, Discretisation& disc, DualProblem& dual, KeptFactor* kept, StageClock& clock,
+                    SolveResult& res) {
+  dual.release_factor();
+  const Eigen::SparseMatrix<double>& K = disc.stiffness(mesh, res.dofs);  // assembled again if released
+  if (kept)
+    kept->K = K;
+  else
+    time_reference_factorizations(K, clock);
+}
+
 // The stages of one solve in the foundation plane's frame (the README's data flow), into `res`. `kept`:
 // where the factor of K is kept for a second solve with other cells (contact.cell_size = "auto"), or null.
 void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness,
@@ -852,32 +933,9 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
   method = fit_dual_method(scene, method, op, report, res);
   const bool matrix_free = method == DualMethod::MatrixFree;
 
-  stage.enter("factorization", matrix_free ? "the sparse factor of K (" + count(res.n_primal) + " rows)"
-                                           : "the sparse factor of K with the multipliers (" +
-                                                 count(res.n_primal + op.rows()) + " rows)");
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
-  if (disc.held.count()) {
-    require_free_parts_on_contact_face(disc.held, face_dofs.dofs);
-    require_loads_press_onto_plane(disc.held, disc.f, disc.applied);
-  }
-  StiffnessSource source{mesh, res.dofs, disc.materials};
-  if (!disc.springs_in_K)
-    for (std::size_t p = 0; p < disc.held.pins.size(); ++p)
-      source.springs.emplace_back(disc.held.pins[p], disc.held.pin_springs[p]);
-  DualProblemInput input{disc.K,           op.B,
-                         disc.f,           face_dofs.dofs,
-                         op.offset,        factor_size_check(report, &stage),
-                         disc.release_K(), K_on_ranks ? &source : nullptr};
-  if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
-  input.report = [&report](const std::string& line) { report.stage(line); };
-  std::unique_ptr<DualProblem> dual = dual_problem(method, input, scene, kept, clock, report, res);
-  const double done_s = stage_seconds(res, "factorization") + stage_seconds(res, "dual");
-  if (matrix_free)
-    report.stage("  done in " + number(done_s, 3) + " s (factor, h and Q's diagonal); Q: " + count(op.rows()) + " x " +
-                 count(op.rows()) + ", not formed");
-  else
-    report.stage("  done in " + number(done_s, 3) + " s (factor and Q); dual operator Q: " + count(op.rows()) + " x " +
-                 count(op.rows()) + " dense (" + number(8.0 * op.rows() * op.rows() / (1 << 20), 3) + " MiB)");
+  std::unique_ptr<DualProblem> dual =
+      factor_with_multipliers(scene, mesh, disc, op, face_dofs, method, K_on_ranks, kept, clock, report, stage, res);
 
   stage.enter("stability check", matrix_free ? "the factor of 𝔹𝔹ᵀ and Lanczos steps on Q (one K⁻¹ solve each)"
                                              : "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
@@ -891,11 +949,7 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
                                               gib((dense_dual_bytes_per_entry(scene.solver.qp, op.rows()) - 8) *
                                                   op.rows() * op.rows()) +
                                               ")");
-  DualQpSolver qp =
-      matrix_free
-          ? DualQpSolver(matrix_free_q(*dual, op, res.partition, scene.solver.qp, disc.K, res.notes), dual->h(), op.r,
-                         op.with_friction, q_norm, scene.solver.qp)
-          : DualQpSolver(dual->Q(), dual->h(), op.r, op.with_friction, q_norm, scene.solver.qp, std::move(q_factor));
+  DualQpSolver qp = dual_qp(matrix_free, *dual, op, disc, q_norm, std::move(q_factor), scene.solver.qp, res);
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res, face_dofs),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));
@@ -916,29 +970,9 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
   clock.lap("postprocess");
   record_steps(scene, *dual, disc, tresca, res);
   clock.lap("step_fields");
-  res.schur_method = dual->method;
-  res.qp_method = name_of(scene.solver.qp.variant, kQpVariantNames);
-  res.factor_nonzeros = dual->factor_nonzeros;
-  res.step_solve_fraction = dual->step_solve_fraction;
-  res.backend = dual->backend;
-  res.near_null_space = dual->near_null_space;
-  res.ranks = is_mumps(method) ? distributed::ranks() : 1;
-  if (is_mumps(method))
-    if (std::string note = distributed::core_binding_note(); !note.empty()) res.notes.push_back(std::move(note));
-  if (!is_mumps(method) && distributed::ranks() > 1)  // a route of one process, started under mpirun
-    res.notes.push_back("solver.schur = \"" + std::string(name_of(method, kDualMethodNames)) +
-                        "\" solves on rank 0 alone, the other " + std::to_string(distributed::ranks() - 1) +
-                        " rank(s) waiting: solver.schur = \"mumps\" or \"mumps_petsc\" spreads the factorization "
-                        "over them");
+  record_route(scene, method, *dual, res);
   res.peak_memory_per_rank_mib = distributed::peak_memory_per_rank_mib();
-  if (scene.solver.reference_factorization) {  // the yardstick for total / factorization, same process
-    dual->release_factor();                    // two big factors need not fit at once
-    const Eigen::SparseMatrix<double>& K = disc.stiffness(mesh, res.dofs);  // assembled again if released
-    if (kept)
-      kept->K = K;  // timed after the last solve, which may still use the kept factor (time_kept_reference)
-    else
-      time_reference_factorizations(K, clock);
-  }
+  if (scene.solver.reference_factorization) time_reference(mesh, disc, *dual, kept, clock, res);
 }
 
 // run_stages, whose refusal carries the warnings given before it: they often name its cause (two stacked
