@@ -534,11 +534,28 @@ def c_mesh_tet_inside_another(c):
 
 def c_mesh_tet_over_a_corner(c):
     """An element sharing one corner with the mesh and reaching into its tetrahedra: one part with the
-    body, joined at a node, refused by the solve's mechanism check (check_mesh_meaning looks for
-    overlaps between parts only)."""
+    body, joined at a node, refused as an overlap by check_mesh_meaning (it solved, assembled over the
+    body, until blocks joined at nodes were searched too; before that, the mechanism check refused it)."""
     m = Msh22(c)
-    small_tet_inside(m, keep_corner=True)
+    eid = small_tet_inside(m, keep_corner=True)
     return ["solve", c.scene(c.write("corner.msh", m.text())), "--out", c.path("out"), "--quiet"], \
+        ["centre of tetrahedron " + eid, "overlap"]
+
+
+def c_mesh_tet_outside_at_a_corner(c):
+    """An element sharing one corner of the brick and lying outside it: no overlap, one part with the
+    body, joined at a node, about which it can turn: the solve's mechanism check refuses it."""
+    m = Msh22(c)
+    used = {v for e in m.tets() for v in e[-4:]}
+    xyz = {n[0]: [float(v) for v in n[1:4]] for n in m.nodes if n[0] in used}
+    corner = max(xyz, key=lambda v: sum(xyz[v]))
+    nodes = [corner]
+    for d in [(0.02, 0, 0), (0, 0.02, 0), (0, 0, 0.02)]:
+        nid = str(max(int(n[0]) for n in m.nodes) + 1)
+        m.nodes.append([nid] + [repr(xyz[corner][i] + d[i]) for i in range(3)])
+        nodes.append(nid)
+    m.add_element(4, m.tets()[0][3], nodes)
+    return ["solve", c.scene(c.write("corner_out.msh", m.text())), "--out", c.path("out"), "--quiet"], \
         ["only at the node", "ball joint"]
 
 

@@ -225,36 +225,83 @@ bool face_on_the_boundary(const std::vector<TetFace>& faces, std::size_t k) {
          !(k + 1 < faces.size() && faces[k + 1].nodes == faces[k].nodes);
 }
 
-// Parts of a mesh (tetrahedra joined through nodes) that overlap: two gmsh volumes meshed over the same
-// place without BooleanFragments, two meshes written into one file, an element over new nodes — the
-// centre of a tetrahedron of one lies inside a tetrahedron of another. In a mesh that fills the body
-// once, each tetrahedron's centre is inside it alone, a quarter of its heights away from its faces, so
-// parts that touch along a face (curved or not) are not taken for an overlap; a margin of 1e-3 of the
-// barycentric coordinates keeps rounding out too. Only the centres of tetrahedra on the boundary are
-// looked for (two parts over each other have their outer layers inside each other), and only where the
-// mesh has several parts: the common mesh of one part pays a union-find, not the search (about 14 ms for
-// 61 000 tetrahedra). Elements of one part over each other's corners are not looked for here; not
-// through a face, they are joined at a node or an edge, which the mechanism check refuses.
+// Each tetrahedron's face-connected block, as the root of its union-find set over the sorted faces of
+// tet_faces; `several`: whether there is more than one (parts meshed apart, or a block of one part joined
+// to the rest at nodes only).
+std::vector<int> face_block_roots(const Mesh& mesh, const std::vector<TetFace>& faces, bool& several) {
+  std::vector<int> parent(mesh.tets.size());
+  for (std::size_t e = 0; e < parent.size(); ++e) parent[e] = static_cast<int>(e);
+  for (std::size_t k = 0; k + 1 < faces.size(); ++k)
+    if (faces[k].nodes == faces[k + 1].nodes)
+      parent[static_cast<std::size_t>(find_part(parent, static_cast<int>(faces[k].tet)))] =
+          find_part(parent, static_cast<int>(faces[k + 1].tet));
+  several = false;
+  for (std::size_t e = 0; e < parent.size(); ++e) {
+    parent[e] = find_part(parent, static_cast<int>(e));
+    several = several || parent[e] != parent[0];
+  }
+  return parent;
+}
+
+// Whether each tetrahedron lies in a block of its part other than the part's largest: an element laid
+// over nodes of the body, or volumes merged at a few nodes (blocks_joined_at_nodes).
+std::vector<char> in_minor_blocks(const Mesh& mesh, const std::vector<int>& block_root) {
+  const BodyParts parts = body_parts(mesh);
+  std::vector<std::size_t> size(mesh.tets.size(), 0);
+  for (const int root : block_root) ++size[static_cast<std::size_t>(root)];
+  std::vector<int> largest(static_cast<std::size_t>(parts.count()), -1);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    int& top = largest[static_cast<std::size_t>(parts.of_node[static_cast<std::size_t>(mesh.tets[e][0])])];
+    const int root = block_root[e];
+    if (top < 0 || size[static_cast<std::size_t>(root)] > size[static_cast<std::size_t>(top)]) top = root;
+  }
+  std::vector<char> minor(mesh.tets.size(), 0);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e)
+    minor[e] =
+        block_root[e] != largest[static_cast<std::size_t>(parts.of_node[static_cast<std::size_t>(mesh.tets[e][0])])];
+  return minor;
+}
+
+// Blocks of a mesh (tetrahedra joined through faces) that overlap: two gmsh volumes meshed over the same
+// place without BooleanFragments, two meshes written into one file, an element over new nodes or laid
+// over nodes of the body through its inside — a point of a tetrahedron of one lies inside a tetrahedron of
+// another. In a mesh that fills the body once, each tetrahedron's centre is inside it alone, a quarter of
+// its heights away from its faces, so blocks that touch along a face (curved or not) are not taken for an
+// overlap; a margin of 1e-3 of the barycentric coordinates keeps rounding out too. The points looked for:
+// the centres of tetrahedra on the boundary (two blocks over each other have their outer layers inside
+// each other), and for the tetrahedra of a block joined to its part at nodes only also the points half way
+// from the centre to each corner (one element over three nodes of a structured mesh can have its centre
+// on the faces the body's tetrahedra share). Only where the mesh has several blocks: the common mesh of
+// one block pays a union-find over its sorted faces, not the search. Overlaps through a face are
+// check_tets_do_not_overlap's.
 void check_no_tet_holds_another_centre(const Mesh& mesh, const std::vector<TetFace>& faces, const MeshRoles& roles) {
-  if (body_parts(mesh).count() < 2) return;
+  bool several = false;
+  const std::vector<int> block_root = face_block_roots(mesh, faces, several);
+  if (!several) return;
+  const std::vector<char> minor = in_minor_blocks(mesh, block_root);
   std::vector<char> on(mesh.tets.size(), 0);
   for (std::size_t k = 0; k < faces.size(); ++k)
     if (face_on_the_boundary(faces, k)) on[faces[k].tet] = 1;
-  std::vector<PointTree::Point> centres;
+  constexpr std::uint32_t kCentre = 0, kInside = 1;  // a point's label: the centre, or half way to a corner
+  std::vector<PointTree::Point> points;
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    if (!on[e]) continue;
+    if (!on[e] && !minor[e]) continue;
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (const int v : mesh.tets[e]) c += mesh.nodes[v];
-    centres.push_back({c / 4.0, static_cast<std::uint32_t>(e), 0});
+    c /= 4.0;
+    const auto tet = static_cast<std::uint32_t>(e);
+    points.push_back({c, tet, kCentre});
+    if (minor[e])
+      for (const int v : mesh.tets[e]) points.push_back({0.5 * (c + mesh.nodes[v]), tet, kInside});
   }
   for_points_inside_other_tets(
-      mesh, PointTree(std::move(centres)), 1e-3, [&](const PointTree::Point& centre, std::size_t holder) -> bool {
-        const Eigen::Vector3d at = roles.user_point ? roles.user_point(centre.at) : centre.at;
-        throw InputError("the centre of tetrahedron " + std::to_string(mesh.tet_tags[centre.tet]) + ", (" +
-                         number(at.x()) + ", " + number(at.y()) + ", " + number(at.z()) +
-                         "), lies inside tetrahedron " + std::to_string(mesh.tet_tags[holder]) +
-                         ": elements overlap (an element added to the mesh, two meshes written into one file, or two "
-                         "volumes meshed over the same place)");
+      mesh, PointTree(std::move(points)), 1e-3, [&](const PointTree::Point& point, std::size_t holder) -> bool {
+        const Eigen::Vector3d at = roles.user_point ? roles.user_point(point.at) : point.at;
+        throw InputError(std::string(point.label == kCentre ? "the centre" : "a point") + " of tetrahedron " +
+                         std::to_string(mesh.tet_tags[point.tet]) + ", (" + number(at.x()) + ", " + number(at.y()) +
+                         ", " + number(at.z()) + "), lies inside tetrahedron " + std::to_string(mesh.tet_tags[holder]) +
+                         ": elements overlap (an element added to the mesh or laid over nodes of the body, two meshes "
+                         "written into one file, or two volumes meshed over the same place)");
       });
 }
 
