@@ -4,8 +4,8 @@
 //   - a coordinate beyond ±1e15 (overflows the element integrals);
 //   - two physical groups with the same name and dimension;
 //   - a tetrahedron listed twice (same four nodes: it would be assembled twice), or tetrahedra that
-//     overlap (through a face: a face of three, or of two on the same side of it; or parts of the mesh
-//     over each other, one's tetrahedron holding the centre of another's);
+//     overlap (through a face: a face of three, or of two on the same side of it; or face-connected
+//     blocks of the mesh over each other, one's tetrahedron holding a point of another's);
 //   - a boundary triangle listed twice in one group, or in two load groups (a doubled load);
 //   - a contact or load (traction, pressure) triangle that is not a face of any tetrahedron, or
 //     that is an interior face (shared by two); a clamped or prescribed triangle of no tetrahedron;
