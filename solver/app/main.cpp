@@ -481,7 +481,8 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
 
 int main(int argc, char** argv) {
   if (serial_build_under_mpirun()) return 2;
-  keep_freed_memory();  // stages reuse the pages earlier stages freed (base/memory.hpp)
+  restart_with_huge_pages(argv);  // returns in the restarted process (base/memory.hpp)
+  keep_freed_memory();            // stages reuse the pages earlier stages freed (base/memory.hpp)
   // The distributed build: every rank but 0 only serves rank 0's factorization and solves, and ends
   // with rank 0's exit code (a bad input: 2 on every rank, not 2 on rank 0 and 0 on the others).
   distributed::Session session(argc, argv);
