@@ -484,10 +484,11 @@ class FixedPointRun {
         continue;
       }
       if (step.err <= settings_.tol) {
-        if (accepted_as_converged(rtol_k, exact_k)) return finish(FixedPointStatus::Converged);
+        if (accepted_as_converged(rtol_k, exact_k, eval.qp_iterations)) return finish(FixedPointStatus::Converged);
         made_by_ = FixedPointUpdate::Repeat;  // the same x again, with a tighter QP
         continue;
       }
+      if (step.update == FixedPointUpdate::Repeat) keep_final_tolerance();
       force_final_ = false;
       // Noise shows as a stall in which the warm-started QP hardly moved (a few iterations against
       // the first step's); a stall with a busy QP is the map's own slow contraction.
@@ -551,15 +552,33 @@ class FixedPointRun {
   // cell sticking, err 1 then 0) met it with its QP at up to qp_rtol, far looser than the last step
   // of a run that converges gradually: the answer would be that loose (the slab with a strong law:
   // u on Γc 0.3% off). Such a step, or one of the inexact variant, is repeated (false) at the exact
-  // or the final step's tolerance.
-  bool accepted_as_converged(double rtol_k, double exact_k) {
-    const bool loose = eta_ > 0 && rtol_k > kFinalStepSlack * final_step_qp_rtol(settings_, rtol_);
+  // or the final step's tolerance. So is a step whose QP did not move from its warm start (no iteration)
+  // at a tolerance looser than the final step's: its G(x) is the last answer again, err ≈ 0 whatever
+  // the fixed point's distance (a thin strip, cond(Q) ≈ 1e9, ramp law: three such steps said err ≈ 1e-13,
+  // each right after a repeat that had found 3e-2, 4e-3 at the final tolerance, and the third was taken
+  // for convergence with u 1.4% from the answer at tol 1e-8).
+  bool accepted_as_converged(double rtol_k, double exact_k, int qp_iterations) {
+    const double final_rtol = final_step_qp_rtol(settings_, rtol_);
+    const bool loose =
+        eta_ > 0 && (rtol_k > kFinalStepSlack * final_rtol || (qp_iterations == 0 && rtol_k > final_rtol));
     if (rtol_k <= exact_k && !loose) return true;
     if (rtol_k > exact_k)
       force_exact_ = true;  // same φ again (x unchanged), now with the exact QP tolerance
     else
       force_final_ = true;  // same φ again, with the final step's tolerance
     return false;
+  }
+
+  // A repeated step that found err above the tolerance, where the looser step before it had met it:
+  // that QP tolerance could not see the change of the radii (an ill-conditioned Q, whose projected
+  // gradient is small long before its multipliers settle), nor would the next steps' looser ones. The
+  // rest of the run solves at the final step's tolerance.
+  void keep_final_tolerance() {
+    const double final_rtol = final_step_qp_rtol(settings_, rtol_);
+    if (eta_ == 0 && rtol_ <= final_rtol) return;
+    rtol_ = final_rtol;
+    eta_ = 0;
+    ++result_.qp_tolerance_tightenings;
   }
 
   // A step that barely moves err may be the QP's noise: the inner tolerance is tightened first.

@@ -153,7 +153,8 @@ struct FixedPointResult {
   // where q bounds the map's Lipschitz constant, see above).
   double contraction_factor = std::numeric_limits<double>::quiet_NaN();
   double distance_bound = std::numeric_limits<double>::infinity();
-  int qp_tolerance_tightenings = 0;  // times the inner tolerance was tightened against noise
+  int qp_tolerance_tightenings = 0;  // times the inner tolerance was tightened: against noise, or to the final
+                                     // step's after a repeat found the looser one blind
   int plain_fallback_step = 0;       // the step after which an accelerated variant fell back to plain steps (0: never)
   int mixed_steps = 0;               // iterates the accelerated variant took from its tail mixing
   int newton_steps = 0;              // iterates the accelerated variant took from Newton steps

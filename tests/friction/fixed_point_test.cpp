@@ -53,6 +53,40 @@ TEST(FixedPoint, ConvergesOnAContractionWithTheRateItObserves) {
   for (std::size_t k = 2; k < r.history.size(); ++k) EXPECT_LT(r.history[k].err, 0.5 * r.history[k - 1].err);
 }
 
+// A QP blind at tolerances looser than `sees`: warm-started from the last answer, it stops at once (no
+// iteration) and G(φ) is that answer again — err ≈ 0 at any distance from the fixed point, as on a thin
+// strip whose Q has cond ≈ 1e9. At `sees` and tighter it solves: G(φ) = φ* + q (φ − φ*).
+SlipMap blind_above(double sees, double q) {
+  return [=, last = Eigen::VectorXd()](const Eigen::VectorXd& phi, double rtol) mutable {
+    SlipEvaluation e;
+    if (last.size() && rtol > sees) {
+      e.slip = last;
+      e.qp_iterations = 0;
+      return e;
+    }
+    const Eigen::VectorXd star = Eigen::VectorXd::LinSpaced(phi.size(), 1.0, 2.0);
+    e.slip = last = star + q * (phi - star);
+    e.qp_iterations = 10;
+    e.hessian_products = 12;
+    return e;
+  };
+}
+
+// A step whose QP did not move cannot show convergence: it is repeated at the final step's tolerance,
+// and once a repeat finds the looser tolerance blind, the run keeps the final one. Taking the idle
+// step for convergence (within 100x of the final tolerance, as before), the run stopped 2.5e-3 from
+// the fixed point with tol = 1e-4.
+TEST(FixedPoint, AStepWhoseQpDidNotMoveIsNoConvergence) {
+  FixedPointSettings s = settings(FixedPointVariant::Plain);
+  const double final_rtol = final_step_qp_rtol(s, 1e-6);
+  const FixedPointResult r = solve_fixed_point(blind_above(final_rtol, 0.5), 4, s, 1e-6);
+  ASSERT_EQ(r.status, FixedPointStatus::Converged);
+  const Eigen::VectorXd star = Eigen::VectorXd::LinSpaced(4, 1.0, 2.0);
+  EXPECT_LT((r.phi - star).norm() / star.norm(), 3 * s.tol);
+  EXPECT_GE(r.qp_tolerance_tightenings, 1);
+  EXPECT_GT(r.history.back().qp_iterations, 0);
+}
+
 TEST(FixedPoint, IterationLimitOnASlowContractionSaysWhatToTry) {
   FixedPointSettings s = settings();
   s.max_iterations = 10;
