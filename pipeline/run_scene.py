@@ -116,6 +116,8 @@ def report(scene_path, out, cmd, rc, figures, notes):
     for n in notes:
         L.append(f"- note: {n}")
     L += ["", "## Scene as solved", "", "```toml", s.get("scene", "").rstrip(), "```", ""]
+    # The title line is what a later solve into this folder recognises as this report (kRunReportTitle,
+    # solver/io/run_folder.hpp) and removes with the run's files; another report.md stays.
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("\n".join(L))
     return os.path.join(out, "report.md")
