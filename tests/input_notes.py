@@ -3,9 +3,10 @@
 1. which [friction] keys the chosen law does not read (`--set friction.law="none"` on the paper's brick,
    written for "ramp": its ramp parameters and slip_bound take no part), and none where the law reads
    every key given (and slip_bound = 0 under Coulomb's model, whose bound is the normal pressure);
-2. that without contact groups the foundation plane holds nothing, where nodes start or end below it
-   (the paper's brick bent down through z = 0 with boundary.contact = []), and nothing where the body
-   stays above it (the same brick pulled up);
+2. that without contact groups the foundation plane holds nothing, where nodes start or end below it:
+   a warning where the whole body starts on or above it (the paper's brick bent down through z = 0 with
+   boundary.contact = []: a forgotten contact group, likely), a note where it starts through it (the plane
+   moved to z = 0.5), and nothing where the body stays above it (the same brick pulled up);
 3. `contact3d check` prints the notes about the scene as given (the unread keys of 1) before any solve.
 usage: input_notes.py CONTACT3D SOURCE_DIR
 """
@@ -20,14 +21,14 @@ scene = root / "pipeline" / "scenes" / "paper_brick.toml"
 failures = []
 
 
-def notes(tmp, name, *sets):
+def notes(tmp, name, *sets, kind="notes"):
     out = Path(tmp) / name
     args = [a for s in ("mesh.parameters.n=4", *sets) for a in ("--set", s)]
     p = subprocess.run([binary, "solve", str(scene), "--quiet", "--out", str(out), *args], capture_output=True, text=True)
     if p.returncode != 0:
         failures.append(f"{name}: exit {p.returncode}: {p.stderr[-300:]}")
         return []
-    return json.loads((out / "summary.json").read_text()).get("notes", [])
+    return json.loads((out / "summary.json").read_text()).get(kind, [])
 
 
 def expect(name, found, present):
@@ -46,8 +47,13 @@ with tempfile.TemporaryDirectory() as tmp:
     expect("coulomb with slip_bound = 0", coulomb, True)
     if coulomb and not coulomb[0].startswith("friction.slip_bound is not read"):
         failures.append(f"coulomb: the note names {coulomb[0]!r}")
-    below = [n for n in notes(tmp, "no_contact_down", "boundary.contact=[]") if "no contact group" in n]
-    expect("no contact, bent down", below, True)
+    below = [n for n in notes(tmp, "no_contact_down", "boundary.contact=[]", kind="warnings") if "no contact group" in n]
+    expect("no contact, bent down: a warning", below, True)
+    if below and "node(s) end below it" not in below[0]:
+        failures.append(f"no contact, bent down: the warning says {below[0]!r}")
+    through = [n for n in notes(tmp, "no_contact_through", "boundary.contact=[]", "contact.plane_point=[0,0,0.5]")
+               if "no contact group" in n and "start or end below it" in n]
+    expect("no contact, plane through the body: a note", through, True)
     up = 'boundary.traction=[{group="load_end",value=[0,0,1e5]}]'
     expect("no contact, pulled up", [n for n in notes(tmp, "no_contact_up", "boundary.contact=[]", up)
                                      if "no contact group" in n], False)

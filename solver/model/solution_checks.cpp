@@ -498,19 +498,28 @@ void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res) {
   const std::vector<char> in_body = nodes_of_tets(mesh);
   const double tolerance = std::max(kPenetrationOffContact * u_max, kPenetrationRounding * body_diagonal(mesh));
   std::size_t below = 0, deepest = 0;
-  double depth = 0;  // the mesh is in the plane's frame: a node's height is its z
+  bool starts_above = true;  // no node of the body starts below the plane
+  double depth = 0;          // the mesh is in the plane's frame: a node's height is its z
   for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
     if (!in_body[v]) continue;
+    starts_above = starts_above && mesh.nodes[v].z() >= -tolerance;
     const double lowest = std::min(mesh.nodes[v].z(), mesh.nodes[v].z() + res.u[static_cast<Eigen::Index>(3 * v + 2)]);
     if (lowest >= -tolerance) continue;
     ++below;
     if (-lowest > depth) depth = -lowest, deepest = v;
   }
   if (below == 0) return;
-  res.notes.push_back("the scene has no contact group (boundary.contact), so the foundation plane holds nothing: " +
-                      std::to_string(below) + " node(s) start or end below it, the deepest (node " +
-                      std::to_string(mesh.node_tags[deepest]) + ") by " + number(depth, 3) +
-                      "; if the body rests on the foundation, name its contact faces in boundary.contact");
+  const std::string text =
+      "the scene has no contact group (boundary.contact), so the foundation plane holds nothing: " +
+      std::to_string(below) + " node(s) " + (starts_above ? "end" : "start or end") + " below it, the deepest (node " +
+      std::to_string(mesh.node_tags[deepest]) + ") by " + number(depth, 3) +
+      "; if the body rests on the foundation, name its contact faces in boundary.contact";
+  // A body that starts on or above the plane and is pushed through it most likely rests on it: a
+  // forgotten contact group (a helper's strip clamped at one end ended 0.436 m below with a note only).
+  if (starts_above)
+    res.warnings.push_back(text);
+  else
+    res.notes.push_back(text);
 }
 
 // After recovery (u, λ, the KKT residuals, w_n⁺ and the forces known): the warnings and notes on the

@@ -32,7 +32,8 @@ void check_answer(const Scene& scene, const Mesh& mesh, double u_max, bool rigid
 void flag_large_strain(const Mesh& mesh, SolveResult& res);
 
 // A scene without contact groups: the foundation plane holds nothing, which a note says where nodes
-// start or end below it (the deepest named), so a body pushed through it is not solved in silence.
+// start or end below it (the deepest named), so a body pushed through it is not solved in silence —
+// a warning where the whole body starts on or above the plane (a contact group forgotten, likely).
 void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res);
 
 // The nodes penetrate by more than 10% of the body's largest deformation (res.penetration_ratio):
