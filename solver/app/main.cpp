@@ -188,7 +188,16 @@ int run_solve(const SolveArgs& args) {
   info.scene_file = fs::absolute(args.scene, cwd_error).lexically_normal().string();
   if (!args.mesh.empty()) info.mesh_override = fs::absolute(args.mesh, cwd_error).lexically_normal().string();
   info.overrides = args.sets;
-  const Mesh mesh = scene_mesh(scene, args.mesh, out, info.mesh_description);
+  // Stage lines and the QP's heartbeat (every 2 s on a terminal, every 10 s into a log file).
+  auto print_line = [](const std::string& line) {
+    say("{}\n", line);
+    std::fflush(stdout);
+  };
+  Progress stages = args.quiet ? Progress() : Progress(print_line, print_line, ::isatty(STDOUT_FILENO) ? 2.0 : 10.0);
+  const Mesh mesh = [&] {
+    const Progress::Watch meshing(stages, "mesh");  // gmsh or FreeFEM may take minutes
+    return scene_mesh(scene, args.mesh, out, info.mesh_description);
+  }();
   remove_other_runs_mesh_files(out, scene, args.mesh);
   info.mesh_seconds = since(t0);
   require_constrained_triangles(scene, mesh);
@@ -213,12 +222,6 @@ int run_solve(const SolveArgs& args) {
           s.n_mult, s.seconds, name_of(s.update, kFixedPointUpdateNames));
     std::fflush(stdout);
   };
-  // Stage lines and the QP's heartbeat (every 2 s on a terminal, every 10 s into a log file).
-  auto print_line = [](const std::string& line) {
-    say("{}\n", line);
-    std::fflush(stdout);
-  };
-  Progress stages = args.quiet ? Progress() : Progress(print_line, print_line, ::isatty(STDOUT_FILENO) ? 2.0 : 10.0);
   SolveResult res = solve_scene(scene, mesh, progress, &stages);
   // What reading changed is the run's to say too (summary.json's notes, the report), not only its mesh line.
   for (auto r = read_as.rbegin(); r != read_as.rend(); ++r) res.notes.insert(res.notes.begin(), "the mesh: " + *r);

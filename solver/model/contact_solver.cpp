@@ -853,7 +853,10 @@ std::unique_ptr<DualProblem> factor_with_multipliers(const Scene& scene, const M
                          disc.release_K(), K_on_ranks ? &source : nullptr};
   if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
   input.report = [&report](const std::string& line) { report.stage(line); };
-  std::unique_ptr<DualProblem> dual = dual_problem(method, input, scene, kept, clock, report, res);
+  std::unique_ptr<DualProblem> dual = [&] {
+    const Progress::Watch factoring(report, "factorization");
+    return dual_problem(method, input, scene, kept, clock, report, res);
+  }();
   const double done_s = stage_seconds(res, "factorization") + stage_seconds(res, "dual");
   if (matrix_free)
     report.stage("  done in " + number(done_s, 3) + " s (factor, h and Q's diagonal); Q: " + count(op.rows()) + " x " +
