@@ -664,6 +664,17 @@ def c_traction_entry_located(c):
                                                              "boundary.traction.value", "three numbers"]
 
 
+def c_geo_syntax_error_named_first(c):
+    # A syntax error early in a .geo leaves gmsh reporting later lines by the dozen ("Unknown variable"):
+    # the message named only the log's tail, which held none of the first error's line.
+    with open(os.path.join(c.src, "geo", "holed.geo")) as f:
+        lines = f.read().split("\n")
+    lines.insert(2, "broken = ;")
+    lines += ["Point(%d) = {zz%d, 0, 0, h};" % (900 + k, k) for k in range(60)]
+    return ["solve", geo_scene(c, "\n".join(lines)), "--out", c.path("out"), "--quiet"], \
+        ["gmsh failed", "its first error", "line 3"]
+
+
 def c_geo_parameter_unread(c):
     # mesh.parameters names a variable the script never reads (hh for h): gmsh's -setnumber sets it
     # without a word and the mesh came out at the script's own h, exit 0.

@@ -4,12 +4,14 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <regex>
 #include <set>
 #include <sstream>
 
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -33,11 +35,26 @@ std::string tail_of(const std::filesystem::path& log, std::size_t chars = 800) {
   std::stringstream buf;
   buf << in.rdbuf();
   const std::string s = buf.str();
-  return s.size() > chars ? s.substr(s.size() - chars) : s;
+  if (s.size() <= chars) return s;
+  const std::size_t from = s.find('\n', s.size() - chars);  // whole lines
+  return from == std::string::npos ? s.substr(s.size() - chars) : s.substr(from + 1);
 }
 
 // The first line of a mesher's log a run writes (written_by_a_run).
 constexpr const char* kRunLogMark = "# contact3d ran:";
+
+// The first line of the log that reports an error ("Error" in gmsh's, "Error" or "error" in FreeFEM's),
+// with what to make of it, or "" (a script's first mistake often leaves a cascade of later ones, and
+// the log's tail then shows only those).
+std::string first_error_line(const std::filesystem::path& log) {
+  std::ifstream in(log);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(kRunLogMark, 0) != 0 &&
+        (line.find("Error") != std::string::npos || line.find("error") != std::string::npos))
+      return "its first error: " + (line.size() > 300 ? line.substr(0, 300) + " …" : line) + "; ";
+  return "";
+}
 
 // Runs a mesher (argv[0] from PATH) with its output in `log`; an InputError with the log's tail
 // when it fails or does not produce `product`.
@@ -69,9 +86,12 @@ void run_mesher(std::vector<std::string> args, const std::filesystem::path& scri
   waitpid(pid, &status, 0);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !std::filesystem::exists(product)) {
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const std::string how = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status)) + " (" +
+                                                      strsignal(WTERMSIG(status)) + ")"
+                                                : "exit " + std::to_string(code);
     throw InputError(code == 127 ? program + " is not installed (run `make deps`)"
-                                 : program + " failed on '" + script.string() + "' (exit " + std::to_string(code) +
-                                       "); end of " + log.string() + ":\n" + tail_of(log));
+                                 : program + " failed on '" + script.string() + "' (" + how + "); " +
+                                       first_error_line(log) + "end of " + log.string() + ":\n" + tail_of(log));
   }
 }
 
@@ -216,6 +236,13 @@ Mesh read_written_mesh(const std::filesystem::path& file, const std::string& mes
       throw InputError("cannot write '" + file.string() + "': no space left on its device (" +
                        std::to_string(space.available) + " bytes free); " + mesher + " wrote the mesh cut short (" +
                        e.what() + "); free space or choose another output folder");
+    // A file-size limit (ulimit -f) cuts the file at the limit: gmsh, its SIGXFSZ ignored, exits 0.
+    struct rlimit limit {};
+    const std::uintmax_t size = std::filesystem::file_size(file, ec);
+    if (!ec && getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY && size >= limit.rlim_cur)
+      throw InputError("cannot write '" + file.string() + "': it reached the file-size limit of this process (" +
+                       std::to_string(limit.rlim_cur) + " bytes, ulimit -f); " + mesher +
+                       " wrote the mesh cut short (" + e.what() + "); raise the limit or use a coarser mesh");
     throw;
   }
 }
