@@ -6,7 +6,8 @@ that look like a finished solve, and says why.
    file, no summary.json, the RUNNING marker left, no *.partial file;
 2. failed rerun: a good solve, then a rerun into the same folder with a bad scene -> exit 2 and the
    earlier summary.json is gone (RUNNING marks the folder);
-3. interrupted: SIGTERM and SIGINT during a solve -> no summary.json, RUNNING left;
+3. interrupted: SIGTERM and SIGINT during a solve -> no summary.json, RUNNING left, a line on stderr
+   saying so, and the signal's own exit;
 4. two solves at once on one folder -> the second is refused (exit 2, `another contact3d solve`);
 5. an unwritable file mid-run: summary.json's name taken by a directory -> exit 2 naming it;
 6. a run that stops without converging (fixed-point iteration limit 2) -> exit 1, its last iterate
@@ -90,11 +91,17 @@ with tempfile.TemporaryDirectory() as tmp:
         out = tmp / f"signal{int(sig)}"
         proc = subprocess.Popen([binary, "solve", str(scene), "--out", str(out), "--quiet", "--set",
                                  "mesh.generator=paper_brick", "--set", "mesh.n=16"],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(0.4)
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        deadline = time.time() + 30  # the solve has started (its folder marked) before it is stopped
+        while not (out / "RUNNING").exists() and time.time() < deadline and proc.poll() is None:
+            time.sleep(0.02)
+        time.sleep(0.2)
         proc.send_signal(sig)
-        rc = proc.wait(timeout=120)
-        check(rc != 0, f"signal {sig}: exit {rc}")
+        _, err = proc.communicate(timeout=120)
+        rc = proc.returncode
+        # The signal's own end (rc -sig from Python), and a line saying the folder holds no answer.
+        check(rc == -int(sig), f"signal {sig}: exit {rc}")
+        check("stopped; the output folder holds no answer" in err, f"signal {sig}: stderr {err[-300:]!r}")
         check(unfinished(out), f"signal {sig} left {sorted(x.name for x in out.iterdir())}")
 
     # 4. two solves on one folder

@@ -411,6 +411,36 @@ bool serial_build_under_mpirun() {
   return true;
 }
 
+// SIGINT, SIGTERM, SIGHUP: a line on stderr, then the signal's own end (exit status 128 + the signal,
+// as without the handler). The output folder keeps its RUNNING marker and no summary.json — not an
+// answer — and the next solve into it clears it; a stopped run said nothing of that. The handler makes
+// only async-signal-safe calls (write, raise; SA_RESETHAND restores the default action first).
+extern "C" void say_stopped_and_end(int sig) {
+  static const char kInterrupted[] =
+      "\ncontact3d: interrupted (SIGINT): stopped; the output folder holds no answer (its RUNNING file says so)\n";
+  static const char kTerminated[] =
+      "\ncontact3d: terminated (SIGTERM): stopped; the output folder holds no answer (its RUNNING file says so)\n";
+  static const char kHungUp[] =
+      "\ncontact3d: hung up (SIGHUP): stopped; the output folder holds no answer (its RUNNING file says so)\n";
+  const char* text = sig == SIGINT ? kInterrupted : sig == SIGTERM ? kTerminated : kHungUp;
+  const std::size_t size = sig == SIGINT ? sizeof kInterrupted : sig == SIGTERM ? sizeof kTerminated : sizeof kHungUp;
+  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, text, size - 1);
+  std::raise(sig);
+}
+
+void say_why_when_stopped() {
+  struct sigaction action {};
+  action.sa_handler = say_stopped_and_end;
+  action.sa_flags = SA_RESETHAND;
+  sigemptyset(&action.sa_mask);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction before {};
+    // A signal the parent made the process ignore (nohup's SIGHUP, a background job's SIGINT) stays ignored.
+    if (sigaction(sig, nullptr, &before) == 0 && before.sa_handler == SIG_IGN) continue;
+    sigaction(sig, &action, nullptr);
+  }
+}
+
 // The command line on rank 0 (the only process of the serial build): its exit code.
 int run_command_line(int argc, char** argv, const distributed::Session& session) {
   CLI::App app{"contact3d: 3D contact with solution-dependent Tresca friction (Haslinger & Ligurský 2009)"};
@@ -445,6 +475,7 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   // a closed stdout (`contact3d solve … | head -1`) drops the console's lines, not the run (say()).
   std::signal(SIGXFSZ, SIG_IGN);
   std::signal(SIGPIPE, SIG_IGN);
+  say_why_when_stopped();
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) { return app.exit(e); } catch (const CLI::CallForVersion& e) {
