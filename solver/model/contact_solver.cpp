@@ -820,7 +820,11 @@ std::unique_ptr<DualProblem> dual_problem(DualMethod method, const DualProblemIn
 
 // A refusal with the run's warnings so far appended (they are printed with it, not before it: a
 // solve prints its warnings at the end).
-std::string with_input_warnings(const std::string& refusal, const std::vector<std::string>& warnings) {
+std::string with_input_warnings(const std::string& refusal, const std::vector<std::string>& all_warnings) {
+  std::vector<std::string> warnings;
+  for (const std::string& w : all_warnings)
+    if (!warns_of_accuracy_only(w)) warnings.push_back(w);
+  if (warnings.empty()) return refusal;
   std::string text = refusal + (warnings.size() == 1 ? " (this input's warning, which may be its cause: "
                                                      : " (this input's warnings, which may be its cause: ");
   for (std::size_t i = 0; i < warnings.size(); ++i) text += (i ? "; " : "") + warnings[i];

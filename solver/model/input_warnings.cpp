@@ -254,6 +254,8 @@ void warn_if_ramp_rises_with_slip(const Scene& scene, SolveResult& res) {
 // of any plate or shell, bent or not: a gasket pressed flat is served by one layer, a plate that bends is not.
 // In the foundation's frame (solve and check both work there; a scene not in it is not measured).
 constexpr double kFewestElementsThrough = 2;
+// The words that mark that warning (warns_of_accuracy_only).
+constexpr const char* kFewElementsThrough = " element(s) through that thickness: linear tetrahedra (P1)";
 // A plate or shell: the body spans more than ten times its thickness. A compact body thin only
 // towards its rims (a solid spherical cap 30 mm high on a face 143 mm across, pressed at its pole:
 // median 16 mm, 1.8 elements, the force within 0.7% of a mesh twice as fine) does not bend.
@@ -268,7 +270,8 @@ void warn_if_few_elements_through_thickness(const Scene& scene, const FaceThickn
   res.warnings.push_back(
       "the body is " + number(thickness.median, 3) + unit +
       " thick over most of Γc (the median) and the mesh has about " + number(thickness.elements_through, 2) +
-      " element(s) through that thickness: linear tetrahedra (P1) that few through a plate or shell are far too "
+      kFewElementsThrough +
+      " that few through a plate or shell are far too "
       "stiff in bending, so if the body bends its deflection comes out too small and its contact forces off (a "
       "shell segment with one element through: twice the force of a fine mesh; a gasket pressed flat is not "
       "concerned); mesh at least three or four elements through the thickness, or check that the answer changes "
@@ -289,6 +292,10 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
   warn_if_blocks_joined_at_nodes(mesh, res);
   warn_if_ramp_rises_with_slip(scene, res);
   warn_if_few_elements_through_thickness(scene, thickness, res);
+}
+
+bool warns_of_accuracy_only(const std::string& warning) {
+  return warning.find(kFewElementsThrough) != std::string::npos;
 }
 
 }  // namespace contact3d

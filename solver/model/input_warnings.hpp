@@ -4,6 +4,8 @@
 // stops the solve; errors are the mesh checks' and the scene parser's.
 #pragma once
 
+#include <string>
+
 #include "contact/face_thickness.hpp"
 #include "fem/elasticity.hpp"
 #include "mesh/mesh.hpp"
@@ -16,5 +18,10 @@ namespace contact3d {
 // the run's one measurement of the body over Γc (contact/face_thickness.hpp).
 void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
                        const FaceThicknessOnce& thickness, SolveResult& res);
+
+// Whether a warning of warn_about_inputs speaks of the answer's accuracy only (too few elements through
+// a plate), not of a mistake in the input that could make a solve fail: a refusal does not cite it as
+// its possible cause (a pull-off load's refusal did, and a cell size's).
+bool warns_of_accuracy_only(const std::string& warning);
 
 }  // namespace contact3d
