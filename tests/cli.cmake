@@ -370,3 +370,9 @@ set_tests_properties(check_warns_element_joined_at_nodes_only PROPERTIES
 add_test(NAME inputs_accepted_but_noted
          COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/input_notes.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
 set_tests_properties(inputs_accepted_but_noted PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
+
+# The slender strip (cond(Q) ~ 1e9, ramp law): its fixed point does not stop on a step whose QP did not
+# move from its warm start (before the fix it did, err 5e-13 right after a repeat had found 4e-3).
+add_test(NAME strip_fixed_point_stops_on_a_solved_step
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/strip_fixed_point.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+set_tests_properties(strip_fixed_point_stops_on_a_solved_step PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
