@@ -947,8 +947,11 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
   stage.enter("stability check", matrix_free ? "the factor of 𝔹𝔹ᵀ and Lanczos steps on Q (one K⁻¹ solve each)"
                                              : "copies of the dense Q (" + gib(2 * 8.0 * op.rows() * op.rows()) + ")");
   double q_norm = 0;  // once: for cond(Q) and for MPGP's step ᾱ
-  std::shared_ptr<DualOperatorFactor> q_factor = check_dual_stability(
-      *dual, q_norm, op, scene.solver.qp, dense_dual_memory(scene.solver.qp, op.rows()).bytes, report, res);
+  std::shared_ptr<DualOperatorFactor> q_factor = [&] {
+    const Progress::Watch checking(report, "stability check");  // a dense Cholesky of Q: m³/3 flops
+    return check_dual_stability(*dual, q_norm, op, scene.solver.qp, dense_dual_memory(scene.solver.qp, op.rows()).bytes,
+                                report, res);
+  }();
   clock.lap("stability");
 
   stage.enter("dual solve", matrix_free ? std::string("the QP's vectors, each product through the factor of K")
