@@ -225,40 +225,24 @@ bool face_on_the_boundary(const std::vector<TetFace>& faces, std::size_t k) {
          !(k + 1 < faces.size() && faces[k + 1].nodes == faces[k].nodes);
 }
 
-// Each tetrahedron's face-connected block, as the root of its union-find set over the sorted faces of
-// tet_faces; `several`: whether there is more than one (parts meshed apart, or a block of one part joined
-// to the rest at nodes only).
-std::vector<int> face_block_roots(const Mesh& mesh, const std::vector<TetFace>& faces, bool& several) {
-  std::vector<int> parent(mesh.tets.size());
-  for (std::size_t e = 0; e < parent.size(); ++e) parent[e] = static_cast<int>(e);
-  for (std::size_t k = 0; k + 1 < faces.size(); ++k)
-    if (faces[k].nodes == faces[k + 1].nodes)
-      parent[static_cast<std::size_t>(find_part(parent, static_cast<int>(faces[k].tet)))] =
-          find_part(parent, static_cast<int>(faces[k + 1].tet));
-  several = false;
-  for (std::size_t e = 0; e < parent.size(); ++e) {
-    parent[e] = find_part(parent, static_cast<int>(e));
-    several = several || parent[e] != parent[0];
-  }
-  return parent;
-}
-
 // Whether each tetrahedron lies in a block of its part other than the part's largest: an element laid
 // over nodes of the body, or volumes merged at a few nodes (blocks_joined_at_nodes).
-std::vector<char> in_minor_blocks(const Mesh& mesh, const std::vector<int>& block_root) {
+// `block_of_tet`, `blocks`: face_connected_blocks.
+std::vector<char> in_minor_blocks(const Mesh& mesh, const std::vector<int>& block_of_tet, int blocks) {
   const BodyParts parts = body_parts(mesh);
-  std::vector<std::size_t> size(mesh.tets.size(), 0);
-  for (const int root : block_root) ++size[static_cast<std::size_t>(root)];
+  std::vector<std::size_t> size(static_cast<std::size_t>(blocks), 0);
+  for (const int b : block_of_tet) ++size[static_cast<std::size_t>(b)];
+  const auto part_of = [&](std::size_t e) {
+    return static_cast<std::size_t>(parts.of_node[static_cast<std::size_t>(mesh.tets[e][0])]);
+  };
   std::vector<int> largest(static_cast<std::size_t>(parts.count()), -1);
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
-    int& top = largest[static_cast<std::size_t>(parts.of_node[static_cast<std::size_t>(mesh.tets[e][0])])];
-    const int root = block_root[e];
-    if (top < 0 || size[static_cast<std::size_t>(root)] > size[static_cast<std::size_t>(top)]) top = root;
+    int& top = largest[part_of(e)];
+    const int b = block_of_tet[e];
+    if (top < 0 || size[static_cast<std::size_t>(b)] > size[static_cast<std::size_t>(top)]) top = b;
   }
   std::vector<char> minor(mesh.tets.size(), 0);
-  for (std::size_t e = 0; e < mesh.tets.size(); ++e)
-    minor[e] =
-        block_root[e] != largest[static_cast<std::size_t>(parts.of_node[static_cast<std::size_t>(mesh.tets[e][0])])];
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) minor[e] = block_of_tet[e] != largest[part_of(e)];
   return minor;
 }
 
@@ -272,13 +256,13 @@ std::vector<char> in_minor_blocks(const Mesh& mesh, const std::vector<int>& bloc
 // each other), and for the tetrahedra of a block joined to its part at nodes only also the points half way
 // from the centre to each corner (one element over three nodes of a structured mesh can have its centre
 // on the faces the body's tetrahedra share). Only where the mesh has several blocks: the common mesh of
-// one block pays a union-find over its sorted faces, not the search. Overlaps through a face are
+// one block pays face_connected_blocks, not the search. Overlaps through a face are
 // check_tets_do_not_overlap's.
 void check_no_tet_holds_another_centre(const Mesh& mesh, const std::vector<TetFace>& faces, const MeshRoles& roles) {
-  bool several = false;
-  const std::vector<int> block_root = face_block_roots(mesh, faces, several);
-  if (!several) return;
-  const std::vector<char> minor = in_minor_blocks(mesh, block_root);
+  int blocks = 0;
+  const std::vector<int> block_of_tet = face_connected_blocks(mesh, blocks);
+  if (blocks < 2) return;
+  const std::vector<char> minor = in_minor_blocks(mesh, block_of_tet, blocks);
   std::vector<char> on(mesh.tets.size(), 0);
   for (std::size_t k = 0; k < faces.size(); ++k)
     if (face_on_the_boundary(faces, k)) on[faces[k].tet] = 1;

@@ -43,6 +43,13 @@ std::string tail_of(const std::filesystem::path& log, std::size_t chars = 800) {
 // The first line of a mesher's log a run writes (written_by_a_run).
 constexpr const char* kRunLogMark = "# contact3d ran:";
 
+// `text` cut to at most `bytes` at a character's start (a path in a log may be UTF-8), marked " …".
+std::string shortened(const std::string& text, std::size_t bytes) {
+  if (text.size() <= bytes) return text;
+  while (bytes > 0 && (static_cast<unsigned char>(text[bytes]) & 0xC0) == 0x80) --bytes;
+  return text.substr(0, bytes) + " …";
+}
+
 // The first line of the log that reports an error ("Error" in gmsh's, "Error" or "error" in FreeFEM's),
 // with what to make of it, or "" (a script's first mistake often leaves a cascade of later ones, and
 // the log's tail then shows only those).
@@ -52,7 +59,7 @@ std::string first_error_line(const std::filesystem::path& log) {
   while (std::getline(in, line))
     if (line.rfind(kRunLogMark, 0) != 0 &&
         (line.find("Error") != std::string::npos || line.find("error") != std::string::npos))
-      return "its first error: " + (line.size() > 300 ? line.substr(0, 300) + " …" : line) + "; ";
+      return "its first error: " + shortened(line, 300) + "; ";
   return "";
 }
 
