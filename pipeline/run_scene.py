@@ -99,9 +99,10 @@ def report(scene_path, out, cmd, rc, figures, notes):
     L += [f"| {k} | {v:.3f} |" for k, v in s.get("time_s", {}).items()]
     L += ["", "## Convergence of the fixed point (history.csv)", ""]
     if hist:
-        L += ["| k | input made by | err(k) | QP iterations | n_mult (cumulative) | seconds |", "|---|---|---|---|---|---|"]
-        L += [f"| {r['k']} | {r.get('update', '')} | {float(r['err']):.3e} | {r['qp_iterations']} | {r['n_mult']} | "
-              f"{float(r['seconds']):.3f} |" for r in hist]
+        L += ["| k | input made by | err(k) | QP tolerance | QP iterations | n_mult (cumulative) | seconds |",
+              "|---|---|---|---|---|---|---|"]
+        L += [f"| {r['k']} | {r.get('update', '')} | {float(r['err']):.3e} | {float(r.get('qp_rtol', 'nan')):.0e} | "
+              f"{r['qp_iterations']} | {r['n_mult']} | {float(r['seconds']):.3f} |" for r in hist]
     else:
         L.append("No fixed point in this run (frictionless, constant coefficient or no contact): one solve.")
     L += ["", "## KKT residuals of the final solution (summary.json)", "", "| residual | value |", "|---|---|"]

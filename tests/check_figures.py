@@ -44,7 +44,7 @@ def main():
             fails.append(f"report.md does not show {f}")
     with open(os.path.join(out, "history.csv")) as fh:
         hist = list(csv.DictReader(fh))
-    rows = [l for l in text.splitlines() if l.startswith("| ") and l.count("|") == 7 and l[2].isdigit()]
+    rows = [l for l in text.splitlines() if l.startswith("| ") and l.count("|") == 8 and l[2].isdigit()]
     if len(hist) < 2 or len(rows) != len(hist):
         fails.append(f"report has {len(rows)} convergence rows, history.csv {len(hist)}")
     for key in ("## KKT residuals", "| equilibrium |", "## Timings per stage", "| factorization |"):

@@ -107,6 +107,7 @@ SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::Vector
   qp_iterations_ += last_qp_.iterations;
   newton_steps_ += last_qp_.newton_steps;
   bordered_steps_ += last_qp_.bordered_steps;
+  feasible_steps_ += last_qp_.feasible_steps;
   rounding_stops_ += last_qp_.rounding_stops;
   coarse_products_ += last_qp_.coarse_products;
   single_products_ += last_qp_.single_products;

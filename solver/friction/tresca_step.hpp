@@ -72,6 +72,7 @@ class TrescaStep {
   int qp_iterations() const { return qp_iterations_; }
   int newton_steps() const { return newton_steps_; }        // semismooth Newton steps inside the QP solves
   int bordered_steps() const { return bordered_steps_; }    // of which through the factor of Q
+  int feasible_steps() const { return feasible_steps_; }    // of which feasible descent steps (qp/ssn.hpp)
   int rounding_stops() const { return rounding_stops_; }    // QP solves stopped at their rounding floor
   int single_products() const { return single_products_; }  // of the products, those in single precision
   int coarse_products() const { return coarse_products_; }  // of the products, the two-level CG's blocked columns
@@ -94,7 +95,7 @@ class TrescaStep {
   Eigen::VectorXd lambda_, radius_, slip_input_, slip_bound_input_;
   QpResult last_qp_;
   int products_ = 0, qp_iterations_ = 0, newton_steps_ = 0, bordered_steps_ = 0, single_products_ = 0;
-  int rounding_stops_ = 0;
+  int rounding_stops_ = 0, feasible_steps_ = 0;
   int coarse_products_ = 0;
   Eigen::VectorXd last_face_, last_slip_;  // u on Γc after the last solve, and its slip G(φ)
   std::vector<Solve> history_;

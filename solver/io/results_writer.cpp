@@ -128,6 +128,7 @@ void write_work(JsonWriter& j, const SolveResult& res) {
       .value("qp_iterations", res.qp_iterations)
       .value("qp_newton_steps", res.qp_newton_steps)
       .value("qp_newton_steps_bordered", res.qp_bordered_newton_steps)
+      .value("qp_newton_steps_feasible", res.qp_feasible_newton_steps)
       .value("qp_rounding_stops", res.qp_rounding_stops)
       .value("qp_bordered_factor_in_double", res.qp_bordered_factor_in_double)
       .value("qp_single_products", res.qp_single_products)
@@ -319,10 +320,10 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
     }
   });
   write_file(dir / "history.csv", [&](std::ostream& out) {
-    out << "k,err,qp_iterations,n_mult,seconds,update\n";
+    out << "k,err,qp_iterations,n_mult,seconds,update,qp_rtol\n";
     for (const auto& s : solve_history(res))
       out << s.k << ',' << s.err << ',' << s.qp_iterations << ',' << s.n_mult << ',' << s.seconds << ','
-          << name_of(s.update, kFixedPointUpdateNames) << '\n';
+          << name_of(s.update, kFixedPointUpdateNames) << ',' << s.qp_rtol << '\n';
   });
   const TetMaterials materials = tet_materials(scene, mesh);
   const VtuContext ctx{scene, mesh, res, materials};

@@ -515,6 +515,7 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
   res.qp_iterations = tresca.qp_iterations();
   res.qp_newton_steps = tresca.newton_steps();
   res.qp_bordered_newton_steps = tresca.bordered_steps();
+  res.qp_feasible_newton_steps = tresca.feasible_steps();
   res.qp_rounding_stops = tresca.rounding_stops();
   res.qp_coarse_products = tresca.coarse_products();
   res.qp_single_products = tresca.single_products();

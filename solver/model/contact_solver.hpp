@@ -80,6 +80,7 @@ struct SolveResult {
   int qp_iterations = 0;             // MPGP iterations and Newton steps of every QP solve
   int qp_newton_steps = 0;           // of which semismooth Newton steps (each a dense Cholesky of the free size)
   int qp_bordered_newton_steps = 0;  // of which solved through the factor of Q (solver.qp_newton_systems)
+  int qp_feasible_newton_steps = 0;  // of which feasible descent steps (qp/ssn.hpp: the target far outside)
   // Bodies held by contact alone with friction: the largest share of friction's hold the loads take along
   // a slide or turn only friction holds (friction_hold, held_by_contact.hpp); −1 where there is none.
   double friction_hold_share = -1;

@@ -239,6 +239,7 @@ void add_counts(QpResult& total, const QpResult& part) {
   total.proportioning_steps += part.proportioning_steps;
   total.newton_steps += part.newton_steps;
   total.bordered_steps += part.bordered_steps;
+  total.feasible_steps += part.feasible_steps;
   total.coarse_products += part.coarse_products;
   total.rounding_stops += part.rounding_stops;
 }

@@ -56,6 +56,7 @@ struct QpResult {
   int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
   int newton_steps = 0;           // semismooth Newton steps (ssn.hpp, hybrid_qp.hpp; none in MPGP)
   int bordered_steps = 0;         // of which solved through the factor of Q (bordered_newton.hpp)
+  int feasible_steps = 0;         // of which feasible descent steps (ssn.hpp)
   int coarse_products = 0;        // of the products, columns of blocked solves for the two-level CG (reduced_cg.hpp)
   double projected_gradient = 0;  // final ‖gᴾ‖ / ‖h‖
   int rounding_stops = 0;         // solves stopped at their rounding floor, a little above rtol (hybrid_qp.hpp)

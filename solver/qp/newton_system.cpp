@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace contact3d {
 
@@ -29,6 +30,65 @@ ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, dou
     step.directions.push_back({a, b, -nu_b, nu_a, (1 - kappa) / (rho * kappa)});
   }
   return step;
+}
+
+namespace {
+
+// The fraction a of δ at which the disc's λ_t + a δ_t reaches the circle of radius c (λ_t inside it).
+double fraction_to_circle(double la, double lb, double da, double db, double c) {
+  const double dd = da * da + db * db;
+  if (dd == 0) return INFINITY;
+  const double ld = -(la * da + lb * db);  // as for max_feasible_step along −δ
+  const double slack = std::max(0.0, c * c - (la * la + lb * lb));
+  const double root = std::sqrt(ld * ld + dd * slack);
+  return ld >= 0 ? (ld + root) / dd : slack / (root - ld);
+}
+
+}  // namespace
+
+EarlyExits fix_early_exits(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& target,
+                           double early, ReducedStep& step) {
+  const MultiplierLayout layout = qp.layout();
+  const Eigen::VectorXd delta = target - lambda;
+  EarlyExits exits;
+  std::vector<char> disc_fixed(static_cast<std::size_t>(qp.r), 0);
+  if (qp.with_friction)
+    for (const Direction& d : step.directions) {
+      if (d.b >= 0 || d.a < 2 * qp.r) continue;  // a disc free inside has two unit directions; t2 stands for it
+      const int i = d.a - 2 * qp.r, a = layout.t1(i), b = layout.t2(i);
+      const double c = qp.radius[i];
+      if (std::hypot(target[a], target[b]) <= c) continue;
+      const double exit = fraction_to_circle(lambda[a], lambda[b], delta[a], delta[b], c);
+      if (exit >= early) {
+        exits.first_exit = std::min(exits.first_exit, exit);
+        continue;
+      }
+      double xa = lambda[a] + exit * delta[a], xb = lambda[b] + exit * delta[b];
+      const double norm = std::hypot(xa, xb);
+      if (norm > 0) xa *= c / norm, xb *= c / norm;  // on the circle exactly
+      step.lambda_fixed[a] = xa;
+      step.lambda_fixed[b] = xb;
+      disc_fixed[static_cast<std::size_t>(i)] = 1;
+      ++exits.fixed;
+    }
+  std::vector<Direction> kept;
+  kept.reserve(step.directions.size());
+  for (const Direction& d : step.directions) {
+    const bool unit = d.b < 0;
+    if (unit && d.a >= qp.r && disc_fixed[static_cast<std::size_t>((d.a - qp.r) % qp.r)]) continue;
+    if (unit && d.a < qp.r && target[d.a] < 0) {
+      const double exit = lambda[d.a] / -delta[d.a];
+      if (exit < early) {
+        step.lambda_fixed[d.a] = 0;
+        ++exits.fixed;
+        continue;
+      }
+      exits.first_exit = std::min(exits.first_exit, exit);
+    }
+    kept.push_back(d);
+  }
+  step.directions = std::move(kept);
+  return exits;
 }
 
 Eigen::MatrixXd reduced_low_rank(const BoxDiscQP& qp, const std::vector<Direction>& d) {

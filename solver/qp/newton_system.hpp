@@ -37,6 +37,22 @@ double projection_scale(const BoxDiscQP& qp);
 // The active sets of z = λ − ρ g and the reduced system's unknowns.
 ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, double rho);
 
+// Where the minimiser `target` of a step's reduced system leaves the feasible set early along
+// δ = target − λ (λ feasible): a free normal multiplier that crosses zero, or a disc free inside
+// that crosses its circle, at a fraction a_i < `early` of δ. Those unknowns leave the step's
+// directions and are fixed at the bound they cross (λ_n = 0; λ_t at the point where δ meets the
+// circle), so that the reduced system solved again has its minimiser further in. A thin body's soft
+// bending modes make such exits common near the solution: the cells that barely touch are pushed far
+// below zero by a face minimiser that moves λ along those modes. `first_exit` is the smallest a_i of
+// the exits kept (1 when there are none): λ + a δ stays feasible up to it, but for the sliding
+// discs' tangent lines.
+struct EarlyExits {
+  int fixed = 0;
+  double first_exit = 1;
+};
+EarlyExits fix_early_exits(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& target,
+                           double early, ReducedStep& step);
+
 // A D (k_A × k) for the problem's low-rank term A (BoxDiscQP::low_rank): the reduced system's
 // operator is Dᵀ Q D + diag(shift) + (A D)ᵀ(A D).
 Eigen::MatrixXd reduced_low_rank(const BoxDiscQP& qp, const std::vector<Direction>& d);

@@ -158,6 +158,13 @@ constexpr int kMaxCgIterations = 1000;
 // (loose steps used up the hybrid's Newton rounds on the larger slab, MPGP then crawled); 0.001 gave
 // 778 / 788 / 1 279.
 constexpr double kMaxForcing = 0.01;
+// The feasible descent step (SemismoothNewton::feasible_descent_step), where backtracking on ‖F‖
+// finds no step: unknowns leaving the feasible set before kEarlyExit of the step are fixed at their
+// bound, in at most kMaxExitSolves new solves. Taking it also where backtracking finds only short
+// steps (<= 1/8, 1/4, 1/2) cost more on the strip at 5 628 multipliers (13.2, 21.1, 33.9 s against
+// 15.4 s): far from the solution its repeated solves fix many cells that later come free again.
+constexpr double kEarlyExit = 0.5;
+constexpr int kMaxExitSolves = 20;
 bool newton_target_by_cg(const BoxDiscQP& qp, const ReducedStep& step, const Eigen::VectorXd& lambda,
                          double cg_tolerance, Eigen::VectorXd& lambda_new, QpResult& result, double& cost) {
   const Eigen::VectorXd b = restrict_to(step.directions, qp.h - qp.apply(step.lambda_fixed));
@@ -238,13 +245,22 @@ class SemismoothNewton {
       }
       heartbeat();
       const double F_before = F_norm_;
+      ReducedStep step;
       Eigen::VectorXd target;
       double cost = 0;
-      if (!newton_target_from_active_sets(target, cost)) break;
+      if (!newton_target_from_active_sets(step, target, cost)) break;
       ++result_.iterations;
       ++result_.newton_steps;
       double step_length = 1;
-      if (!backtrack_towards(target, step_length)) break;
+      DampedStep damped = backtrack_towards(target);
+      if (damped.length > 0) {
+        step_length = damped.length;
+        take(std::move(damped));
+      } else if (feasible_descent_step(std::move(step), target, cost)) {
+        ++result_.feasible_steps;  // judged as a full step below
+      } else {
+        break;
+      }
       if (settings_.stop_when_linear && slow_steps_.record(step_length, F_before, F_norm_, cost)) {
         project(qp_, lambda_);  // a damped step may leave λ just off a circle
         result_.status = QpStatus::IterationLimit;
@@ -286,45 +302,95 @@ class SemismoothNewton {
           [&] { return qp_heartbeat_line("ssn", result_, settings_.rtol, *settings_.progress, settings_.earlier); });
   }
 
-  // The minimiser over the directions the active sets of z leave free (`target`), and the step's
-  // cost in products; false where its reduced system cannot be solved (MPGP takes over).
-  bool newton_target_from_active_sets(Eigen::VectorXd& target, double& cost) {
-    const ReducedStep step = split_active_sets(qp_, z_, rho_);
-    ++result_.hessian_products;  // Q λ_fixed
+  // The minimiser over the directions the active sets of z leave free (`target`), those sets
+  // (`step`), and the step's cost in products; false where its reduced system cannot be solved
+  // (MPGP takes over).
+  bool newton_target_from_active_sets(ReducedStep& step, Eigen::VectorXd& target, double& cost) {
+    step = split_active_sets(qp_, z_, rho_);
     if (qp_.matrix_free()) {
+      ++result_.hessian_products;  // Q λ_fixed
       // Forcing term: the free gradient CG leaves is a fraction of ‖gᴾ‖ that shrinks with it
       // (superlinear near the solution), never asked below what the stopping test needs.
       const double forcing = std::min(kMaxForcing, std::sqrt(pg_ / h_norm_));
       return newton_target_by_cg(qp_, step, lambda_, std::max(forcing * pg_, 0.1 * tol_), target, result_, cost);
     }
+    return solve_reduced(step, target, cost);
+  }
+
+  // The minimiser `target` of the reduced system of `step`, its cost added to `cost` (a dense Q).
+  bool solve_reduced(const ReducedStep& step, Eigen::VectorXd& target, double& cost) {
+    ++result_.hessian_products;  // Q λ_fixed
     bool bordered = false;
-    if (!newton_target(qp_, step, settings_.rtol, target, result_.hessian_products, cost, bordered)) return false;
+    double this_cost = 0;
+    if (!newton_target(qp_, step, settings_.rtol, target, result_.hessian_products, this_cost, bordered)) return false;
     result_.bordered_steps += bordered;
+    cost += this_cost;
     return true;
   }
 
+  // A trial point of the backtracking on ‖F‖; length 0: none found.
+  struct DampedStep {
+    double length = 0;
+    Eigen::VectorXd lambda, g, z;
+    double F = 0;
+  };
+
   // Backtracking on ‖F‖ from λ towards `target` (full steps near the solution: local superlinear
-  // convergence); the step taken in `step_length`, false when no halving lowers ‖F‖.
-  bool backtrack_towards(const Eigen::VectorXd& target, double& step_length) {
+  // convergence): the longest of 1, 1/2, … 1/2¹¹ that lowers ‖F‖, not taken yet.
+  DampedStep backtrack_towards(const Eigen::VectorXd& target) {
     const Eigen::VectorXd delta = target - lambda_;
     const Eigen::VectorXd Qd = qp_.apply(delta);
     ++result_.hessian_products;
-    Eigen::VectorXd z_try;
+    DampedStep trial;
     double t = 1;
     for (int ls = 0; ls < 12; ++ls, t *= 0.5) {
-      const Eigen::VectorXd lam_try = lambda_ + t * delta;
-      const Eigen::VectorXd g_try = g_ + t * Qd;
-      const double F_try = residual(lam_try, g_try, z_try);
-      if (F_try <= (1 - 1e-4 * t) * F_norm_) {
-        lambda_ = lam_try;
-        g_ = g_try;
-        z_ = z_try;
-        F_norm_ = F_try;
-        step_length = t;
-        return true;
+      trial.lambda = lambda_ + t * delta;
+      trial.g = g_ + t * Qd;
+      trial.F = residual(trial.lambda, trial.g, trial.z);
+      if (trial.F <= (1 - 1e-4 * t) * F_norm_) {
+        trial.length = t;
+        return trial;
       }
     }
-    return false;
+    return {};
+  }
+
+  void take(DampedStep&& step) {
+    lambda_ = std::move(step.lambda);
+    g_ = std::move(step.g);
+    z_ = std::move(step.z);
+    F_norm_ = step.F;
+  }
+
+  // Where backtracking on ‖F‖ finds no step, the Newton target lies far outside the feasible set:
+  // on a thin or slender body (cond(Q) 1e9 – 1e10) the face minimiser moves λ along soft bending
+  // modes, pushes hundreds of barely touching cells far below zero, and ‖F‖ rises on the whole
+  // segment (the strip of pipeline/scenes/strip.toml at 4 032 multipliers: every Newton step of its
+  // repeat at 1e-10 failed so, and MPGP crawled 43 672 iterations, 86 s; with this step 152, 1.5 s).
+  // The feasible descent step fixes the unknowns that leave early (fix_early_exits), solves the
+  // reduced system again (at most kMaxExitSolves times, each a bordered update or a factorization),
+  // and takes the least S = ½λᵀQλ − hᵀλ on the segment from λ to that target made feasible: feasible
+  // by convexity, S lower by construction, one product by Q. `cost` gets the solves' cost. False
+  // (nothing moved) where a solve fails or the segment is no descent.
+  bool feasible_descent_step(ReducedStep step, Eigen::VectorXd target, double& cost) {
+    if (qp_.matrix_free()) return false;  // each solve would be a CG run: not tried there
+    EarlyExits exits = fix_early_exits(qp_, lambda_, target, kEarlyExit, step);
+    for (int solve = 0; exits.fixed > 0 && solve < kMaxExitSolves; ++solve) {
+      if (!solve_reduced(step, target, cost)) return false;
+      exits = fix_early_exits(qp_, lambda_, target, kEarlyExit, step);
+    }
+    Eigen::VectorXd next = lambda_ + exits.first_exit * (target - lambda_);
+    project(qp_, next);
+    const Eigen::VectorXd delta = next - lambda_;
+    const Eigen::VectorXd Qd = qp_.apply(delta);
+    ++result_.hessian_products;
+    const double slope = g_.dot(delta), curvature = delta.dot(Qd);
+    if (!(slope < 0) || !(curvature > 0)) return false;
+    const double t = std::min(1.0, -slope / curvature);  // S's least value on the segment
+    lambda_ += t * delta;
+    g_ += t * Qd;
+    F_norm_ = residual(lambda_, g_, z_);
+    return true;
   }
 
   // Newton did not finish: MPGP from the current point (same criterion, same answer), or the

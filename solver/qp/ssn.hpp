@@ -6,15 +6,18 @@
 // active sets of each step fix part of λ (0 off contact, c ν on a sliding disc); the rest solves a
 // symmetric positive definite system of the free size (Q restricted to the free and sliding
 // tangent directions, plus a diagonal term per sliding disc), factored by dense Cholesky.
-// Damped by a backtracking search on ‖F‖; if Newton stalls it hands the iterate to MPGP (the
-// reference), so the stopping test and the answer are those of MPGP: ‖gᴾ(λ)‖ <= rtol ‖h‖ at a
-// feasible λ. With a single-precision copy of Q (BoxDiscQP::Q_single) the reduced system is factored
-// in single precision (spotrf, about half the time of dpotrf) and refined in double, one product by Q
-// per refinement, until its residual is 1e-10 of the right-hand side; otherwise in double. Through
-// the bordered factor of Q (bordered_newton.hpp) where that is cheaper, with a Woodbury update for
-// the problem's low-rank term (BoxDiscQP::low_rank, the augmented Lagrangian's penalty). On a
-// matrix-free Q (no entries to factor) the steps are inexact: the reduced system by CG
-// (reduced_cg.hpp) from the current iterate, to a forcing term of min(0.01, √(‖gᴾ‖/‖h‖)) · ‖gᴾ‖.
+// Damped by a backtracking search on ‖F‖; where that finds no step (a target far outside the feasible
+// set, as on slender bodies), a feasible descent step on the QP's objective instead (the unknowns that
+// leave early fixed at their bounds, newton_system.hpp's fix_early_exits); if Newton stalls it hands
+// the iterate to MPGP (the reference), so the stopping test and the answer are those of MPGP:
+// ‖gᴾ(λ)‖ <= rtol ‖h‖ at a feasible λ. With a single-precision copy of Q (BoxDiscQP::Q_single) the
+// reduced system is factored in single precision (spotrf, about half the time of dpotrf) and refined
+// in double, one product by Q per refinement, until its residual is 1e-10 of the right-hand side;
+// otherwise in double. Through the bordered factor of Q (bordered_newton.hpp) where that is cheaper,
+// with a Woodbury update for the problem's low-rank term (BoxDiscQP::low_rank, the augmented
+// Lagrangian's penalty). On a matrix-free Q (no entries to factor) the steps are inexact: the reduced
+// system by CG (reduced_cg.hpp) from the current iterate, to a forcing term of
+// min(0.01, √(‖gᴾ‖/‖h‖)) · ‖gᴾ‖.
 #pragma once
 
 #include <limits>
