@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The slender strip of pipeline/scenes/strip.toml at h = 0.006 (4 032 multipliers, cond(Q) ~ 8e9, one element
 through), default settings: its dual QP must reach the final tolerance without crawling, and its answer must
-be close to a run at tight tolerances. Before the feasible descent steps of qp/ssn.hpp every Newton step of
-the repeat at 1e-10 failed its backtracking (the targets pushed hundreds of barely touching cells far below
-zero along the strip's bending modes) and MPGP crawled: 43 672 iterations of 44 000 in all, 86 s of a 100 s
+be close to a run at tight tolerances. Before the feasible descent steps of qp/ssn.hpp the Newton steps of the
+repeat at 1e-10 found no backtracking step (949) or only steps of 1/256 - 1/2048 (923): the targets pushed
+hundreds of barely touching cells far below zero along the strip's bending modes; and MPGP crawled: 43 672 iterations of 44 000 in all, 86 s of a 100 s
 solve, and u on Γc 1.7% / 2.6% (u1 / u2, relative L2) from the tight run. With them: 600 - 900 iterations and
 0.12% / 0.66% with one BLAS thread, 0.13% / 0.17% with two (the QP's tolerance, not its solver, leaves that
 much: cond(Q) ~ 8e9). Work is checked by counts (QP iterations), not by time.
