@@ -673,6 +673,7 @@ class FixedPointRun {
     // its length relative to the plain step (as ω <= 4 bounds the relaxation's).
     const bool rejected = newton_.rejected() || tail_mixing_.rejected();
     if (newton_.rejected()) newton_trust_ = 0.5 * last_newton_ratio_;
+    if (trust_cut_a_good_newton_step()) newton_trust_ *= 2;
     const Eigen::VectorXd& x0 = rejected ? previous_x_ : xk;
     const Eigen::VectorXd& g0 = rejected ? previous_gx_ : gx;
     if (use_newton) return newton_step(xk, eval);
@@ -705,6 +706,17 @@ class FixedPointRun {
     ++result_.predicted_steps;
     made_by_ = FixedPointUpdate::Predicted;
     return y->cwiseMax(0.0);
+  }
+
+  // Whether the last step was a Newton step that the trust region cut and that cut err anyway (judged and
+  // kept): the region then grows again. Without it a region halved after one rejected step stayed so for the
+  // rest of the run, and every later Newton step went half the way: a Coulomb strip (cond(Q) 8e9, ramp
+  // law, fixed_point_tol 1e-8) cut err by exactly one half per step for 12 steps after a rejection.
+  bool trust_cut_a_good_newton_step() const {
+    const std::size_t n = history().size();
+    if (n < 2 || history()[n - 1].update != FixedPointUpdate::Newton || newton_.rejected()) return false;
+    const bool capped = std::isfinite(newton_trust_) && last_newton_ratio_ >= (1 - 1e-9) * newton_trust_;
+    return capped && history()[n - 1].err < history()[n - 2].err;
   }
 
   // A Newton step on x − G(x) = 0 from G's derivative, within the trust region.

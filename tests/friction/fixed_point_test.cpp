@@ -610,6 +610,41 @@ TEST(FixedPoint, TwoTailStepsThatRaiseErrEndTheTailForNewtonAndMixingAlike) {
   for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(r.phi[i], i + 1.0, 5e-3 * (i + 1));
 }
 
+TEST(FixedPoint, TheNewtonTrustRegionGrowsAgainAfterARejectedStep) {
+  // The smooth map with its derivative (rates up to 0.95: a Newton step is about ten plain steps long),
+  // whose first Newton iterate is answered with a worse point (as a jump of the law answers one): that
+  // step is rejected and the trust region cut to half its length. Later Newton steps, which the region
+  // cuts but which cut err, must let it grow again: before they did not, and every later step went
+  // about half the way (err falling by one half per step, as a Coulomb strip showed for 12 steps).
+  const std::vector<double> rates{0.9, -0.8, 0.6, 0.95};
+  SlipMap G = smooth_map_with_derivative(rates, 3);
+  // The first evaluation after the derivative was first used is at the first Newton iterate.
+  auto derivative_used = std::make_shared<bool>(false);
+  SlipMap spoiled_once = [G, derivative_used, spoiled = false](const Eigen::VectorXd& phi, double rtol) mutable {
+    SlipEvaluation e = G(phi, rtol);
+    if (*derivative_used && !spoiled) {
+      spoiled = true;
+      e.slip *= 1.5;
+    }
+    e.derivative = [inner = e.derivative, derivative_used](const Eigen::VectorXd& v) {
+      *derivative_used = true;
+      return inner(v);
+    };
+    return e;
+  };
+  const FixedPointResult r = solve_fixed_point(spoiled_once, 4, settings(FixedPointVariant::Accelerated), 1e-6);
+  ASSERT_EQ(r.status, FixedPointStatus::Converged);
+  EXPECT_EQ(steps_made_by(r, FixedPointUpdate::Restart), 1);
+  // After the restart the Newton steps converge fast again: the run ends within 8 steps of it (7 here;
+  // without the region growing back 31: the capped Newton steps crept, failed, and the relaxation
+  // finished).
+  const auto restart = std::find_if(r.history.begin(), r.history.end(),
+                                    [](const FixedPointStep& s) { return s.update == FixedPointUpdate::Restart; });
+  ASSERT_NE(restart, r.history.end());
+  EXPECT_LE(r.history.end() - restart, 8) << "steps after the restart";
+  for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(r.phi[i], 1.0 + i / 3.0, 5e-3);  // rate 0.95: 20 err
+}
+
 // A slip front on a chain of n nodes with a law that jumps: F = 0.3 below a slip of 1, 0.15 above.
 // G(φ)_i = b_i + Σ_j A_ij (0.3 − F(φ_j)), A tridiagonal (4/3 on the diagonal, 2/3 beside it): a node
 // that crosses the jump pushes its neighbours' slip up by 0.1, enough to take the next node across
