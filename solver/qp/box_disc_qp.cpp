@@ -140,17 +140,19 @@ double max_feasible_step(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, con
   if (!qp.with_friction) return step;
   for (int i = 0; i < r; ++i) {
     const int a = qp.layout().t1(i), b = qp.layout().t2(i);
-    const double pp = p[a] * p[a] + p[b] * p[b];
-    if (pp == 0) continue;
-    const double c = qp.radius[i];
-    const double lp = lambda[a] * p[a] + lambda[b] * p[b];
-    const double slack = std::max(0.0, c * c - (lambda[a] * lambda[a] + lambda[b] * lambda[b]));
-    // ‖λ − a p‖ = c  <=>  pp a² − 2 lp a − slack = 0; the positive root, written stably.
-    const double disc = std::sqrt(lp * lp + pp * slack);
-    const double root = lp >= 0 ? (lp + disc) / pp : slack / (disc - lp);
-    step = std::min(step, root);
+    step = std::min(step, max_step_in_disc(lambda[a], lambda[b], p[a], p[b], qp.radius[i]));
   }
   return std::max(step, 0.0);
+}
+
+double max_step_in_disc(double la, double lb, double pa, double pb, double c) {
+  const double pp = pa * pa + pb * pb;
+  if (pp == 0) return std::numeric_limits<double>::infinity();
+  const double lp = la * pa + lb * pb;
+  const double slack = std::max(0.0, c * c - (la * la + lb * lb));
+  // ‖λ − a p‖ = c  <=>  pp a² − 2 lp a − slack = 0; the positive root, written stably.
+  const double disc = std::sqrt(lp * lp + pp * slack);
+  return lp >= 0 ? (lp + disc) / pp : slack / (disc - lp);
 }
 
 double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g,

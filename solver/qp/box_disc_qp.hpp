@@ -104,6 +104,8 @@ GradientSplit split_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& lambda,
 
 // Largest a >= 0 with λ − a p feasible (λ feasible).
 double max_feasible_step(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& p);
+// The same for one disc: largest a >= 0 with ‖(la, lb) − a (pa, pb)‖ <= c, (la, lb) inside it (∞ for p = 0).
+double max_step_in_disc(double la, double lb, double pa, double pb, double c);
 
 // ‖(λ − P(λ − α g)) / α‖: the reduced projected gradient (continuous in λ).
 double reduced_gradient_norm(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& g,

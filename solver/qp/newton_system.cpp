@@ -32,20 +32,6 @@ ReducedStep split_active_sets(const BoxDiscQP& qp, const Eigen::VectorXd& z, dou
   return step;
 }
 
-namespace {
-
-// The fraction a of δ at which the disc's λ_t + a δ_t reaches the circle of radius c (λ_t inside it).
-double fraction_to_circle(double la, double lb, double da, double db, double c) {
-  const double dd = da * da + db * db;
-  if (dd == 0) return INFINITY;
-  const double ld = -(la * da + lb * db);  // as for max_feasible_step along −δ
-  const double slack = std::max(0.0, c * c - (la * la + lb * lb));
-  const double root = std::sqrt(ld * ld + dd * slack);
-  return ld >= 0 ? (ld + root) / dd : slack / (root - ld);
-}
-
-}  // namespace
-
 EarlyExits fix_early_exits(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, const Eigen::VectorXd& target,
                            double early, ReducedStep& step) {
   const MultiplierLayout layout = qp.layout();
@@ -58,7 +44,7 @@ EarlyExits fix_early_exits(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, c
       const int i = d.a - 2 * qp.r, a = layout.t1(i), b = layout.t2(i);
       const double c = qp.radius[i];
       if (std::hypot(target[a], target[b]) <= c) continue;
-      const double exit = fraction_to_circle(lambda[a], lambda[b], delta[a], delta[b], c);
+      const double exit = max_step_in_disc(lambda[a], lambda[b], -delta[a], -delta[b], c);  // λ_t + exit δ_t on it
       if (exit >= early) {
         exits.first_exit = std::min(exits.first_exit, exit);
         continue;
