@@ -437,8 +437,8 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol, doubl
                                 "\"aitken\" or a finer mesh"));
     case FixedPointStatus::InnerSolverFailed:
       return std::string("the dual QP did not converge: raise solver.qp_max_iterations") +
-             (context.qp_is_ssn ? ", or go back to solver.qp = \"auto\" (MPGP with Newton steps)"
-                                : ", or try solver.qp = \"ssn\"") +
+             (context.qp_is_auto ? ", or try solver.qp = \"ssn\""
+                                 : ", or go back to solver.qp = \"auto\" (MPGP with Newton steps)") +
              (context.ill_conditioned_dual ? "; Q is ill-conditioned (see the warning), which slows every QP" : "");
   }
   return "";

@@ -93,7 +93,7 @@ struct FixedPointSettings {
   struct HintContext {
     bool slip_dependent_law = true;     // false: a constant coefficient, the map acting on the normal pressure
     bool table_law = false;             // a law given by friction.points (no friction.param)
-    bool qp_is_ssn = false;             // solver.qp = "ssn" already
+    bool qp_is_auto = true;             // solver.qp = "auto" (else "ssn" or one of the MPGPs alone)
     bool ill_conditioned_dual = false;  // the stability check warned of cond(Q)
   } hint_context;
 };

@@ -336,7 +336,7 @@ void iterate_on_slip(const Scene& scene, TrescaStep& tresca, int n_contact_nodes
   fp.qp_rtol_per_err = scene.solver.qp_rtol_per_err;
   fp.inexact = scene.solver.inexact_fixed_point;
   fp.hint_context = {scene.law.depends_on_slip(), scene.law.kind == FrictionLaw::Kind::Table,
-                     scene.solver.qp.variant == QpVariant::Ssn, dual_ill_conditioned(res)};
+                     scene.solver.qp.variant == QpVariant::Auto, dual_ill_conditioned(res)};
   if (scene.needs_fixed_point()) {
     if (scene.coulomb()) {
       CoulombMap coulomb(tresca, n_contact_nodes, res.n_cells, scene.law.depends_on_slip());

@@ -787,16 +787,18 @@ TEST(FixedPoint, InnerFailureIsNamed) {
 }
 
 // The hints suggest only what applies: another QP than the one that failed (a run with solver.qp =
-// "ssn" was told to try "ssn"), and a gentler slip law only where the coefficient has a slope (a
-// constant Coulomb coefficient on a nearly incompressible block was told "smaller friction.param").
+// "ssn" was told to try "ssn"; one with "mpgp" was told to try "ssn", which fails where MPGP alone
+// does on a slender strip, not the default that solves it), and a gentler slip law only where the
+// coefficient has a slope (a constant Coulomb coefficient on a nearly incompressible block was told
+// "smaller friction.param").
 TEST(FixedPoint, HintsSuggestOnlyWhatApplies) {
   const SlipMap failing = failing_map();
   FixedPointSettings s = settings();
   EXPECT_NE(solve_fixed_point(failing, 2, s, 1e-6).hint.find("try solver.qp = \"ssn\""), std::string::npos);
-  s.hint_context.qp_is_ssn = true;
-  const std::string after_ssn = solve_fixed_point(failing, 2, s, 1e-6).hint;
-  EXPECT_EQ(after_ssn.find("\"ssn\""), std::string::npos) << after_ssn;
-  EXPECT_NE(after_ssn.find("\"auto\""), std::string::npos) << after_ssn;
+  s.hint_context.qp_is_auto = false;  // "ssn", "mpgp" or "mpgp_projcg"
+  const std::string after_other = solve_fixed_point(failing, 2, s, 1e-6).hint;
+  EXPECT_EQ(after_other.find("\"ssn\""), std::string::npos) << after_other;
+  EXPECT_NE(after_other.find("\"auto\""), std::string::npos) << after_other;
 
   s = settings();
   s.max_iterations = 200;
