@@ -15,6 +15,20 @@ double relative_projected_gradient(const BoxDiscQP& qp, const Eigen::VectorXd& l
   return std::sqrt(split.free.squaredNorm() + split.chopped.squaredNorm()) / h_norm;
 }
 
+// The stop at the rounding floor, judged at the λ handed back with an exact product: a round that
+// ends on its slow steps, and an MPGP window, report the ‖gᴾ‖ from before their last step (a
+// window's possibly from a drifted single-precision gradient). True (converged, counted) when λ is
+// within kRoundingSlack of the target.
+bool stopped_at_the_floor(const BoxDiscQP& qp, const Eigen::VectorXd& lambda, double h_norm, double rtol,
+                          QpResult& total) {
+  total.projected_gradient = relative_projected_gradient(qp, lambda, h_norm);
+  ++total.hessian_products;
+  if (!(total.projected_gradient <= RoundingFloor::kRoundingSlack * rtol)) return false;
+  total.status = QpStatus::Converged;
+  ++total.rounding_stops;
+  return true;
+}
+
 }  // namespace
 
 bool NewtonRoundGate::admit(double pg) {
@@ -28,6 +42,19 @@ bool RoundingFloor::reached(double pg, double rtol) {
   const bool stalled = pg <= kRoundingSlack * rtol && pg > kRoundGain * best_round_end_;
   best_round_end_ = std::min(best_round_end_, pg);
   return stalled;
+}
+
+bool RoundingFloor::reached_by_windows(double pg, double rtol) {
+  if (!(pg <= kRoundingSlack * rtol)) {
+    stalled_windows_ = 0;
+    return false;
+  }
+  if (pg < kRoundGain * window_anchor_) {  // a real gain: the stall, if any, starts here
+    window_anchor_ = pg;
+    stalled_windows_ = 0;
+    return false;
+  }
+  return ++stalled_windows_ >= kStalledWindows;
 }
 
 int default_window(const BoxDiscQP& qp) {
@@ -55,6 +82,9 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
     mpgp.earlier = &total;
     add_work(total, solve_mpgp(qp, lambda, mpgp));
     if (total.status != QpStatus::IterationLimit) return total;  // converged, or a breakdown
+    if (floor.reached_by_windows(total.projected_gradient, settings.rtol) &&
+        stopped_at_the_floor(qp, lambda, h_norm, settings.rtol, total))
+      return total;
     const bool mpgp_is_slow = total.projected_gradient > 0.1 * pg_before;
     if (mpgp_is_slow && newton_rounds.admit(total.projected_gradient)) {
       SsnSettings ssn;
@@ -66,17 +96,9 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
       ssn.damped_step_budget = window;  // a damped step must not cost more than an MPGP window
       add_work(total, solve_ssn(qp, lambda, ssn));
       if (total.status == QpStatus::Converged) return total;
-      if (floor.reached(total.projected_gradient, settings.rtol)) {
-        // A round that ends on its slow steps reports the ‖gᴾ‖ from before its last step: the stop is
-        // judged at the λ handed back.
-        total.projected_gradient = relative_projected_gradient(qp, lambda, h_norm);
-        ++total.hessian_products;
-        if (total.projected_gradient <= RoundingFloor::kRoundingSlack * settings.rtol) {
-          total.status = QpStatus::Converged;
-          ++total.rounding_stops;
-          return total;
-        }
-      }
+      if (floor.reached(total.projected_gradient, settings.rtol) &&
+          stopped_at_the_floor(qp, lambda, h_norm, settings.rtol, total))
+        return total;
     }
     pg_before = total.projected_gradient;
   }

@@ -77,15 +77,27 @@ class NewtonRoundGate {
 // multipliers, cond(Q) 3.6e7), the repeat of its last step at 1e-10 with the equality loop's inner
 // solves at 1e-12: every Newton round ended at 1.04e-12, and MPGP's windows, their ‖gᴾ‖ between 1.5e-12
 // and 5e-11, took 10 288 iterations (50 s) before one dipped under 1e-12.
+// MPGP's windows show the floor too, where the Newton systems' own floor lies higher than the
+// products' (their rounds then end far above the target and never meet the test above):
+// kStalledWindows windows in a row ending within kRoundingSlack of the target that together gain
+// less than kRoundGain on the lowest end before them. The strip of pipeline/scenes/strip.toml at
+// 4 032 multipliers asked 1e-13 (cond(Q) 1.5e10): its Newton rounds ended at 3e-9, its windows
+// between 6.5e-13 and 1e-12 from iteration 1 773 on, 1e-13 never, and the QP ran to its limit of
+// 100 000 iterations (150 s) and failed.
 class RoundingFloor {
  public:
   static constexpr double kRoundingSlack = 10;  // the floor is accepted within this factor of rtol
   static constexpr double kRoundGain = 0.9;     // a round ending above this share of the best one's gained nothing
+  static constexpr int kStalledWindows = 8;
   // A Newton round ended, not converged, at ‖gᴾ‖/‖h‖ = pg: true when it is the floor.
   bool reached(double pg, double rtol);
+  // An MPGP window ended, not converged, at ‖gᴾ‖/‖h‖ = pg: true when it is the floor.
+  bool reached_by_windows(double pg, double rtol);
 
  private:
   double best_round_end_ = INFINITY;
+  double window_anchor_ = INFINITY;  // the lowest window end before the stalled ones
+  int stalled_windows_ = 0;
 };
 
 // MPGP iterations per window: max(kMinWindow, m/256) on a dense Q, kMinWindow on a matrix-free one.

@@ -212,6 +212,23 @@ TEST(HybridQp, RoundingFloorIsTwoNewtonRoundsEndingAtTheSameLevelNearTheTarget) 
   EXPECT_FALSE(far_above.reached(1e-9, 1e-12));  // stalled, but far from the target: not accepted
 }
 
+TEST(HybridQp, RoundingFloorIsEightWindowsNearTheTargetThatGainLessThanATenth) {
+  RoundingFloor floor;
+  EXPECT_FALSE(floor.reached_by_windows(9.3e-13, 1e-13));  // the first window near the target
+  for (int k = 1; k < RoundingFloor::kStalledWindows; ++k)
+    EXPECT_FALSE(floor.reached_by_windows(k % 2 ? 1e-12 : 8.5e-13, 1e-13)) << k;  // noise, less than a tenth lower
+  EXPECT_TRUE(floor.reached_by_windows(9.9e-13, 1e-13));
+  RoundingFloor creeping;  // 8% lower each window: a tenth within two windows, never a floor
+  double pg = 9e-13;
+  for (int k = 0; k < 40; ++k, pg *= 0.92) EXPECT_FALSE(creeping.reached_by_windows(pg, 1e-13)) << k;
+  RoundingFloor far_above;  // stalled, but more than ten times the target: not accepted
+  for (int k = 0; k < 40; ++k) EXPECT_FALSE(far_above.reached_by_windows(1.1e-12, 1e-13)) << k;
+  RoundingFloor interrupted;  // a window far above the target starts the count again
+  for (int k = 0; k < RoundingFloor::kStalledWindows - 1; ++k) interrupted.reached_by_windows(9e-13, 1e-13);
+  EXPECT_FALSE(interrupted.reached_by_windows(5e-11, 1e-13));
+  EXPECT_FALSE(interrupted.reached_by_windows(9e-13, 1e-13));
+}
+
 TEST(HybridQp, ATargetBelowRoundingStopsAtTheFloorWithTheSameMinimiser) {
   // The QP of the test above asked 1e-16, below what its products and Newton systems resolve:
   // MPGP's windows would wait for a dip of the noise; the hybrid stops where two Newton rounds end
