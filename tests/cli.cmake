@@ -322,6 +322,14 @@ add_test(NAME single_qp_cut_short_is_warned
                  --out ${CMAKE_BINARY_DIR}/cli-tests/single-qp-cut-short)
 set_tests_properties(single_qp_cut_short_is_warned PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
                      PASS_REGULAR_EXPRESSION "converged:.*warning: the QP stopped at solver.qp_max_iterations = 10 before")
+# A run that did not converge says that its answer's warnings are of its last iterate, not of an answer
+# (a helper's plate whose QP broke down was told of 353% strain, "check units", and 79% penetration).
+add_test(NAME unconverged_run_warns_of_its_last_iterate
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --set mesh.parameters.n=8
+                 --set solver.qp_max_iterations=3 --out ${CMAKE_BINARY_DIR}/cli-tests/unconverged-last-iterate)
+set_tests_properties(unconverged_run_warns_of_its_last_iterate PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+                     PASS_REGULAR_EXPRESSION "warning: of the last iterate of a run that did not converge \\(not an answer\\): the largest nodal penetration.*hint: the dual QP did not converge"
+                     FAIL_REGULAR_EXPRESSION "warning: the largest nodal penetration")
 # A body held by contact alone far above the plane (0.1 under a block of 0.2: a foundation left at z = 0
 # under a mesh in other coordinates) is warned, where 1 mm is a note (block_above_plane_tresca_converges).
 add_test(NAME held_body_far_above_the_plane_is_warned

@@ -436,9 +436,15 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol, doubl
                                 "and less as the material nears incompressibility; try solver.fixed_point = "
                                 "\"aitken\" or a finer mesh"));
     case FixedPointStatus::InnerSolverFailed:
-      return std::string("the dual QP did not converge: raise solver.qp_max_iterations") +
-             (context.qp_is_auto ? ", or try solver.qp = \"ssn\""
-                                 : ", or go back to solver.qp = \"auto\" (MPGP with Newton steps)") +
+      // A breakdown is not cured by more iterations (a helper's steel-on-rubber plate under "mpgp":
+      // 212 375 iterations, then a direction of no positive curvature, and the hint said to raise them).
+      return std::string(context.qp_broke_down
+                             ? "the dual QP broke down (a search direction along which Q showed no positive "
+                               "curvature, or a value not finite: rounding in an ill-conditioned dual)"
+                             : "the dual QP did not converge: raise solver.qp_max_iterations") +
+             (context.qp_is_auto ? std::string(context.qp_broke_down ? "; try" : ", or try") + " solver.qp = \"ssn\""
+                                 : std::string(context.qp_broke_down ? "; go" : ", or go") +
+                                       " back to solver.qp = \"auto\" (MPGP with Newton steps)") +
              (context.ill_conditioned_dual ? "; Q is ill-conditioned (see the warning), which slows every QP" : "");
   }
   return "";
@@ -480,6 +486,7 @@ class FixedPointRun {
       const SlipEvaluation eval = G_(x_, rtol_k);
       const FixedPointStep step = record(k, eval, rtol_k, t0);
       if (!eval.ok) {
+        qp_broke_down_ = eval.qp_broke_down;
         if (!restart_after_unsolvable_input(k)) return finish(FixedPointStatus::InnerSolverFailed);
         continue;
       }
@@ -778,7 +785,9 @@ class FixedPointRun {
                                      : std::numeric_limits<double>::infinity();
     double best_err = err;
     for (const auto& step : result_.history) best_err = std::min(best_err, step.err);
-    result_.hint = hint_for(status, q, rtol_, best_err, settings_.hint_context);
+    FixedPointSettings::HintContext context = settings_.hint_context;
+    context.qp_broke_down = qp_broke_down_;
+    result_.hint = hint_for(status, q, rtol_, best_err, context);
     return std::move(result_);  // the run ends here
   }
 
@@ -813,10 +822,11 @@ class FixedPointRun {
   int n_mult_ = 0;
   double best_err_ = INFINITY;
   int best_k_ = 0;
-  double rtol_;               // the exact-step QP tolerance; tightened against inner noise
-  double eta_;                // rtol_k <= eta·err(k−1)
-  bool force_exact_ = false;  // an inexact step met tol: repeat it with the exact QP tolerance
-  bool force_final_ = false;  // a step met tol with its QP far looser than a final step's: repeat it
+  double rtol_;                 // the exact-step QP tolerance; tightened against inner noise
+  bool qp_broke_down_ = false;  // the last failed QP broke down (for the hint)
+  double eta_;                  // rtol_k <= eta·err(k−1)
+  bool force_exact_ = false;    // an inexact step met tol: repeat it with the exact QP tolerance
+  bool force_final_ = false;    // a step met tol with its QP far looser than a final step's: repeat it
 };
 
 }  // namespace

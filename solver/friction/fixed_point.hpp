@@ -95,6 +95,7 @@ struct FixedPointSettings {
     bool table_law = false;             // a law given by friction.points (no friction.param)
     bool qp_is_auto = true;             // solver.qp = "auto" (else "ssn" or one of the MPGPs alone)
     bool ill_conditioned_dual = false;  // the stability check warned of cond(Q)
+    bool qp_broke_down = false;         // the failed QP broke down (set by the run, from SlipEvaluation)
   } hint_context;
 };
 
@@ -107,8 +108,9 @@ using SlipPrediction = std::function<Eigen::VectorXd(const Eigen::VectorXd& phi)
 
 // One evaluation of G: what the Tresca solve reports back.
 struct SlipEvaluation {
-  Eigen::VectorXd slip;  // G(φ) at the contact nodes
-  bool ok = true;        // false when the inner QP failed
+  Eigen::VectorXd slip;        // G(φ) at the contact nodes
+  bool ok = true;              // false when the inner QP failed
+  bool qp_broke_down = false;  // it failed on a breakdown (no positive curvature, or not finite), not its limit
   int qp_iterations = 0;
   int hessian_products = 0;
   SlipDerivative derivative;  // empty: G gives no derivative (the frictionless first Coulomb solve, tests)

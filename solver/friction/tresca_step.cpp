@@ -101,6 +101,7 @@ SlipEvaluation TrescaStep::solve(const Eigen::VectorXd& phi, const Eigen::Vector
   Eigen::VectorXd u_face = face_displacement(lambda_);
   SlipEvaluation eval;
   eval.ok = last_qp_.status == QpStatus::Converged && u_face.allFinite();
+  eval.qp_broke_down = last_qp_.status == QpStatus::Breakdown;
   eval.qp_iterations = last_qp_.iterations;
   eval.hessian_products = last_qp_.hessian_products + 1;  // + w on Γc (counted as one K⁻¹ solve)
   products_ += eval.hessian_products;

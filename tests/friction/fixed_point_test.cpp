@@ -778,6 +778,24 @@ SlipMap failing_map() {
   };
 }
 
+// A QP that broke down is not told to run longer (a helper's steel-on-rubber plate under "mpgp": a
+// breakdown after 212 375 iterations, and the hint said to raise solver.qp_max_iterations).
+TEST(FixedPoint, ABreakdownIsNotToldToRaiseTheIterations) {
+  const SlipMap broken = [](const Eigen::VectorXd& phi, double) {
+    SlipEvaluation e;
+    e.slip = phi;
+    e.ok = false;
+    e.qp_broke_down = true;
+    return e;
+  };
+  const FixedPointResult r = solve_fixed_point(broken, 2, settings(), 1e-6);
+  EXPECT_EQ(r.status, FixedPointStatus::InnerSolverFailed);
+  EXPECT_NE(r.hint.find("broke down"), std::string::npos) << r.hint;
+  EXPECT_EQ(r.hint.find("qp_max_iterations"), std::string::npos) << r.hint;
+  const FixedPointResult limit = solve_fixed_point(failing_map(), 2, settings(), 1e-6);
+  EXPECT_NE(limit.hint.find("qp_max_iterations"), std::string::npos) << limit.hint;
+}
+
 TEST(FixedPoint, InnerFailureIsNamed) {
   const SlipMap failing = failing_map();
   const FixedPointResult r = solve_fixed_point(failing, 2, settings(), 1e-6);
