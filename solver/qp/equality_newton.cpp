@@ -49,6 +49,8 @@ constexpr int kMaxSettledStepsWithoutProgress = 3;
 constexpr double kImprovedMerit = 0.25;
 constexpr double kSteepRise = 2.0;
 constexpr int kMaxSteepRises = 2;
+// A damped step is halved at most this many times (down to 1/64 of the Newton step).
+constexpr int kMaxHalvings = 6;
 
 // A fingerprint of the active sets (which multipliers move, and along which pair).
 std::size_t fingerprint(const std::vector<Direction>& d) {
@@ -104,6 +106,7 @@ class JointNewton {
       const long moved = static_cast<long>(last_directions_.size()) - directions_before;
       const double merit_before = merit_;
       take_full_step(x_target, delta_target);
+      if (settings_.damped && merit_ > kSteepRise * kSteepRise * merit_before) halve_back(merit_before);
       if (merit_ < best_merit_) best_x_ = x_, best_delta_ = delta_, best_merit_ = merit_;
       steep_rises += step > 0 && merit_ > kSteepRise * kSteepRise * merit_before;  // ‖F‖ more than doubled
       const bool sweeping = moved != 0 && (moved > 0) == (last_move > 0);
@@ -195,13 +198,28 @@ class JointNewton {
   // The full step to the target: Newton steps on the active sets of contact are taken whole (a
   // primal-dual active set method), the merit may rise on the way (on a free plate held by friction,
   // by up to twice between two falls, while the contact zone shrinks ring by ring); halving them crept
-  // at a few percent per step there.
+  // at a few percent per step there. So steps are halved (halve_back) only in a second, damped try.
   void take_full_step(const Eigen::VectorXd& x_target, const Eigen::VectorXd& delta_target) {
+    step_start_x_ = x_, step_start_Qx_ = Qx_, step_start_delta_ = delta_;
     Qx_ += apply(x_target - x_);
     x_ = x_target;
     delta_ = delta_target;
     merit_ = merit(x_, Qx_, delta_);
   }
+  // The step just taken, halved back towards where it started until the merit falls below
+  // `merit_before` (or kMaxHalvings times): the state moves along the same segment, Qλ with it.
+  void halve_back(double merit_before) {
+    const Eigen::VectorXd dx = x_ - step_start_x_, dQx = Qx_ - step_start_Qx_, ddelta = delta_ - step_start_delta_;
+    double t = 1;
+    for (int halving = 0; halving < kMaxHalvings && !(merit_ < merit_before); ++halving) {
+      t /= 2;
+      x_ = step_start_x_ + t * dx;
+      Qx_ = step_start_Qx_ + t * dQx;
+      delta_ = step_start_delta_ + t * ddelta;
+      merit_ = merit(x_, Qx_, delta_);
+    }
+  }
+
   const BoxDiscQP& qp_;
   const Eigen::MatrixXd& G_;
   const Eigen::VectorXd& e_;
@@ -209,10 +227,11 @@ class JointNewton {
   const EqualityNewtonSettings& settings_;
   const double rho_, g_scale_;
   Eigen::VectorXd x_, Qx_, delta_;
-  std::vector<Direction> last_directions_;  // the active sets of the last step
-  std::unordered_set<std::size_t> seen_;    // fingerprints of every step's active sets
-  bool cycled_ = false;                     // this step's sets are those of an earlier step but the last
-  bool settled_ = false;                    // this step's sets are those of the last step
+  Eigen::VectorXd step_start_x_, step_start_Qx_, step_start_delta_;  // the iterate before the last step
+  std::vector<Direction> last_directions_;                           // the active sets of the last step
+  std::unordered_set<std::size_t> seen_;                             // fingerprints of every step's active sets
+  bool cycled_ = false;   // this step's sets are those of an earlier step but the last
+  bool settled_ = false;  // this step's sets are those of the last step
   double merit_ = INFINITY;
   Eigen::VectorXd best_x_, best_delta_;  // the least-merit iterate so far (the start included)
   double best_merit_ = INFINITY;

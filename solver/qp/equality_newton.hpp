@@ -10,6 +10,9 @@
 // radius_sensitivity.hpp), instead of a QP solve per step. The steps are taken whole, as a
 // primal-dual active set method takes them; they are given up on a cycle of the active sets, on steps
 // that more than double ‖F₁‖² + (‖F₂‖ / ‖G‖)², or where that merit makes no progress (equality_newton.cpp).
+// Damped (EqualityNewtonSettings::damped), a step that would raise the merit steeply is halved until
+// it falls: slower where whole steps converge, but it converges where their first target lies far
+// from the answer.
 // Dense Q only (the reduced systems need its entries).
 #pragma once
 
@@ -25,6 +28,9 @@ struct EqualityNewtonSettings {
   double balance_target = 0;      // μ: ‖P_C(Gλ − e)‖ <= balance_target
   int max_steps = 100;            // Newton steps before giving up
   bool single_precision = false;  // the reduced systems factored in single precision (refined in double)
+  // Steps that would raise the merit more than kSteepRise² fold are halved (down to 1/64) until it
+  // falls: the second try where the whole steps were given up (DualQpSolver's equality loop).
+  bool damped = false;
 };
 
 struct EqualityNewtonResult {
