@@ -401,9 +401,9 @@ constexpr double kRoundingFloor = 1e3;
 
 // `best_err`: the smallest err of the run. A stall at the QP solves' rounding (the L-block asked for
 // fixed_point_tol = 1e-12 reached 4.5e-12 with QPs to 1e-12 and wandered up to 6e-11) is said as such,
-// not as a law too steep for the iteration.
+// not as a law too steep for the iteration. `qp_broke_down`: the failed QP of an InnerSolverFailed run broke down.
 std::string hint_for(FixedPointStatus status, double q, double final_rtol, double best_err,
-                     const FixedPointSettings::HintContext& context) {
+                     const FixedPointSettings::HintContext& context, bool qp_broke_down) {
   // An err of 0 is a step whose QP kept its warm start (0 iterations), not a level the iteration reached:
   // a strip with a ramp law stagnated after such steps and was told a tolerance "below about 0" was out of reach.
   const bool at_rounding = best_err > 0 && best_err <= kRoundingFloor * final_rtol;
@@ -419,7 +419,7 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol, doubl
       if (std::isnan(q))  // fewer than three steps: no rate observed yet
         return "the iteration limit came before a contraction rate could be observed: raise "
                "solver.fixed_point_max_iter";
-      if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol, best_err, context);
+      if (!(q < 1)) return hint_for(FixedPointStatus::Stagnation, q, final_rtol, best_err, context, qp_broke_down);
       return "the successive approximations contract slowly (q = " + format_g(q) +
              "): raise solver.fixed_point_max_iter, or try solver.fixed_point = \"aitken\" (relaxation from the start)";
     case FixedPointStatus::Stagnation:
@@ -435,17 +435,17 @@ std::string hint_for(FixedPointStatus status, double q, double final_rtol, doubl
                   : std::string("Coulomb's map on the normal pressure contracts only for a small enough coefficient, "
                                 "and less as the material nears incompressibility; try solver.fixed_point = "
                                 "\"aitken\" or a finer mesh"));
-    case FixedPointStatus::InnerSolverFailed:
+    case FixedPointStatus::InnerSolverFailed: {
       // A breakdown is not cured by more iterations (a helper's steel-on-rubber plate under "mpgp":
       // 212 375 iterations, then a direction of no positive curvature, and the hint said to raise them).
-      return std::string(context.qp_broke_down
-                             ? "the dual QP broke down (a search direction along which Q showed no positive "
-                               "curvature, or a value not finite: rounding in an ill-conditioned dual)"
-                             : "the dual QP did not converge: raise solver.qp_max_iterations") +
-             (context.qp_is_auto ? std::string(context.qp_broke_down ? "; try" : ", or try") + " solver.qp = \"ssn\""
-                                 : std::string(context.qp_broke_down ? "; go" : ", or go") +
-                                       " back to solver.qp = \"auto\" (MPGP with Newton steps)") +
+      const std::string other_qp =
+          context.qp_is_auto ? "try solver.qp = \"ssn\"" : "go back to solver.qp = \"auto\" (MPGP with Newton steps)";
+      return (qp_broke_down ? "the dual QP broke down (a search direction along which Q showed no positive "
+                              "curvature, or a value not finite: rounding in an ill-conditioned dual); " +
+                                  other_qp
+                            : "the dual QP did not converge: raise solver.qp_max_iterations, or " + other_qp) +
              (context.ill_conditioned_dual ? "; Q is ill-conditioned (see the warning), which slows every QP" : "");
+    }
   }
   return "";
 }
@@ -785,9 +785,7 @@ class FixedPointRun {
                                      : std::numeric_limits<double>::infinity();
     double best_err = err;
     for (const auto& step : result_.history) best_err = std::min(best_err, step.err);
-    FixedPointSettings::HintContext context = settings_.hint_context;
-    context.qp_broke_down = qp_broke_down_;
-    result_.hint = hint_for(status, q, rtol_, best_err, context);
+    result_.hint = hint_for(status, q, rtol_, best_err, settings_.hint_context, qp_broke_down_);
     return std::move(result_);  // the run ends here
   }
 

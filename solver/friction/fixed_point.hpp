@@ -95,7 +95,6 @@ struct FixedPointSettings {
     bool table_law = false;             // a law given by friction.points (no friction.param)
     bool qp_is_auto = true;             // solver.qp = "auto" (else "ssn" or one of the MPGPs alone)
     bool ill_conditioned_dual = false;  // the stability check warned of cond(Q)
-    bool qp_broke_down = false;         // the failed QP broke down (set by the run, from SlipEvaluation)
   } hint_context;
 };
 

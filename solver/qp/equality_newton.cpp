@@ -105,10 +105,11 @@ class JointNewton {
       ++result_.work.newton_steps;
       const long moved = static_cast<long>(last_directions_.size()) - directions_before;
       const double merit_before = merit_;
+      const double steep_merit = kSteepRise * kSteepRise * merit_before;  // ‖F‖ more than doubled
       take_full_step(x_target, delta_target);
-      if (settings_.damped && merit_ > kSteepRise * kSteepRise * merit_before) halve_back(merit_before);
+      if (settings_.damped && merit_ > steep_merit) halve_back(merit_before);
       if (merit_ < best_merit_) best_x_ = x_, best_delta_ = delta_, best_merit_ = merit_;
-      steep_rises += step > 0 && merit_ > kSteepRise * kSteepRise * merit_before;  // ‖F‖ more than doubled
+      steep_rises += step > 0 && merit_ > steep_merit;
       const bool sweeping = moved != 0 && (moved > 0) == (last_move > 0);
       const bool progress = sweeping || merit_ < (settled_ ? kSettledProgress : 1.0) * best;
       since_best = progress ? 0 : since_best + 1;
@@ -200,7 +201,7 @@ class JointNewton {
   // by up to twice between two falls, while the contact zone shrinks ring by ring); halving them crept
   // at a few percent per step there. So steps are halved (halve_back) only in a second, damped try.
   void take_full_step(const Eigen::VectorXd& x_target, const Eigen::VectorXd& delta_target) {
-    step_start_x_ = x_, step_start_Qx_ = Qx_, step_start_delta_ = delta_;
+    if (settings_.damped) step_start_x_ = x_, step_start_Qx_ = Qx_, step_start_delta_ = delta_;  // for halve_back
     Qx_ += apply(x_target - x_);
     x_ = x_target;
     delta_ = delta_target;

@@ -54,7 +54,9 @@ bool RoundingFloor::reached_by_windows(double pg, double rtol) {
     stalled_windows_ = 0;
     return false;
   }
-  return ++stalled_windows_ >= kStalledWindows;
+  if (++stalled_windows_ < kStalledWindows) return false;
+  stalled_windows_ = 0;  // judged now (one exact product); judged again after as many windows more
+  return true;
 }
 
 int default_window(const BoxDiscQP& qp) {
