@@ -507,12 +507,13 @@ Eigen::VectorXd displacement_of(const DualProblem& dual, const Discretisation& d
 // A run that did not converge is checked like an answer, but what the checks find is its last
 // iterate's: said before each warning, which would otherwise blame the scene (a helper's plate whose
 // QP broke down under "mpgp" was told of 353% strain — "check units" —, of equilibrium to 10 times the
-// forces — "check supports" — and of 79% penetration).
-// `earlier`: the warnings from before the checks (some checks insert theirs first).
-void say_checks_are_of_the_last_iterate(SolveResult& res, const std::vector<std::string>& earlier) {
-  for (std::string& warning : res.warnings)
-    if (std::find(earlier.begin(), earlier.end(), warning) == earlier.end())
-      warning = "of the last iterate of a run that did not converge (not an answer): " + warning;
+// forces — "check supports" — and of 79% penetration); so before each note (a failed iterate's tiny
+// strain is not a matter of units). `earlier`: the messages from before the checks (some checks insert
+// theirs first).
+void say_checks_are_of_the_last_iterate(std::vector<std::string>& messages, const std::vector<std::string>& earlier) {
+  for (std::string& message : messages)
+    if (std::find(earlier.begin(), earlier.end(), message) == earlier.end())
+      message = "of the last iterate of a run that did not converge (not an answer): " + message;
 }
 
 // The whole displacement from the final λ, the residuals of (5.4) and the violation of w_n <= 0.
@@ -544,9 +545,13 @@ void recover(const Scene& scene, const Mesh& mesh, const Discretisation& disc, c
     warn_if_coulomb_law_unmet(scene, res);
   }
   const std::vector<std::string> warnings_before = res.warnings;
+  const std::vector<std::string> notes_before = res.notes;
   check_answer(scene, mesh, largest_deformation(mesh, res.dofs, w, disc.held.field),
                disc.held.count() > 0 || res.dofs.has_nonzero_prescribed(), res);
-  if (!res.converged) say_checks_are_of_the_last_iterate(res, warnings_before);
+  if (!res.converged) {
+    say_checks_are_of_the_last_iterate(res.warnings, warnings_before);
+    say_checks_are_of_the_last_iterate(res.notes, notes_before);
+  }
   if (!res.u.allFinite() || !res.lambda.allFinite() || !res.radius.allFinite() || !std::isfinite(res.kkt.max()))
     throw InputError(
         "the solution is not finite: the scene's loads, material or friction values overflow double "

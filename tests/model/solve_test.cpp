@@ -812,6 +812,14 @@ TEST(SolveContactGeometry, StrainFarTooSmallIsNotedAsAPossibleUnitSlip) {
   EXPECT_LT(res.largest_strain, 1e-9);
   EXPECT_TRUE(mentions(res.notes, "far below a loaded part's usual")) << ::testing::PrintToString(res.notes);
   EXPECT_FALSE(mentions(solve_text().notes, "far below a loaded part's usual"));
+  // A run stopped short says the note is of its last iterate (its strain is no sign of the units).
+  const SolveResult stopped =
+      solve_scene(parse_scene_text(text, ".", {"solver.qp_max_iterations=3"}), make_paper_brick({4}));
+  ASSERT_FALSE(stopped.converged);
+  EXPECT_TRUE(mentions(stopped.notes,
+                       "of the last iterate of a run that did not converge (not an answer): the "
+                       "largest strain is"))
+      << ::testing::PrintToString(stopped.notes);
 }
 
 // The paper's brick with the middle third of its sole taken out of the contact group (in 'free'
