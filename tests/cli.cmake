@@ -326,8 +326,17 @@ set_tests_properties(single_qp_cut_short_is_warned PROPERTIES ENVIRONMENT "OPENB
 # on a rubber layer, pushed sideways): the damped second try converges, where the steps on μ alone crawled
 # (2 216 QP iterations at h = 0.012, 78 now).
 add_test(NAME layered_plate_first_coulomb_solve_does_not_crawl
-         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/layered_plate_coulomb.py $<TARGET_FILE:contact3d> ${CMAKE_SOURCE_DIR})
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/first_coulomb_solve.py $<TARGET_FILE:contact3d>
+                 ${CMAKE_SOURCE_DIR}/pipeline/scenes/layered_plate.toml 500 2500
+                 --set mesh.parameters.h=0.012 --set contact.cell_size=\"2h\")
 set_tests_properties(layered_plate_first_coulomb_solve_does_not_crawl PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
+# A pressed shell held by contact alone whose friction flips across a narrow stick window along the
+# Newton step on μ: the window is searched at once instead of after halving the step to 1/256 (1 383 QP
+# iterations in step 2 before, 950 now).
+add_test(NAME shell_first_coulomb_solve_does_not_crawl
+         COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/first_coulomb_solve.py $<TARGET_FILE:contact3d>
+                 ${CMAKE_SOURCE_DIR}/pipeline/scenes/shell_segment.toml 1150 3400 --set mesh.parameters.h=0.012)
+set_tests_properties(shell_first_coulomb_solve_does_not_crawl PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
 # A run that did not converge says that its answer's warnings are of its last iterate, not of an answer
 # (a helper's plate whose QP broke down was told of 353% strain, "check units", and 79% penetration).
 add_test(NAME unconverged_run_warns_of_its_last_iterate
