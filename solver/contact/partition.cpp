@@ -188,8 +188,8 @@ namespace {
 class GridPartitionBuilder {
  public:
   GridPartitionBuilder(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt,
-                       const std::vector<int>& region_of_triangle)
-      : mesh_(mesh), face_(face), opt_(opt), region_of_triangle_(region_of_triangle) {}
+                       const std::vector<int>& region_of_triangle, const ComponentsHeld& held)
+      : mesh_(mesh), face_(face), opt_(opt), region_of_triangle_(region_of_triangle), held_(held) {}
 
   Partition build() {
     if (!(opt_.cell_size > 0) || !std::isfinite(opt_.cell_size))
@@ -410,7 +410,7 @@ class GridPartitionBuilder {
   // the partition is refused.
   void enforce_stability(std::vector<int>& root_of_cell) {
     for (int round = 0;; ++round) {
-      const std::vector<int> bad = cells_without_own_node(face_, part_);
+      const std::vector<int> bad = cells_without_own_node(face_, part_, held_);
       if (bad.empty()) return;
       const bool repairable = round < 1000 && static_cast<double>(bad.size()) <=
                                                   std::max(1.0, opt_.max_repair_fraction * part_.cells.size());
@@ -427,7 +427,9 @@ class GridPartitionBuilder {
         for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part_, bad[k]);
         throw InputError(
             "the multiplier partition violates the stability condition (5.1): " + std::to_string(bad.size()) + " of " +
-            std::to_string(part_.cells.size()) + " cells have no free contact node of their own (rectangles " +
+            std::to_string(part_.cells.size()) +
+            " cells have no free contact node of their own (one whose z is free for the normal row; with "
+            "friction also one whose x, and one whose y, is free for the tangential rows) (rectangles " +
             describe_cell_sizes(part_) + ", contact mesh size h = " + number(face_.h) + " " + opt_.length_unit +
             "), e.g." + cells + "\nuse a larger contact.cell_size (H), e.g. \"2h\" or more");
       }
@@ -439,6 +441,7 @@ class GridPartitionBuilder {
   const ContactFace& face_;
   const PartitionOptions& opt_;
   const std::vector<int>& region_of_triangle_;  // empty: one region
+  const ComponentsHeld& held_;
   Partition part_;
   std::vector<Polygon> whole_triangles_;  // the contact triangles in the plane
   std::vector<Box> triangle_boxes_;       // and their bounding boxes
@@ -453,8 +456,8 @@ class GridPartitionBuilder {
 }  // namespace
 
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& opt,
-                              const std::vector<int>& triangle_region) {
-  return GridPartitionBuilder(mesh, face, opt, triangle_region).build();
+                              const std::vector<int>& triangle_region, const ComponentsHeld& held) {
+  return GridPartitionBuilder(mesh, face, opt, triangle_region, held).build();
 }
 
 std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face,
@@ -471,15 +474,23 @@ std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const Contact
   return rows;
 }
 
-std::vector<int> cells_without_own_node(const ContactFace& face, const Partition& partition) {
+std::vector<int> cells_without_own_node(const ContactFace& face, const Partition& partition,
+                                        const ComponentsHeld& held) {
   const auto rows = cell_node_weights(face, partition);
-  std::vector<std::vector<int>> adj(rows.size());
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    for (const auto& [node, w] : rows[i]) {
-      const int c = node < static_cast<int>(face.contact_index.size()) ? face.contact_index[node] : -1;
-      if (c >= 0 && w > 1e-12 * partition.cells[i].area) adj[i].push_back(c);
-    }
-  return unmatched_rows(adj, static_cast<int>(face.nodes.size()));
+  std::set<int> unmatched;
+  for (const int component : held.friction ? std::vector<int>{2, 0, 1} : std::vector<int>{2}) {
+    const auto is_free = [&](int node) {
+      return held.fixed.empty() || !(held.fixed[static_cast<std::size_t>(node)] & (1u << component));
+    };
+    std::vector<std::vector<int>> adj(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      for (const auto& [node, w] : rows[i]) {
+        const int c = node < static_cast<int>(face.contact_index.size()) ? face.contact_index[node] : -1;
+        if (c >= 0 && is_free(node) && w > 1e-12 * partition.cells[i].area) adj[i].push_back(c);
+      }
+    for (const int cell : unmatched_rows(adj, static_cast<int>(face.nodes.size()))) unmatched.insert(cell);
+  }
+  return {unmatched.begin(), unmatched.end()};
 }
 
 namespace {

@@ -44,6 +44,13 @@ struct ContactCell {
   std::vector<CellPiece> pieces;
 };
 
+// What the rows of 𝔹 can act on at each node: a cell's normal row needs a node of its own whose z is
+// free, its tangential rows (with friction) nodes whose x, resp. y, is free.
+struct ComponentsHeld {
+  std::vector<unsigned char> fixed;  // per mesh node: bit c set when component c is prescribed (empty: none)
+  bool friction = false;             // tangential rows too
+};
+
 struct PartitionOptions {
   double cell_size = 0;              // H in m; the grid uses ceil(L/H) cells per direction
   double cell_size_y = 0;            // H in y when it differs (0: same as cell_size)
@@ -73,9 +80,10 @@ struct Partition {
 // cells, and a sliver is merged into a neighbour of its own region where it has one: a cell averaging
 // the gap over a stiff and a soft material lets the stiff one sink and the soft one lift (steel beside
 // rubber under a prescribed push, the cell across their interface: 45 µm of 100 µm), and one across a
-// flat sole's edge and its fillet stays open.
+// flat sole's edge and its fillet stays open. `held`: what the rows of 𝔹 can act on, for the matching test
+// of (5.1) (cells_without_own_node).
 Partition make_grid_partition(const Mesh& mesh, const ContactFace& face, const PartitionOptions& options,
-                              const std::vector<int>& triangle_region = {});
+                              const std::vector<int>& triangle_region = {}, const ComponentsHeld& held = {});
 
 // Cells grouped into aggregates of `cells_per_side` × `cells_per_side` grid rectangles (by the
 // first rectangle of each cell; graded rectangles: runs of that many cells along a Z-order curve
@@ -88,9 +96,15 @@ std::vector<int> cell_aggregates(const Partition& partition, int cells_per_side,
 std::vector<std::vector<std::pair<int, double>>> cell_node_weights(const ContactFace& face, const Partition& partition);
 
 // The structural test of (5.1): cells that a maximum matching of cells to free contact nodes
-// (face.contact_index >= 0, positive hat integral over the cell) leaves unmatched. Empty iff
-// Hall's condition holds; non-empty means 𝔹 is rank deficient whatever the weights.
-std::vector<int> cells_without_own_node(const ContactFace& face, const Partition& partition);
+// (face.contact_index >= 0, positive hat integral over the cell) leaves unmatched, one matching per
+// row of 𝔹 a cell carries (normal; with held.friction the two tangential ones), each over the nodes
+// whose component that row acts on is free (held.fixed). Empty iff Hall's condition holds for every
+// row; non-empty means 𝔹 is rank deficient whatever the weights. A plane-strain slice of a cylinder
+// lying on its side, held in y at both ends, graded towards its contact line: where the elements
+// grew past the slice's width, cells stacked across it shared the few nodes between the ends whose y
+// is free, and their y rows were dependent (refused by the numerical test at the default cells).
+std::vector<int> cells_without_own_node(const ContactFace& face, const Partition& partition,
+                                        const ComponentsHeld& held = {});
 
 // "H = 0.05 x 0.05 m", or for graded cells "H from 0.01 x 0.01 to 0.08 x 0.08 m, following the contact
 // mesh's element size", for messages.

@@ -180,7 +180,8 @@ ContactOperator contact_stage(const Scene& scene, const Mesh& mesh, SolveResult&
   cells.cell_size_y = scene.cell_size_relative ? scene.cell_size * res.face.h_xy.y() : 0.0;
   cells.per_element_size = scene.cell_size_relative ? scene.cell_size : 0.0;
   cells.length_unit = unit_labels(scene.output.units).length;
-  res.partition = make_grid_partition(mesh, res.face, cells, contact_triangle_regions(scene, mesh, res.face));
+  res.partition = make_grid_partition(mesh, res.face, cells, contact_triangle_regions(scene, mesh, res.face),
+                                      {res.dofs.fixed, !scene.frictionless()});
   warn_if_one_cell_covers_the_face(res, cells.length_unit);
   ContactOperator op = make_contact_operator(res.face, res.partition, res.dofs, !scene.frictionless());
   res.n_cells = op.r;

@@ -312,6 +312,30 @@ TEST(Partition, LocalStabilityDefectIsRepaired) {
   expect_row_sums_are_areas(f, p);
 }
 
+// The same defect made by a prescribed component: the nodes (0,0), (0,1) and (1,0) held in y only. A
+// frictionless cell needs a node whose z is free (all eight are), so the six cells stand; with friction
+// each cell's second tangential row needs a node whose y is free, five of them, and one cell is merged.
+TEST(Partition, EachRowOfACellNeedsANodeWhoseComponentIsFree) {
+  const Flat f = flat({{0, 0}, {1, 0}, {2, 0}});
+  ComponentsHeld held{std::vector<unsigned char>(f.mesh.nodes.size(), 0), false};
+  for (const auto& [x, y] : {std::pair{0.0, 0.0}, {0.0, 1.0}, {1.0, 0.0}})
+    held.fixed[static_cast<std::size_t>(node_at(f.mesh, x, y))] = 1u << 1;
+  PartitionOptions o{0.5};
+  o.cell_size_y = 1.0;
+  const Partition frictionless = make_grid_partition(f.mesh, f.face, o, {}, held);
+  EXPECT_EQ(frictionless.cells.size(), 6u);
+  EXPECT_EQ(frictionless.stability_merges, 0);
+  held.friction = true;
+  o.enforce_stability = false;
+  ASSERT_EQ(cells_without_own_node(f.face, make_grid_partition(f.mesh, f.face, o, {}, held), held).size(), 1u);
+  o.enforce_stability = true;
+  const Partition p = make_grid_partition(f.mesh, f.face, o, {}, held);
+  EXPECT_EQ(p.cells.size(), 5u);
+  EXPECT_EQ(p.stability_merges, 1);
+  EXPECT_TRUE(cells_without_own_node(f.face, p, held).empty());
+  EXPECT_EQ(cells_without_own_node(f.face, frictionless, held).size(), 1u);
+}
+
 TEST(Partition, TrianglesHeldInEveryNodeAreLeftOutOfTheFace) {
   // The strip's nodes at x = 0 and x = 1 clamped: the first square's two triangles cannot move, so
   // they are not part of Γc (a cell over them could never have a free node, (5.1)); the rest is
