@@ -2,7 +2,8 @@
 """Inputs accepted on purpose but not in silence: summary.json's notes say
 1. which [friction] keys the chosen law does not read (`--set friction.law="none"` on the paper's brick,
    written for "ramp": its ramp parameters and slip_bound take no part), and none where the law reads
-   every key given (and slip_bound = 0 under Coulomb's model, whose bound is the normal pressure);
+   every key given (and slip_bound = 0 under Coulomb's model, whose bound is the normal pressure); a
+   warning where slip_bound = 0 under Tresca's model leaves the law given no part (the run frictionless);
 2. that without contact groups the foundation plane holds nothing, where nodes start or end below it:
    a warning where the whole body starts on or above it (the paper's brick bent down through z = 0 with
    boundary.contact = []: a forgotten contact group, likely), a note where it starts through it (the plane
@@ -47,6 +48,12 @@ with tempfile.TemporaryDirectory() as tmp:
     expect("coulomb with slip_bound = 0", coulomb, True)
     if coulomb and not coulomb[0].startswith("friction.slip_bound is not read"):
         failures.append(f"coulomb: the note names {coulomb[0]!r}")
+    dropped = [n for n in notes(tmp, "tresca_g0", "friction.slip_bound=0", kind="warnings")
+               if "friction.slip_bound = 0 makes Tresca's bound" in n]
+    expect("tresca with slip_bound = 0 and a ramp law: a warning", dropped, True)
+    expect("coulomb with slip_bound = 0: no such warning",
+           [n for n in notes(tmp, "coulomb_g0", 'friction.model="coulomb"', "friction.slip_bound=0", kind="warnings")
+            if "friction.slip_bound = 0 makes" in n], False)
     below = [n for n in notes(tmp, "no_contact_down", "boundary.contact=[]", kind="warnings") if "no contact group" in n]
     expect("no contact, bent down: a warning", below, True)
     if below and "node(s) end below it" not in below[0]:

@@ -601,21 +601,44 @@ double stage_seconds(const SolveResult& res, const std::string& stage) {
 }
 
 // After CHOLMOD's symbolic analysis: the factor's predicted size on the progress line, and a clear
-// error before the numeric factorization when the factor cannot fit in the memory available.
-AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr) {
-  return [&report, stage](double lnz, double flops) {
+// error before the numeric factorization when the factor cannot fit in the memory available. What the
+// process still needs from there: the factor's values and CHOLMOD's indices and workspace (kFactorOverhead
+// times the values), then the dense Q with its working copies (`dense_dual_bytes`, 0 where Q is not
+// formed). The test counted the factor alone, and a helper's foot of 1.19 million unknowns (a 14 GiB
+// factor, 12 009 multipliers) passed it and peaked at 21.2 GiB, 421 MB of the machine left; with Q it
+// needs about 19.5 of the 19.4 GiB the process could get. Measured on a plate of 185 550 unknowns: 0.31
+// GiB held at the check, 1.86 GiB at the peak (a 0.92 GiB factor, Q 0.39 GiB in double). Where the need
+// comes within kTightMemory of what the process can get, a warning says so before the factorization: the
+// system may kill the run without a message (under ulimit -v, CHOLMOD's own refusal follows: the brick at
+// n = 24 needs about 0.75 GiB of address space there, 1.45 times its factor's values).
+constexpr double kFactorOverhead = 1.2;
+constexpr double kTightMemory = 0.85;
+AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr, double dense_dual_bytes = 0,
+                                   std::vector<std::string>* warnings = nullptr) {
+  return [&report, stage, dense_dual_bytes, warnings](double lnz, double flops) {
     if (stage)
       stage->holds = "a factor with " + number(lnz, 3) + " nonzeros (" + number(8.0 * lnz / (1 << 30), 3) + " GiB)";
-    const double bytes = 8.0 * lnz;  // values; CHOLMOD's row indices add up to another half of that
+    const double bytes = 8.0 * lnz;  // its values
     report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + number(bytes / (1 << 30), 3) + " GiB), " +
                  number(flops / 1e9, 3) + " GFlop");
     const double available = static_cast<double>(available_memory_bytes());
-    if (available > 0 && 1.2 * bytes > available)
-      throw InputError("not enough memory for the factorization: its factor has " + number(lnz, 3) +
-                       " nonzeros (about " + number(1.2 * bytes / (1 << 30), 3) +
-                       " GiB) and this process can get only " + number(available / (1 << 30), 3) +
-                       " GiB; use a coarser mesh (mesh.n, or the "
-                       "mesh parameters' h) or a machine with more memory");
+    const double need = kFactorOverhead * bytes + dense_dual_bytes;
+    const std::string needs =
+        "its factor has " + number(lnz, 3) + " nonzeros (" + gib(bytes) + "; with CHOLMOD's indices and workspace" +
+        (dense_dual_bytes > 0 ? " and the dense Q of the dual (" + gib(dense_dual_bytes) + ")" : std::string()) +
+        " the run needs about " + gib(need) + " more) and this process can get " + gib(available);
+    if (available > 0 && need > available)
+      throw InputError("not enough memory for the factorization: " + needs +
+                       "; use a coarser mesh (mesh.n, or the mesh parameters' h), a machine with more memory, or the "
+                       "distributed build's MUMPS with its factor on disk (solver.out_of_core_dir, README: \"Beyond "
+                       "one machine\")");
+    if (available > 0 && need > kTightMemory * available && warnings) {
+      std::string tight = "memory is tight: " + needs +
+                          ", so the system may kill the run (out of memory) without a message; a coarser mesh leaves "
+                          "room";
+      report.stage("  warning: " + tight);
+      warnings->push_back(std::move(tight));
+    }
   };
 }
 
@@ -871,10 +894,16 @@ std::unique_ptr<DualProblem> factor_with_multipliers(const Scene& scene, const M
   if (!disc.springs_in_K)
     for (std::size_t p = 0; p < disc.held.pins.size(); ++p)
       source.springs.emplace_back(disc.held.pins[p], disc.held.pin_springs[p]);
-  DualProblemInput input{disc.K,           op.B,
-                         disc.f,           face_dofs.dofs,
-                         op.offset,        factor_size_check(report, &stage),
-                         disc.release_K(), K_on_ranks ? &source : nullptr};
+  DualProblemInput input{
+      disc.K,
+      op.B,
+      disc.f,
+      face_dofs.dofs,
+      op.offset,
+      factor_size_check(report, &stage, matrix_free ? 0.0 : dense_dual_memory(scene.solver.qp, op.rows()).bytes,
+                        &res.warnings),
+      disc.release_K(),
+      K_on_ranks ? &source : nullptr};
   if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
   input.report = [&report](const std::string& line) { report.stage(line); };
   std::unique_ptr<DualProblem> dual = [&] {

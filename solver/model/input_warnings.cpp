@@ -169,6 +169,46 @@ void note_friction_keys_not_read(const Scene& scene, SolveResult& res) {
                       scene.law.name() + "' and take no part in this run");
 }
 
+// Tresca's bound F·g with g = friction.slip_bound = 0 is zero: a law given beside it has no effect, and
+// the run is frictionless with nothing said but its "one frictionless QP" (a helper's ramp law, summary's
+// friction_law still "ramp").
+void warn_if_zero_slip_bound_drops_the_law(const Scene& scene, SolveResult& res) {
+  const bool law_given = scene.law.kind != FrictionLaw::Kind::None &&
+                         !(scene.law.kind == FrictionLaw::Kind::Constant && scene.law.value == 0);
+  if (scene.friction_model != FrictionModel::Tresca || scene.slip_bound != 0 || !law_given) return;
+  res.warnings.push_back(
+      "friction.slip_bound = 0 makes Tresca's bound F·g zero everywhere: the run is frictionless "
+      "and friction.law '" +
+      scene.law.name() + "' takes no part in it; give g > 0 (a stress, in " +
+      std::string(unit_labels(scene.output.units).stress) + "), or friction.model = \"coulomb\" for the bound F·λ_n");
+}
+
+// A body whose size, in the scene's length unit, no part solved here has: a mesh made in millimetres read
+// as metres (a helper's 200 mm block under m-N-Pa: "area in contact 4e+04 m²", 5.5e11 N, and only a
+// refinement warning), or one made in metres under mm-N-MPa. Linear elasticity is blind to it where the
+// loads are pressures (the strains come out right), the forces and areas are not.
+constexpr double kLargestPlausibleBodyMetres = 100;
+constexpr double kSmallestPlausibleBodyMetres = 1e-4;
+void warn_if_body_size_suggests_another_length_unit(const Scene& scene, const Mesh& mesh, SolveResult& res) {
+  if (mesh.nodes.empty()) return;
+  Eigen::Vector3d lo = mesh.nodes.front(), hi = lo;
+  for (const Eigen::Vector3d& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double size = (hi - lo).maxCoeff();
+  const bool in_mm = scene.output.units == UnitSystem::MillimetreNewtonMegapascal;
+  const double metres = in_mm ? 1e-3 * size : size;
+  const std::string unit = unit_labels(scene.output.units).length;
+  const std::string units = "output.units = \"" + std::string(name_of(scene.output.units, kUnitSystemNames)) + "\"";
+  if (metres > kLargestPlausibleBodyMetres && !in_mm)
+    res.warnings.push_back("the body is " + number(size, 3) + " " + unit + " across (" + units +
+                           "): if the mesh was made in millimetres, it is read here in metres and every force and "
+                           "area comes out a million times too large; scale the mesh by 0.001 or state the scene in "
+                           "\"mm-N-MPa\" (lengths in mm, moduli and loads in MPa)");
+  if (metres < kSmallestPlausibleBodyMetres && in_mm)
+    res.warnings.push_back("the body is " + number(size, 3) + " " + unit + " across (" + units +
+                           "): if the mesh was made in metres, it is read here in millimetres; scale the mesh by "
+                           "1000 or state the scene in \"m-N-Pa\"");
+}
+
 // Volumes meshed apart that touch over a face whose nodes they do not share (a cylinder meshed finer
 // than the box it stands on, without BooleanFragments): no two nodes coincide, and nothing was said
 // while the cylinder's load went to its own clamp (normal force 0 N on the box below).
@@ -288,6 +328,8 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
   warn_if_loads_on_contact(scene, mesh, res);
   note_loads_given_twice(scene, res);
   note_friction_keys_not_read(scene, res);
+  warn_if_zero_slip_bound_drops_the_law(scene, res);
+  warn_if_body_size_suggests_another_length_unit(scene, mesh, res);
   warn_if_coincident_nodes(mesh, res);
   warn_if_blocks_joined_at_nodes(mesh, res);
   warn_if_ramp_rises_with_slip(scene, res);

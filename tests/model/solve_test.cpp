@@ -822,6 +822,22 @@ TEST(SolveContactGeometry, StrainFarTooSmallIsNotedAsAPossibleUnitSlip) {
       << ::testing::PrintToString(stopped.notes);
 }
 
+// The paper's brick (3 m long) scaled 100 times, as a mesh made in mm and read in metres would be: the
+// size is warned about under m-N-Pa; the brick as it is, and the brick at 1/100 000 under mm-N-MPa (30 µm,
+// a mesh in metres read as mm) warned only in the second case.
+TEST(SolveContactGeometry, BodySizeBeyondAnyPartIsWarnedAsALengthUnitSlip) {
+  const auto solve_scaled = [](double factor, const std::vector<std::string>& overrides) {
+    Mesh mesh = make_paper_brick({4});
+    for (auto& x : mesh.nodes) x *= factor;
+    return solve_scene(parse_scene_text(kPaperScene, ".", overrides), mesh);
+  };
+  const std::string slip = "if the mesh was made in millimetres";
+  EXPECT_TRUE(mentions(solve_scaled(100, {"friction.law=\"none\""}).warnings, slip));
+  EXPECT_FALSE(mentions(solve_scaled(1, {"friction.law=\"none\""}).warnings, slip));
+  EXPECT_TRUE(mentions(solve_scaled(1e-5, {"friction.law=\"none\"", "output.units=\"mm-N-MPa\""}).warnings,
+                       "if the mesh was made in metres"));
+}
+
 // The paper's brick with the middle third of its sole taken out of the contact group (in 'free'
 // instead): that part sinks through the plane unresisted, which a warning says, naming the deepest
 // node; the whole sole in contact gives no such warning.
