@@ -368,6 +368,14 @@ add_test(NAME held_body_far_above_the_plane_is_warned
                  --set "contact.plane_point=[0.0,0.0,-0.1]" --out ${CMAKE_BINARY_DIR}/cli-tests/block-far-above-plane)
 set_tests_properties(held_body_far_above_the_plane_is_warned PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
                      PASS_REGULAR_EXPRESSION "converged:.*warning: the contact face starts 0.1 above the foundation plane.*contact.plane_point")
+# The same block 7 above the plane (35 times its size): refused, and the refusal leads with the face's
+# start above the plane, where it first told a helper (1 m above) to refine the mesh or the cells.
+add_test(NAME held_body_brought_down_too_far_is_refused_naming_the_gap
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/tests/scenes/block_above_plane_tresca.toml
+                 --set "contact.plane_point=[0.0,0.0,-7.0]" --out ${CMAKE_BINARY_DIR}/cli-tests/block-far-far-above)
+set_tests_properties(held_body_brought_down_too_far_is_refused_naming_the_gap PROPERTIES
+                     ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+                     PASS_REGULAR_EXPRESSION "error: the body is held by contact alone [^\n]* and its contact face starts 7 above the foundation plane: the loads bring it down")
 # A Coulomb run whose fixed point stops on a small change of steps that do not contract, Coulomb's
 # relation 1.6e-3 at the answer (16 times the tolerance): warned, where it converged with nothing said
 # (about 60-90 s).

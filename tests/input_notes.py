@@ -3,7 +3,8 @@
 1. which [friction] keys the chosen law does not read (`--set friction.law="none"` on the paper's brick,
    written for "ramp": its ramp parameters and slip_bound take no part), and none where the law reads
    every key given (and slip_bound = 0 under Coulomb's model, whose bound is the normal pressure); a
-   warning where slip_bound = 0 under Tresca's model leaves the law given no part (the run frictionless);
+   warning where slip_bound = 0 under Tresca's model leaves the law given no part (the run frictionless),
+   and where one component held at 0 (a symmetry plane's condition) is put on a face not normal to it;
 2. that without contact groups the foundation plane holds nothing, where nodes start or end below it:
    a warning where the whole body starts on or above it (the paper's brick bent down through z = 0 with
    boundary.contact = []: a forgotten contact group, likely), a note where it starts through it (the plane
@@ -54,6 +55,14 @@ with tempfile.TemporaryDirectory() as tmp:
     expect("coulomb with slip_bound = 0: no such warning",
            [n for n in notes(tmp, "coulomb_g0", 'friction.model="coulomb"', "friction.slip_bound=0", kind="warnings")
             if "friction.slip_bound = 0 makes" in n], False)
+    off_plane = [n for n in notes(tmp, "y_on_top", 'boundary.displacement=[{group="load_top",y=0.0}]',
+                                  kind="warnings") if "as a symmetry plane does" in n]
+    expect("y = 0 on the top face (normal z): a warning", off_plane, True)
+    if off_plane and "leans" not in off_plane[0] and "lean 90" not in off_plane[0]:
+        failures.append(f"y on top: the warning says {off_plane[0]!r}")
+    expect("x = 0 on the end face (normal x): no warning",
+           [n for n in notes(tmp, "x_on_end", 'boundary.displacement=[{group="load_end",x=0.0}]', kind="warnings")
+            if "as a symmetry plane does" in n], False)
     below = [n for n in notes(tmp, "no_contact_down", "boundary.contact=[]", kind="warnings") if "no contact group" in n]
     expect("no contact, bent down: a warning", below, True)
     if below and "node(s) end below it" not in below[0]:

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <map>
 #include <set>
 #include <string>
@@ -140,9 +141,39 @@ void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult&
     if (shared > 0)
       res.warnings.push_back(
           std::string(load.has_pressure() ? "boundary.pressure" : "boundary.traction") + " on '" + load.group +
-          "' acts on " + number(shared, 3) +
-          " of the contact face: the model loads Γp and lets the foundation hold Γc, two apart, "
+          "' acts on " + number(shared, 3) + " " + unit_labels(scene.output.units).length +
+          "² of the contact face: the model loads Γp and lets the foundation hold Γc, two apart, "
           "so this load goes partly straight into the contact forces; put it on the faces it acts on");
+  }
+}
+
+// A [[boundary.displacement]] holding one component at 0 is how a symmetry plane is stated; on a group
+// that is no plane normal to that component it holds the faces' tangential motion too (a helper's
+// y = 0 put on a roller's curved top instead of its symmetry face "sym_y": exit 0, nothing said).
+// Said where the group's faces lean, area-weighted, more than acos(kSymmetryPlaneAlignment) from it.
+constexpr double kSymmetryPlaneAlignment = 0.9;  // about 26°
+void warn_if_symmetry_condition_off_its_plane(const Scene& scene, const Mesh& mesh, SolveResult& res) {
+  static const char* const kAxis[3] = {"x", "y", "z"};
+  for (const PrescribedDisplacement& d : scene.displacements) {
+    int held = -1, count = 0;
+    for (int c = 0; c < 3; ++c)
+      if (d.value[c]) held = c, ++count;
+    if (count != 1 || *d.value[held] != 0 || !d.gradient.row(held).isZero() || !mesh.find_group(d.group, 2)) continue;
+    double area = 0, aligned = 0;
+    for (const int t : mesh.triangles_of_group(d.group)) {
+      const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+      const Eigen::Vector3d n =
+          (mesh.nodes[tri[1]] - mesh.nodes[tri[0]]).cross(mesh.nodes[tri[2]] - mesh.nodes[tri[0]]);
+      area += n.norm();
+      aligned += std::abs(n[held]);
+    }
+    if (!(area > 0) || aligned >= kSymmetryPlaneAlignment * area) continue;
+    res.warnings.push_back("boundary.displacement on '" + d.group + "' holds only " + kAxis[held] +
+                           " = 0, as a symmetry plane does, but '" + d.group + "' is not a plane normal to " +
+                           kAxis[held] + " (its faces lean " +
+                           number(std::acos(std::min(1.0, aligned / area)) * 180 / std::numbers::pi, 2) +
+                           "° from it on average, area-weighted): there it holds the faces' motion along them too; "
+                           "check that the group is the symmetry face");
   }
 }
 
@@ -327,6 +358,7 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
   warn_if_loads_beyond_linear_strain(scene, mesh, materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
   note_loads_given_twice(scene, res);
+  warn_if_symmetry_condition_off_its_plane(scene, mesh, res);
   note_friction_keys_not_read(scene, res);
   warn_if_zero_slip_bound_drops_the_law(scene, res);
   warn_if_body_size_suggests_another_length_unit(scene, mesh, res);

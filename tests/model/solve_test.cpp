@@ -907,7 +907,7 @@ TEST(SolveContactGeometry, LoadOnTheContactFaceIsWarnedAbout) {
   const std::string extra = "\n[[boundary.traction]]\ngroup = \"contact\"\nvalue = [0.0, 0.0, -1e6]\n";
   const Scene scene = parse_scene_text(std::string(kPaperScene) + extra, ".", {"friction.law=\"none\""});
   const SolveResult res = solve_scene(scene, make_paper_brick({scene.mesh.n}));
-  EXPECT_TRUE(mentions(res.warnings, "boundary.traction on 'contact' acts on 3 of the contact face"))
+  EXPECT_TRUE(mentions(res.warnings, "boundary.traction on 'contact' acts on 3 m² of the contact face"))
       << ::testing::PrintToString(res.warnings);
   EXPECT_FALSE(mentions(solve_text().warnings, "of the contact face:"));
 }
