@@ -277,3 +277,13 @@ add_test(NAME crosscheck_refuses_a_body_held_by_friction_alone
 set_tests_properties(crosscheck_refuses_a_body_held_by_friction_alone PROPERTIES TIMEOUT 60 LABELS crosscheck
   PASS_REGULAR_EXPRESSION "the FreeFEM reference cannot hold a translation along \\(0, 1, 0\\)"
   FAIL_REGULAR_EXPRESSION "FreeFEM: [0-9]+ Newton steps")
+
+# A block pushed by its rear face (x prescribed there, the contact nodes on that face sliding with the push),
+# Coulomb F = 0.3: the reference's own audit leaves the slip of nodes whose x or y is prescribed out (it
+# failed on them: "slip not aligned with lambda_t", 2.9e5 Pa), and the two agree (u on Γc 2.3e-5).
+add_test(NAME crosscheck_pushed_slider_coulomb
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d>
+          --scene ${CMAKE_SOURCE_DIR}/tests/scenes/pushed_slider.toml --variant scene
+          --workdir ${CONTACT3D_CC_WORK}/pushed-slider --report ${CONTACT3D_CC_WORK}/pushed-slider.md)
+set_tests_properties(crosscheck_pushed_slider_coulomb PROPERTIES TIMEOUT 120 LABELS crosscheck
+  FAIL_REGULAR_EXPRESSION "error:|FAILED")

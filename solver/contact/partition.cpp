@@ -423,6 +423,11 @@ class GridPartitionBuilder {
             break;  // re-match after each merge: one merge may fix several cells
           }
       if (!merged) {
+        // A cell one of whose rows acts on no free component at all (every node of it holds that
+        // component) fails at any cell size: left to the contact operator's refusal, which names the
+        // component and the conditions (model/contact_solver.cpp, require_free_contact_rows).
+        const auto rows = cell_node_weights(face_, part_);
+        if (std::any_of(bad.begin(), bad.end(), [&](int c) { return row_without_free_component(rows[c]); })) return;
         std::string cells;
         for (std::size_t k = 0; k < bad.size() && k < 8; ++k) cells += "\n  " + describe_cell(part_, bad[k]);
         throw InputError(
@@ -435,6 +440,20 @@ class GridPartitionBuilder {
       }
       root_of_cell = collect_cells();
     }
+  }
+
+  // True where one of a cell's rows (normal; tangential with friction) has no node of the cell (`nodes`,
+  // its cell_node_weights) whose component it acts on is free.
+  bool row_without_free_component(const std::vector<std::pair<int, double>>& nodes) const {
+    for (const int component : held_.friction ? std::vector<int>{2, 0, 1} : std::vector<int>{2}) {
+      bool any_free = false;
+      for (const auto& [node, w] : nodes)
+        any_free =
+            any_free || (face_.contact_index[static_cast<std::size_t>(node)] >= 0 &&
+                         (held_.fixed.empty() || !(held_.fixed[static_cast<std::size_t>(node)] >> component & 1)));
+      if (!any_free) return true;
+    }
+    return false;
   }
 
   const Mesh& mesh_;

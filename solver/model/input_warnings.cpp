@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <map>
+#include <numbers>
 #include <set>
 #include <string>
 #include <utility>
