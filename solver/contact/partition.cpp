@@ -445,14 +445,12 @@ class GridPartitionBuilder {
   // True where one of a cell's rows (normal; tangential with friction) has no node of the cell (`nodes`,
   // its cell_node_weights) whose component it acts on is free.
   bool row_without_free_component(const std::vector<std::pair<int, double>>& nodes) const {
-    for (const int component : held_.friction ? std::vector<int>{2, 0, 1} : std::vector<int>{2}) {
-      bool any_free = false;
-      for (const auto& [node, w] : nodes)
-        any_free =
-            any_free || (face_.contact_index[static_cast<std::size_t>(node)] >= 0 &&
-                         (held_.fixed.empty() || !(held_.fixed[static_cast<std::size_t>(node)] >> component & 1)));
-      if (!any_free) return true;
-    }
+    for (const int component : held_.row_components())
+      if (std::none_of(nodes.begin(), nodes.end(), [&](const auto& entry) {
+            return face_.contact_index[static_cast<std::size_t>(entry.first)] >= 0 &&
+                   held_.is_free(entry.first, component);
+          }))
+        return true;
     return false;
   }
 
@@ -497,15 +495,12 @@ std::vector<int> cells_without_own_node(const ContactFace& face, const Partition
                                         const ComponentsHeld& held) {
   const auto rows = cell_node_weights(face, partition);
   std::set<int> unmatched;
-  for (const int component : held.friction ? std::vector<int>{2, 0, 1} : std::vector<int>{2}) {
-    const auto is_free = [&](int node) {
-      return held.fixed.empty() || !(held.fixed[static_cast<std::size_t>(node)] & (1u << component));
-    };
+  for (const int component : held.row_components()) {
     std::vector<std::vector<int>> adj(rows.size());
     for (std::size_t i = 0; i < rows.size(); ++i)
       for (const auto& [node, w] : rows[i]) {
         const int c = node < static_cast<int>(face.contact_index.size()) ? face.contact_index[node] : -1;
-        if (c >= 0 && is_free(node) && w > 1e-12 * partition.cells[i].area) adj[i].push_back(c);
+        if (c >= 0 && held.is_free(node, component) && w > 1e-12 * partition.cells[i].area) adj[i].push_back(c);
       }
     for (const int cell : unmatched_rows(adj, static_cast<int>(face.nodes.size()))) unmatched.insert(cell);
   }

@@ -49,6 +49,12 @@ struct ContactCell {
 struct ComponentsHeld {
   std::vector<unsigned char> fixed;  // per mesh node: bit c set when component c is prescribed (empty: none)
   bool friction = false;             // tangential rows too
+
+  // The components a cell's rows act on: z (normal), and x, y with friction.
+  std::vector<int> row_components() const { return friction ? std::vector<int>{2, 0, 1} : std::vector<int>{2}; }
+  bool is_free(int node, int component) const {
+    return fixed.empty() || !(fixed[static_cast<std::size_t>(node)] >> component & 1);
+  }
 };
 
 struct PartitionOptions {

@@ -416,21 +416,22 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
     // 8e11 times its size: equilibrium residual 18, and the run said "converged").
     const double rigid = determined_rigid_displacement(held, motions, op, tresca).lpNorm<Eigen::Infinity>();
     const double size = held.size;  // the largest extent of a part held by contact
-    // Most of that motion the face's start above the plane (its smallest cell gap, ∫d dS over the cell's area)?
-    // Then that is what to change (a helper's body 1 m above the plane was told first to refine the mesh).
-    double lowest_gap = INFINITY;
-    for (int i = 0; i < op.r; ++i)
-      lowest_gap = std::min(lowest_gap, -op.offset[i] / partition.cells[static_cast<std::size_t>(i)].area);
-    if (!(rigid <= kLargestRigidMotion * size) && lowest_gap >= 0.5 * rigid)
-      throw ContactZoneTooCoarse(
-          "the body is held by contact alone (nothing prescribed holds " + held.describe() +
-          ") and its contact face starts " + number(lowest_gap, 3) +
-          " above the foundation plane: the loads bring it down by a rigid displacement of " + number(rigid, 3) + ", " +
-          number(rigid / size, 3) +
-          " times the body's size, which a linear model cannot follow; if the foundation is meant to be where the "
-          "face lies, place it there (contact.plane_point, contact.plane_normal) or move the mesh, and check the "
-          "mesh's units");
-    if (!(rigid <= kLargestRigidMotion * size))
+    if (!(rigid <= kLargestRigidMotion * size)) {
+      // Most of that motion the face's start above the plane (its smallest cell gap, ∫d dS over the cell's
+      // area)? Then that is what to change (a helper's body 1 m above the plane was told first to refine
+      // the mesh).
+      double lowest_gap = INFINITY;
+      for (int i = 0; i < op.r; ++i)
+        lowest_gap = std::min(lowest_gap, -op.offset[i] / partition.cells[static_cast<std::size_t>(i)].area);
+      if (lowest_gap >= 0.5 * rigid)
+        throw ContactZoneTooCoarse(
+            "the body is held by contact alone (nothing prescribed holds " + held.describe() +
+            ") and its contact face starts " + number(lowest_gap, 3) +
+            " above the foundation plane: the loads bring it down by a rigid displacement of " + number(rigid, 3) +
+            ", " + number(rigid / size, 3) +
+            " times the body's size, which a linear model cannot follow; if the foundation is meant to be where the "
+            "face lies, place it there (contact.plane_point, contact.plane_normal) or move the mesh, and check the "
+            "mesh's units");
       throw ContactZoneTooCoarse(
           "the body is held by contact alone (nothing prescribed holds " + held.describe() +
           "), and the contact forces balance the loads only after a rigid displacement of " + number(rigid, 3) + ", " +
@@ -439,6 +440,7 @@ void require_held(const ContactHeldMotions& held, const Eigen::MatrixXd& motions
           "as along a line contact, cannot hold a turn about it); refine the mesh where it touches, or use "
           "smaller cells (contact.cell_size), so that the contact zone spans several cells across, or "
           "prescribe that motion (boundary.displacement)");
+    }
     return;
   }
   const std::size_t solves = tresca.history().size();
