@@ -1142,6 +1142,14 @@ def c_memory_factor_too_big(c):
             {"address_space_bytes": 700 * 2**20})
 
 
+def c_check_memory_factor_too_big(c):
+    # The same limit for `check`: its symbolic analysis predicts the factor, and it refuses what the solve
+    # would refuse (it said ok, and only the solve, after meshing and assembly, found the factor too big).
+    return ((["check", c.scene(), "--set", "mesh.generator=paper_brick", "--set", "mesh.n=24"],
+             ["not enough memory for the factorization", "nonzeros", "GiB", "coarser mesh"]),
+            {"address_space_bytes": 700 * 2**20})
+
+
 def c_memory_blas_buffers(c):
     # 300 MB of address space: OpenBLAS could not map its threads' work buffers (128 MiB each) and
     # would retry forever in the factorization (the brick n = 8 hung here): refused at the start.

@@ -4,7 +4,8 @@ physical group listed with its dimension and element count (counted independentl
 the file), the tet quality line with a number in (0, 1], the contact face summary with its initial gap (none on
 the plane; 0.5 m with the plane lowered by contact.plane_point, said to start above it; 1e-9 m, rounding,
 not said to; the plane 1e-9 m above the face, rounding, taken as touching, and 1e-3 m above it refused as
-an initial penetration) and "ok"."""
+an initial penetration), the factor a solve forms (nnz(L) and flops as the solve's own analysis prints them)
+and "ok"."""
 import argparse
 import os
 import re
@@ -72,6 +73,10 @@ pushed_in = subprocess.run([a.bin, "check", scene.name, "--set", "contact.plane_
                            capture_output=True, text=True, timeout=60)
 # The partition's own warnings, as a solve gives them: one cell over the whole face (H in the wrong unit).
 one_cell = subprocess.run([a.bin, "check", scene.name, "--set", "contact.cell_size=100"], capture_output=True, text=True)
+# The factor a solve would form, predicted by CHOLMOD's symbolic analysis: the figures the solve prints
+# after its own analysis, before factoring.
+solved = subprocess.run([a.bin, "solve", scene.name, "--out", tempfile.mkdtemp()], capture_output=True, text=True,
+                        timeout=120)
 os.unlink(scene.name)
 out = p.stdout
 print(out, p.stderr)
@@ -104,6 +109,12 @@ m = re.search(r"^dual: (\d+) cells \(H = [0-9.eE+-]+ m\), (\d+) multipliers; the
               r"[0-9.eE+-]+ [MG]iB, [0-9.eE+-]+ [MG]iB available: solver.schur = \"augmented\"$", out, re.M)
 if not m or int(m.group(1)) == 0 or int(m.group(2)) != 3 * int(m.group(1)):
     problems.append("no dual plan line (cells, 3 multipliers per cell, the dense route)")
+predicted = re.search(r"^factor: nnz\(L\) = ([0-9.e+]+) \([0-9.]+ [KMG]iB\), ([0-9.e+-]+) GFlop \(CHOLMOD's symbolic "
+                      r"analysis\); the solve needs about [0-9.]+ [KMG]iB beyond the mesh and K$", out, re.M)
+formed = re.search(r"factor: nnz\(L\) = ([0-9.e+]+) \([0-9.e+-]+ GiB\), ([0-9.e+-]+) GFlop", solved.stdout)
+if not predicted or not formed or predicted.groups() != formed.groups():
+    problems.append(f"check's factor line missing or not the solve's: {predicted and predicted.groups()} against "
+                    f"{formed and formed.groups()}")
 if "63 nodes" not in out or f"{len(seen_tets)} tets" not in out:
     problems.append("node/tet counts missing or wrong")
 if not out.strip() or not out.rstrip().splitlines()[-1].startswith("ok"):

@@ -262,6 +262,11 @@ void print_dual_plan(const DualPlan& plan, const std::string& length_unit) {
   for (const auto& w : plan.warnings) std::cerr << "warning: " << w << "\n";
   say("dual: {} cells ({}), {} multipliers; the dense Q with its working copies {}, {}: {}\n", plan.cells, sizes,
       plan.multipliers, bytes_text(plan.dense_bytes), available, route);
+  if (plan.factor_nonzeros > 0)
+    say("factor: nnz(L) = {:.3g} ({}), {:.3g} GFlop (CHOLMOD's symbolic analysis); the solve needs about {} beyond "
+        "the mesh and K\n",
+        plan.factor_nonzeros, bytes_text(8 * plan.factor_nonzeros), plan.factor_flops / 1e9,
+        bytes_text(plan.run_bytes));
 }
 
 // The contact face's heights above the foundation plane (its initial gap d): a face resting on the

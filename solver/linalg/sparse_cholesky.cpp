@@ -220,12 +220,10 @@ struct SparseCholesky::Impl {
     cholmod_l_finish(&common);
   }
 
-  // Symbolic analysis with the fill-reducing permutation `perm` (CHOLMOD's own choice when null;
-  // its last n_trailing pivots must stay last), then the numeric factorization. The clock t0
-  // started before the ordering was computed, so analyze_seconds includes it.
-  void analyze_and_factorize(UpperCsc& upper, const std::vector<SuiteSparse_long>* perm, SuiteSparse_long n_trailing,
-                             std::chrono::steady_clock::time_point t0) {
-    cholmod_sparse A = upper.view();
+  // Symbolic analysis of A with the fill-reducing permutation `perm` (CHOLMOD's own choice when null;
+  // its last n_trailing pivots must stay last): `factor` holds the pattern, common.lnz and common.fl
+  // its size and flop count.
+  void analyze(cholmod_sparse& A, const std::vector<SuiteSparse_long>* perm, SuiteSparse_long n_trailing) {
     const auto n = static_cast<SuiteSparse_long>(A.nrow);
     if (!perm) {
       factor = cholmod_l_analyze(&A, &common);
@@ -252,6 +250,15 @@ struct SparseCholesky::Impl {
         if (factor && !trailing_kept()) fail("CHOLMOD did not keep the contact dofs last in its ordering");
       }
     }
+  }
+
+  // The analysis above, then the numeric factorization. The clock t0 started before the ordering
+  // was computed, so analyze_seconds includes it.
+  void analyze_and_factorize(UpperCsc& upper, const std::vector<SuiteSparse_long>* perm, SuiteSparse_long n_trailing,
+                             std::chrono::steady_clock::time_point t0) {
+    cholmod_sparse A = upper.view();
+    const auto n = static_cast<SuiteSparse_long>(A.nrow);
+    analyze(A, perm, n_trailing);
     analyze_seconds = seconds_since(t0);
     if (factor && observe) observe(double(common.lnz), double(common.fl));
     const auto t1 = std::chrono::steady_clock::now();
@@ -292,6 +299,19 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& K, FillOrderin
     impl_->analyze_and_factorize(upper, &perm, 0, t0);
   }
   record_times();
+}
+
+FactorPrediction SparseCholesky::predict(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>* B) {
+  Impl analysis({});
+  std::vector<SuiteSparse_long> perm = quotient_nested_dissection(K, &analysis.common);
+  const SuiteSparse_long m = B ? B->rows() : 0;
+  for (SuiteSparse_long i = 0; i < m; ++i) perm.push_back(K.cols() + i);  // the multipliers last
+  UpperCsc upper = B ? augmented_upper_csc(K, *B, 0.0) : upper_csc(K);
+  cholmod_sparse A = upper.view();
+  analysis.analyze(A, &perm, m);
+  if (!analysis.factor)
+    fail("CHOLMOD's symbolic analysis failed (status " + std::to_string(analysis.common.status) + ")");
+  return {double(analysis.common.lnz), double(analysis.common.fl)};
 }
 
 bool SparseCholesky::schur_capture_works() {

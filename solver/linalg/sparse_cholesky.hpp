@@ -33,6 +33,12 @@ std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& K);
 std::vector<int> nested_dissection_order(const std::vector<int>& first_dof, const std::vector<int>& adj_start,
                                          const std::vector<int>& adj);
 
+// The size and flop count of a factorization, as CHOLMOD's symbolic analysis predicts them.
+struct FactorPrediction {
+  double factor_nonzeros = 0;  // nnz(L)
+  double flops = 0;
+};
+
 class SparseCholesky {
  public:
   // Analyze + factorize. Throws std::runtime_error if K is not positive definite (e.g. the
@@ -56,6 +62,10 @@ class SparseCholesky {
   // σ never enters L_21, so it costs no accuracy, only the trailing block's factorization.
   SparseCholesky(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& B, double sigma = 0,
                  const AnalysisObserver& observe = {});
+  // What factoring K (the first constructor, nested dissection), or the augmented [K 𝔹ᵀ; 𝔹 σI] when B
+  // is given (the constructor above), would take, from the symbolic analysis alone (no numeric
+  // factorization): the figures an AnalysisObserver receives, for `contact3d check`.
+  static FactorPrediction predict(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>* B = nullptr);
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;

@@ -613,29 +613,36 @@ double stage_seconds(const SolveResult& res, const std::string& stage) {
 // n = 24 needs about 0.75 GiB of address space there, 1.45 times its factor's values).
 constexpr double kFactorOverhead = 1.2;
 constexpr double kTightMemory = 0.85;
+// Throws the refusal where the factor with `lnz` nonzeros and the dense dual cannot fit; returns the
+// warning where the memory is tight, else an empty string.
+std::string require_factor_fits(double lnz, double dense_dual_bytes) {
+  const double bytes = 8.0 * lnz;  // its values
+  const double available = static_cast<double>(available_memory_bytes());
+  const double need = kFactorOverhead * bytes + dense_dual_bytes;
+  const std::string needs =
+      "its factor has " + number(lnz, 3) + " nonzeros (" + gib(bytes) + "; with CHOLMOD's indices and workspace" +
+      (dense_dual_bytes > 0 ? " and the dense Q of the dual (" + gib(dense_dual_bytes) + ")" : std::string()) +
+      " the run needs about " + gib(need) + " more) and this process can get " + gib(available);
+  if (available > 0 && need > available)
+    throw InputError("not enough memory for the factorization: " + needs +
+                     "; use a coarser mesh (mesh.n, or the mesh parameters' h), a machine with more memory, or the "
+                     "distributed build's MUMPS with its factor on disk (solver.out_of_core_dir, README: \"Beyond "
+                     "one machine\")");
+  if (available > 0 && need > kTightMemory * available)
+    return "memory is tight: " + needs +
+           ", so the system may kill the run (out of memory) without a message; a coarser mesh leaves room";
+  return {};
+}
+
 AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr, double dense_dual_bytes = 0,
                                    std::vector<std::string>* warnings = nullptr) {
   return [&report, stage, dense_dual_bytes, warnings](double lnz, double flops) {
     if (stage)
       stage->holds = "a factor with " + number(lnz, 3) + " nonzeros (" + number(8.0 * lnz / (1 << 30), 3) + " GiB)";
-    const double bytes = 8.0 * lnz;  // its values
-    report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + number(bytes / (1 << 30), 3) + " GiB), " +
+    report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + number(8.0 * lnz / (1 << 30), 3) + " GiB), " +
                  number(flops / 1e9, 3) + " GFlop");
-    const double available = static_cast<double>(available_memory_bytes());
-    const double need = kFactorOverhead * bytes + dense_dual_bytes;
-    const std::string needs =
-        "its factor has " + number(lnz, 3) + " nonzeros (" + gib(bytes) + "; with CHOLMOD's indices and workspace" +
-        (dense_dual_bytes > 0 ? " and the dense Q of the dual (" + gib(dense_dual_bytes) + ")" : std::string()) +
-        " the run needs about " + gib(need) + " more) and this process can get " + gib(available);
-    if (available > 0 && need > available)
-      throw InputError("not enough memory for the factorization: " + needs +
-                       "; use a coarser mesh (mesh.n, or the mesh parameters' h), a machine with more memory, or the "
-                       "distributed build's MUMPS with its factor on disk (solver.out_of_core_dir, README: \"Beyond "
-                       "one machine\")");
-    if (available > 0 && need > kTightMemory * available && warnings) {
-      std::string tight = "memory is tight: " + needs +
-                          ", so the system may kill the run (out of memory) without a message; a coarser mesh leaves "
-                          "room";
+    std::string tight = require_factor_fits(lnz, dense_dual_bytes);
+    if (!tight.empty() && warnings) {
       report.stage("  warning: " + tight);
       warnings->push_back(std::move(tight));
     }
@@ -1224,6 +1231,17 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
   plan.thin_body = thin.value_or("");
   plan.warnings = res.warnings;
+  if (chosen && !is_mumps(*chosen)) {  // MUMPS analyses on its ranks: no CHOLMOD factor to predict
+    const bool with_multipliers = *chosen == DualMethod::Augmented;  // the others factor K alone
+    const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, res.dofs, tet_materials(scene, mesh));
+    const FactorPrediction factor = SparseCholesky::predict(K, with_multipliers ? &op.B : nullptr);
+    const double dense_bytes = *chosen == DualMethod::MatrixFree ? 0.0 : memory.bytes;
+    plan.factor_nonzeros = factor.factor_nonzeros;
+    plan.factor_flops = factor.flops;
+    plan.run_bytes = kFactorOverhead * 8.0 * factor.factor_nonzeros + dense_bytes;
+    std::string tight = require_factor_fits(factor.factor_nonzeros, dense_bytes);  // the solve's refusal, or
+    if (!tight.empty()) plan.warnings.push_back(std::move(tight));                 // its warning
+  }
   return plan;
 }
 

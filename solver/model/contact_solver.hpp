@@ -148,8 +148,9 @@ FinerAnswer compare_finer_answer(const SolveResult& first, const SolveResult& fi
 
 // What a solve would form before factorizing (`contact3d check`): the first partition's cells and
 // multipliers, the dense Q's bytes with its working copies against the memory this process can get,
-// and the dual route solver.schur resolves to (empty: a dense route named by the scene that would be
-// refused). Throws what the solve's contact stage throws (e.g. cells violating (5.1) geometrically).
+// the dual route solver.schur resolves to (empty: a dense route named by the scene that would be
+// refused), and its factor's predicted size. Throws what the solve's contact stage throws (e.g. cells
+// violating (5.1) geometrically) and its refusal of a factor that cannot fit.
 struct DualPlan {
   int cells = 0, multipliers = 0;
   double cell_size = 0;                         // H (m; the x extent where cells are anisotropic)
@@ -158,7 +159,12 @@ struct DualPlan {
   double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
   std::string method;
   std::string thin_body;              // contact.cell_size = "auto" found the body thin and starts on cells of 1.5h: why
-  std::vector<std::string> warnings;  // the partition's, as the solve gives them (one cell over the whole face)
+  std::vector<std::string> warnings;  // the partition's and the memory's, as the solve gives them
+  // The CHOLMOD factor the route forms (K's, or K's with the multipliers), from its symbolic analysis,
+  // and what the run needs beyond the input (that factor's values, indices and workspace, the dense Q
+  // and its working copies); 0 where no CHOLMOD factor is formed (MUMPS). A factor that cannot fit is
+  // refused here, as the solve refuses it.
+  double factor_nonzeros = 0, factor_flops = 0, run_bytes = 0;
 };
 // `thickness`: the run's one measurement over `mesh` (contact/face_thickness.hpp).
 DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& thickness);

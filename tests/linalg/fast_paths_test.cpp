@@ -170,6 +170,25 @@ TEST(FastPaths, QuotientNestedDissectionMatchesCholmodOrdering) {
   }
 }
 
+// `contact3d check` predicts the factor a solve will form from the symbolic analysis alone: the same
+// nnz(L) and flop count as the factorization's own analysis reports, for K and for the augmented
+// [K 𝔹ᵀ; 𝔹 0] (whose trailing block holds Q: far more fill than K's).
+TEST(FastPaths, PredictedFactorIsTheFactorFormed) {
+  const BrickData d = brick_data(6, true);
+  double lnz = 0, flops = 0;
+  const AnalysisObserver record = [&](double nonzeros, double fl) { lnz = nonzeros, flops = fl; };
+  const SparseCholesky plain(d.K, FillOrdering::QuotientNestedDissection, record);
+  const FactorPrediction of_K = SparseCholesky::predict(d.K);
+  EXPECT_EQ(of_K.factor_nonzeros, lnz);
+  EXPECT_EQ(of_K.flops, flops);
+  const SparseCholesky augmented(d.K, d.B, 0, record);
+  const FactorPrediction with_multipliers = SparseCholesky::predict(d.K, &d.B);
+  EXPECT_EQ(with_multipliers.factor_nonzeros, lnz);
+  EXPECT_EQ(with_multipliers.flops, flops);
+  const double m = static_cast<double>(d.B.rows());
+  EXPECT_GT(with_multipliers.factor_nonzeros, of_K.factor_nonzeros + m * (m + 1) / 2);  // Q's block at least
+}
+
 // The distributed backend orders K from the mesh's node graph, never forming K on one process: the
 // same order as from K's quotient graph (the node blocks are K's groups), also with nodes that
 // keep one or two free components (a roller).
