@@ -386,7 +386,10 @@ def run_case(args, scene: dict, scene_path: Path, n, variant: str, cfg: dict, wo
     derived_path.write_text("# derived by pipeline/crosscheck.py from " + str(scene_path) + "\n" + toml_dump(derived))
     out = work / "contact3d"
     shutil.rmtree(out, ignore_errors=True)
-    cmd = c3d.run.solve_command(args.bin, derived_path, out, args.set or [], mesh=msh, quiet=False)
+    # The mesh is made already, from the scene with the overrides applied: contact3d gets the file, and
+    # a mesh.* override would be refused there (mesh.parameters beside a mesh file).
+    ours = [s for s in args.set or [] if not s.strip().startswith("mesh.")]
+    cmd = c3d.run.solve_command(args.bin, derived_path, out, ours, mesh=msh, quiet=False)
     t0, c0 = time.perf_counter(), children_cpu()
     try:
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)

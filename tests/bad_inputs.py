@@ -867,7 +867,16 @@ def c_held_by_contact_frictionless_pushed_sideways(c):
             '[friction]\nlaw = "none"\n')
     return (["solve", c.write("roller.toml", text), "--out", c.path("out"), "--quiet"],
             ["held by contact alone", "in the foundation's plane", "the contact is frictionless",
-             "do not balance", "boundary.displacement"])
+             "do not balance", "boundary.displacement", "friction.law"])
+
+
+def c_held_by_contact_coulomb_zero_pushed_sideways(c):
+    # The same roller under Coulomb's model with a coefficient of 0: the message names friction.value (it
+    # told a helper to add friction.slip_bound, which Coulomb's model does not read).
+    args, facts = c_held_by_contact_frictionless_pushed_sideways(c)
+    args = args + ["--set", 'friction.model="coulomb"', "--set", 'friction.law="constant"', "--set",
+                   "friction.value=0"]
+    return args, facts[:-1] + ["give friction.value a coefficient above 0"]
 
 
 def c_check_frictionless_pushed_sideways(c):

@@ -355,7 +355,7 @@ int run_check(const SolveArgs& args) {
   const TetMaterials materials = tet_materials(scene, mesh);
   const Eigen::VectorXd applied = assemble_load(mesh, dofs, scene.tractions, tet_body_forces(scene, mesh));
   const Eigen::VectorXd f = applied + assemble_lift(mesh, dofs, materials);
-  if (held.in_plane_count() && scene.frictionless()) require_in_plane_balance(held, f);
+  if (held.in_plane_count() && scene.frictionless()) require_in_plane_balance(held, f, scene.how_to_add_friction());
   SolveResult warned;  // the warnings a solve gives on its input, before it starts
   const FaceThicknessOnce thickness(mesh, scene.contact);
   warn_about_inputs(scene, mesh, materials, thickness, warned);

@@ -414,9 +414,10 @@ constexpr double kFarApproachShare = 0.1;
 
 // A body held by contact alone: the dual QP gets the equilibrium of the free rigid motions as its
 // equality constraints Gλ = e, and the Tresca step their displacement on Γc.
-void hold_by_contact(const Discretisation& disc, const ContactOperator& op, const FaceDofs& face_dofs, DualQpSolver& qp,
-                     TrescaStep& tresca, Progress& report, SolveResult& res) {
-  if (disc.centre_in_plane) require_in_plane_balance(disc.held, disc.f);
+void hold_by_contact(const Scene& scene, const Discretisation& disc, const ContactOperator& op,
+                     const FaceDofs& face_dofs, DualQpSolver& qp, TrescaStep& tresca, Progress& report,
+                     SolveResult& res) {
+  if (disc.centre_in_plane) require_in_plane_balance(disc.held, disc.f, scene.how_to_add_friction());
   const Eigen::MatrixXd R = disc.equality_motions();
   qp.set_equality((op.B * R).transpose(), R.transpose() * disc.f);
   Eigen::MatrixXd face_field(static_cast<Eigen::Index>(face_dofs.dofs.size()), R.cols());
@@ -1019,7 +1020,7 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
   qp.report_progress_to(&report);
   TrescaStep tresca(*dual, qp, face_dofs, res.face, radius_rule(scene, mesh, res, face_dofs),
                     Eigen::VectorXd::Constant(op.r, scene.slip_bound));
-  if (disc.held.count()) hold_by_contact(disc, op, face_dofs, qp, tresca, report, res);
+  if (disc.held.count()) hold_by_contact(scene, disc, op, face_dofs, qp, tresca, report, res);
   report.stage(describe_dual_solve(scene));
   iterate_on_slip(scene, tresca, static_cast<int>(res.face.nodes.size()), on_step, res);
   if (disc.held.count()) {

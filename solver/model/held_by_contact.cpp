@@ -342,7 +342,8 @@ Eigen::VectorXd part_along(const Eigen::VectorXd& motion, const Eigen::VectorXd&
 // free motions for its equalities; where those loads are all in-plane and balance, what is left is
 // rounding, judged against the bound ‖R‖‖f‖ (1e-9 of it: a real imbalance of 1e-6 of the load is
 // 1e-7 … 1e-6 of it, the rounding of the sums 1e-14).
-void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f) {
+void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f,
+                              const std::string& how_to_add_friction) {
   const Eigen::MatrixXd& R = held.field;
   const Eigen::VectorXd loads = R.transpose() * f;
   const Eigen::VectorXd along = held.in_plane_combinations.transpose() * loads;
@@ -352,8 +353,8 @@ void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::Vecto
                    "and the loads along it do not balance (" +
                    number(100 * along.norm() / loads.norm(), 3) +
                    "% of the loads along the free motions); prescribe that motion (boundary.displacement, e.g. "
-                   "symmetry planes), add friction (friction.slip_bound, friction.model) or check the loads' "
-                   "directions");
+                   "symmetry planes), " +
+                   how_to_add_friction + ", or check the loads' directions");
 }
 
 // Contact forces push the body along the foundation's normal only: where nothing prescribed holds a

@@ -128,7 +128,9 @@ inline constexpr double kLargestRigidMotion = 10;
 // Frictionless contact leaves the in-plane motions (slides, the turn about the normal) to the loads `f`
 // (at the free dofs): an InputError where they do not balance along them. Before any factorization, so
 // that `check` refuses what the solve would (it said ok to a free block pushed sideways, frictionless).
-void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f);
+// `how_to_add_friction`: what the message tells to set (Scene::how_to_add_friction).
+void require_in_plane_balance(const ContactHeldMotions& held, const Eigen::VectorXd& f,
+                              const std::string& how_to_add_friction);
 
 // Contact pushes only: where nothing prescribed holds a part's lift off the plane, an InputError when
 // the loads `f` (at the free dofs) pull that part away from it (their resultant along the normal);

@@ -154,6 +154,14 @@ struct Scene {
     return law.kind == FrictionLaw::Kind::None || (friction_model == FrictionModel::Tresca && slip_bound == 0) ||
            (law.kind == FrictionLaw::Kind::Constant && law.value == 0);
   }
+  // For a frictionless scene: which key makes it so and what to set instead (friction.value = 0 under
+  // Coulomb's model was told to add friction.slip_bound, which that model does not read).
+  std::string how_to_add_friction() const {
+    if (law.kind == FrictionLaw::Kind::None)
+      return "add friction (friction.law, e.g. \"constant\" with friction.value)";
+    if (law.kind == FrictionLaw::Kind::Constant && law.value == 0) return "give friction.value a coefficient above 0";
+    return "give friction.slip_bound, Tresca's bound, a value above 0 (or friction.model = \"coulomb\")";
+  }
   bool coulomb() const { return friction_model == FrictionModel::Coulomb && !frictionless(); }
   // Successive approximations are needed: F depends on the slip, or the bound is λ_n (Coulomb).
   bool needs_fixed_point() const { return !frictionless() && (law.depends_on_slip() || coulomb()); }
