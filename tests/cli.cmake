@@ -441,3 +441,11 @@ add_test(NAME plate_beyond_friction_on_incline_is_refused_in_time
 set_tests_properties(plate_beyond_friction_on_incline_is_refused_in_time PROPERTIES
                      ENVIRONMENT "OPENBLAS_NUM_THREADS=2" TIMEOUT 240
                      PASS_REGULAR_EXPRESSION "error: the body is held by contact alone .* more than the contact's friction carries")
+# The poorly conditioned dual's warning gives the Jacobi-scaled condition it judges and the unscaled one the
+# progress line gives first, and no longer tells a plate with four elements through its thickness to mesh
+# more elements through it (cond(Q) rises with those layers: 2.8e7 at one, 1.5e8 at four; a helper's T-plate).
+add_test(NAME poorly_conditioned_dual_warning_names_both_conditions
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/tests/scenes/tplate_layers.toml
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/tplate-layers)
+set_tests_properties(poorly_conditioned_dual_warning_names_both_conditions PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+                     PASS_REGULAR_EXPRESSION "warning: the dual operator Q is poorly conditioned \\(cond\\(Q\\) ≈ [0-9.e+]+ Jacobi-scaled as the QP solves it; unscaled [0-9.e+]+\\).*a finer mesh, through the thickness too, raises cond\\(Q\\)")
