@@ -1232,8 +1232,9 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
   plan.thin_body = thin.value_or("");
   plan.warnings = res.warnings;
-  if (chosen && !is_mumps(*chosen)) {  // MUMPS analyses on its ranks: no CHOLMOD factor to predict
-    const bool with_multipliers = *chosen == DualMethod::Augmented;  // the others factor K alone
+  // MUMPS analyses on its ranks, and contactlast orders K's contact dofs last: no prediction of theirs.
+  if (chosen && !is_mumps(*chosen) && *chosen != DualMethod::ContactLast) {
+    const bool with_multipliers = *chosen == DualMethod::Augmented;  // blocksolve and matrix_free factor K alone
     const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, res.dofs, tet_materials(scene, mesh));
     const FactorPrediction factor = SparseCholesky::predict(K, with_multipliers ? &op.B : nullptr);
     const double dense_bytes = *chosen == DualMethod::MatrixFree ? 0.0 : memory.bytes;

@@ -162,7 +162,7 @@ struct DualPlan {
   std::vector<std::string> warnings;  // the partition's and the memory's, as the solve gives them
   // The CHOLMOD factor the route forms (K's, or K's with the multipliers), from its symbolic analysis,
   // and what the run needs beyond the input (that factor's values, indices and workspace, the dense Q
-  // and its working copies); 0 where no CHOLMOD factor is formed (MUMPS). A factor that cannot fit is
+  // and its working copies); 0 where it is not predicted (MUMPS, contactlast). A factor that cannot fit is
   // refused here, as the solve refuses it.
   double factor_nonzeros = 0, factor_flops = 0, run_bytes = 0;
 };
