@@ -449,3 +449,11 @@ add_test(NAME poorly_conditioned_dual_warning_names_both_conditions
                  --out ${CMAKE_BINARY_DIR}/cli-tests/tplate-layers)
 set_tests_properties(poorly_conditioned_dual_warning_names_both_conditions PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
                      PASS_REGULAR_EXPRESSION "warning: the dual operator Q is poorly conditioned \\(cond\\(Q\\) ≈ [0-9.e+]+ Jacobi-scaled as the QP solves it; unscaled [0-9.e+]+\\).*a finer mesh, through the thickness too, raises cond\\(Q\\)")
+# A rubber layer (ν = 0.48) pressed under steel: its nodal penetration (18% of its displacement, 7.4% at ν = 0.3)
+# is warned with the near incompressibility among its causes (a helper found none of the causes named fit).
+add_test(NAME penetration_warning_names_a_nearly_incompressible_layer
+         COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/tests/scenes/rubber_under_steel.toml
+                 --out ${CMAKE_BINARY_DIR}/cli-tests/rubber-under-steel)
+set_tests_properties(penetration_warning_names_a_nearly_incompressible_layer PROPERTIES
+                     ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+                     PASS_REGULAR_EXPRESSION "warning: the largest nodal penetration .* made worse by a nearly incompressible material \\(ν = 0.48: pressed flat it bulges")
