@@ -434,7 +434,7 @@ add_test(NAME strip_dual_solve_reaches_its_tolerance
 set_tests_properties(strip_dual_solve_reaches_its_tolerance PROPERTIES ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
 # A plate held by contact alone on an incline beyond what its slip-weakening friction holds: refused in
 # about 20-30 s. With two BLAS threads an inner solve of its equality loop at 1e-10 crawled in single-precision
-# products past 600 s (a timeout of random_bodies.py); such tolerances are solved in double (kSingleTightestRtol).
+# products past 600 s (a timeout of random_bodies.py); such inner solves take double products (kSingleTightestInnerRtol).
 add_test(NAME plate_beyond_friction_on_incline_is_refused_in_time
          COMMAND contact3d solve ${CMAKE_SOURCE_DIR}/tests/scenes/plate_incline_beyond_friction.toml
                  --out ${CMAKE_BINARY_DIR}/cli-tests/plate-incline-beyond-friction)

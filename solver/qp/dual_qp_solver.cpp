@@ -138,6 +138,16 @@ constexpr double kRoundingLoads = 1e-4;
 // The tightest tolerance the inner solves of the equality constraints are taken to when the loads
 // stay unbalanced above kEqualityNoiseFloor (the double-precision floor of a projected gradient).
 constexpr double kTightestInnerRtol = 1e-12;
+// Inner solves asked less than this take their MPGP products in double. Each of the hybrid's windows
+// (25 iterations here) is a new MPGP solve whose gradient carries the rounding of its single-precision
+// products (roundoff 6e-8), and MPGP's own switch to double after repeated false stops never fires
+// within one: random body 51 of pipeline/random_bodies.py (a plate held by contact alone on an incline
+// beyond its slip-weakening friction, 2 916 multipliers) with two BLAS threads ran an inner solve at
+// 1e-10 with ‖gᴾ‖ between 6e-10 and 5e-9 of ‖h‖ for over 10 000 products, killed at 600 s; in double it
+// is refused in 20-27 s. Only here: the slender strip asked 1e-12 and 1e-13 by the user (ctest
+// strip_dual_solve_reaches_its_tolerance) reaches its rounding floor sooner with single products (55 416
+// iterations in double against at most 20 000).
+constexpr double kSingleTightestInnerRtol = 1e-9;
 // A motion's row of G whose reachable columns hold less than this share of it: rounding, unreachable.
 constexpr double kUnreachableRow = 1e-12;
 
@@ -405,7 +415,7 @@ class DualQpSolver::EqualitySolve {
   // F(μ) = Gλ(μ) − e, λ(μ) warm-started from what `lam` holds (and left there).
   Eigen::VectorXd balance_at(const Eigen::VectorXd& mu, Eigen::VectorXd& lam) {
     s_.set_linear_term(s_.h_ - s_.G_.transpose() * mu);
-    const QpResult r = s_.solve_for_linear_term(radius_, lam, inner_rtol_);
+    const QpResult r = s_.solve_for_linear_term(radius_, lam, inner_rtol_, nullptr, true);
     add_work(total_, r);
     if (r.status != QpStatus::Converged) inner_failed_ = true;
     return s_.G_ * lam - s_.e_;
@@ -643,7 +653,7 @@ QpResult DualQpSolver::solve_with_augmented_lagrangian(const Eigen::VectorXd& ra
     const double before = (P * F).norm();
     const Eigen::MatrixXd A = std::sqrt(rho) * G_hat;
     set_linear_term(h_ - G_.transpose() * mu_ + rho * G_.transpose() * (W * e_));
-    const QpResult inner = solve_for_linear_term(radius, lambda, inner_rtol, &A);
+    const QpResult inner = solve_for_linear_term(radius, lambda, inner_rtol, &A, true);
     add_work(total, inner);
     if (inner.status != QpStatus::Converged) return total;
     F = G_ * lambda - e_;
@@ -656,7 +666,8 @@ QpResult DualQpSolver::solve_with_augmented_lagrangian(const Eigen::VectorXd& ra
 }
 
 QpResult DualQpSolver::solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol,
-                                             const Eigen::MatrixXd* penalty) {
+                                             const Eigen::MatrixXd* penalty, bool of_equalities) {
+  const bool single_products = !(of_equalities && rtol < kSingleTightestInnerRtol);
   if (qp_.with_friction) qp_.radius = radius;
   if (lambda.size() != qp_.size()) lambda = Eigen::VectorXd::Zero(qp_.size());  // no warm start
   const BoxDiscQP problem = penalty ? with_penalty(solved_problem(), *penalty) : solved_problem();
@@ -668,6 +679,7 @@ QpResult DualQpSolver::solve_for_linear_term(const Eigen::VectorXd& radius, Eige
     hybrid.rtol = rtol;
     hybrid.max_iterations = settings_.max_iterations;
     hybrid.progress = progress_;
+    hybrid.single_products = single_products;
     result = solve_hybrid(problem, x, hybrid);
   } else if (settings_.variant == QpVariant::Ssn) {
     SsnSettings ssn;
@@ -680,6 +692,7 @@ QpResult DualQpSolver::solve_for_linear_term(const Eigen::VectorXd& radius, Eige
     mpgp.rtol = rtol;
     mpgp.max_iterations = settings_.max_iterations;
     mpgp.progress = progress_;
+    mpgp.single_products = single_products;
     mpgp.expansion =
         settings_.variant == QpVariant::MpgpProjectedCG ? ExpansionKind::ProjectedCG : ExpansionKind::FullGradient;
     result = solve_mpgp(problem, x, mpgp);

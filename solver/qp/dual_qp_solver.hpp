@@ -136,8 +136,9 @@ class DualQpSolver {
   // copy of Q and the bordered Newton solver attached.
   BoxDiscQP solved_problem();
   // `penalty` A (k × m, in the solved problem's variables): ½‖A x‖² is added to the objective.
+  // `of_equalities`: an inner solve of the equality loop, in double below kSingleTightestInnerRtol.
   QpResult solve_for_linear_term(const Eigen::VectorXd& radius, Eigen::VectorXd& lambda, double rtol,
-                                 const Eigen::MatrixXd* penalty = nullptr);
+                                 const Eigen::MatrixXd* penalty = nullptr, bool of_equalities = false);
   // The equalities by the augmented Lagrangian (the method of multipliers), from mu_ and `lambda`, to
   // ‖P(Gλ − e)‖ <= target within `budget` products: the fallback where the Newton steps on μ do not
   // balance the loads.

@@ -79,6 +79,7 @@ QpResult solve_hybrid(const BoxDiscQP& qp, Eigen::VectorXd& lambda, const Hybrid
   while (total.iterations < settings.max_iterations) {
     MpgpSettings mpgp;
     mpgp.rtol = settings.rtol;
+    mpgp.single_products = settings.single_products;
     mpgp.max_iterations = std::min(window, settings.max_iterations - total.iterations);
     mpgp.progress = settings.progress;
     mpgp.earlier = &total;

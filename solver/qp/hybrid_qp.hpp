@@ -52,6 +52,7 @@ struct HybridSettings {
   int max_newton_rounds = 3;     // rounds of Newton steps (step 2) before NewtonRoundGate asks for progress
   int window = 0;                // MPGP iterations per window (0: default_window)
   Progress* progress = nullptr;  // heartbeat (none: silent)
+  bool single_products = true;   // MPGP's windows through the single copy of Q where there is one
 };
 
 // Whether the hybrid takes another Newton round where an MPGP window was slow: the first

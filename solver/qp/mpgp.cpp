@@ -96,7 +96,7 @@ class Mpgp {
         alpha_(settings.alpha_scale / qp.q_norm),
         tol_(settings.rtol * h_norm_),
         s_{qp, lambda, {}, {}, result} {
-    s_.single = s_.single && settings.rtol >= kSingleTightestRtol;
+    s_.single = s_.single && settings.single_products;
     s_.refresh_gradient();
     p_ = s_.split.free;
   }

@@ -7,8 +7,7 @@
 // updated recursively; g = Qλ − h is recomputed in double every kSingleRefreshEvery updates after a
 // projection, and by the stopping test before it accepts: a solve ends only when the exact ‖gᴾ‖
 // meets the tolerance. After kSingleFalseStops stops that the exact gradient refuses (the rounding
-// of the single products then sits at the tolerance), the solve continues in double; a tolerance below
-// kSingleTightestRtol is solved in double throughout.
+// of the single products then sits at the tolerance), the solve continues in double.
 #pragma once
 
 #include <string>
@@ -34,14 +33,6 @@ enum class ExpansionKind {
 
 inline constexpr int kSingleFalseStops = 2;
 inline constexpr int kSingleRefreshEvery = 50;
-// Single-precision products only for a tolerance at or above this: its unit roundoff is 6e-8, and a
-// solve's steps follow a gradient that carries the rounding of up to kSingleRefreshEvery of them. The
-// equality loop of a body held by contact alone asks its inner solves 1e-10 … 1e-12 (qp/dual_qp_solver.cpp):
-// random body 51 of pipeline/random_bodies.py (a plate on an incline, 2 916 multipliers) with two BLAS
-// threads ran such a solve in the hybrid's MPGP windows of 25 iterations — each a new solve, its false
-// stops never counted to kSingleFalseStops — with ‖gᴾ‖ between 6e-10 and 5e-9 of ‖h‖ for over 10 000
-// products until killed at 600 s; in double its solve ends (refused, the loads beyond the friction) in 19-28 s.
-inline constexpr double kSingleTightestRtol = 1e-9;
 
 struct QpResult;
 
@@ -55,6 +46,9 @@ struct MpgpSettings {
   // The same QP's work before this call (the hybrid's earlier windows and Newton rounds): counted in the
   // heartbeat, which otherwise restarted at "iteration 0, 1 products" 13 s into a solve.
   const QpResult* earlier = nullptr;
+  // Products through the problem's single-precision copy where it has one (false: all in double; the
+  // equality loop's tight inner solves, dual_qp_solver.cpp).
+  bool single_products = true;
 };
 
 struct QpResult {
