@@ -111,7 +111,7 @@ if not m or int(m.group(1)) == 0 or int(m.group(2)) != 3 * int(m.group(1)):
     problems.append("no dual plan line (cells, 3 multipliers per cell, the dense route)")
 predicted = re.search(r"^factor: nnz\(L\) = ([0-9.e+]+) \([0-9.]+ [KMG]iB\), ([0-9.e+-]+) GFlop \(CHOLMOD's symbolic "
                       r"analysis\); the solve needs about [0-9.]+ [KMG]iB beyond the mesh and K$", out, re.M)
-formed = re.search(r"factor: nnz\(L\) = ([0-9.e+]+) \([0-9.e+-]+ GiB\), ([0-9.e+-]+) GFlop", solved.stdout)
+formed = re.search(r"factor: nnz\(L\) = ([0-9.e+]+) \([0-9.]+ [KMG]iB\), ([0-9.e+-]+) GFlop", solved.stdout)
 if not predicted or not formed or predicted.groups() != formed.groups():
     problems.append(f"check's factor line missing or not the solve's: {predicted and predicted.groups()} against "
                     f"{formed and formed.groups()}")

@@ -638,9 +638,9 @@ std::string require_factor_fits(double lnz, double dense_dual_bytes) {
 AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr, double dense_dual_bytes = 0,
                                    std::vector<std::string>* warnings = nullptr) {
   return [&report, stage, dense_dual_bytes, warnings](double lnz, double flops) {
-    if (stage)
-      stage->holds = "a factor with " + number(lnz, 3) + " nonzeros (" + number(8.0 * lnz / (1 << 30), 3) + " GiB)";
-    report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + number(8.0 * lnz / (1 << 30), 3) + " GiB), " +
+    const std::string size = number(lnz, 3) + " nonzeros (" + bytes_text(8.0 * lnz) + ")";
+    if (stage) stage->holds = "a factor with " + size;
+    report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + bytes_text(8.0 * lnz) + "), " +
                  number(flops / 1e9, 3) + " GFlop");
     std::string tight = require_factor_fits(lnz, dense_dual_bytes);
     if (!tight.empty() && warnings) {

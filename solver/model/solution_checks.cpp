@@ -385,25 +385,25 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
         "size), or check the prescribed approach");
     return;
   }
-  res.warnings.push_back(
-      "the largest nodal penetration (" + number(res.wn_plus_inf, 3) + ") is " +
-      share_of_displacement(res.penetration_ratio) + " the body's largest displacement" +
-      (rigid_removed ? std::string(" less its rigid motion") : std::string()) +
-      ": non-penetration holds as averages over cells of " + cell_sizes(res) +
-      " and the body deforms inside a cell (a body about as thin as a cell, a contact zone a "
-      "few cells wide, or the pressure peak at a flat sole's edges and corners" +
-      (largest_poisson(scene) >= kBulgingPoisson
-           ? ", made worse by a nearly incompressible material (ν = " + number(largest_poisson(scene), 3) +
-                 ": pressed flat it bulges towards the edges, and P1 tetrahedra lock)"
-           : std::string()) +
-      "), so the "
-      "displacement near Γc is not resolved; refine the mesh (h), most where it penetrates (the "
-      "cells of a graded mesh follow its element size)" +
-      (scene.cell_size_auto ? std::string(" (contact.cell_size = \"auto\" tried cells of 1.5h: "
-                                          "see its note)")
-       : scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
-           ? std::string(" (cells smaller than 1.5h make Q ill-conditioned)")
-           : std::string(" or use a smaller contact.cell_size, e.g. \"1.5h\" (watch cond(Q))")));
+  const double poisson = largest_poisson(scene);
+  res.warnings.push_back("the largest nodal penetration (" + number(res.wn_plus_inf, 3) + ") is " +
+                         share_of_displacement(res.penetration_ratio) + " the body's largest displacement" +
+                         (rigid_removed ? std::string(" less its rigid motion") : std::string()) +
+                         ": non-penetration holds as averages over cells of " + cell_sizes(res) +
+                         " and the body deforms inside a cell (a body about as thin as a cell, a contact zone a "
+                         "few cells wide, or the pressure peak at a flat sole's edges and corners" +
+                         (poisson >= kBulgingPoisson
+                              ? ", made worse by a nearly incompressible material (ν = " + number(poisson, 3) +
+                                    ": pressed flat it bulges towards the edges, and P1 tetrahedra lock)"
+                              : std::string()) +
+                         "), so the "
+                         "displacement near Γc is not resolved; refine the mesh (h), most where it penetrates (the "
+                         "cells of a graded mesh follow its element size)" +
+                         (scene.cell_size_auto ? std::string(" (contact.cell_size = \"auto\" tried cells of 1.5h: "
+                                                             "see its note)")
+                          : scene.cell_size_relative && scene.cell_size <= kRefinedCellSize
+                              ? std::string(" (cells smaller than 1.5h make Q ill-conditioned)")
+                              : std::string(" or use a smaller contact.cell_size, e.g. \"1.5h\" (watch cond(Q))")));
 }
 
 }  // namespace
