@@ -8,7 +8,8 @@ friction, a FreeFEM-made Medit mesh, a material region with its own body force. 
 the disc radii (they agree to 1e-9 … 1e-11). Negative case: the oracle taking prescribed components as 0 in the slip, the defect
 fixed in b8b6335, must disagree with today's solver (4.7e-2 in λ_t), and so must the oracle taking the
 slip as 0 at Γc's vertices held in all three components though moved along the plane (fixed after
-f40e2db)."""
+f40e2db). A failure in λ alone where cond(Q)·qp_rtol exceeds --tol says so (lambda_only_hint; a T-plate two
+elements thick, cond(Q) 5.6e7, failed so with two BLAS threads and gave no verdict with one)."""
 import os
 import subprocess
 import sys
@@ -25,7 +26,8 @@ def run(cmd):
     return subprocess.run(cmd, capture_output=True, text=True, env=env)
 
 
-def case(name, scene, sets=(), mesh=None, cells="csv", oracle_args=(), expect_agreement=True, expect_no_verdict=False):
+def case(name, scene, sets=(), mesh=None, cells="csv", oracle_args=(), expect_agreement=True, expect_no_verdict=False,
+         expect_in_verdict=None):
     out = os.path.join(tmp, name)
     mesh_args = ["--mesh", mesh] if mesh else []
     set_args = [a for s in (*sets, "solver.fixed_point_tol=1e-10") for a in ("--set", s)]
@@ -45,6 +47,8 @@ def case(name, scene, sets=(), mesh=None, cells="csv", oracle_args=(), expect_ag
         return f"{name}: the oracle failed (exit {check.returncode}): {check.stderr[-400:]}"
     if (check.returncode == 0) != expect_agreement:
         return f"{name}: expected {'agreement' if expect_agreement else 'a disagreement'}, got: {verdict}"
+    if expect_in_verdict and expect_in_verdict not in verdict:
+        return f"{name}: expected '{expect_in_verdict}' in the verdict, got: {verdict}"
     return None
 
 
@@ -84,6 +88,16 @@ with tempfile.TemporaryDirectory() as tmp:
         case("negative_sloppy_oracle_gives_no_verdict", moved_end, mesh=brick, oracle_args=["--fp-tol", "1e-3"],
              expect_no_verdict=True),
     ]
+sys.path.insert(0, os.path.join(source, "pipeline"))
+from discrete_oracle import lambda_only_hint  # noqa: E402
+
+explained = {"cond_Q": 5.6e7, "c3d_qp_rtol": 1e-6}
+if "cond(Q)·qp_rtol = 5.6e+07 x 1e-06" not in lambda_only_hint(explained, {"lambda_t_rel": 5.5e-6}, 1e-6):
+    failures.append("a λ-only failure at cond(Q)·qp_rtol = 56 is not explained")
+if lambda_only_hint(explained, {"lambda_t_rel": 5.5e-6, "u_contact_rel": 2e-6}, 1e-6):
+    failures.append("a failure in u too is explained away by cond(Q)")
+if lambda_only_hint({"cond_Q": 1e3, "c3d_qp_rtol": 1e-10}, {"lambda_t_rel": 5.5e-6}, 1e-6):
+    failures.append("a λ failure on a well-conditioned, tightly solved dual is explained away")
 failures = [f for f in failures if f]
 if failures:
     sys.exit("FAIL:\n" + "\n".join(failures))
