@@ -516,12 +516,17 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   return 2;
 }
 
-}  // namespace
+// The process ends here, its streams flushed, without the libraries' finalizers: OpenBLAS's joins its
+// worker threads, and a worker that could not map its work space (under a low ulimit -v, from the
+// library's start) spins forever, so a run refused with exit 2 never ended (a helper's 100 MB limit).
+[[noreturn]] void end_process(int code) {
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  std::_Exit(code);
+}
 
-int main(int argc, char** argv) {
-  if (serial_build_under_mpirun()) return 2;
-  restart_with_huge_pages(argv);  // returns in the restarted process (base/memory.hpp)
-  keep_freed_memory();            // stages reuse the pages earlier stages freed (base/memory.hpp)
+int run_session(int argc, char** argv) {
   // The distributed build: every rank but 0 only serves rank 0's factorization and solves, and ends
   // with rank 0's exit code (a bad input: 2 on every rank, not 2 on rank 0 and 0 on the others).
   distributed::Session session(argc, argv);
@@ -530,4 +535,13 @@ int main(int argc, char** argv) {
   std::fflush(stdout);  // before the other ranks end: mpirun may stop the job at a non-zero exit
   session.finish(code);
   return code;
+}  // the session's end finalizes MPI
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (serial_build_under_mpirun()) end_process(2);
+  restart_with_huge_pages(argv);  // returns in the restarted process (base/memory.hpp)
+  keep_freed_memory();            // stages reuse the pages earlier stages freed (base/memory.hpp)
+  end_process(run_session(argc, argv));
 }
