@@ -703,6 +703,7 @@ void solve_without_contact(const Scene& scene, const Mesh& mesh, const Discretis
   res.kkt.equilibrium = (disc.K * w - disc.f).norm() / std::max(disc.f.norm(), 1e-300);
   res.forces = resultant_forces(mesh, res.dofs, disc.materials, scene.tractions, disc.body_force, res.u, no_rows,
                                 Eigen::VectorXd());
+  flag_motionless(scene, res);
   flag_large_strain(mesh, res);
   note_body_below_plane_without_contact(mesh, res);
   res.n_mult = 1;

@@ -147,6 +147,40 @@ void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult&
   }
 }
 
+// A traction or pressure on faces whose nodes are all held in every component (on the clamped group
+// itself, or on a group a [[boundary.displacement]] fixes) goes straight into the supports: the body never
+// feels it, and the run said nothing (a helper's end load moved onto 'clamped': exit 0, the reaction
+// swallowing it). Said per load.
+void warn_if_loads_on_held_faces(const Scene& scene, const Mesh& mesh, SolveResult& res) {
+  std::vector<unsigned char> held(mesh.nodes.size(), 0);  // per node, a bit per component held
+  auto hold = [&](const std::string& group, unsigned char components) {
+    if (!mesh.find_group(group, 2)) return;  // missing or not a surface: check_mesh_meaning names it
+    for (const int t : mesh.triangles_of_group(group))
+      for (const int v : mesh.triangles[static_cast<std::size_t>(t)]) held[static_cast<std::size_t>(v)] |= components;
+  };
+  for (const auto& group : scene.clamped) hold(group, 7);
+  for (const PrescribedDisplacement& d : scene.displacements) {
+    unsigned char components = 0;
+    for (int c = 0; c < 3; ++c)
+      if (d.value[c]) components |= static_cast<unsigned char>(1 << c);
+    hold(d.group, components);
+  }
+  for (const auto& load : scene.tractions) {
+    if (!mesh.find_group(load.group, 2)) continue;
+    const auto triangles = mesh.triangles_of_group(load.group);
+    const bool all_held = !triangles.empty() && std::all_of(triangles.begin(), triangles.end(), [&](int t) {
+      const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+      return std::all_of(tri.begin(), tri.end(), [&](int v) { return held[static_cast<std::size_t>(v)] == 7; });
+    });
+    if (all_held)
+      res.warnings.push_back(std::string(load.has_pressure() ? "boundary.pressure" : "boundary.traction") + " on '" +
+                             load.group +
+                             "' acts only on nodes whose displacement is prescribed in every component (boundary."
+                             "clamped or boundary.displacement): the supports take it and the body does not feel "
+                             "it (it shows in the reactions); put it on the faces it acts on");
+  }
+}
+
 // A [[boundary.displacement]] holding one component at 0 is how a symmetry plane is stated; on a group
 // that is no plane normal to that component it holds the faces' tangential motion too (a helper's
 // y = 0 put on a roller's curved top instead of its symmetry face "sym_y": exit 0, nothing said).
@@ -357,6 +391,7 @@ void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials&
   warn_if_beyond_any_solid(scene, mesh, materials, res);
   warn_if_loads_beyond_linear_strain(scene, mesh, materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
+  warn_if_loads_on_held_faces(scene, mesh, res);
   note_loads_given_twice(scene, res);
   warn_if_symmetry_condition_off_its_plane(scene, mesh, res);
   note_friction_keys_not_read(scene, res);

@@ -55,8 +55,10 @@ bool no_cell_presses(const SolveResult& res) {
   return r > 0 && res.lambda.size() >= r && res.lambda.head(r).maxCoeff() <= 0;
 }
 
-// No cell presses on the foundation (every λ_n ≤ 0), said with what the run shows of why:
-//  - nothing moves the body (every load and prescribed value zero): a warning, the answer is zero;
+bool motionless(const SolveResult& res) { return res.u.size() == 0 || res.u.cwiseAbs().maxCoeff() == 0; }
+
+// No cell presses on the foundation (every λ_n ≤ 0), said with what the run shows of why (a body that
+// does not move at all: flag_motionless):
 //  - Γc started above the plane and the loads did not bring it down: a warning naming the gap. The
 //    usual cause is the plane's place, not the loads: a mesh in CAD coordinates whose sole lies at
 //    z = 1 m solved with "converged" and zero contact force, with nothing said (the paper's brick
@@ -64,13 +66,7 @@ bool no_cell_presses(const SolveResult& res) {
 //  - the loads lift a face that rested on the plane off all over, or leave it touching without
 //    pressing on it: a note.
 void flag_no_contact(const Mesh& mesh, SolveResult& res) {
-  if (!no_cell_presses(res) || res.face.nodes.empty()) return;
-  if (res.u.size() == 0 || res.u.cwiseAbs().maxCoeff() == 0) {
-    res.warnings.push_back(
-        "nothing loads the body: every traction, pressure, body force and prescribed displacement of the scene is "
-        "zero, so are the displacement and the contact forces");
-    return;
-  }
+  if (!no_cell_presses(res) || res.face.nodes.empty() || motionless(res)) return;
   int lowest = res.face.nodes.front(), closest = lowest;
   auto height_after = [&](int v) { return res.face.gap[v] + res.u[3 * v + 2]; };  // the mesh is in the plane's frame
   for (const int v : res.face.nodes) {  // Clamped nodes are not among them (ContactFace::nodes).
@@ -408,6 +404,25 @@ void flag_unresolved_contact(const Scene& scene, double u_max, bool rigid_remove
 
 }  // namespace
 
+// A body that does not move at all, with or without a contact face (a scene of a clamp alone solved
+// with nothing said): a warning that nothing loads it, or, where loads were applied, that they act only
+// on nodes whose displacement is prescribed (a traction on the clamped group was told "every traction
+// ... is zero").
+void flag_motionless(const Scene& scene, SolveResult& res) {
+  if (!motionless(res)) return;
+  const char* const contact_forces = res.face.nodes.empty() ? "" : " and the contact forces";
+  if (res.forces.applied.norm() > 0) {
+    res.warnings.push_back("the body does not move: its loads (resultant " + number(res.forces.applied.norm(), 4) +
+                           " " + unit_labels(scene.output.units).force +
+                           ") act only on nodes whose displacement is prescribed, and the supports take them (see "
+                           "the reactions); put the loads on the faces they act on");
+    return;
+  }
+  res.warnings.push_back(std::string("nothing loads the body: every traction, pressure, body force and prescribed "
+                                     "displacement of the scene is zero, so are the displacement") +
+                         contact_forces);
+}
+
 // contact3d solves linear elasticity (small strains and rotations, the contact condition on the
 // undeformed face), which describes a body strained by a few percent at most. Far beyond that the
 // answer is the linear model's, not the body's, and the usual cause is a scene in mixed units: young in
@@ -543,6 +558,7 @@ void note_body_below_plane_without_contact(const Mesh& mesh, SolveResult& res) {
 void check_answer(const Scene& scene, const Mesh& mesh, double u_max, bool rigid_removed, SolveResult& res) {
   flag_inaccurate_equilibrium(res);
   flag_friction_where_separated(scene, res);
+  flag_motionless(scene, res);
   flag_no_contact(mesh, res);
   flag_penetration_outside_contact(mesh, res);
   flag_large_strain(mesh, res);

@@ -27,6 +27,10 @@ inline constexpr double kRefinedCellSize = 1.5;
 // contact alone, or imposed by prescribed values). Sets res.penetration_ratio.
 void check_answer(const Scene& scene, const Mesh& mesh, double u_max, bool rigid_removed, SolveResult& res);
 
+// A body that does not move at all (with or without contact): a warning that nothing loads it, or that its
+// loads act only on nodes whose displacement is prescribed.
+void flag_motionless(const Scene& scene, SolveResult& res);
+
 // The answer's warning or note on its largest strain (also for a scene without contact); sets
 // res.largest_strain.
 void flag_large_strain(const Mesh& mesh, SolveResult& res);

@@ -763,6 +763,35 @@ TEST(SolveContactGeometry, NoContactAnywhereIsSaidWithTheGap) {
                mentions(paper.warnings, "nothing loads"));
 }
 
+// A load moved onto the clamped group goes straight into the supports, which a warning says per load;
+// with every load there the body does not move, which is said as that (it was told "every traction ...
+// is zero"), and a scene without contact or loads is told that nothing loads it (it ran in silence).
+TEST(SolveContactGeometry, LoadsOnHeldFacesAndMotionlessBodiesAreSaid) {
+  const SolveResult one =
+      solve_text({"boundary.traction=[{group=\"clamped\", value=[1e7, 0.0, 2e7]}, "
+                  "{group=\"load_top\", value=[0.0, 0.0, -3e7]}]"});
+  ASSERT_TRUE(one.converged) << one.status;
+  EXPECT_TRUE(mentions(one.warnings,
+                       "boundary.traction on 'clamped' acts only on nodes whose displacement is "
+                       "prescribed"))
+      << ::testing::PrintToString(one.warnings);
+  EXPECT_FALSE(mentions(one.warnings, "load_top'"));
+  EXPECT_FALSE(mentions(one.warnings, "does not move"));
+
+  const SolveResult all = solve_text({"boundary.traction=[{group=\"clamped\", value=[1e7, 0.0, 2e7]}]"});
+  ASSERT_TRUE(all.converged) << all.status;
+  EXPECT_EQ(all.u.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(mentions(all.warnings, "the body does not move: its loads")) << ::testing::PrintToString(all.warnings);
+  EXPECT_FALSE(mentions(all.warnings, "nothing loads the body"));
+
+  const SolveResult bare = solve_text({"boundary.contact=[]", "boundary.traction=[]"});
+  ASSERT_TRUE(bare.converged) << bare.status;
+  EXPECT_TRUE(mentions(bare.warnings, "nothing loads the body")) << ::testing::PrintToString(bare.warnings);
+
+  const SolveResult paper = solve_text();
+  EXPECT_FALSE(mentions(paper.warnings, "acts only on nodes") || mentions(paper.warnings, "does not move"));
+}
+
 // young = 1e200 Pa makes Q's entries about 1e-200, whose condition estimate underflows to 0/0: the
 // run printed "cond(Q) ≈ -nan" and said nothing. It still solves, with a warning naming Q's size.
 TEST(SolveContactGeometry, ConditionThatUnderflowsIsWarnedAboutNotPrintedAsNan) {
