@@ -23,9 +23,12 @@ that look like a finished solve, and says why.
    after a later run had finished there);
 10. `contact3d mesh brick` under a file-size limit: exit 2, and neither the mesh nor its .partial left;
     through a symbolic link it writes the link's target;
-11. stdout closed by its reader (`| head -1`): the solve finishes its results, exit 0.
+11. stdout closed by its reader (`| head -1`): the solve finishes its results, exit 0;
+12. stdout and stderr closed by the caller (`>&- 2>&-`): the results are clean, the lock file empty.
 usage: check_output_integrity.py CONTACT3D SOURCE_DIR
 """
+import json
+import os
 import resource
 import signal
 import subprocess
@@ -229,5 +232,21 @@ with tempfile.TemporaryDirectory() as tmp:
     check(code == 0 and (out / "summary.json").exists() and not (out / "RUNNING").exists(),
           f"stdout closed by its reader: exit {code}, left {sorted(x.name for x in out.iterdir()) if out.exists() else []}")
 
-print(f"{len(failures)} checks failed" if failures else "all 11 cases held")
+    # 12. stdout and stderr closed by the caller (`contact3d solve … >&- 2>&-`): the files the run opens
+    # took descriptors 1 and 2, its console report went into the lock file and a warning could land in a
+    # result file; the results are clean, the lock file empty, summary.json valid JSON
+    out = tmp / "streams_closed"
+    p = subprocess.run([binary, "solve", str(scene), "--out", str(out), "--set", "mesh.generator=paper_brick",
+                        "--set", "mesh.n=4"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                       preexec_fn=lambda: (os.close(1), os.close(2)))
+    lock = out / ".contact3d.lock"
+    try:
+        summary_ok = isinstance(json.loads((out / "summary.json").read_text()), dict)
+    except (OSError, ValueError):
+        summary_ok = False
+    check(p.returncode == 0 and summary_ok and lock.exists() and lock.stat().st_size == 0,
+          f"streams closed: exit {p.returncode}, summary.json valid {summary_ok}, lock file "
+          f"{lock.stat().st_size if lock.exists() else 'missing'} bytes")
+
+print(f"{len(failures)} checks failed" if failures else "all 12 cases held")
 sys.exit(1 if failures else 0)

@@ -4,6 +4,7 @@
 //   contact3d check SCENE.toml [--mesh FILE.msh]  (validate scene and mesh without solving)
 // Exit codes: 0 solved and converged, 1 solved but not converged, 2 bad input or failure.
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -18,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <fmt/core.h>
@@ -516,6 +518,17 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   return 2;
 }
 
+// Standard streams the caller closed (`contact3d solve … >&- 2>&-`) opened on /dev/null: the first files the
+// run opened took their numbers, and the console's report went into the folder's lock file, its warnings
+// into a result file being written (a helper's run: RUNNING and every result file opened as descriptor 2).
+void open_closed_standard_streams() {
+  for (int fd = 0; fd <= 2; ++fd) {
+    if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+    const int opened = open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY);  // the lowest free number: fd
+    if (opened != fd && opened >= 0) close(opened);
+  }
+}
+
 // The process ends here, its streams flushed, without the libraries' finalizers: OpenBLAS's joins its
 // worker threads, and a worker that could not map its work space (under a low ulimit -v, from the
 // library's start) spins forever, so a run refused with exit 2 never ended (a helper's 100 MB limit).
@@ -540,6 +553,7 @@ int run_session(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  open_closed_standard_streams();
   if (serial_build_under_mpirun()) end_process(2);
   restart_with_huge_pages(argv);  // returns in the restarted process (base/memory.hpp)
   keep_freed_memory();            // stages reuse the pages earlier stages freed (base/memory.hpp)
