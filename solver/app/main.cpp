@@ -31,6 +31,7 @@
 #include "contact/face_dofs.hpp"
 #include "contact/partition.hpp"
 #include "distributed/backend.hpp"
+#include "io/atomic_file.hpp"
 #include "io/results_writer.hpp"
 #include "io/run_folder.hpp"
 #include "linalg/blas_threads.hpp"
@@ -421,7 +422,8 @@ bool serial_build_under_mpirun() {
 // SIGINT, SIGTERM, SIGHUP: a line on stderr, then the signal's own end (exit status 128 + the signal,
 // as without the handler). The output folder keeps its RUNNING marker and no summary.json — not an
 // answer — and the next solve into it clears it; a stopped run said nothing of that. The handler makes
-// only async-signal-safe calls (write, raise; SA_RESETHAND restores the default action first).
+// only async-signal-safe calls (unlink of the result file being written, write, raise; SA_RESETHAND
+// restores the default action first).
 extern "C" void say_stopped_and_end(int sig) {
   static const char kInterrupted[] =
       "\ncontact3d: interrupted (SIGINT): stopped; the output folder holds no answer (its RUNNING file says so)\n";
@@ -431,6 +433,7 @@ extern "C" void say_stopped_and_end(int sig) {
       "\ncontact3d: hung up (SIGHUP): stopped; the output folder holds no answer (its RUNNING file says so)\n";
   const char* text = sig == SIGINT ? kInterrupted : sig == SIGTERM ? kTerminated : kHungUp;
   const std::size_t size = sig == SIGINT ? sizeof kInterrupted : sig == SIGTERM ? sizeof kTerminated : sizeof kHungUp;
+  remove_partial_file_for_signal();
   [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, text, size - 1);
   std::raise(sig);
 }
