@@ -51,14 +51,21 @@ inline std::uint64_t cgroup_headroom() {
 }
 
 // RLIMIT_AS minus the process's current virtual size (/proc/self/statm, pages).
-inline std::uint64_t address_space_headroom() {
+// The address-space limit (ulimit -v) in bytes; 0 where there is none.
+inline std::uint64_t address_space_limit() {
   rlimit lim{};
   if (getrlimit(RLIMIT_AS, &lim) != 0 || lim.rlim_cur == RLIM_INFINITY) return 0;
+  return lim.rlim_cur;
+}
+
+inline std::uint64_t address_space_headroom() {
+  const std::uint64_t limit = address_space_limit();
+  if (limit == 0) return 0;
   std::ifstream statm("/proc/self/statm");
   std::uint64_t pages = 0;
   statm >> pages;
   const std::uint64_t used = pages * 4096;
-  return lim.rlim_cur > used ? lim.rlim_cur - used : 1;
+  return limit > used ? limit - used : 1;
 }
 
 // Bytes the allocator holds free (reusable without asking the system).

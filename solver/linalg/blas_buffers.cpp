@@ -43,19 +43,23 @@ void reserve_blas_buffers() {
   if (reserved) return;
   // Each OpenBLAS thread, the caller one of them, maps a buffer (0 threads: the BLAS is not OpenBLAS).
   const int threads = current_blas_threads().threads;
-  const std::uint64_t headroom = memory_detail::address_space_headroom();  // 0: no limit
-  if (threads == 0 || headroom == 0) return;
+  const std::uint64_t limit = memory_detail::address_space_limit();  // 0: none
+  if (threads == 0 || limit == 0) return;
   const std::uint64_t bytes = static_cast<std::uint64_t>(threads) * kBufferBytes;
   // Room for the buffers and a little besides, else OpenBLAS would hang in its first threaded call.
   if (!can_map(bytes + kMargin)) {
     const bool one_thread_fits = threads > 1 && can_map(kBufferBytes + kMargin);
-    throw InputError("the address-space limit (ulimit -v) leaves " + std::to_string(headroom / kMiB) +
-                     " MiB, and OpenBLAS maps " + std::to_string(kBufferBytes / kMiB) + " MiB of work space " +
-                     (threads == 1 ? std::string("for its one thread")
-                                   : "for each of its " + std::to_string(threads) + " threads (" +
-                                         std::to_string(bytes / kMiB) + " MiB)") +
-                     ", waiting forever when it cannot: raise the limit" +
-                     (one_thread_fits ? ", or set OPENBLAS_NUM_THREADS=1" : ""));
+    // The limit itself, not what it leaves: an OpenBLAS worker started with the library and retrying to
+    // map its work space makes the process's mapped size jump (31, 16, 105, 1 MiB left at 100 … 200 MB).
+    throw InputError(
+        "the address-space limit (ulimit -v) of " + std::to_string(limit / kMiB) + " MiB is too low: OpenBLAS maps " +
+        std::to_string(kBufferBytes / kMiB) + " MiB of work space " +
+        (threads == 1
+             ? std::string("for its one thread")
+             : "for each of its " + std::to_string(threads) + " threads (" + std::to_string(bytes / kMiB) + " MiB)") +
+        " beyond the " + std::to_string(kMargin / kMiB) + " MiB the solve's first steps need and the libraries and " +
+        "data the process maps already, waiting forever when it cannot: raise the limit" +
+        (one_thread_fits ? ", or set OPENBLAS_NUM_THREADS=1" : ""));
   }
   run_on_every_thread();
   reserved = true;
