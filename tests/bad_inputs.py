@@ -1176,6 +1176,15 @@ def c_memory_blas_worker_at_start(c):
             {"address_space_bytes": 100 * 10**6, "env": {"OPENBLAS_NUM_THREADS": "2"}})
 
 
+def c_out_empty(c):
+    # `--out "$OUTDIR"` with the variable unset: it wrote into results/runs/<scene> without a word
+    return ["solve", c.scene(), "--out", ""], ["--out", "empty path", "unset"]
+
+
+def c_mesh_output_empty(c):
+    return ["mesh", "brick", "--n", "2", "-o", ""], ["--output", "empty path"]
+
+
 CASES = {k[2:]: v for k, v in globals().items() if k.startswith("c_")}
 
 

@@ -451,6 +451,14 @@ void say_why_when_stopped() {
   }
 }
 
+// An output path given empty (`--out "$OUTDIR"` with the variable unset) is refused: it fell back to the
+// default folder or file without a word (a helper's find).
+const CLI::Validator kNotEmpty(
+    [](const std::string& value) {
+      return value.empty() ? std::string("an empty path (is the variable it came from unset?)") : std::string();
+    },
+    "PATH");
+
 // The command line on rank 0 (the only process of the serial build): its exit code.
 int run_command_line(int argc, char** argv, const distributed::Session& session) {
   CLI::App app{"contact3d: 3D contact with solution-dependent Tresca friction (Haslinger & Ligurský 2009)"};
@@ -462,7 +470,7 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   solve->add_option("--mesh", args.mesh,
                     "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
   solve->add_option("--set", args.sets, "override a scene key, e.g. --set friction.param=2e4");
-  solve->add_option("--out", args.out, "output folder");
+  solve->add_option("--out", args.out, "output folder")->check(kNotEmpty);
   solve->add_flag("--quiet", args.quiet, "print nothing on stdout (errors, warnings and hints still go to stderr)");
   solve->footer("Solver choices (scene keys, also for --set): solver.qp = " + names_list(kQpVariantNames) +
                 "; solver.qp_scaling = " + names_list(kQpScalingNames) + "; solver.qp_precision = " +
@@ -479,7 +487,7 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   int n = 4;
   mesh_cmd->add_option("kind", kind, "brick: the paper's five-tet brick")->required()->check(CLI::IsMember({"brick"}));
   mesh_cmd->add_option("--n", n, "cubes per unit length (3n x n x n cubes)")->capture_default_str();
-  mesh_cmd->add_option("-o,--output", out_file, "output .msh (default brick_n<N>.msh)");
+  mesh_cmd->add_option("-o,--output", out_file, "output .msh (default brick_n<N>.msh)")->check(kNotEmpty);
 
   // A full disk or a file-size limit must fail a write (an error naming the file), not kill the process;
   // a closed stdout (`contact3d solve … | head -1`) drops the console's lines, not the run (say()).
