@@ -7,8 +7,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <set>
+#include <string_view>
 
 #include <sys/stat.h>
 
@@ -475,10 +477,32 @@ Mesh parse_medit(std::string_view contents, const std::string& source_name) {
 }
 
 bool is_medit_path(const std::string& path) {
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
   auto ends_with = [&](const std::string& suffix) {
-    return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return lower.size() >= suffix.size() && lower.compare(lower.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
   return ends_with(".mesh") || ends_with(".meshb");
+}
+
+bool is_medit_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[64] = {};
+  in.read(head, sizeof head);
+  const std::string_view bytes(head, static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  if (bytes.size() >= 4) {
+    const unsigned char* b = reinterpret_cast<const unsigned char*>(head);
+    const bool code_one =
+        (b[0] == 1 && b[1] == 0 && b[2] == 0 && b[3] == 0) || (b[0] == 0 && b[1] == 0 && b[2] == 0 && b[3] == 1);
+    if (code_one) return true;  // binary Medit
+  }
+  const std::size_t start = bytes.find_first_not_of(" \t\r\n");
+  if (start != std::string_view::npos) {
+    const std::string_view text = bytes.substr(start);
+    if (text.starts_with("$MeshFormat") || text.starts_with("$Comments")) return false;
+    if (text.starts_with("MeshVersionFormatted") || text.starts_with("#")) return true;
+  }
+  return is_medit_path(path);  // unreadable or undecided: the reader named by the path says why
 }
 
 Mesh read_medit(const std::string& path) {

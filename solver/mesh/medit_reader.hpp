@@ -25,7 +25,13 @@ Mesh read_medit(const std::string& path);
 // libMeshb code 1 in either byte order); `source_name` is used in error messages.
 Mesh parse_medit(std::string_view contents, const std::string& source_name);
 
-// True for paths ending in .mesh or .meshb (the Medit formats), false otherwise.
+// True for paths ending in .mesh or .meshb (the Medit formats, in any letter case), false otherwise.
 bool is_medit_path(const std::string& path);
+
+// Whether the file is Medit, from its first bytes where they tell (gmsh's "$MeshFormat", Medit's
+// "MeshVersionFormatted" or a '#' comment, a binary Medit code 1 in either byte order), else from its
+// name (is_medit_path). A gmsh file named .mesh was read as Medit ("unknown keyword '$MeshFormat'"),
+// a Medit file named .MESH as gmsh.
+bool is_medit_file(const std::string& path);
 
 }  // namespace contact3d

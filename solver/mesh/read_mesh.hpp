@@ -1,6 +1,6 @@
-// One entry point for mesh files: Medit (.mesh/.meshb, FreeFEM's savemesh) or gmsh MSH (any
-// other name), each read by our own strict reader; a mirrored mesh (every tetrahedron negatively
-// oriented) comes back reoriented.
+// One entry point for mesh files: Medit (.mesh/.meshb, FreeFEM's savemesh) or gmsh MSH, told apart
+// by their first bytes (else by the name), each read by our own strict reader; a mirrored mesh (every tetrahedron
+// negatively oriented) comes back reoriented.
 #pragma once
 
 #include <string>
@@ -12,7 +12,7 @@
 namespace contact3d {
 
 inline Mesh read_mesh_file(const std::string& path) {
-  Mesh mesh = is_medit_path(path) ? read_medit(path) : read_msh(path);
+  Mesh mesh = is_medit_file(path) ? read_medit(path) : read_msh(path);
   orient_mirrored_mesh(mesh);
   return mesh;
 }

@@ -319,6 +319,24 @@ TEST(MeditReader, DispatchByExtension) {
   EXPECT_TRUE(is_medit_path("x.meshb"));
   EXPECT_FALSE(is_medit_path("x.msh"));
   EXPECT_FALSE(is_medit_path("mesh"));
+  EXPECT_TRUE(is_medit_path("FF.MESH"));
+}
+
+// The reader is chosen by the file's first bytes where they tell: a gmsh file named .mesh and a Medit
+// file named .MESH or .msh are read by their own readers (a helper's were refused by the other one).
+TEST(MeditReader, DispatchByContent) {
+  const std::string dir = ::testing::TempDir();
+  auto write = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir + name, std::ios::binary) << bytes;
+    return dir + name;
+  };
+  EXPECT_FALSE(is_medit_file(write("gmsh_named.mesh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n")));
+  EXPECT_TRUE(is_medit_file(write("medit_named.msh", "MeshVersionFormatted 2\nDimension 3\n")));
+  EXPECT_TRUE(is_medit_file(write("commented.msh", "# FreeFEM\nMeshVersionFormatted 1\n")));
+  EXPECT_TRUE(is_medit_file(write("binary.dat", std::string("\x01\x00\x00\x00\x02\x00\x00\x00", 8))));
+  EXPECT_TRUE(is_medit_file(write("UPPER.MESH", "\n")));  // undecided: the name
+  EXPECT_FALSE(is_medit_file(write("other.msh", "\n")));
+  EXPECT_FALSE(is_medit_file(dir + "missing.msh"));  // unreadable: the name's reader says why
 }
 
 }  // namespace
