@@ -955,7 +955,7 @@ def main():
         sm = json.load(open(os.path.join(a.rundir, 'summary.json')))
         out['forces_contact3d'] = sm.get('contact_force')
         out['c3d_converged'] = sm.get('converged')
-        out['c3d_qp_rtol'] = sm.get('settings', {}).get('qp_rtol')
+        out['c3d_qp_projected_gradient'] = sm.get('qp_last_projected_gradient')
     except Exception:
         pass
     # worst cell
@@ -982,18 +982,18 @@ def main():
 
 
 def lambda_only_hint(out, over, tol):
-    """Where only λ differs and u agrees: the QP's stopping test ‖g̃‖ ≤ qp_rtol‖h‖ bounds λ only to about
-    cond(Q)·qp_rtol (README), so an ill-conditioned dual solved at the default qp_rtol = 1e-6 cannot give
-    λ to a tighter --tol (a helper's T-plate two elements thick, cond(Q) 5.6e7: λ_t 5.5e-6 from the oracle,
-    7e-6 from contact3d's own answer at qp_rtol = 1e-13, u 4e-7). The failure stands; the hint says how
-    to judge λ at this --tol."""
+    """Where only λ differs and u agrees: the QP's stop at ‖gᴾ‖ ≤ ε‖h‖ bounds λ only to about cond(Q)·ε
+    (README), so an ill-conditioned dual cannot give λ to a tighter --tol (a helper's T-plate two elements
+    thick, cond(Q) 5.6e7, its last QP at ε = 8e-12: λ_t 5.5e-6 from the oracle, 7e-6 from contact3d's own
+    answer at qp_rtol = 1e-13, u 4e-7). The failure stands; the hint says why and how to judge λ."""
     if not over or not all(k.startswith('lambda') for k in over):
         return ''
-    rtol, cond = out.get('c3d_qp_rtol'), out.get('cond_Q')
-    if not isinstance(rtol, float) or not isinstance(cond, float) or cond * rtol <= tol:
+    eps, cond = out.get('c3d_qp_projected_gradient'), out.get('cond_Q')
+    if not isinstance(eps, float) or not isinstance(cond, float) or cond * eps <= tol:
         return ''
-    return (f'; u agrees within {tol:g}, and contact3d\'s λ is bounded by its QP\'s stopping test only to about '
-            f'cond(Q)·qp_rtol = {cond:.1e} x {rtol:g}: solve with --set solver.qp_rtol=1e-12 to judge λ at --tol {tol:g}')
+    return (f'; u agrees within {tol:g}, and contact3d\'s last QP stopped at a projected gradient of {eps:.1e} of ‖h‖, '
+            f'which bounds λ only to about cond(Q) times that ({cond:.1e} x {eps:.1e}): solve with --set '
+            f'solver.qp_rtol=1e-13 to judge λ at --tol {tol:g}')
 
 
 def own_answer_unsound(out, a):

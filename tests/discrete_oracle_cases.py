@@ -8,7 +8,7 @@ friction, a FreeFEM-made Medit mesh, a material region with its own body force. 
 the disc radii (they agree to 1e-9 … 1e-11). Negative case: the oracle taking prescribed components as 0 in the slip, the defect
 fixed in b8b6335, must disagree with today's solver (4.7e-2 in λ_t), and so must the oracle taking the
 slip as 0 at Γc's vertices held in all three components though moved along the plane (fixed after
-f40e2db). A failure in λ alone where cond(Q)·qp_rtol exceeds --tol says so (lambda_only_hint; a T-plate two
+f40e2db). A failure in λ alone where cond(Q) times the last QP's projected gradient exceeds --tol says so (lambda_only_hint; a T-plate two
 elements thick, cond(Q) 5.6e7, failed so with two BLAS threads and gave no verdict with one)."""
 import os
 import subprocess
@@ -91,12 +91,12 @@ with tempfile.TemporaryDirectory() as tmp:
 sys.path.insert(0, os.path.join(source, "pipeline"))
 from discrete_oracle import lambda_only_hint  # noqa: E402
 
-explained = {"cond_Q": 5.6e7, "c3d_qp_rtol": 1e-6}
-if "cond(Q)·qp_rtol = 5.6e+07 x 1e-06" not in lambda_only_hint(explained, {"lambda_t_rel": 5.5e-6}, 1e-6):
-    failures.append("a λ-only failure at cond(Q)·qp_rtol = 56 is not explained")
+explained = {"cond_Q": 5.6e7, "c3d_qp_projected_gradient": 8e-12}
+if "(5.6e+07 x 8.0e-12)" not in lambda_only_hint(explained, {"lambda_t_rel": 5.5e-6}, 1e-6):
+    failures.append("a λ-only failure at cond(Q)·ε = 4.5e-4 is not explained")
 if lambda_only_hint(explained, {"lambda_t_rel": 5.5e-6, "u_contact_rel": 2e-6}, 1e-6):
     failures.append("a failure in u too is explained away by cond(Q)")
-if lambda_only_hint({"cond_Q": 1e3, "c3d_qp_rtol": 1e-10}, {"lambda_t_rel": 5.5e-6}, 1e-6):
+if lambda_only_hint({"cond_Q": 1e3, "c3d_qp_projected_gradient": 1e-10}, {"lambda_t_rel": 5.5e-6}, 1e-6):
     failures.append("a λ failure on a well-conditioned, tightly solved dual is explained away")
 failures = [f for f in failures if f]
 if failures:

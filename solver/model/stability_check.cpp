@@ -178,10 +178,12 @@ std::shared_ptr<DualOperatorFactor> check_dual_stability(const DualProblem& dual
           (res.stability_condition_scaled > 0
                ? " Jacobi-scaled as the QP solves it; unscaled " + number(res.stability_condition, 3)
                : std::string()) +
-          "): the QP stops where its projected gradient is below solver.qp_rtol of the loads (1e-10 by default), "
+          "): the QP stops where its projected gradient is below a tolerance of the loads (1e-10 for the answer's "
+          "solve by default), "
           "which bounds λ and the contact pressure only to about cond(Q) times that, although the residuals are "
-          "small (u is usually far closer, and λ often is too); a body thin or slender against the cells (a strip or "
-          "plate) is the common cause, and a finer mesh, through the thickness too, raises cond(Q): use a larger "
+          "small (u is usually far closer, and λ often is too); the common causes are a body thin or slender against "
+          "the cells (a strip or plate) and cells about as small as the elements under them (where a graded mesh "
+          "coarsens under uniform cells), and a finer mesh, through the thickness too, raises cond(Q): use a larger "
           "contact.cell_size (H), or see how far λ moves in a run with --set solver.qp_rtol=1e-12");
   };
   // 𝔹's own rank first, on every route: a Q formed by forward solves through an earlier factor of K
