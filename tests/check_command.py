@@ -129,6 +129,20 @@ layers = re.compile(r"^warning: the body is [0-9.e+-]+ m thick over most of Γc 
                     r"[0-9.]+ element\(s\) through that thickness: linear tetrahedra \(P1\) that few", re.M)
 if thin.returncode != 0 or not layers.search(thin.stderr):
     problems.append(f"the slab one element thick is not warned about its elements through the thickness: {thin.stderr}")
+# check's mesh made by gmsh: named as a temporary file (it named a path removed at its exit), or kept
+# with --keep-mesh for solve --mesh; a mesh the scene reads from a file has nothing to keep
+if "a temporary file, removed at exit (check --keep-mesh FILE keeps it)" not in thin.stdout:
+    problems.append(f"check's temporary mesh not said to be removed: {thin.stdout[:300]}")
+kept = os.path.join(tempfile.mkdtemp(), "slab.msh")
+keep = subprocess.run([a.bin, "check", slab, "--keep-mesh", kept], capture_output=True, text=True)
+if (keep.returncode != 0 or f"(kept: solve it with --mesh {kept})" not in keep.stdout or not os.path.exists(kept)
+        or not open(kept).read(11) == "$MeshFormat"):
+    problems.append(f"check --keep-mesh did not keep the mesh: exit {keep.returncode} {keep.stdout[:300]} {keep.stderr}")
+brick = os.path.join(os.path.abspath(a.source), "pipeline", "scenes", "paper_brick.toml")
+nothing = subprocess.run([a.bin, "check", brick, "--set", "mesh.generator=paper_brick", "--keep-mesh", kept + ".2"],
+                         capture_output=True, text=True)
+if nothing.returncode != 2 or "is not one check makes with gmsh or FreeFEM" not in nothing.stderr:
+    problems.append(f"check --keep-mesh on a scene that reads a mesh file: exit {nothing.returncode} {nothing.stderr}")
 if thick.returncode != 0 or "element(s) through" in thick.stderr:
     problems.append(f"the slab two elements thick is warned, or refused: exit {thick.returncode} {thick.stderr}")
 if "element(s) through" in p.stderr:

@@ -61,6 +61,7 @@ void say(fmt::format_string<Args...> format, Args&&... args) {
 
 struct SolveArgs {
   std::string scene, mesh, out;
+  std::string keep_mesh;  // check: where to keep the mesh it made (empty: a temporary file, removed)
   std::vector<std::string> sets;
   bool quiet = false;
   int ranks = 1;                       // MPI ranks (the distributed build under mpirun)
@@ -299,6 +300,30 @@ int print_error(const std::string& message) {
   return 2;
 }
 
+// check's mesh, made by gmsh or FreeFEM in a scratch folder removed at exit: said so in its description
+// (a helper looked for the file it named), or copied to `keep` for a solve with --mesh (the foot's 54 s
+// of meshing were paid again by the solve).
+std::string kept_or_temporary_mesh(std::string description, const fs::path& work, const std::string& keep) {
+  fs::path made;
+  for (const char* name : {"mesh.msh", "mesh.mesh"})
+    if (fs::exists(work / name)) made = work / name;
+  const std::string scratch = made.string();
+  const std::size_t at = scratch.empty() ? std::string::npos : description.find(scratch);
+  if (!keep.empty()) {
+    if (made.empty())
+      throw InputError("check --keep-mesh: the scene's mesh (" + description +
+                       ") is not one check makes with gmsh or FreeFEM; the solve reads or builds it as it is");
+    std::error_code ec;
+    fs::copy_file(made, keep, fs::copy_options::overwrite_existing, ec);
+    if (ec) throw InputError("check --keep-mesh: cannot write '" + keep + "': " + ec.message());
+    if (at != std::string::npos) description.replace(at, scratch.size(), keep);
+    return description + " (kept: solve it with --mesh " + keep + ")";
+  }
+  if (at != std::string::npos)
+    description.replace(at, scratch.size(), "a temporary file, removed at exit (check --keep-mesh FILE keeps it)");
+  return description;
+}
+
 int run_check(const SolveArgs& args) {
   const Scene user_scene = load_scene(args.scene, args.sets);
   const fs::path work = fs::temp_directory_path() / ("contact3d_check_" + std::to_string(::getpid()));
@@ -311,6 +336,7 @@ int run_check(const SolveArgs& args) {
   } cleanup{work};
   std::string description;
   const Mesh user_mesh = scene_mesh(user_scene, args.mesh, work, description);
+  description = kept_or_temporary_mesh(description, work, args.keep_mesh);
   say("scene: {}\nmesh: {} — {} nodes, {} tets, {} boundary triangles\n", args.scene, description,
       user_mesh.nodes.size(), user_mesh.tets.size(), user_mesh.triangles.size());
   say("physical groups: {}\n", user_mesh.describe_groups());
@@ -482,6 +508,10 @@ int run_command_line(int argc, char** argv, const distributed::Session& session)
   check->add_option("--mesh", args.mesh,
                     "use this mesh file (.msh, or FreeFEM's .mesh/.meshb) instead of the scene's mesh");
   check->add_option("--set", args.sets, "override a scene key");
+  check
+      ->add_option("--keep-mesh", args.keep_mesh,
+                   "keep the mesh check makes from the scene's geometry in this file, for solve --mesh")
+      ->check(kNotEmpty);
   auto* mesh_cmd = app.add_subcommand("mesh", "write a built-in mesh");
   std::string kind, out_file;
   int n = 4;
