@@ -68,6 +68,8 @@ std::string first_error_line(const std::filesystem::path& log) {
 void run_mesher(std::vector<std::string> args, const std::filesystem::path& script,
                 const std::filesystem::path& product, const std::filesystem::path& log) {
   const std::string program = args.front();
+  std::string command;  // the log's first line: the whole command, its -setnumber values with it
+  for (const std::string& arg : args) command += (command.empty() ? "" : " ") + arg;
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("cannot start " + program + " (fork failed)");
@@ -78,7 +80,7 @@ void run_mesher(std::vector<std::string> args, const std::filesystem::path& scri
     if (getppid() != parent) _exit(127);  // the solve died before the line above
     std::FILE* f = std::fopen(log.c_str(), "w");
     if (f) {
-      std::fprintf(f, "%s %s %s\n", kRunLogMark, program.c_str(), script.c_str());
+      std::fprintf(f, "%s %s\n", kRunLogMark, command.c_str());
       std::fflush(f);
       dup2(fileno(f), 1);
       dup2(fileno(f), 2);
@@ -213,7 +215,9 @@ void require_script(const std::filesystem::path& script, const char* kind, bool 
 void run_gmsh(const std::filesystem::path& geo, const std::map<std::string, double>& parameters,
               const std::filesystem::path& out_msh, const std::string& format) {
   if (!std::filesystem::exists(geo)) throw InputError("gmsh script '" + geo.string() + "' does not exist");
-  std::vector<std::string> args = {"gmsh", "-3", "-format", format, "-v", "2"};
+  // -v 4: gmsh's information lines too (its version, the meshing steps and their times), so that the
+  // log beside the results is one (with -v 2 it held only contact3d's line on a good run).
+  std::vector<std::string> args = {"gmsh", "-3", "-format", format, "-v", "4"};
   for (const auto& [k, v] : parameters) args.insert(args.end(), {"-setnumber", k, format_number(v)});
   args.insert(args.end(), {geo.string(), "-o", out_msh.string()});
   run_mesher(args, geo, out_msh, out_msh.parent_path() / "gmsh.log");
