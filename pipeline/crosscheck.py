@@ -232,6 +232,16 @@ def problem_data_of(scene: dict, scene_path: Path, mesh: dict) -> dict:
         if len(val) != 3:
             raise SideFailed(f"{scene_path}: traction on {t['group']!r} must have 3 components")
         trac.append((tag, val, matrix_rows(t, "traction")))
+    for t in bnd.get("force", []):  # a resultant (N) spread over the group's area: the traction F / area
+        (tag,) = tags([t["group"]], "[[boundary.force]]")
+        force = np.array([float(x) for x in t["value"]])
+        if force.shape != (3,):
+            raise SideFailed(f"{scene_path}: force on {t['group']!r} must have 3 components")
+        X, on = mesh["coords"], mesh["tris"][mesh["tri_tags"] == tag]
+        area = 0.5 * np.linalg.norm(np.cross(X[on[:, 1]] - X[on[:, 0]], X[on[:, 2]] - X[on[:, 0]]), axis=1).sum()
+        if not area > 0:
+            raise SideFailed(f"{scene_path}: force on {t['group']!r}: the group has no area")
+        trac.append((tag, list(force / area), [0.0] * 9))
     pressure = []
     for p in bnd.get("pressure", []):
         (tag,) = tags([p["group"]], "[[boundary.pressure]]")

@@ -549,6 +549,14 @@ def main():
             fl = A * Mloc @ tv
             for q in range(3):
                 f[3 * tr[q]:3 * tr[q] + 3] += fl[q]
+    for fo in bnd.get('force', []):   # a resultant (N) spread uniformly over the group's area
+        tis = group_tris(fo['group'])
+        areas = [outward(ti)[1] for ti in tis]
+        tv = np.array(fo['value'], float) / sum(areas)
+        for ti, A in zip(tis, areas):
+            tr = tris[ti]
+            for q in range(3):
+                f[3 * tr[q]:3 * tr[q] + 3] += A * tv / 3.0
     for pr in bnd.get('pressure', []):
         val = float(pr['value']); G = np.array(pr.get('gradient', [0, 0, 0]), float)
         for ti in group_tris(pr['group']):

@@ -290,3 +290,22 @@ add_test(NAME crosscheck_pushed_slider_coulomb
           --workdir ${CONTACT3D_CC_WORK}/pushed-slider --report ${CONTACT3D_CC_WORK}/pushed-slider.md)
 set_tests_properties(crosscheck_pushed_slider_coulomb PROPERTIES TIMEOUT 120 LABELS crosscheck
   FAIL_REGULAR_EXPRESSION "error:|FAILED")
+
+# [[boundary.force]]: the top's load given as its resultant (N), which each side spreads over the group's
+# area itself (contact3d in resolve_total_forces, crosscheck.py from the mesh it reads): the same answers as
+# the traction it amounts to (rel L2(Gc) 5.8e-3, Fn 1.9e-2, as the traction's), and FreeFEM's load
+# scaled by 1.1 is caught.
+set(CONTACT3D_CC_FORCE "--set=boundary.traction=[]" "--set=boundary.force=[{group=\"load_top\",value=[3e6,0.0,-9e7]}]")
+add_test(NAME crosscheck_total_force_reaches_freefem
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_SCENE}
+          --n 4 --variant frictionless --tolerance 0.01 --force-tolerance 0.03 ${CONTACT3D_CC_FORCE}
+          --workdir ${CONTACT3D_CC_WORK}/total-force --report ${CONTACT3D_CC_WORK}/total-force.md)
+set_tests_properties(crosscheck_total_force_reaches_freefem PROPERTIES TIMEOUT 120 LABELS crosscheck)
+add_test(NAME crosscheck_total_force_detects_perturbation
+  COMMAND ${CONTACT3D_PYTHON} ${CONTACT3D_CC} --bin $<TARGET_FILE:contact3d> --scene ${CONTACT3D_CC_SCENE}
+          --n 4 --variant frictionless --tolerance 0.01 --force-tolerance 0.03 ${CONTACT3D_CC_FORCE}
+          --perturb-freefem-traction 1.1
+          --workdir ${CONTACT3D_CC_WORK}/total-force-perturbed --report ${CONTACT3D_CC_WORK}/total-force-perturbed.md)
+set_tests_properties(crosscheck_total_force_detects_perturbation PROPERTIES TIMEOUT 120 LABELS crosscheck
+  PASS_REGULAR_EXPRESSION "CROSSCHECK FAILED: paper_brick n=4 frictionless: .* exceeds tolerance"
+  FAIL_REGULAR_EXPRESSION "error:")

@@ -66,6 +66,9 @@ with tempfile.TemporaryDirectory() as tmp:
         case("capblock_region_body_force", os.path.join(scenes, "capblock.toml"),
              sets=["mesh.parameters.h=0.05", HEAVY_LAYER], cells="vtu"),
         case("holed", os.path.join(scenes, "holed.toml")),
+        # a resultant force (N) on the top spread over its area ([[boundary.force]])
+        case("total_force", os.path.join(scenes, "paper_brick.toml"), mesh=brick,
+             sets=["boundary.traction=[]", 'boundary.force=[{group="load_top", value=[3e6, 0.0, -9e7]}]']),
         case("free_brick_coulomb", os.path.join(scenes, "free_brick.toml"), sets=["mesh.parameters.n=4"]),
         case("brick_end_moved_in_plane", in_plane, mesh=brick),
         # a patch of Γc held at slip 0 under a table law with a static/kinetic jump: F(0) is the static value

@@ -352,7 +352,9 @@ int run_check(const SolveArgs& args) {
     say("  {:<16} dim {}  {} {}\n", "\"" + name + "\"", g.dim, count, g.dim == 2 ? "triangles" : "tetrahedra");
   }
   // A tilted or shifted foundation: the checks below see the problem in the plane's frame, as the solve does.
-  const PlaneFrameProblem local = to_plane_frame(user_scene, user_mesh);
+  Scene resolved_scene = user_scene;  // [[boundary.force]] as tractions, in the mesh's own frame
+  resolve_total_forces(resolved_scene, user_mesh);
+  const PlaneFrameProblem local = to_plane_frame(resolved_scene, user_mesh);
   const Scene& scene = local.scene;
   const Mesh& mesh = local.mesh;
   check_coordinates_in_range(mesh);

@@ -4,6 +4,7 @@
 // reaction forces at the prescribed components once u is known.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,16 @@ struct Traction {
   Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero();           // Pa/m
   double pressure = 0;                                          // Pa
   Eigen::Vector3d pressure_gradient = Eigen::Vector3d::Zero();  // Pa/m
+  // [[boundary.force]] (N): the load's resultant, spread uniformly over the group's area as value =
+  // total_force / area by resolve_total_forces (model/scene.hpp) before the solve reads `value`.
+  std::optional<Eigen::Vector3d> total_force;
+  bool given_as_force = false;  // a [[boundary.force]] entry, resolved or not
 
   bool has_pressure() const { return pressure != 0 || !pressure_gradient.isZero(); }
+  // The scene's table the load came from, for messages: "boundary.traction", "boundary.pressure", "boundary.force".
+  const char* scene_key() const {
+    return given_as_force ? "boundary.force" : has_pressure() ? "boundary.pressure" : "boundary.traction";
+  }
 };
 
 struct ElasticSystem {

@@ -1249,6 +1249,12 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce
 }
 
 SolveResult solve_scene(const Scene& scene, const Mesh& mesh, const ProgressCallback& on_step, Progress* progress) {
+  if (std::any_of(scene.tractions.begin(), scene.tractions.end(),
+                  [](const Traction& t) { return t.total_force.has_value(); })) {
+    Scene resolved = scene;  // [[boundary.force]] as tractions, in the mesh's own frame
+    resolve_total_forces(resolved, mesh);
+    return solve_scene(resolved, mesh, on_step, progress);
+  }
   if (!scene.foundation.is_identity()) {  // a tilted or shifted foundation: solve in its frame
     const PlaneFrameProblem local = to_plane_frame(scene, mesh);
     SolveResult res = solve_scene(local.scene, local.mesh, on_step, progress);

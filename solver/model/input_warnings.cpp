@@ -140,8 +140,8 @@ void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult&
     }
     if (shared > 0)
       res.warnings.push_back(
-          std::string(load.has_pressure() ? "boundary.pressure" : "boundary.traction") + " on '" + load.group +
-          "' acts on " + number(shared, 3) + " " + unit_labels(scene.output.units).length +
+          std::string(load.scene_key()) + " on '" + load.group + "' acts on " + number(shared, 3) + " " +
+          unit_labels(scene.output.units).length +
           "² of the contact face: the model loads Γp and lets the foundation hold Γc, two apart, "
           "so this load goes partly straight into the contact forces; put it on the faces it acts on");
   }
@@ -173,8 +173,7 @@ void warn_if_loads_on_held_faces(const Scene& scene, const Mesh& mesh, SolveResu
       return std::all_of(tri.begin(), tri.end(), [&](int v) { return held[static_cast<std::size_t>(v)] == 7; });
     });
     if (all_held)
-      res.warnings.push_back(std::string(load.has_pressure() ? "boundary.pressure" : "boundary.traction") + " on '" +
-                             load.group +
+      res.warnings.push_back(std::string(load.scene_key()) + " on '" + load.group +
                              "' acts only on nodes whose displacement is prescribed in every component (boundary."
                              "clamped or boundary.displacement): the supports take it and the body does not feel "
                              "it (it shows in the reactions); put it on the faces it acts on");

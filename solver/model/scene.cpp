@@ -173,7 +173,7 @@ void parse_material(const toml::table& mat, Scene& s) {
 // [boundary]: clamped and contact groups, [[boundary.displacement]], [[boundary.traction]],
 // [[boundary.pressure]].
 void parse_boundary(const toml::table& bnd, Scene& s) {
-  check_keys(bnd, "boundary", {"clamped", "contact", "traction", "pressure", "displacement"});
+  check_keys(bnd, "boundary", {"clamped", "contact", "traction", "pressure", "force", "displacement"});
   s.clamped = get_strings(bnd, "boundary", "clamped");
   s.contact = get_strings(bnd, "boundary", "contact");
   for (const toml::table* t : get_tables(bnd, "boundary", "displacement")) {
@@ -215,6 +215,16 @@ void parse_boundary(const toml::table& bnd, Scene& s) {
       throw InputError("boundary.pressure on '" + tr.group + "' needs a value (Pa) and/or a gradient (Pa/m)");
     tr.pressure = get_number(*t, "boundary.pressure", "value", 0, false);
     if (t->contains("gradient")) tr.pressure_gradient = get_vector(t->get("gradient"), "boundary.pressure.gradient");
+    s.tractions.push_back(tr);
+  }
+  for (const toml::table* t : get_tables(bnd, "boundary", "force")) {
+    check_keys(*t, "boundary.force", {"group", "value"});
+    Traction tr;
+    tr.group = get_group(*t, "boundary.force");
+    if (!t->contains("value"))
+      throw InputError("boundary.force on '" + tr.group + "' needs a value: the resultant [Fx, Fy, Fz] (N)");
+    tr.total_force = get_vector(t->get("value"), "boundary.force.value");
+    tr.given_as_force = true;
     s.tractions.push_back(tr);
   }
 }
@@ -582,6 +592,22 @@ BodyForce tet_body_forces(const Scene& scene, const Mesh& mesh) {
     if (region_of[e] >= 0)
       if (const auto& own = scene.regions[static_cast<std::size_t>(region_of[e])].body_force) per_tet[e] = *own;
   return BodyForce(std::move(per_tet));
+}
+
+void resolve_total_forces(Scene& scene, const Mesh& mesh) {
+  for (Traction& load : scene.tractions) {
+    if (!load.total_force) continue;
+    const Eigen::Vector3d force = *load.total_force;
+    load.total_force.reset();
+    if (!mesh.find_group(load.group, 2)) continue;  // missing, or not a surface: check_mesh_meaning names it
+    double area = 0;
+    for (const int t : mesh.triangles_of_group(load.group))
+      area += triangle_area(mesh, mesh.triangles[static_cast<std::size_t>(t)]);
+    if (!(area > 0))
+      throw InputError("boundary.force on '" + load.group +
+                       "': the group has no area to spread the force over (its triangles are degenerate)");
+    load.value = force / area;
+  }
 }
 
 MeshRoles mesh_roles(const Scene& scene) {

@@ -167,6 +167,11 @@ struct Scene {
   bool needs_fixed_point() const { return !frictionless() && (law.depends_on_slip() || coulomb()); }
 };
 
+// [[boundary.force]] entries made tractions: each resultant spread uniformly over its group's area
+// (value = F / area, in the mesh's own frame, before to_plane_frame). Groups missing from the mesh are
+// left to check_mesh_meaning; a group of zero area is refused.
+void resolve_total_forces(Scene& scene, const Mesh& mesh);
+
 // The roles the scene gives the mesh's groups (for check_mesh_meaning).
 MeshRoles mesh_roles(const Scene& scene);
 

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "base/errors.hpp"
+#include "mesh/brick_generator.hpp"
 #include "model/scene.hpp"
 #include "test_support.hpp"
 
@@ -63,4 +64,25 @@ TEST(Scene, RefusesWhatMakesNoSense) {
   EXPECT_NE(error_of({"solver.qp_cg_preconditioner=\"ilu\""}).find("qp_cg_preconditioner"), std::string::npos);
   EXPECT_NE(error_of({"mesh.n=65"}).find("mesh.n"), std::string::npos);
   EXPECT_NE(error_of({"frobnicate=1"}).find("frobnicate"), std::string::npos);
+}
+
+// [[boundary.force]]: a resultant in N spread uniformly over its group's area (the paper brick's top
+// group 'load_top'); the traction it becomes carries that resultant, in the user's frame.
+TEST(Scene, TotalForceBecomesTheTractionThatCarriesIt) {
+  const Scene scene = parse({"boundary.traction=[]", "boundary.force=[{group=\"load_top\", value=[3e6, 0.0, -9e7]}]"});
+  ASSERT_EQ(scene.tractions.size(), 1u);
+  ASSERT_TRUE(scene.tractions[0].total_force.has_value());
+  EXPECT_STREQ(scene.tractions[0].scene_key(), "boundary.force");
+  const Mesh mesh = make_paper_brick({scene.mesh.n});
+  Scene resolved = scene;
+  resolve_total_forces(resolved, mesh);
+  double area = 0;
+  for (const int t : mesh.triangles_of_group("load_top")) area += triangle_area(mesh, mesh.triangles[t]);
+  EXPECT_FALSE(resolved.tractions[0].total_force.has_value());
+  EXPECT_LT((resolved.tractions[0].value * area - Eigen::Vector3d(3e6, 0, -9e7)).norm(), 1e-6);
+  EXPECT_NE(error_of({"boundary.force=[{group=\"load_top\"}]"}).find("needs a value"), std::string::npos);
+  EXPECT_NE(error_of({"boundary.force=[{group=\"load_top\", value=[1.0, 2.0]}]"}).find("boundary.force.value"),
+            std::string::npos);
+  EXPECT_NE(error_of({"boundary.force=[{group=\"load_top\", value=[1.0, 2.0, 3.0], gradient=1}]"}).find("gradient"),
+            std::string::npos);
 }
