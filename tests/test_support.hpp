@@ -3,7 +3,10 @@
 // mesh with moved copies of itself (a mesh of several parts).
 #pragma once
 
+#include <unistd.h>
+
 #include <array>
+#include <filesystem>
 #include <initializer_list>
 #include <memory>
 #include <random>
@@ -21,6 +24,15 @@
 #include "qp/box_disc_qp.hpp"
 
 namespace contact3d::testing {
+
+// An empty folder of its own under the system's temporary directory: "contact3d_<name>_<pid>".
+inline std::filesystem::path fresh_temp_folder(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("contact3d_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
 
 // stiffness · (7-point Laplacian on an nx × ny × nz grid, with `diagonal` instead of 6): SPD for a
 // diagonal above 6, with many supernodes under nested dissection.

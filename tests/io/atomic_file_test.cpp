@@ -11,16 +11,13 @@
 
 #include "base/errors.hpp"
 #include "io/atomic_file.hpp"
+#include "test_support.hpp"
 
 namespace contact3d {
 namespace {
 
 std::filesystem::path fresh_folder(const std::string& name) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("contact3d_atomic_file_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return testing::fresh_temp_folder("atomic_file_" + name);
 }
 
 // What the SIGTERM handler calls while body.vtu is being written (a helper's stop left

@@ -11,17 +11,12 @@
 
 #include "base/errors.hpp"
 #include "io/run_folder.hpp"
+#include "test_support.hpp"
 
 namespace contact3d {
 namespace {
 
-std::filesystem::path fresh_folder(const std::string& name) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("contact3d_run_folder_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+std::filesystem::path fresh_folder(const std::string& name) { return testing::fresh_temp_folder("run_folder_" + name); }
 
 void write(const std::filesystem::path& file, const std::string& text) { std::ofstream(file) << text; }
 
