@@ -389,7 +389,7 @@ int run_check(const SolveArgs& args) {
   if (held.in_plane_count() && scene.frictionless()) require_in_plane_balance(held, f, scene.how_to_add_friction());
   SolveResult warned;  // the warnings a solve gives on its input, before it starts
   const FaceThicknessOnce thickness(mesh, scene.contact);
-  warn_about_inputs(scene, mesh, materials, thickness, warned);
+  warn_about_inputs(scene, mesh, dofs, materials, thickness, warned);
   for (const auto& w : warned.warnings) std::cerr << "warning: " << w << "\n";
   // The notes on the input that summary.json carries after a solve.
   for (const auto& r : what_reading_changed(user_mesh)) say("note: the mesh: {}\n", r);

@@ -103,7 +103,7 @@ Discretisation discretise(const Scene& scene, const Mesh& mesh, const FaceThickn
   res.dofs = make_dof_map(mesh, scene.clamped, scene.displacements);
   if (res.dofs.n_free == 0) throw InputError("every node is clamped: nothing to solve");
   Discretisation disc{tet_materials(scene, mesh), tet_body_forces(scene, mesh), {}, {}, {}, false, {}, false};
-  warn_about_inputs(scene, mesh, disc.materials, thickness, res);
+  warn_about_inputs(scene, mesh, res.dofs, disc.materials, thickness, res);
   disc.held = contact_held_motions(mesh, res.dofs, !scene.contact.empty(), scene.user_frame);
   disc.centre_in_plane = disc.held.in_plane_count() > 0 && scene.frictionless();
   res.n_primal = res.dofs.n_free;
@@ -638,10 +638,9 @@ std::string require_factor_fits(double lnz, double dense_dual_bytes) {
 AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr, double dense_dual_bytes = 0,
                                    std::vector<std::string>* warnings = nullptr) {
   return [&report, stage, dense_dual_bytes, warnings](double lnz, double flops) {
-    const std::string size = number(lnz, 3) + " nonzeros (" + bytes_text(8.0 * lnz) + ")";
-    if (stage) stage->holds = "a factor with " + size;
-    report.stage("  factor: nnz(L) = " + number(lnz, 3) + " (" + bytes_text(8.0 * lnz) + "), " +
-                 number(flops / 1e9, 3) + " GFlop");
+    const std::string nonzeros = number(lnz, 3), bytes = bytes_text(8.0 * lnz);
+    if (stage) stage->holds = "a factor with " + nonzeros + " nonzeros (" + bytes + ")";
+    report.stage("  factor: nnz(L) = " + nonzeros + " (" + bytes + "), " + number(flops / 1e9, 3) + " GFlop");
     std::string tight = require_factor_fits(lnz, dense_dual_bytes);
     if (!tight.empty() && warnings) {
       report.stage("  warning: " + tight);

@@ -151,26 +151,13 @@ void warn_if_loads_on_contact(const Scene& scene, const Mesh& mesh, SolveResult&
 // itself, or on a group a [[boundary.displacement]] fixes) goes straight into the supports: the body never
 // feels it, and the run said nothing (a helper's end load moved onto 'clamped': exit 0, the reaction
 // swallowing it). Said per load.
-void warn_if_loads_on_held_faces(const Scene& scene, const Mesh& mesh, SolveResult& res) {
-  std::vector<unsigned char> held(mesh.nodes.size(), 0);  // per node, a bit per component held
-  auto hold = [&](const std::string& group, unsigned char components) {
-    if (!mesh.find_group(group, 2)) return;  // missing or not a surface: check_mesh_meaning names it
-    for (const int t : mesh.triangles_of_group(group))
-      for (const int v : mesh.triangles[static_cast<std::size_t>(t)]) held[static_cast<std::size_t>(v)] |= components;
-  };
-  for (const auto& group : scene.clamped) hold(group, 7);
-  for (const PrescribedDisplacement& d : scene.displacements) {
-    unsigned char components = 0;
-    for (int c = 0; c < 3; ++c)
-      if (d.value[c]) components |= static_cast<unsigned char>(1 << c);
-    hold(d.group, components);
-  }
+void warn_if_loads_on_held_faces(const Scene& scene, const Mesh& mesh, const DofMap& dofs, SolveResult& res) {
   for (const auto& load : scene.tractions) {
-    if (!mesh.find_group(load.group, 2)) continue;
+    if (!mesh.find_group(load.group, 2)) continue;  // missing or not a surface: check_mesh_meaning names it
     const auto triangles = mesh.triangles_of_group(load.group);
     const bool all_held = !triangles.empty() && std::all_of(triangles.begin(), triangles.end(), [&](int t) {
       const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
-      return std::all_of(tri.begin(), tri.end(), [&](int v) { return held[static_cast<std::size_t>(v)] == 7; });
+      return std::all_of(tri.begin(), tri.end(), [&](int v) { return dofs.fully_fixed(v); });
     });
     if (all_held)
       res.warnings.push_back(std::string(load.scene_key()) + " on '" + load.group +
@@ -214,12 +201,11 @@ void warn_if_symmetry_condition_off_its_plane(const Scene& scene, const Mesh& me
 // loads are superposed, a slip where one was copied and its group not renamed. Said in a note, so the
 // sum is not a surprise (a traction beside a pressure on one group is the usual way to state both).
 void note_loads_given_twice(const Scene& scene, SolveResult& res) {
-  std::map<std::pair<std::string, bool>, int> entries;  // (group, is a pressure) -> count
-  for (const auto& load : scene.tractions) ++entries[{load.group, load.has_pressure()}];
+  std::map<std::pair<std::string, std::string>, int> entries;  // (group, the entry's table) -> count
+  for (const auto& load : scene.tractions) ++entries[{load.group, load.scene_key()}];
   for (const auto& [key, count] : entries)
     if (count > 1)
-      res.notes.push_back("'" + key.first + "' has " + std::to_string(count) + " [[boundary." +
-                          (key.second ? "pressure" : "traction") +
+      res.notes.push_back("'" + key.first + "' has " + std::to_string(count) + " [[" + key.second +
                           "]] entries: they are added, and the load there is their sum");
 }
 
@@ -384,13 +370,13 @@ void warn_if_few_elements_through_thickness(const Scene& scene, const FaceThickn
 
 }  // namespace
 
-void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
+void warn_about_inputs(const Scene& scene, const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials,
                        const FaceThicknessOnce& thickness, SolveResult& res) {
   warn_if_nearly_incompressible(mesh, materials, res);
   warn_if_beyond_any_solid(scene, mesh, materials, res);
   warn_if_loads_beyond_linear_strain(scene, mesh, materials, res);
   warn_if_loads_on_contact(scene, mesh, res);
-  warn_if_loads_on_held_faces(scene, mesh, res);
+  warn_if_loads_on_held_faces(scene, mesh, dofs, res);
   note_loads_given_twice(scene, res);
   warn_if_symmetry_condition_off_its_plane(scene, mesh, res);
   note_friction_keys_not_read(scene, res);

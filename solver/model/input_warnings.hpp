@@ -14,9 +14,10 @@
 
 namespace contact3d {
 
-// Appends to res.warnings and res.notes; `materials`: each tetrahedron's (tet_materials); `thickness`:
-// the run's one measurement of the body over Γc (contact/face_thickness.hpp).
-void warn_about_inputs(const Scene& scene, const Mesh& mesh, const TetMaterials& materials,
+// Appends to res.warnings and res.notes; `dofs`: the prescribed components (make_dof_map); `materials`:
+// each tetrahedron's (tet_materials); `thickness`: the run's one measurement of the body over Γc
+// (contact/face_thickness.hpp).
+void warn_about_inputs(const Scene& scene, const Mesh& mesh, const DofMap& dofs, const TetMaterials& materials,
                        const FaceThicknessOnce& thickness, SolveResult& res);
 
 // Whether a warning of warn_about_inputs speaks of the answer's accuracy only (too few elements through
