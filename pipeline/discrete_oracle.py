@@ -32,7 +32,8 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-import xml.etree.ElementTree as ET
+
+import c3d.vtu
 
 # ----------------------------------------------------------------------------- mesh
 def read_medit(path):
@@ -462,13 +463,8 @@ def set_key(scene, key, val):
 
 
 def read_vtu_arrays(path):
-    root = ET.parse(path).getroot()
-    out = {}
-    for da in root.iter('DataArray'):
-        nc = int(da.get('NumberOfComponents', '1'))
-        vals = np.array(da.text.split(), float)
-        out[da.get('Name')] = vals.reshape(-1, nc) if nc > 1 else vals
-    return out
+    """Every array of a VTU file (ASCII or binary, c3d.vtu), as floats."""
+    return {name: values.astype(float) for name, values in c3d.vtu.read_arrays(path).items()}
 
 
 # ----------------------------------------------------------------------------- main

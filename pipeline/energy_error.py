@@ -32,29 +32,21 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 import c3d.run
+import c3d.vtu
 
 VTK_TETRA = 10
 BARY_TOL = 1e-9  # barycentric coordinates are dimensionless, so this tolerance is relative
 
 
-def _array(root, name):
-    """Values of the DataArray called `name` (the points may also be the array under <Points>)."""
-    node = next((d for d in root.iter("DataArray") if d.get("Name") == name), None)
-    if node is None and name == "Points":
-        node = root.find(".//Points/DataArray")
-    if node is None or node.get("format", "ascii") != "ascii":
-        raise ValueError(f"no ascii DataArray named {name!r}")
-    return np.array((node.text or "").split(), dtype=float)
-
-
 def read_body_vtu(path):
-    """Points (N,3), tetrahedra (T,4) and displacement (N,3) of an ASCII VTK UnstructuredGrid."""
-    root = ET.parse(path).getroot()
-    points = _array(root, "Points").reshape(-1, 3)
-    disp = _array(root, "displacement").reshape(-1, 3)
-    conn = _array(root, "connectivity").astype(np.int64)
-    offsets = _array(root, "offsets").astype(np.int64)
-    types = _array(root, "types").astype(np.int64)
+    """Points (N,3), tetrahedra (T,4) and displacement (N,3) of a VTK UnstructuredGrid (ASCII or binary)."""
+    arrays = c3d.vtu.read_arrays(path)
+    missing = [n for n in ("Points", "displacement", "connectivity", "offsets", "types") if n not in arrays]
+    if missing:
+        raise ValueError(f"{path}: no DataArray named {missing[0]!r}")
+    points = arrays["Points"].astype(float).reshape(-1, 3)
+    disp = arrays["displacement"].astype(float).reshape(-1, 3)
+    conn, offsets, types = (arrays[n].astype(np.int64).ravel() for n in ("connectivity", "offsets", "types"))
     if len(disp) != len(points) or len(offsets) != len(types):
         raise ValueError(f"{path}: inconsistent array sizes")
     # keep the tetrahedra (a cell's nodes are conn[offsets[c-1]:offsets[c]])

@@ -23,6 +23,10 @@ import tempfile
 import xml.etree.ElementTree as ET
 from collections import defaultdict
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pipeline"))
+import c3d.vtu  # noqa: E402
+
+import meshio
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
@@ -150,6 +154,41 @@ def old_style_collection(run, copy):
         f.write(f'    <DataSet timestep="{max(steps):g}" group="" part="1" file="body.vtu"/>\n  </Collection>\n</VTKFile>\n')
 
 
+def compare_binary(ascii_run, binary_run, fails):
+    """output.vtu = binary: the same arrays as the ASCII files (to their 12 printed digits), read by
+    VTK's reader, by meshio (the plots' reader) and by pipeline/c3d/vtu.py (the scripts' reader)."""
+    summary = json.load(open(os.path.join(binary_run, "summary.json")))
+    if summary.get("output_vtu") != "binary":
+        fails.append(f"output.vtu = binary: summary.json says output_vtu = {summary.get('output_vtu')!r}")
+    files = [f for parts in time_steps(ascii_run).values() for f in parts.values()] + ["body.vtu", "contact.vtu"]
+    for file in files:
+        a_path, b_path = os.path.join(ascii_run, file), os.path.join(binary_run, file)
+        with open(b_path, "rb") as f:
+            if b'<AppendedData encoding="raw">' not in f.read():
+                fails.append(f"{file}: output.vtu = binary wrote no raw appended data")
+        a, b = read_vtu(a_path), read_vtu(b_path)
+        if a is None or b is None:
+            fails.append(f"{file}: VTK read no points from the {'ASCII' if a is None else 'binary'} file")
+            continue
+        mine = c3d.vtu.read_arrays(b_path)
+        mesh = meshio.read(b_path)
+        for where in ("point", "cell"):
+            da = arrays(a.GetPointData() if where == "point" else a.GetCellData())
+            db = arrays(b.GetPointData() if where == "point" else b.GetCellData())
+            if sorted(da) != sorted(db):
+                fails.append(f"{file}: {where} arrays {sorted(db)} in binary, {sorted(da)} in ASCII")
+            for name, va in da.items():
+                vb = db.get(name)
+                if vb is None or vb.shape != va.shape or not np.allclose(va, vb, rtol=1e-11, atol=1e-300):
+                    fails.append(f"{file}: {where} array {name!r} differs between binary and ASCII")
+                elif not np.array_equal(np.asarray(mine[name]).reshape(vb.shape), vb):
+                    fails.append(f"{file}: pipeline/c3d/vtu.py reads {name!r} unlike VTK")
+                elif where == "point" and not np.array_equal(np.asarray(mesh.point_data[name]).reshape(vb.shape), vb):
+                    fails.append(f"{file}: meshio reads {name!r} unlike VTK")
+        if not np.array_equal(vtk_to_numpy(b.GetPoints().GetData()), mine["Points"]):
+            fails.append(f"{file}: the points differ between VTK and pipeline/c3d/vtu.py")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bin", required=True)
@@ -178,11 +217,19 @@ def main():
             steps = time_steps(final)
             if list(steps.values()) != [{0: "body.vtu", 1: "contact.vtu"}] or os.path.exists(os.path.join(final, "steps")):
                 fails.append(f"output.steps = final: collection {steps}, expected body.vtu and contact.vtu only")
+        # [output] vtu = "binary": the same files with raw values, read alike by VTK, meshio and c3d.vtu.
+        binary = os.path.join(tmp, "binary")
+        if subprocess.run(cmd[:5] + [binary] + cmd[6:] + ["--set", "output.vtu=binary"]).returncode != 0:
+            fails.append("the solve with output.vtu = binary failed")
+        else:
+            fails += check_collection(binary, summary)
+            compare_binary(run, binary, fails)
         if fails:
             print(f"FAIL ({len(fails)}):\n  " + "\n  ".join(fails[:30]))
             return 1
         print(f"ok: {summary['fixed_point_iterations']} time steps, each with body and contact and every field "
-              "(VTK XML reader); friction opposes slip; stress tensor consistent")
+              "(VTK XML reader); friction opposes slip; stress tensor consistent; output.vtu = binary reads the same "
+              "in VTK, meshio and c3d.vtu")
         return 0
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -13,7 +13,8 @@ set_tests_properties(run_scene_figures_brick PROPERTIES TIMEOUT 120)
 
 # solution.pvd as ParaView groups it (time step -> parts), every file read by VTK's own XML reader
 # (python3-vtk9): body and contact face at every step with every field, stress tensor, signs; a
-# negative check rejects the old collection layout.
+# negative check rejects the old collection layout; output.vtu = binary gives the same arrays in VTK,
+# meshio and pipeline/c3d/vtu.py.
 add_test(NAME pvd_vtk_reader_brick
   COMMAND ${CONTACT3D_PYTHON} ${CMAKE_SOURCE_DIR}/tests/check_pvd_vtk.py --bin $<TARGET_FILE:contact3d>
           --scene ${CMAKE_SOURCE_DIR}/pipeline/scenes/paper_brick.toml --n 4)

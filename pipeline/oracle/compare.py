@@ -7,6 +7,7 @@ import csv
 import math
 from pathlib import Path
 
+import c3d.vtu
 from oracle.errors import SideFailed
 
 
@@ -138,19 +139,14 @@ def compare(mesh: dict, prob: dict, ff: dict, ours: dict, cells: dict, contact_t
 
 
 def read_vtu_points_and_displacement(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """Points and the "displacement" array of contact3d's body.vtu (ASCII)."""
+    """Points and the "displacement" array of contact3d's body.vtu (ASCII or binary)."""
     if not path.exists():
         raise SideFailed(f"missing output {path}")
-    text = path.read_text()
-
-    def array(marker: str) -> np.ndarray:
-        start = text.find(marker)
-        if start < 0:
-            raise SideFailed(f"{path}: no {marker!r}")
-        start = text.index(">", start) + 1
-        return np.array(text[start:text.index("</DataArray>", start)].split(), dtype=float).reshape(-1, 3)
-
-    return array('Name="Points"'), array('Name="displacement" NumberOfComponents="3"')
+    arrays = c3d.vtu.read_arrays(path)
+    for name in ("Points", "displacement"):
+        if name not in arrays:
+            raise SideFailed(f"{path}: no array {name!r}")
+    return arrays["Points"].astype(float).reshape(-1, 3), arrays["displacement"].astype(float).reshape(-1, 3)
 
 
 def body_difference(ff_field: dict, points: np.ndarray, u_ours: np.ndarray, tol: float) -> dict:

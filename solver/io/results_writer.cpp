@@ -37,8 +37,6 @@ std::vector<FixedPointStep> solve_history(const SolveResult& res) {
 
 bool has_friction(const SolveResult& res) { return contact3d::has_friction(res.n_cells, res.lambda); }
 
-using vtu::data_array;
-
 void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) {
   std::vector<Eigen::Vector2d> pts;
   std::vector<std::size_t> offsets, owner;
@@ -51,32 +49,32 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
   const MultiplierLayout at{res.n_cells, has_friction(res)};
   const bool fr = at.with_friction;
   write_file(file, [&](std::ostream& out) {
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-        << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << pts.size() << "\" NumberOfCells=\"" << owner.size()
-        << "\">\n      <CellData Scalars=\"lambda_n\">\n";
-    data_array(
-        out, "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, "Int64");
-    data_array(out, "lambda_n", 1, owner.size(), [&](std::size_t k, int) { return res.lambda[owner[k]]; });
-    data_array(out, "lambda_t", 3, owner.size(), [&](std::size_t k, int c) {
-      const int cell = static_cast<int>(owner[k]);
-      return !fr || c == 2 ? 0.0 : res.lambda[c == 0 ? at.t1(cell) : at.t2(cell)];
+    vtu::write_piece(out, vtu::Encoding::Ascii, pts.size(), owner.size(), [&](vtu::PieceWriter& piece) {
+      piece.xml("      <CellData Scalars=\"lambda_n\">\n");
+      piece.data_array(
+          "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, vtu::Type::Int64);
+      piece.data_array("lambda_n", 1, owner.size(), [&](std::size_t k, int) { return res.lambda[owner[k]]; });
+      piece.data_array("lambda_t", 3, owner.size(), [&](std::size_t k, int c) {
+        const int cell = static_cast<int>(owner[k]);
+        return !fr || c == 2 ? 0.0 : res.lambda[c == 0 ? at.t1(cell) : at.t2(cell)];
+      });
+      piece.data_array("radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
+      const std::vector<int> cs = cell_status(res.n_cells, res.lambda, res.radius);
+      piece.data_array(
+          "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, vtu::Type::Int32);
+      piece.xml("      </CellData>\n      <Points>\n");
+      piece.data_array("Points", 3, pts.size(), [&](std::size_t i, int c) {  // the cells lie in the foundation plane
+        return res.frame.to_global_point(Eigen::Vector3d(pts[i].x(), pts[i].y(), 0.0))[c];
+      });
+      piece.xml("      </Points>\n      <Cells>\n");
+      piece.data_array(
+          "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, vtu::Type::Int64);
+      piece.data_array(
+          "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, vtu::Type::Int64);
+      piece.data_array(
+          "types", 1, owner.size(), [](std::size_t, int) { return 7; }, vtu::Type::UInt8);
+      piece.xml("      </Cells>\n");
     });
-    data_array(out, "radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
-    const std::vector<int> cs = cell_status(res.n_cells, res.lambda, res.radius);
-    data_array(
-        out, "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, "Int32");
-    out << "      </CellData>\n      <Points>\n";
-    data_array(out, "Points", 3, pts.size(), [&](std::size_t i, int c) {  // the cells lie in the foundation plane
-      return res.frame.to_global_point(Eigen::Vector3d(pts[i].x(), pts[i].y(), 0.0))[c];
-    });
-    out << "      </Points>\n      <Cells>\n";
-    data_array(
-        out, "connectivity", 1, pts.size(), [](std::size_t k, int) { return k; }, "Int64");
-    data_array(
-        out, "offsets", 1, offsets.size(), [&](std::size_t e, int) { return offsets[e]; }, "Int64");
-    data_array(
-        out, "types", 1, owner.size(), [](std::size_t, int) { return 7; }, "UInt8");
-    out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   });
 }
 
@@ -240,12 +238,14 @@ void write_contact(JsonWriter& j, const SolveResult& res) {
   }
 }
 
-// The units of the reports and the steps written.
-void write_units(JsonWriter& j, const Scene& scene, const SolveResult& res) {
+// The units of the reports, the steps written and the encoding of the VTU files.
+void write_units(JsonWriter& j, const Scene& scene, const Mesh& mesh, const SolveResult& res) {
   const UnitLabels units = unit_labels(scene.output.units);
   j.begin_object("units").value("system", name_of(scene.output.units, kUnitSystemNames)).value("length", units.length);
   j.value("force", units.force).value("stress", units.stress).end_object();
   j.value("output_steps", name_of(steps_written(res) ? StepOutput::All : StepOutput::Final, kStepOutputNames));
+  const bool binary = binary_vtu(scene.output.vtu, mesh.nodes.size());
+  j.value("output_vtu", name_of(binary ? VtuFormat::Binary : VtuFormat::Ascii, kVtuFormatNames));
 }
 
 // The KKT residuals of the answer (every run writes them).
@@ -278,7 +278,7 @@ void write_summary_json(const std::filesystem::path& file, const Scene& scene, c
     write_backend(j, res, info);
     write_convergence(j, scene, res);
     write_contact(j, res);
-    write_units(j, scene, res);
+    write_units(j, scene, mesh, res);
     write_forces(j, res.forces);
     j.begin_object("time_s");
     j.value("total", info.total_seconds).value("mesh", info.mesh_seconds);

@@ -7,12 +7,9 @@
 #include <set>
 
 #include "io/atomic_file.hpp"
-#include "io/vtu_format.hpp"
 
 namespace contact3d {
 namespace {
-
-using vtu::data_array;
 
 std::array<int, 3> sorted3(std::array<int, 3> t) {
   std::sort(t.begin(), t.end());
@@ -29,31 +26,31 @@ Eigen::Vector3d traction_on_body(const FoundationFrame& frame, const ContactNode
 // Point data shared by body.vtu (every node; contact fields zero off Γc) and contact.vtu.
 // `node(i)` is the mesh node of point i.
 template <class NodeOf>
-void contact_point_data(std::ostream& out, const VtuContext& ctx, const StateView& s, const ContactNodeFields& nf,
+void contact_point_data(vtu::PieceWriter& piece, const VtuContext& ctx, const StateView& s, const ContactNodeFields& nf,
                         const std::vector<char>& on_face, std::size_t n, NodeOf node) {
   const FoundationFrame& frame = ctx.res.frame;
   auto local = [&](std::size_t i) -> Eigen::Vector3d { return frame.to_local(s.u.segment<3>(3 * node(i))); };
-  data_array(out, "gap", 1, n, [&](std::size_t i, int) { return plane_gap(ctx.mesh, frame, s.u, node(i)); });
-  data_array(out, "slip", 3, n,
-             [&](std::size_t i, int c) { return on_face[node(i)] ? tangential_part(frame, local(i))[c] : 0.0; });
-  data_array(out, "contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[node(i)]; });
-  data_array(out, "tangential_traction", 3, n,
-             [&](std::size_t i, int c) { return traction_on_body(frame, nf, node(i), false)[c]; });
-  data_array(out, "traction_on_body", 3, n,
-             [&](std::size_t i, int c) { return traction_on_body(frame, nf, node(i), true)[c]; });
-  data_array(out, "friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[node(i)]; });
-  data_array(
-      out, "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[node(i)]; }, "Int32");
+  piece.data_array("gap", 1, n, [&](std::size_t i, int) { return plane_gap(ctx.mesh, frame, s.u, node(i)); });
+  piece.data_array("slip", 3, n,
+                   [&](std::size_t i, int c) { return on_face[node(i)] ? tangential_part(frame, local(i))[c] : 0.0; });
+  piece.data_array("contact_pressure", 1, n, [&](std::size_t i, int) { return nf.pressure[node(i)]; });
+  piece.data_array("tangential_traction", 3, n,
+                   [&](std::size_t i, int c) { return traction_on_body(frame, nf, node(i), false)[c]; });
+  piece.data_array("traction_on_body", 3, n,
+                   [&](std::size_t i, int c) { return traction_on_body(frame, nf, node(i), true)[c]; });
+  piece.data_array("friction_coefficient", 1, n, [&](std::size_t i, int) { return nf.friction[node(i)]; });
+  piece.data_array(
+      "contact_status", 1, n, [&](std::size_t i, int) { return nf.status[node(i)]; }, vtu::Type::Int32);
 }
 
 // Cell data: the stress of tetrahedron tet(e) for cell e.
 template <class TetOf>
-void stress_cell_data(std::ostream& out, const TetStress& stress, std::size_t m, TetOf tet) {
-  data_array(out, "stress", 9, m, [&](std::size_t e, int c) {
+void stress_cell_data(vtu::PieceWriter& piece, const TetStress& stress, std::size_t m, TetOf tet) {
+  piece.data_array("stress", 9, m, [&](std::size_t e, int c) {
     const int t = tet(e);
     return t < 0 ? 0.0 : stress.tensor(static_cast<std::size_t>(t))(c / 3, c % 3);
   });
-  data_array(out, "von_mises", 1, m, [&](std::size_t e, int) {
+  piece.data_array("von_mises", 1, m, [&](std::size_t e, int) {
     const int t = tet(e);
     return t < 0 ? 0.0 : stress.von_mises[static_cast<std::size_t>(t)];
   });
@@ -73,22 +70,22 @@ void write_body_vtu(const std::filesystem::path& file, const VtuContext& ctx, co
   const std::vector<char>& on_face = ctx.on_face;
   write_file(file, [&](std::ostream& out) {
     const std::size_t n = mesh.nodes.size(), m = mesh.tets.size();
-    vtu::begin_piece(out, n, m);
-    out << "      <PointData Vectors=\"displacement\">\n";
-    data_array(out, "displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * i + c]; });
-    data_array(out, "displacement_norm", 1, n, [&](std::size_t i, int) { return s.u.segment<3>(3 * i).norm(); });
-    contact_point_data(out, ctx, s, nf, on_face, n, [](std::size_t i) { return static_cast<int>(i); });
-    data_array(
-        out, "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, "Int32");
-    out << "      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n";
-    stress_cell_data(out, stress, m, [](std::size_t e) { return static_cast<int>(e); });
-    data_array(
-        out, "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, "Int32");
-    out << "      </CellData>\n";
-    vtu::geometry(
-        out, n, [&](std::size_t i, int c) { return mesh.nodes[i][c]; }, m, 4,
-        [&](std::size_t e, int a) { return mesh.tets[e][a]; }, 10);
-    vtu::end_piece(out);
+    vtu::write_piece(out, ctx.encoding, n, m, [&](vtu::PieceWriter& piece) {
+      piece.xml("      <PointData Vectors=\"displacement\">\n");
+      piece.data_array("displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * i + c]; });
+      piece.data_array("displacement_norm", 1, n, [&](std::size_t i, int) { return s.u.segment<3>(3 * i).norm(); });
+      contact_point_data(piece, ctx, s, nf, on_face, n, [](std::size_t i) { return static_cast<int>(i); });
+      piece.data_array(
+          "on_contact_face", 1, n, [&](std::size_t i, int) { return int(on_face[i]); }, vtu::Type::Int32);
+      piece.xml("      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n");
+      stress_cell_data(piece, stress, m, [](std::size_t e) { return static_cast<int>(e); });
+      piece.data_array(
+          "physical_group", 1, m, [&](std::size_t e, int) { return mesh.tet_group[e]; }, vtu::Type::Int32);
+      piece.xml("      </CellData>\n");
+      piece.geometry(
+          n, [&](std::size_t i, int c) { return mesh.nodes[i][c]; }, m, 4,
+          [&](std::size_t e, int a) { return mesh.tets[e][a]; }, 10);
+    });
   });
 }
 
@@ -108,32 +105,37 @@ void write_contact_vtu(const std::filesystem::path& file, const VtuContext& ctx,
   const TetStress& stress = fields.stress;
   const std::vector<char>& on_face = ctx.on_face;
   write_file(file, [&](std::ostream& out) {
-    vtu::begin_piece(out, n, m);
-    out << "      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n";
-    auto node = [&](std::size_t i) { return global[i]; };
-    auto local_u = [&](std::size_t i) -> Eigen::Vector3d {
-      return ctx.res.frame.to_local(s.u.segment<3>(3 * node(i)));
-    };
-    data_array(out, "displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * node(i) + c]; });
-    data_array(out, "wn", 1, n, [&](std::size_t i, int) { return -local_u(i).z(); });
-    data_array(out, "slip_norm", 1, n, [&](std::size_t i, int) { return local_u(i).head<2>().norm(); });
-    contact_point_data(out, ctx, s, nf, on_face, n, node);
-    out << "      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n";
-    stress_cell_data(out, stress, m, [&](std::size_t e) { return ctx.face_tet[e]; });
-    data_array(
-        out, "physical_group", 1, m, [&](std::size_t e, int) { return ctx.face_group[e]; }, "Int32");
-    out << "      </CellData>\n";
-    vtu::geometry(
-        out, n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
-        [&](std::size_t e, int a) { return local[face.triangles[e][a]]; }, 5);
-    vtu::end_piece(out);
+    vtu::write_piece(out, ctx.encoding, n, m, [&](vtu::PieceWriter& piece) {
+      piece.xml("      <PointData Scalars=\"contact_pressure\" Vectors=\"displacement\">\n");
+      auto node = [&](std::size_t i) { return global[i]; };
+      auto local_u = [&](std::size_t i) -> Eigen::Vector3d {
+        return ctx.res.frame.to_local(s.u.segment<3>(3 * node(i)));
+      };
+      piece.data_array("displacement", 3, n, [&](std::size_t i, int c) { return s.u[3 * node(i) + c]; });
+      piece.data_array("wn", 1, n, [&](std::size_t i, int) { return -local_u(i).z(); });
+      piece.data_array("slip_norm", 1, n, [&](std::size_t i, int) { return local_u(i).head<2>().norm(); });
+      contact_point_data(piece, ctx, s, nf, on_face, n, node);
+      piece.xml("      </PointData>\n      <CellData Scalars=\"von_mises\" Tensors=\"stress\">\n");
+      stress_cell_data(piece, stress, m, [&](std::size_t e) { return ctx.face_tet[e]; });
+      piece.data_array(
+          "physical_group", 1, m, [&](std::size_t e, int) { return ctx.face_group[e]; }, vtu::Type::Int32);
+      piece.xml("      </CellData>\n");
+      piece.geometry(
+          n, [&](std::size_t i, int c) { return mesh.nodes[global[i]][c]; }, m, 3,
+          [&](std::size_t e, int a) { return local[face.triangles[e][a]]; }, 5);
+    });
   });
 }
 
 }  // namespace
 
 VtuContext::VtuContext(const Scene& scene_, const Mesh& mesh_, const SolveResult& res_, const TetMaterials& materials_)
-    : scene(scene_), mesh(mesh_), res(res_), materials(materials_), on_face(mesh_.nodes.size(), 0) {
+    : scene(scene_),
+      mesh(mesh_),
+      res(res_),
+      materials(materials_),
+      on_face(mesh_.nodes.size(), 0),
+      encoding(binary_vtu(scene_.output.vtu, mesh_.nodes.size()) ? vtu::Encoding::Binary : vtu::Encoding::Ascii) {
   const ContactFace& face = res.face;
   for (const auto& tri : face.triangles)
     for (int v : tri) on_face[v] = 1;

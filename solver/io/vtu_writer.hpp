@@ -1,7 +1,7 @@
 // ParaView files of one state of a solve (a fixed-point step or the final answer): the whole body
 // (body.vtu) and the contact face Γc (contact.vtu), each with every field, so that any time step
 // of solution.pvd shows the same things. The fields are computed in model/solution_fields.hpp;
-// this file only formats them (ASCII VTK XML UnstructuredGrid).
+// this file only formats them (VTK XML UnstructuredGrid, ASCII or binary as output.vtu says).
 //
 // Point data: displacement, gap (height above the foundation after the displacement), slip (u_t on
 // Γc), contact_pressure (λ_n, the foundation's pressure on the body), tangential_traction (the
@@ -15,6 +15,7 @@
 #include <filesystem>
 
 #include "fem/elasticity.hpp"
+#include "io/vtu_format.hpp"
 #include "mesh/mesh.hpp"
 #include "model/solution_fields.hpp"
 
@@ -30,6 +31,7 @@ struct VtuContext {
   const TetMaterials& materials;
   std::vector<char> on_face;              // per mesh node
   std::vector<int> face_tet, face_group;  // per triangle of Γc
+  vtu::Encoding encoding;                 // output.vtu resolved for this mesh
 };
 
 // body.vtu and (when the scene has a contact face) contact.vtu of one state; the state's fields

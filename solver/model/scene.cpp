@@ -480,10 +480,11 @@ void parse_solver(const toml::table& sv, const std::filesystem::path& base, Scen
 
 // [output]: the folder, the steps written and the units of the reports.
 void parse_output(const toml::table& out, const std::filesystem::path& base, Scene& s) {
-  check_keys(out, "output", {"dir", "steps", "units"});
+  check_keys(out, "output", {"dir", "steps", "units", "vtu"});
   if (out.contains("dir")) s.output.dir = resolve(base, get_string(out, "output", "dir", ""));
   get_enum(out, "output", "steps", kStepOutputNames, s.output.steps);
   get_enum(out, "output", "units", kUnitSystemNames, s.output.units);
+  get_enum(out, "output", "vtu", kVtuFormatNames, s.output.vtu);
 }
 
 }  // namespace
