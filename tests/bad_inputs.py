@@ -277,6 +277,10 @@ def c_slip_bound_negative(c):
     return ["check", c.scene(g="-1.0")], ["slip_bound"]
 
 
+def c_young_subnormal(c):
+    return ["check", c.scene(young="1e-310")], ["material.young", "subnormal"]
+
+
 def c_nan_young(c):
     return ["check", c.scene(young="nan")], ["material.young", "finite"]
 

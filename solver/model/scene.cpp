@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -152,6 +153,12 @@ Material get_material(const toml::table& t, const std::string& where) {
   m.young = get_number(t, where, "young", 0, true);
   m.poisson = get_number(t, where, "poisson", 0, true);
   if (!(m.young > 0)) throw InputError(where + ".young must be > 0 (Pa), got " + number(m.young));
+  if (!std::isnormal(m.young))  // 1e-310: the run blamed the contact cells' stability condition instead
+    throw InputError(where + ".young = " + number(m.young) +
+                     " is a subnormal number, below double precision's smallest normal one (" +
+                     number(std::numeric_limits<double>::min(), 3) +
+                     "): no stiffness can be computed from it; give the modulus in the scene's units (" +
+                     "output.units, Pa by default)");
   if (!(m.poisson > -1 && m.poisson < 0.5))
     throw InputError(where + ".poisson must lie in (-1, 0.5), got " + number(m.poisson));
   return m;
