@@ -38,9 +38,11 @@ constexpr double kPoorlyConditionedDual = 1e8;
     cells += "\n  cell " + std::to_string(cell) + " [" + number(c.lo.x()) + ", " + number(c.hi.x()) + "] x [" +
              number(c.lo.y()) + ", " + number(c.hi.y()) + "], area " + number(c.area);
   }
-  throw InputError("the multiplier partition violates the stability condition (5.1): " + std::to_string(count) +
-                   " rows of the contact operator are linearly dependent, e.g." + cells +
-                   "\nuse a larger contact.cell_size (H), e.g. twice the current one");
+  throw InputError(
+      "the multiplier partition violates the stability condition (5.1): " + std::to_string(count) +
+      " rows of the contact operator are linearly dependent" +
+      (cells.empty() ? std::string(" (no row could be named: check the moduli and units)") : ", e.g." + cells) +
+      "\nuse a larger contact.cell_size (H), e.g. twice the current one");
 }
 
 // Stability (5.1): 𝔹 has full row rank iff Q = 𝔹K⁻¹𝔹ᵀ is positive definite. Returns an
