@@ -256,9 +256,9 @@ void print_dual_plan(const DualPlan& plan, const std::string& length_unit) {
         "does not fit, and the scene names a dense solver.schur: the solve would be refused (use a larger "
         "contact.cell_size, or solver.schur = \"matrix_free\")";
   else if (plan.method == "matrix_free")
-    route +=
-        " (Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps "
-        "the dense Q)";
+    route += " (" + (plan.route_reason.empty() ? std::string() : plan.route_reason + "; ") +
+             "Q not formed: each QP product through the factor of K, slow; a larger contact.cell_size keeps the "
+             "dense Q)";
   const std::string sizes =
       (plan.cell_sizes.empty() ? fmt::format("H = {:.4g} {}", plan.cell_size, length_unit) : plan.cell_sizes) +
       describe_regions(plan.regions);

@@ -202,12 +202,40 @@ DenseDualMemory dense_dual_memory(const QpSettings& qp, int rows) {
           static_cast<double>(available_memory_bytes())};
 }
 
-// Q is dense (m²): where it and its working copies would not fit, "auto" goes matrix-free
-// (dual_route.hpp) and a dense route the scene named is refused rather than dying in the allocator.
-DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactOperator& op, Progress& report,
-                           SolveResult& res) {
+std::string gib(double bytes) { return number(bytes / (1 << 30), 3) + " GiB"; }
+
+// "auto" in the serial build with a large dense Q: whether the augmented factor with Q would crowd the
+// memory where the matrix-free route leaves room (dual_route.hpp, augmented_crowds_memory), and if so why.
+std::optional<std::string> augmented_crowds(const Scene& scene, std::optional<DualMethod> chosen,
+                                            const DenseDualMemory& memory, const Eigen::SparseMatrix<double>& K,
+                                            const ContactOperator& op) {
+  if (scene.solver.dual_method != DualMethod::Auto || chosen != DualMethod::Augmented || !(memory.available > 0) ||
+      memory.bytes <= kPredictAugmentedShare * memory.available || K.size() == 0)
+    return std::nullopt;
+  const FactorPrediction augmented = SparseCholesky::predict(K, &op.B);
+  if (!augmented_crowds_memory(augmented.factor_nonzeros, op.rows(), memory.bytes, memory.available))
+    return std::nullopt;
+  return "the augmented factor (nnz(L) = " + number(augmented.factor_nonzeros, 3) + ", " +
+         gib(8.0 * augmented.factor_nonzeros) + ") with the dense Q and its working copies (" + gib(memory.bytes) +
+         ") would need about " + gib(kFactorOverhead * 8.0 * augmented.factor_nonzeros + memory.bytes) + " of the " +
+         gib(memory.available) + " this process can get";
+}
+
+// Q is dense (m²): where it and its working copies would not fit, or would crowd the memory beside the
+// augmented factor, "auto" goes matrix-free (dual_route.hpp) and a dense route the scene named is refused
+// rather than dying in the allocator.
+DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactOperator& op,
+                           const Eigen::SparseMatrix<double>& K, Progress& report, SolveResult& res) {
   const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
   const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, method, memory.fits());
+  if (const std::optional<std::string> crowded = augmented_crowds(scene, chosen, memory, K, op)) {
+    res.notes.push_back(*crowded +
+                        ": Q is not formed (solver.schur = \"matrix_free\"); each of its products goes "
+                        "through the factor of K alone, and the QP's Newton steps solve their systems by CG — slower "
+                        "than the dense route, which a larger contact.cell_size (H) keeps");
+    report.stage("  " + *crowded + ": matrix-free dual, each QP product through the factor of K");
+    return DualMethod::MatrixFree;
+  }
   const std::string sizes = std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
                             " multipliers): the dense dual operator and its working copies would need " +
                             number(memory.bytes / (1ull << 30)) + " GiB, and this machine has " +
@@ -593,8 +621,6 @@ struct RunningStage {
   }
 };
 
-std::string gib(double bytes) { return number(bytes / (1 << 30), 3) + " GiB"; }
-
 double stage_seconds(const SolveResult& res, const std::string& stage) {
   for (const auto& [name, seconds] : res.seconds)
     if (name == stage) return seconds;
@@ -612,8 +638,7 @@ double stage_seconds(const SolveResult& res, const std::string& stage) {
 // comes within kTightMemory of what the process can get, a warning says so before the factorization: the
 // system may kill the run without a message (under ulimit -v, CHOLMOD's own refusal follows: the brick at
 // n = 24 needs about 0.75 GiB of address space there, 1.45 times its factor's values).
-constexpr double kFactorOverhead = 1.2;
-constexpr double kTightMemory = 0.85;
+// (kFactorOverhead and kTightMemory: model/dual_route.hpp.)
 // Throws the refusal where the factor with `lnz` nonzeros and the dense dual cannot fit; returns the
 // warning where the memory is tight, else an empty string.
 std::string require_factor_fits(double lnz, double dense_dual_bytes) {
@@ -994,7 +1019,7 @@ void run_stages(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce& t
   const ContactOperator op = contact_stage(scene, mesh, res);
   clock.lap("contact");
   describe_contact(report, res, op);
-  method = fit_dual_method(scene, method, op, report, res);
+  method = fit_dual_method(scene, method, op, disc.K, report, res);
   const bool matrix_free = method == DualMethod::MatrixFree;
 
   const FaceDofs face_dofs(res.face, res.dofs, mesh.nodes.size());
@@ -1151,9 +1176,9 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
     RunningStage stage;
     second = solve_stages(finer, mesh, thickness, on_step, report, stage, &first_factor);
   } catch (const InputError& e) {  // e.g. the finer partition violates (5.1)
-    refinement.outcome = was + "; " + finer_cells + " were refused (" + e.what() + "): the answer is the 2h one";
+    refinement.outcome = finer_cells + " were refused (" + e.what() + "): the answer is the 2h one";
   } catch (const std::bad_alloc&) {
-    refinement.outcome = was + "; " + finer_cells + " did not fit in memory: the answer is the 2h one";
+    refinement.outcome = finer_cells + " did not fit in memory: the answer is the 2h one";
   }
   first_factor.factor.reset();
   if (second) {
@@ -1161,15 +1186,19 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
     const FinerAnswer verdict = compare_finer_answer(first, *second);
     refinement.kept_finer = verdict.better();
     refinement.outcome =
-        was + "; with " + finer_cells + " (" + cell_sizes(*second) +
+        "with " + finer_cells + " (" + cell_sizes(*second) +
         (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") +
-        "): " + share_of_displacement(second->penetration_ratio) + " it" +
+        "): nodes penetrate by " + share_of_displacement(second->penetration_ratio) + " the largest displacement" +
         (refinement.kept_finer        ? ", the answer given"
          : !verdict.penetrates_less   ? ", no better: the answer is the 2h one"
          : verdict.loses_conditioning ? " but its Q is ill-conditioned (cond(Q) ≈ " +
                                             number(second->stability_condition, 3) + "): the answer is the 2h one"
                                       : " but that solve ended with " + second->status + ": the answer is the 2h one");
   }
+  // The console's last stage lines are the second solve's: say which answer is given (a helper read
+  // "585 cells, 1 755 multipliers" above an answer on the 347 cells of 2h).
+  report.stage("contact.cell_size = \"auto\": " + refinement.outcome);
+  refinement.outcome = was + "; " + refinement.outcome;
   SolveResult kept = refinement.kept_finer ? std::move(*second) : std::move(first);
   if (second) add_stage_seconds(kept.seconds, refinement.kept_finer ? first.seconds : second->seconds);
   kept.notes.push_back("contact.cell_size = \"auto\": " + refinement.outcome);
@@ -1220,8 +1249,16 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce
   const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
   const DualMethod resolved = resolved_dual_method(scene.solver.dual_method);
   require_backend(scene, resolved);
-  const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
+  std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
   DualPlan plan;
+  const bool may_crowd = scene.solver.dual_method == DualMethod::Auto && chosen == DualMethod::Augmented &&
+                         memory.bytes > kPredictAugmentedShare * memory.available;
+  const Eigen::SparseMatrix<double> K_for_route =
+      may_crowd ? assemble_stiffness(mesh, res.dofs, tet_materials(scene, mesh)) : Eigen::SparseMatrix<double>();
+  if (const std::optional<std::string> crowded = augmented_crowds(scene, chosen, memory, K_for_route, op)) {
+    plan.route_reason = *crowded;
+    chosen = DualMethod::MatrixFree;
+  }
   plan.cells = op.r;
   plan.multipliers = op.rows();
   plan.cell_size = res.cell_size;

@@ -158,6 +158,7 @@ struct DualPlan {
   int regions = 1;                              // parts of Γc no cell spans (model/contact_regions.hpp)
   double dense_bytes = 0, available_bytes = 0;  // available 0: unknown
   std::string method;
+  std::string route_reason;           // why "auto" took the matrix-free route though the dense Q fits (else empty)
   std::string thin_body;              // contact.cell_size = "auto" found the body thin and starts on cells of 1.5h: why
   std::vector<std::string> warnings;  // the partition's and the memory's, as the solve gives them
   // The CHOLMOD factor the route forms (K's, or K's with the multipliers), from its symbolic analysis,

@@ -1,5 +1,6 @@
 #include "model/dual_route.hpp"
 
+#include <algorithm>
 #include <limits>
 
 namespace contact3d {
@@ -12,6 +13,14 @@ std::optional<DualMethod> dual_method_for_memory(DualMethod requested, DualMetho
   if (dense_Q_fits || resolved == DualMethod::MatrixFree) return resolved;
   if (requested == DualMethod::Auto && resolved == DualMethod::Augmented) return DualMethod::MatrixFree;
   return std::nullopt;
+}
+
+bool augmented_crowds_memory(double augmented_lnz, int rows, double dense_bytes, double available) {
+  if (!(available > 0)) return false;
+  const double q_block = 0.5 * rows * (rows + 1.0);
+  const double augmented = kFactorOverhead * 8.0 * augmented_lnz + dense_bytes;
+  const double matrix_free = kFactorOverhead * 8.0 * std::max(augmented_lnz - q_block, 0.0);
+  return augmented > kTightMemory * available && matrix_free <= kTightMemory * available;
 }
 
 double coarse_space_bytes(int multipliers, int groups) { return 4.0 * 8.0 * multipliers * static_cast<double>(groups); }

@@ -17,6 +17,23 @@ namespace contact3d {
 // by check_dual_stability, model/stability_check.hpp).
 double dense_dual_bytes_per_entry(const QpSettings& qp, int rows);
 
+// A factor needs kFactorOverhead times its values (CHOLMOD's indices and workspace); a run whose need
+// comes within kTightMemory of what the process can get is warned (the system may kill it without a
+// message), beyond it refused (contact_solver.cpp, require_factor_fits).
+inline constexpr double kFactorOverhead = 1.2;
+inline constexpr double kTightMemory = 0.85;
+
+// "auto" on the augmented factor, whose factor holds Q's dense block too (the multipliers ordered last:
+// m(m + 1)/2 of its `augmented_lnz` entries), with the dense Q's working copies (`dense_bytes`) on top: true
+// where that whole need passes kTightMemory of `available` while the matrix-free route's (the factor of K
+// alone, without Q's block) does not — a face of 27 648 multipliers on a slab was sent to the augmented
+// factor with 22.1 of 22.3 GiB needed and a warning, where matrix-free needed 2.3 GiB. Where neither fits,
+// false: the augmented route's refusal says what it needs.
+bool augmented_crowds_memory(double augmented_lnz, int rows, double dense_bytes, double available);
+// Beyond this share of the memory for the dense Q alone, "auto" predicts the augmented factor (one more
+// symbolic analysis) before choosing it; below it the factor and Q leave room on any body measured.
+inline constexpr double kPredictAugmentedShare = 0.2;
+
 // `requested`: solver.schur as the scene states it; `resolved`: what "auto" became for the build
 // (augmented; mumps in the distributed build). nullopt: the dense Q does not fit and nothing else
 // may be taken (a dense method the scene named, or MUMPS, whose Schur complement is dense).

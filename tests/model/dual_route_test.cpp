@@ -22,6 +22,21 @@ TEST(DualRoute, AutoGoesMatrixFreeWhereQDoesNotFitAndANamedDenseRouteIsRefused) 
   EXPECT_FALSE(dual_method_for_memory(DualMethod::MumpsPetsc, DualMethod::MumpsPetsc, false));
 }
 
+// A helper's slab face: 27 648 multipliers, the dense Q with its working copies 14.2 GiB, the whole run
+// 22.1 GiB with the augmented factor, 22.3 GiB available; matrix-free it needed 2.29 GiB. There: matrix-free.
+// The same with room to spare, or where K's factor alone would not leave room either (the augmented route's
+// refusal then says what it needs), or with the memory unknown: the augmented route stays.
+TEST(DualRoute, AutoLeavesTheAugmentedFactorWhereItAndQCrowdTheMemory) {
+  const double GiB = double(1 << 30);
+  const int m = 27648;
+  const double dense = 14.2 * GiB;
+  const double augmented_lnz = (22.1 * GiB - dense) / (kFactorOverhead * 8.0);
+  EXPECT_TRUE(augmented_crowds_memory(augmented_lnz, m, dense, 22.3 * GiB));
+  EXPECT_FALSE(augmented_crowds_memory(augmented_lnz, m, dense, 64 * GiB));
+  EXPECT_FALSE(augmented_crowds_memory(augmented_lnz, m, dense, 4 * GiB));
+  EXPECT_FALSE(augmented_crowds_memory(augmented_lnz, m, dense, 0));
+}
+
 TEST(DualRoute, TheTwoLevelPreconditionerOnlyWhereItsArraysFit) {
   // 30 000 multipliers, 192 groups: 4 · 8 · 30 000 · 192 bytes = 176 MiB.
   EXPECT_NEAR(coarse_space_bytes(30000, 192), 184.32e6, 1.0);
