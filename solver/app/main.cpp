@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <fmt/core.h>
@@ -595,10 +596,19 @@ int run_session(int argc, char** argv) {
 
 }  // namespace
 
+// The restart through /proc/self/exe (restart_with_huge_pages) leaves the process named "exe" in ps, top
+// and pgrep, where a helper could not find a running solve: named again after the program's file (at
+// most 15 characters, the kernel's limit).
+void name_process_after(const char* program) {
+  const std::string name = std::filesystem::path(program ? program : "contact3d").filename().string().substr(0, 15);
+  prctl(PR_SET_NAME, name.c_str(), 0, 0, 0);
+}
+
 int main(int argc, char** argv) {
   open_closed_standard_streams();
   if (serial_build_under_mpirun()) end_process(2);
   restart_with_huge_pages(argv);  // returns in the restarted process (base/memory.hpp)
-  keep_freed_memory();            // stages reuse the pages earlier stages freed (base/memory.hpp)
+  name_process_after(argv[0]);
+  keep_freed_memory();  // stages reuse the pages earlier stages freed (base/memory.hpp)
   end_process(run_session(argc, argv));
 }

@@ -238,8 +238,8 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
   }
   const std::string sizes = std::to_string(op.r) + " cells (" + std::to_string(op.rows()) +
                             " multipliers): the dense dual operator and its working copies would need " +
-                            number(memory.bytes / (1ull << 30)) + " GiB, and this machine has " +
-                            number(memory.available / (1ull << 30)) + " GiB available";
+                            number(memory.bytes / (1ull << 30)) + " GiB, and this process can get " +
+                            number(memory.available / (1ull << 30)) + " GiB";
   if (!chosen)
     throw InputError("the contact partition has " + sizes + "; use a larger contact.cell_size (H)" +
                      (is_mumps(method) ? std::string()
@@ -940,7 +940,9 @@ std::unique_ptr<DualProblem> factor_with_multipliers(const Scene& scene, const M
   if (method == DualMethod::MumpsPetsc) input.near_null_space = rigid_body_modes(mesh, res.dofs);
   input.report = [&report](const std::string& line) { report.stage(line); };
   std::unique_ptr<DualProblem> dual = [&] {
-    const Progress::Watch factoring(report, "factorization");
+    const Progress::Watch factoring(report, method == DualMethod::MatrixFree
+                                                ? "factorization of K, then h and Q's diagonal by forward solves"
+                                                : "factorization");
     return dual_problem(method, input, scene, kept, clock, report, res);
   }();
   const double done_s = stage_seconds(res, "factorization") + stage_seconds(res, "dual");
@@ -1187,8 +1189,8 @@ SolveResult refine_unresolved_contact(const Scene& scene, const Mesh& mesh, cons
     refinement.kept_finer = verdict.better();
     refinement.outcome =
         "with " + finer_cells + " (" + cell_sizes(*second) +
-        (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") +
-        "): nodes penetrate by " + share_of_displacement(second->penetration_ratio) + " the largest displacement" +
+        (second->factor_reused ? ", Q formed from the first solve's factor of K" : "") + "): nodes penetrate by " +
+        share_of_displacement(second->penetration_ratio) + " the largest displacement" +
         (refinement.kept_finer        ? ", the answer given"
          : !verdict.penetrates_less   ? ", no better: the answer is the 2h one"
          : verdict.loses_conditioning ? " but its Q is ill-conditioned (cond(Q) ≈ " +
