@@ -325,7 +325,8 @@ std::string kept_or_temporary_mesh(std::string description, const fs::path& work
   return description;
 }
 
-int run_check(const SolveArgs& args) {
+// `check`, with `step` naming what it does at each moment (for run_check's out-of-memory message).
+int check_scene(const SolveArgs& args, std::string& step) {
   const Scene user_scene = load_scene(args.scene, args.sets);
   const fs::path work = fs::temp_directory_path() / ("contact3d_check_" + std::to_string(::getpid()));
   struct RemoveOnExit {  // gmsh's scratch folder goes away even when meshing throws
@@ -352,6 +353,8 @@ int run_check(const SolveArgs& args) {
     const std::string name = g.name.empty() ? std::to_string(g.tag) : g.name;
     say("  {:<16} dim {}  {} {}\n", "\"" + name + "\"", g.dim, count, g.dim == 2 ? "triangles" : "tetrahedra");
   }
+  step = "checking the mesh and the loads (" + count(static_cast<long long>(user_mesh.nodes.size())) + " nodes, " +
+         count(static_cast<long long>(user_mesh.tets.size())) + " tetrahedra)";
   // A tilted or shifted foundation: the checks below see the problem in the plane's frame, as the solve does.
   Scene resolved_scene = user_scene;  // [[boundary.force]] as tractions, in the mesh's own frame
   resolve_total_forces(resolved_scene, user_mesh);
@@ -408,10 +411,23 @@ int run_check(const SolveArgs& args) {
       say("  and {} triangles (area {:.6g} {}²) whose every node is clamped or prescribed: left to that "
           "condition\n",
           face.held_triangles, face.held_area, length);
+    step = "planning the dual: the contact partition, K for " + count(static_cast<long long>(3 * mesh.nodes.size())) +
+           " unknowns at most and the symbolic analysis of its factor";
     print_dual_plan(plan_dual(scene, mesh, thickness), length);
   }
   say("ok: scene and mesh are consistent (stability (5.1) is checked when solving)\n");
   return 0;
+}
+
+// `check` under a memory limit it cannot meet says where, as the solve does (it said only "out of memory").
+int run_check(const SolveArgs& args) {
+  std::string step = "reading the scene and its mesh";
+  try {
+    return check_scene(args, step);
+  } catch (const std::bad_alloc&) {
+    throw InputError("out of memory while " + step + "; " + bytes_text(static_cast<double>(available_memory_bytes())) +
+                     " are available to this process now: use a coarser mesh or a machine with more memory");
+  }
 }
 
 // The processes an MPI launcher started this one among (Open MPI's mpirun, MPICH's and Intel's
