@@ -130,7 +130,7 @@ Eigen::VectorXd start_residual(const BoxDiscQP& qp, const std::vector<Direction>
 // `flexible`: β of Polak-Ribière, for a preconditioner symmetric only up to rounding.
 void iterate_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const ReducedPreconditioner& precondition,
                 bool single, bool flexible, double tolerance, int max_iterations, Eigen::VectorXd& y, Eigen::VectorXd r,
-                ReducedCgResult& result) {
+                ReducedCgResult& result, const CgHeartbeat& beat = {}) {
   Eigen::VectorXd z = precondition(r);
   Eigen::VectorXd p = z;
   double rz = r.dot(z);
@@ -138,6 +138,7 @@ void iterate_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Redu
     const Eigen::VectorXd Ap = reduced_product(qp, d, p, single);
     ++result.iterations;
     if (single) ++result.single_products;
+    if (beat) beat(result);
     const double curvature = p.dot(Ap);
     if (!(curvature > 0)) break;  // not positive definite in this direction (rounding): stop here
     const double alpha = rz / curvature;
@@ -170,7 +171,7 @@ ReducedCgResult start(const BoxDiscQP& qp, const std::vector<Direction>& d, cons
 }  // namespace
 
 ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
-                                 double tolerance, int max_iterations, Eigen::VectorXd& y) {
+                                 double tolerance, int max_iterations, Eigen::VectorXd& y, const CgHeartbeat& beat) {
   Eigen::VectorXd r;
   ReducedCgResult result = start(qp, d, b, tolerance, y, r);
   if (result.converged) return result;
@@ -200,7 +201,7 @@ ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Directio
   const ReducedPreconditioner precondition = [&](const Eigen::VectorXd& v) {
     return two_level ? two_level->apply(v) : fine(v);
   };
-  iterate_cg(qp, d, precondition, single, false, tolerance, max_iterations, y, r, result);
+  iterate_cg(qp, d, precondition, single, false, tolerance, max_iterations, y, r, result, beat);
   return result;
 }
 

@@ -41,9 +41,12 @@ struct ReducedCgResult {
 // asks to cut the start's residual (computed in double) by at most kSingleCgReduction, the
 // iterations' products are single: their rounding (about 4e-7 of the product on the thin slab)
 // enters the recursive residual relative to the corrections, which sum to about the start's residual.
+// `beat` (may be empty) is called after each iteration with the counts so far (the QP's heartbeat).
 inline constexpr double kSingleCgReduction = 1e-4;
+using CgHeartbeat = std::function<void(const ReducedCgResult& so_far)>;
 ReducedCgResult solve_reduced_cg(const BoxDiscQP& qp, const std::vector<Direction>& d, const Eigen::VectorXd& b,
-                                 double tolerance, int max_iterations, Eigen::VectorXd& y);
+                                 double tolerance, int max_iterations, Eigen::VectorXd& y,
+                                 const CgHeartbeat& beat = {});
 
 // The same preconditioned by the caller's approximate solve M⁻¹ instead (a Newton step's solve
 // through a single factor that its refinement could not converge, ssn.cpp): products in double, and

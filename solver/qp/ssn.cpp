@@ -166,10 +166,11 @@ constexpr double kMaxForcing = 0.01;
 constexpr double kEarlyExit = 0.5;
 constexpr int kMaxExitSolves = 20;
 bool newton_target_by_cg(const BoxDiscQP& qp, const ReducedStep& step, const Eigen::VectorXd& lambda,
-                         double cg_tolerance, Eigen::VectorXd& lambda_new, QpResult& result, double& cost) {
+                         double cg_tolerance, Eigen::VectorXd& lambda_new, QpResult& result, double& cost,
+                         const CgHeartbeat& beat) {
   const Eigen::VectorXd b = restrict_to(step.directions, qp.h - qp.apply(step.lambda_fixed));
   Eigen::VectorXd y = restrict_to(step.directions, lambda);  // CG starts from the current iterate
-  const ReducedCgResult cg = solve_reduced_cg(qp, step.directions, b, cg_tolerance, kMaxCgIterations, y);
+  const ReducedCgResult cg = solve_reduced_cg(qp, step.directions, b, cg_tolerance, kMaxCgIterations, y, beat);
   result.hessian_products += cg.iterations;
   result.coarse_products += cg.coarse_products;
   result.single_products += cg.single_products;
@@ -298,8 +299,20 @@ class SemismoothNewton {
 
   void heartbeat() const {
     if (settings_.progress)
-      settings_.progress->beat(
+      settings_.progress->beat_each_call(
           [&] { return qp_heartbeat_line("ssn", result_, settings_.rtol, *settings_.progress, settings_.earlier); });
+  }
+
+  // Inside a Newton step's CG (matrix-free: each product through the factor of K), its products so far.
+  void cg_heartbeat(const ReducedCgResult& cg) const {
+    if (!settings_.progress) return;
+    settings_.progress->beat_each_call([&] {
+      QpResult so_far = result_;
+      so_far.hessian_products += cg.iterations;
+      return qp_heartbeat_line("ssn", so_far, settings_.rtol, *settings_.progress, settings_.earlier) +
+             ", Newton step " + std::to_string(result_.newton_steps + 1) + " by CG: " + std::to_string(cg.iterations) +
+             " products";
+    });
   }
 
   // The minimiser over the directions the active sets of z leave free (`target`), those sets
@@ -312,7 +325,8 @@ class SemismoothNewton {
       // Forcing term: the free gradient CG leaves is a fraction of ‖gᴾ‖ that shrinks with it
       // (superlinear near the solution), never asked below what the stopping test needs.
       const double forcing = std::min(kMaxForcing, std::sqrt(pg_ / h_norm_));
-      return newton_target_by_cg(qp_, step, lambda_, std::max(forcing * pg_, 0.1 * tol_), target, result_, cost);
+      return newton_target_by_cg(qp_, step, lambda_, std::max(forcing * pg_, 0.1 * tol_), target, result_, cost,
+                                 [this](const ReducedCgResult& cg) { cg_heartbeat(cg); });
     }
     return solve_reduced(step, target, cost);
   }

@@ -13,6 +13,20 @@
 namespace contact3d {
 namespace {
 
+// beat() reads the clock once in 32 calls (cheap in MPGP's millisecond iterations); beat_each_call() on
+// every call, for loops whose passes take seconds (a matrix-free Newton step's CG products), which were
+// silent for minutes. A period of zero: a line whenever the clock is read.
+TEST(Progress, BeatEachCallReadsTheClockEveryTime) {
+  std::vector<std::string> lines;
+  Progress progress([](const std::string&) {}, [&](const std::string& line) { lines.push_back(line); }, 0.0);
+  const auto line = [] { return std::string("beat"); };
+  progress.beat(line);  // starts the clock
+  for (int k = 0; k < 5; ++k) progress.beat(line);
+  EXPECT_TRUE(lines.empty());
+  for (int k = 0; k < 3; ++k) progress.beat_each_call(line);
+  EXPECT_EQ(lines.size(), 3u);
+}
+
 TEST(Progress, AWatchSaysWhatStillRunsUntilTheCallReturns) {
   std::mutex mutex;
   std::vector<std::string> lines;
