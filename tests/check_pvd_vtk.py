@@ -155,12 +155,14 @@ def old_style_collection(run, copy):
 
 
 def compare_binary(ascii_run, binary_run, fails):
-    """output.vtu = binary: the same arrays as the ASCII files (to their 12 printed digits), read by
+    """output.vtu = binary: the same arrays as the ASCII files (to their 12 printed digits; the body, the
+    contact face at every step, and the cells of T_H), read by
     VTK's reader, by meshio (the plots' reader) and by pipeline/c3d/vtu.py (the scripts' reader)."""
     summary = json.load(open(os.path.join(binary_run, "summary.json")))
     if summary.get("output_vtu") != "binary":
         fails.append(f"output.vtu = binary: summary.json says output_vtu = {summary.get('output_vtu')!r}")
-    files = [f for parts in time_steps(ascii_run).values() for f in parts.values()] + ["body.vtu", "contact.vtu"]
+    files = [f for parts in time_steps(ascii_run).values() for f in parts.values()] + ["body.vtu", "contact.vtu",
+                                                                                     "contact_cells.vtu"]
     for file in files:
         a_path, b_path = os.path.join(ascii_run, file), os.path.join(binary_run, file)
         with open(b_path, "rb") as f:

@@ -5,6 +5,7 @@ import argparse
 import csv
 import json
 import os
+import sys
 import tomllib
 
 import matplotlib
@@ -12,6 +13,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from c3d.vtu import read_arrays as read_vtu_arrays  # noqa: E402  (pipeline/c3d: ASCII or binary VTU)
 
 
 class Run:
@@ -78,17 +82,11 @@ class Run:
     def cell_polygons(self):
         """The pieces of the cells of T_H as drawn in contact_cells.vtu: a list of (cell, (k, 2) array of
         x, y) — each cell's true polygon (clipped to Γc), not its bounding rectangle."""
-        import xml.etree.ElementTree as ET
-        piece = ET.parse(self.path("contact_cells.vtu")).getroot().find("./UnstructuredGrid/Piece")
-
-        def array(parent, name):
-            node = piece.find(f"./{parent}/DataArray[@Name='{name}']")
-            return np.array(node.text.split(), dtype=float)
-
-        points = array("Points", "Points").reshape(-1, 3)
-        conn = array("Cells", "connectivity").astype(int)
-        offsets = array("Cells", "offsets").astype(int)
-        owner = array("CellData", "cell").astype(int)
+        arrays = read_vtu_arrays(self.path("contact_cells.vtu"))
+        points = arrays["Points"].astype(float).reshape(-1, 3)
+        conn = arrays["connectivity"].astype(int).ravel()
+        offsets = arrays["offsets"].astype(int).ravel()
+        owner = arrays["cell"].astype(int).ravel()
         starts = np.concatenate([[0], offsets[:-1]])
         return [(owner[k], points[conn[a:b], :2]) for k, (a, b) in enumerate(zip(starts, offsets))]
 

@@ -37,7 +37,7 @@ std::vector<FixedPointStep> solve_history(const SolveResult& res) {
 
 bool has_friction(const SolveResult& res) { return contact3d::has_friction(res.n_cells, res.lambda); }
 
-void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) {
+void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res, vtu::Encoding encoding) {
   std::vector<Eigen::Vector2d> pts;
   std::vector<std::size_t> offsets, owner;
   for (std::size_t i = 0; i < res.partition.cells.size(); ++i)
@@ -49,7 +49,7 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res) 
   const MultiplierLayout at{res.n_cells, has_friction(res)};
   const bool fr = at.with_friction;
   write_file(file, [&](std::ostream& out) {
-    vtu::write_piece(out, vtu::Encoding::Ascii, pts.size(), owner.size(), [&](vtu::PieceWriter& piece) {
+    vtu::write_piece(out, encoding, pts.size(), owner.size(), [&](vtu::PieceWriter& piece) {
       piece.xml("      <CellData Scalars=\"lambda_n\">\n");
       piece.data_array(
           "cell", 1, owner.size(), [&](std::size_t k, int) { return owner[k]; }, vtu::Type::Int64);
@@ -328,7 +328,7 @@ void write_results(const std::filesystem::path& dir, const Scene& scene, const M
   const TetMaterials materials = tet_materials(scene, mesh);
   const VtuContext ctx{scene, mesh, res, materials};
   write_state_vtus(dir / "body.vtu", dir / "contact.vtu", ctx, final_state(res));
-  if (res.n_cells > 0) write_cells_vtu(dir / "contact_cells.vtu", res);
+  if (res.n_cells > 0) write_cells_vtu(dir / "contact_cells.vtu", res, ctx.encoding);
   write_solution_collection(dir, ctx);
   const std::chrono::duration<double> output = std::chrono::steady_clock::now() - start;
   write_summary_json(dir / "summary.json", scene, mesh, res, info, output.count());

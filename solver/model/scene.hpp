@@ -95,7 +95,7 @@ inline StepOutput resolved(StepOutput steps, std::size_t n_nodes, std::size_t n_
   if (steps != StepOutput::Auto) return steps;
   return n_nodes * n_steps <= kStepOutputAutoNodeSteps ? StepOutput::All : StepOutput::Final;
 }
-// vtu: the encoding of body.vtu and contact.vtu (and of every step's): "ascii" (numbers as text,
+// vtu: the encoding of body.vtu, contact.vtu (and every step's) and contact_cells.vtu: "ascii" (numbers as text,
 // readable by any script), "binary" (raw values after the XML in an <AppendedData> section, as
 // ParaView and VTK read them: 30% smaller, written 4 times faster), "auto" (default):
 // ascii up to kVtuAutoAsciiNodes mesh nodes (about 100 MB of body.vtu), binary beyond.
