@@ -639,15 +639,37 @@ double stage_seconds(const SolveResult& res, const std::string& stage) {
 // system may kill the run without a message (under ulimit -v, CHOLMOD's own refusal follows: the brick at
 // n = 24 needs about 0.75 GiB of address space there, 1.45 times its factor's values).
 // (kFactorOverhead and kTightMemory: model/dual_route.hpp.)
-// Throws the refusal where the factor with `lnz` nonzeros and the dense dual cannot fit; returns the
-// warning where the memory is tight, else an empty string.
-std::string require_factor_fits(double lnz, double dense_dual_bytes) {
+// What the dual adds to the factor: the dense Q with its working copies, or on the matrix-free route the
+// float copy of K's factor for the QP's single products (4 bytes per entry of L, where its budget allows:
+// add_single_products) — a helper's matrix-free slab of 27 648 multipliers was predicted at 3.2 GiB and
+// peaked at 4.27, the copy's 0.95 GiB.
+struct DualMemoryNeed {
+  double dense_q = 0;
+  bool single_factor_copy = false;
+  double copy_bytes(double lnz, double available) const {
+    const double copy = 4.0 * lnz;
+    return single_factor_copy && copy <= single_factor_budget(available) ? copy : 0.0;
+  }
+};
+DualMemoryNeed matrix_free_need(const QpSettings& qp, int rows) {
+  return {0.0, uses_single_products(qp.precision, rows)};
+}
+
+// Throws the refusal where the factor with `lnz` nonzeros and what the dual adds cannot fit; returns the
+// warning where the memory is tight, else an empty string. (The run's need beyond the mesh and K.)
+double run_need_bytes(double lnz, const DualMemoryNeed& dual) {
+  const double available = static_cast<double>(available_memory_bytes());
+  return kFactorOverhead * 8.0 * lnz + dual.dense_q + dual.copy_bytes(lnz, available);
+}
+std::string require_factor_fits(double lnz, const DualMemoryNeed& dual) {
   const double bytes = 8.0 * lnz;  // its values
   const double available = static_cast<double>(available_memory_bytes());
-  const double need = kFactorOverhead * bytes + dense_dual_bytes;
+  const double copy = dual.copy_bytes(lnz, available);
+  const double need = run_need_bytes(lnz, dual);
   const std::string needs =
       "its factor has " + number(lnz, 3) + " nonzeros (" + gib(bytes) + "; with CHOLMOD's indices and workspace" +
-      (dense_dual_bytes > 0 ? " and the dense Q of the dual (" + gib(dense_dual_bytes) + ")" : std::string()) +
+      (dual.dense_q > 0 ? " and the dense Q of the dual (" + gib(dual.dense_q) + ")" : std::string()) +
+      (copy > 0 ? " and its single-precision copy for the QP's products (" + gib(copy) + ")" : std::string()) +
       " the run needs about " + gib(need) + " more) and this process can get " + gib(available);
   if (available > 0 && need > available)
     throw InputError("not enough memory for the factorization: " + needs +
@@ -660,13 +682,13 @@ std::string require_factor_fits(double lnz, double dense_dual_bytes) {
   return {};
 }
 
-AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr, double dense_dual_bytes = 0,
+AnalysisObserver factor_size_check(Progress& report, RunningStage* stage = nullptr, DualMemoryNeed dual = {},
                                    std::vector<std::string>* warnings = nullptr) {
-  return [&report, stage, dense_dual_bytes, warnings](double lnz, double flops) {
+  return [&report, stage, dual, warnings](double lnz, double flops) {
     const std::string nonzeros = number(lnz, 3), bytes = bytes_text(8.0 * lnz);
     if (stage) stage->holds = "a factor with " + nonzeros + " nonzeros (" + bytes + ")";
     report.stage("  factor: nnz(L) = " + nonzeros + " (" + bytes + "), " + number(flops / 1e9, 3) + " GFlop");
-    std::string tight = require_factor_fits(lnz, dense_dual_bytes);
+    std::string tight = require_factor_fits(lnz, dual);
     if (!tight.empty() && warnings) {
       report.stage("  warning: " + tight);
       warnings->push_back(std::move(tight));
@@ -933,7 +955,9 @@ std::unique_ptr<DualProblem> factor_with_multipliers(const Scene& scene, const M
       disc.f,
       face_dofs.dofs,
       op.offset,
-      factor_size_check(report, &stage, matrix_free ? 0.0 : dense_dual_memory(scene.solver.qp, op.rows()).bytes,
+      factor_size_check(report, &stage,
+                        matrix_free ? matrix_free_need(scene.solver.qp, op.rows())
+                                    : DualMemoryNeed{dense_dual_memory(scene.solver.qp, op.rows()).bytes, false},
                         &res.warnings),
       disc.release_K(),
       K_on_ranks ? &source : nullptr};
@@ -1276,12 +1300,13 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce
     const bool with_multipliers = *chosen == DualMethod::Augmented;  // blocksolve and matrix_free factor K alone
     const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, res.dofs, tet_materials(scene, mesh));
     const FactorPrediction factor = SparseCholesky::predict(K, with_multipliers ? &op.B : nullptr);
-    const double dense_bytes = *chosen == DualMethod::MatrixFree ? 0.0 : memory.bytes;
+    const DualMemoryNeed dual = *chosen == DualMethod::MatrixFree ? matrix_free_need(scene.solver.qp, op.rows())
+                                                                  : DualMemoryNeed{memory.bytes, false};
     plan.factor_nonzeros = factor.factor_nonzeros;
     plan.factor_flops = factor.flops;
-    plan.run_bytes = kFactorOverhead * 8.0 * factor.factor_nonzeros + dense_bytes;
-    std::string tight = require_factor_fits(factor.factor_nonzeros, dense_bytes);  // the solve's refusal, or
-    if (!tight.empty()) plan.warnings.push_back(std::move(tight));                 // its warning
+    plan.run_bytes = run_need_bytes(factor.factor_nonzeros, dual);
+    std::string tight = require_factor_fits(factor.factor_nonzeros, dual);  // the solve's refusal, or
+    if (!tight.empty()) plan.warnings.push_back(std::move(tight));          // its warning
   }
   return plan;
 }
