@@ -329,13 +329,11 @@ def expect_converged_or_stability():
 
 # ---------------------------------------------------------------- running
 def nonfinite_in(path):
-    if path.endswith(".vtu"):
-        with open(path, "rb") as f:
-            binary = b"<AppendedData" in f.read()
-        if binary:  # raw values (output.vtu = binary): their bytes are no text to search
-            return any(not np.all(np.isfinite(v)) for v in c3d.vtu.read_arrays(path).values())
-    with open(path, errors="replace") as f:
-        text = f.read().lower()
+    with open(path, "rb") as f:
+        raw = f.read()
+    if path.endswith(".vtu") and b"<AppendedData" in raw:  # raw values (output.vtu = binary): no text to search
+        return any(not np.all(np.isfinite(v)) for v in c3d.vtu.read_arrays(path).values())
+    text = raw.decode(errors="replace").lower()
     for bad in ("nan", "inf"):
         i = text.find(bad)
         while i >= 0:

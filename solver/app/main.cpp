@@ -610,8 +610,6 @@ int run_session(int argc, char** argv) {
   return code;
 }  // the session's end finalizes MPI
 
-}  // namespace
-
 // The restart through /proc/self/exe (restart_with_huge_pages) leaves the process named "exe" in ps, top
 // and pgrep, where a helper could not find a running solve: named again after the program's file (at
 // most 15 characters, the kernel's limit).
@@ -619,6 +617,8 @@ void name_process_after(const char* program) {
   const std::string name = std::filesystem::path(program ? program : "contact3d").filename().string().substr(0, 15);
   prctl(PR_SET_NAME, name.c_str(), 0, 0, 0);
 }
+
+}  // namespace
 
 int main(int argc, char** argv) {
   open_closed_standard_streams();

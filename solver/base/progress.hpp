@@ -31,7 +31,15 @@ class Progress {
   // loop pays a counter increment); `make_line()` runs only when a heartbeat line is due.
   template <class MakeLine>
   void beat(MakeLine make_line) {
-    if (!heartbeat_ || (started_ && ++calls_ % kClockEvery != 0)) return;
+    if (started_ && ++calls_ % kClockEvery != 0) return;
+    beat_each_call(make_line);
+  }
+  // The same from a loop whose every pass costs far more than reading the clock (a Newton step, a CG
+  // iteration whose product goes through the factor of K): the clock is read on every call. Once every
+  // 32 Newton steps left a helper's matrix-free solve silent for up to 261 s.
+  template <class MakeLine>
+  void beat_each_call(MakeLine make_line) {
+    if (!heartbeat_) return;
     const auto now = std::chrono::steady_clock::now();
     if (!started_) {
       started_ = true;
@@ -41,14 +49,6 @@ class Progress {
     if (std::chrono::duration<double>(now - last_).count() < period_) return;
     last_ = now;
     heartbeat_(make_line());
-  }
-  // The same from a loop whose every pass costs far more than reading the clock (a Newton step, a CG
-  // iteration whose product goes through the factor of K): the clock is read on every call. Once every
-  // 32 Newton steps left a helper's matrix-free solve silent for up to 261 s.
-  template <class MakeLine>
-  void beat_each_call(MakeLine make_line) {
-    calls_ = kClockEvery - 1;
-    beat(make_line);
   }
   // While it lives, a line "  <what>: still running, N s" every kWatchPeriod seconds (on the heartbeat's
   // sink; none where the Progress is silent). The thread that made it is inside the long call and

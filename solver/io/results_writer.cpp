@@ -48,6 +48,7 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res, 
     }
   const MultiplierLayout at{res.n_cells, has_friction(res)};
   const bool fr = at.with_friction;
+  const std::vector<int> cs = cell_status(res.n_cells, res.lambda, res.radius);
   write_file(file, [&](std::ostream& out) {
     vtu::write_piece(out, encoding, pts.size(), owner.size(), [&](vtu::PieceWriter& piece) {
       piece.xml("      <CellData Scalars=\"lambda_n\">\n");
@@ -59,7 +60,6 @@ void write_cells_vtu(const std::filesystem::path& file, const SolveResult& res, 
         return !fr || c == 2 ? 0.0 : res.lambda[c == 0 ? at.t1(cell) : at.t2(cell)];
       });
       piece.data_array("radius", 1, owner.size(), [&](std::size_t k, int) { return fr ? res.radius[owner[k]] : 0.0; });
-      const std::vector<int> cs = cell_status(res.n_cells, res.lambda, res.radius);
       piece.data_array(
           "contact_status", 1, owner.size(), [&](std::size_t k, int) { return cs[owner[k]]; }, vtu::Type::Int32);
       piece.xml("      </CellData>\n      <Points>\n");

@@ -204,17 +204,18 @@ DenseDualMemory dense_dual_memory(const QpSettings& qp, int rows) {
 
 std::string gib(double bytes) { return number(bytes / (1 << 30), 3) + " GiB"; }
 
-// "auto" in the serial build with a large dense Q: whether the augmented factor with Q would crowd the
-// memory where the matrix-free route leaves room (dual_route.hpp, augmented_crowds_memory), and if so why.
-std::optional<std::string> augmented_crowds(const Scene& scene, std::optional<DualMethod> chosen,
-                                            const DenseDualMemory& memory, const Eigen::SparseMatrix<double>& K,
-                                            const ContactOperator& op) {
-  if (scene.solver.dual_method != DualMethod::Auto || chosen != DualMethod::Augmented || !(memory.available > 0) ||
-      memory.bytes <= kPredictAugmentedShare * memory.available || K.size() == 0)
-    return std::nullopt;
-  const FactorPrediction augmented = SparseCholesky::predict(K, &op.B);
-  if (!augmented_crowds_memory(augmented.factor_nonzeros, op.rows(), memory.bytes, memory.available))
-    return std::nullopt;
+// "auto" in the serial build with a dense Q large enough (kPredictAugmentedShare) that the augmented
+// factor beside it may crowd the memory: worth predicting that factor before choosing it.
+bool augmented_may_crowd(const Scene& scene, std::optional<DualMethod> chosen, const DenseDualMemory& memory) {
+  return scene.solver.dual_method == DualMethod::Auto && chosen == DualMethod::Augmented && memory.available > 0 &&
+         memory.bytes > kPredictAugmentedShare * memory.available;
+}
+
+// Why the `augmented` factor with the dense Q would crowd the memory where the matrix-free route leaves
+// room (dual_route.hpp, augmented_crowds_memory); nullopt where it does not.
+std::optional<std::string> augmented_crowds(const FactorPrediction& augmented, int rows,
+                                            const DenseDualMemory& memory) {
+  if (!augmented_crowds_memory(augmented.factor_nonzeros, rows, memory.bytes, memory.available)) return std::nullopt;
   return "the augmented factor (nnz(L) = " + number(augmented.factor_nonzeros, 3) + ", " +
          gib(8.0 * augmented.factor_nonzeros) + ") with the dense Q and its working copies (" + gib(memory.bytes) +
          ") would need about " + gib(kFactorOverhead * 8.0 * augmented.factor_nonzeros + memory.bytes) + " of the " +
@@ -228,7 +229,11 @@ DualMethod fit_dual_method(const Scene& scene, DualMethod method, const ContactO
                            const Eigen::SparseMatrix<double>& K, Progress& report, SolveResult& res) {
   const DenseDualMemory memory = dense_dual_memory(scene.solver.qp, op.rows());
   const std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, method, memory.fits());
-  if (const std::optional<std::string> crowded = augmented_crowds(scene, chosen, memory, K, op)) {
+  const std::optional<std::string> crowded =
+      augmented_may_crowd(scene, chosen, memory) && K.size() > 0
+          ? augmented_crowds(SparseCholesky::predict(K, &op.B), op.rows(), memory)
+          : std::nullopt;
+  if (crowded) {
     res.notes.push_back(*crowded +
                         ": Q is not formed (solver.schur = \"matrix_free\"); each of its products goes "
                         "through the factor of K alone, and the QP's Newton steps solve their systems by CG — slower "
@@ -655,17 +660,18 @@ DualMemoryNeed matrix_free_need(const QpSettings& qp, int rows) {
   return {0.0, uses_single_products(qp.precision, rows)};
 }
 
-// Throws the refusal where the factor with `lnz` nonzeros and what the dual adds cannot fit; returns the
-// warning where the memory is tight, else an empty string. (The run's need beyond the mesh and K.)
-double run_need_bytes(double lnz, const DualMemoryNeed& dual) {
-  const double available = static_cast<double>(available_memory_bytes());
+// What the run needs beyond the mesh and K: the factor with `lnz` nonzeros and what the dual adds.
+double run_need_bytes(double lnz, const DualMemoryNeed& dual, double available) {
   return kFactorOverhead * 8.0 * lnz + dual.dense_q + dual.copy_bytes(lnz, available);
 }
+
+// Throws the refusal where that need cannot fit; returns the warning where the memory is tight, else an
+// empty string.
 std::string require_factor_fits(double lnz, const DualMemoryNeed& dual) {
   const double bytes = 8.0 * lnz;  // its values
   const double available = static_cast<double>(available_memory_bytes());
   const double copy = dual.copy_bytes(lnz, available);
-  const double need = run_need_bytes(lnz, dual);
+  const double need = run_need_bytes(lnz, dual, available);
   const std::string needs =
       "its factor has " + number(lnz, 3) + " nonzeros (" + gib(bytes) + "; with CHOLMOD's indices and workspace" +
       (dual.dense_q > 0 ? " and the dense Q of the dual (" + gib(dual.dense_q) + ")" : std::string()) +
@@ -1277,13 +1283,17 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce
   require_backend(scene, resolved);
   std::optional<DualMethod> chosen = dual_method_for_memory(scene.solver.dual_method, resolved, memory.fits());
   DualPlan plan;
-  const bool may_crowd = scene.solver.dual_method == DualMethod::Auto && chosen == DualMethod::Augmented &&
-                         memory.bytes > kPredictAugmentedShare * memory.available;
-  const Eigen::SparseMatrix<double> K_for_route =
-      may_crowd ? assemble_stiffness(mesh, res.dofs, tet_materials(scene, mesh)) : Eigen::SparseMatrix<double>();
-  if (const std::optional<std::string> crowded = augmented_crowds(scene, chosen, memory, K_for_route, op)) {
-    plan.route_reason = *crowded;
-    chosen = DualMethod::MatrixFree;
+  // MUMPS analyses on its ranks, and contactlast orders K's contact dofs last: no prediction of theirs.
+  const bool predicted = chosen && !is_mumps(*chosen) && *chosen != DualMethod::ContactLast;
+  const Eigen::SparseMatrix<double> K =
+      predicted ? assemble_stiffness(mesh, res.dofs, tet_materials(scene, mesh)) : Eigen::SparseMatrix<double>();
+  std::optional<FactorPrediction> augmented;  // the factor with the multipliers, where it was predicted
+  if (augmented_may_crowd(scene, chosen, memory)) {
+    augmented = SparseCholesky::predict(K, &op.B);
+    if (const std::optional<std::string> crowded = augmented_crowds(*augmented, op.rows(), memory)) {
+      plan.route_reason = *crowded;
+      chosen = DualMethod::MatrixFree;
+    }
   }
   plan.cells = op.r;
   plan.multipliers = op.rows();
@@ -1295,16 +1305,15 @@ DualPlan plan_dual(const Scene& scene, const Mesh& mesh, const FaceThicknessOnce
   plan.method = chosen ? std::string(name_of(*chosen, kDualMethodNames)) : std::string();
   plan.thin_body = thin.value_or("");
   plan.warnings = res.warnings;
-  // MUMPS analyses on its ranks, and contactlast orders K's contact dofs last: no prediction of theirs.
-  if (chosen && !is_mumps(*chosen) && *chosen != DualMethod::ContactLast) {
+  if (predicted) {
     const bool with_multipliers = *chosen == DualMethod::Augmented;  // blocksolve and matrix_free factor K alone
-    const Eigen::SparseMatrix<double> K = assemble_stiffness(mesh, res.dofs, tet_materials(scene, mesh));
-    const FactorPrediction factor = SparseCholesky::predict(K, with_multipliers ? &op.B : nullptr);
+    const FactorPrediction factor =
+        with_multipliers && augmented ? *augmented : SparseCholesky::predict(K, with_multipliers ? &op.B : nullptr);
     const DualMemoryNeed dual = *chosen == DualMethod::MatrixFree ? matrix_free_need(scene.solver.qp, op.rows())
                                                                   : DualMemoryNeed{memory.bytes, false};
     plan.factor_nonzeros = factor.factor_nonzeros;
     plan.factor_flops = factor.flops;
-    plan.run_bytes = run_need_bytes(factor.factor_nonzeros, dual);
+    plan.run_bytes = run_need_bytes(factor.factor_nonzeros, dual, memory.available);
     std::string tight = require_factor_fits(factor.factor_nonzeros, dual);  // the solve's refusal, or
     if (!tight.empty()) plan.warnings.push_back(std::move(tight));          // its warning
   }
